@@ -1,0 +1,107 @@
+//! The CPU triangle mesh shared by every crate: render vertices (position, normal, uv)
+//! and `u32` triangle indices.
+
+use glam::{Vec2, Vec3};
+
+use crate::GeometryError;
+
+/// An indexed triangle mesh as it is rendered: one entry per render vertex in
+/// `positions`, `normals` and `uvs` (all the same length), three indices per triangle.
+///
+/// Render vertices may share a position (UV seams, hard edges); [`crate::weld`] merges
+/// them for topology and curvature while keeping this layout for drawing.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Object-space positions.
+    pub positions: Vec<Vec3>,
+    /// Unit vertex normals (outward for closed meshes).
+    pub normals: Vec<Vec3>,
+    /// Texture coordinates (zero where the source has none).
+    pub uvs: Vec<Vec2>,
+    /// Triangle list, counter-clockwise seen from outside.
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    /// Number of render vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    /// The triangles as index triples.
+    pub fn triangles(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]])
+    }
+
+    /// Checks the invariants every consumer relies on: arrays of equal length, an index
+    /// count divisible by 3, every index in range, every position and normal finite.
+    ///
+    /// # Errors
+    /// [`GeometryError::Inconsistent`], [`GeometryError::IndexOutOfRange`] or
+    /// [`GeometryError::NonFinite`] naming the first offender.
+    pub fn validate(&self) -> Result<(), GeometryError> {
+        let n = self.positions.len();
+        if self.normals.len() != n || self.uvs.len() != n {
+            return Err(GeometryError::Inconsistent(format!(
+                "{n} positions, {} normals, {} uvs",
+                self.normals.len(),
+                self.uvs.len()
+            )));
+        }
+        if self.indices.len() % 3 != 0 {
+            return Err(GeometryError::Inconsistent(format!(
+                "{} indices is not a multiple of 3",
+                self.indices.len()
+            )));
+        }
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return Err(GeometryError::NonFinite { vertex: i, what: "position" });
+        }
+        if let Some(i) = self.normals.iter().position(|p| !p.is_finite()) {
+            return Err(GeometryError::NonFinite { vertex: i, what: "normal" });
+        }
+        if let Some(k) = self.indices.iter().position(|&i| i as usize >= n) {
+            return Err(GeometryError::IndexOutOfRange {
+                triangle: k / 3,
+                index: self.indices[k],
+                vertex_count: n,
+            });
+        }
+        Ok(())
+    }
+
+    /// Replaces `normals` by smooth area-weighted vertex normals computed from the
+    /// triangles of the *welded* mesh, so render vertices split by a UV seam still get
+    /// the same normal. Vertices without a non-degenerate triangle get `Vec3::Z`, so the
+    /// array stays unit length.
+    pub fn recompute_normals(&mut self) {
+        let welded = crate::weld(self);
+        let normals = welded_area_normals(&welded.positions, &welded.indices);
+        self.normals = welded
+            .render_to_welded
+            .iter()
+            .map(|&w| normals[w as usize])
+            .collect();
+    }
+}
+
+/// Area-weighted vertex normals (sum of unnormalised face cross products, normalised);
+/// `Vec3::Z` where the sum vanishes (isolated vertex, degenerate fan).
+pub fn welded_area_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut acc = vec![glam::DVec3::ZERO; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            acc[i as usize] += n;
+        }
+    }
+    acc.into_iter()
+        .map(|n| n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3()))
+        .collect()
+}

@@ -1,0 +1,84 @@
+//! A headless wgpu context: instance, adapter, device and queue, without a window.
+
+use crate::GpuError;
+
+/// A headless GPU context. A convenience: every pass in the workspace only needs a
+/// `&wgpu::Device` and `&wgpu::Queue`, which a caller may take from its own renderer.
+#[derive(Debug)]
+pub struct GpuContext {
+    /// The instance the adapter came from (created with `WGPU_BACKEND` etc. honoured).
+    pub instance: wgpu::Instance,
+    /// The adapter in use.
+    pub adapter: wgpu::Adapter,
+    /// The logical device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+}
+
+impl GpuContext {
+    /// Creates a headless context on the best adapter available.
+    ///
+    /// The instance reads `WGPU_BACKEND`, `WGPU_ADAPTER_NAME`, `WGPU_POWER_PREF` and the
+    /// debugging flags from the environment (`InstanceDescriptor::new_without_display_handle_from_env`).
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] when no adapter exists (its message says what to install),
+    /// [`GpuError::RequestDevice`] when the device cannot be created.
+    pub fn new() -> Result<Self, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    /// Async form of [`GpuContext::new`].
+    ///
+    /// # Errors
+    /// As [`GpuContext::new`].
+    pub async fn new_async() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = match wgpu::util::initialize_adapter_from_env(&instance, None).await {
+            Ok(a) => a,
+            Err(_) => instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::from_env()
+                        .unwrap_or(wgpu::PowerPreference::HighPerformance),
+                    force_fallback_adapter: false,
+                    compatible_surface: None,
+                    ..Default::default()
+                })
+                .await
+                .map_err(|e| GpuError::NoAdapter {
+                    detail: e.to_string(),
+                })?,
+        };
+        let limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("npr device"),
+                required_features: wgpu::Features::empty(),
+                required_limits: limits,
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::RequestDevice(e.to_string()))?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+        })
+    }
+
+    /// One line describing the adapter: name, type, backend and driver.
+    pub fn adapter_summary(&self) -> String {
+        let info = self.adapter.get_info();
+        format!(
+            "{} ({:?}, {:?}, driver {} {})",
+            info.name, info.device_type, info.backend, info.driver, info.driver_info
+        )
+    }
+
+    /// Whether the adapter is a software rasterizer (lavapipe, WARP, SwiftShader).
+    pub fn is_software(&self) -> bool {
+        self.adapter.get_info().device_type == wgpu::DeviceType::Cpu
+    }
+}

@@ -1,0 +1,47 @@
+//! The typed errors of the GPU layer.
+
+/// Everything that can go wrong in `npr-gpu`.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No graphics adapter could be found. Cause: no GPU driver and no software Vulkan
+    /// driver is installed, or `WGPU_BACKEND` names a backend that is missing. Fix: on
+    /// Debian/Ubuntu install Mesa's software Vulkan driver (lavapipe) with the command in
+    /// the message, or install your GPU's Vulkan driver.
+    #[error(
+        "no GPU adapter found ({detail}); on Debian/Ubuntu install Mesa's software Vulkan \
+         driver: `apt-get install -y mesa-vulkan-drivers libvulkan1` (as root), or install \
+         your GPU's Vulkan driver"
+    )]
+    NoAdapter {
+        /// What wgpu reported.
+        detail: String,
+    },
+    /// The adapter refused to create a device. Cause: the requested limits or features
+    /// exceed what the adapter offers. Fix: use a more capable adapter or driver.
+    #[error("the adapter could not create a device: {0}")]
+    RequestDevice(String),
+    /// A buffer could not be mapped for reading. Cause: the device was lost or the
+    /// buffer was misused. Fix: check earlier wgpu validation errors.
+    #[error("GPU buffer readback failed: {0}")]
+    Readback(String),
+    /// A texture format that the helper cannot read back.
+    #[error("readback of texture format {0:?} is not supported")]
+    UnsupportedFormat(wgpu::TextureFormat),
+    /// A size of zero or beyond the device limits.
+    #[error("invalid size {width}x{height}: {reason}")]
+    InvalidSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// Why it is invalid.
+        reason: String,
+    },
+    /// The mesh cannot be uploaded. Cause: no triangles, mismatched attribute lengths or an
+    /// index past the vertex count. Fix: validate the mesh with `npr_geometry`.
+    #[error("mesh cannot be uploaded: {0}")]
+    InvalidMesh(String),
+    /// A wgpu validation error caught in an error scope.
+    #[error("wgpu validation error: {0}")]
+    Validation(String),
+}

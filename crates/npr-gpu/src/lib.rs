@@ -1,0 +1,40 @@
+//! The GPU layer shared by every technique crate of the npr workspace.
+//!
+//! - [`GpuContext`]: a headless instance/adapter/device/queue, honouring `WGPU_BACKEND`,
+//!   with a typed error that says what to install when no adapter exists.
+//! - [`OffscreenTarget`] and [`readback_rgba`]: colour + depth targets and their readback
+//!   (row padding handled in one helper, [`padded_bytes_per_row`]).
+//! - [`GpuMesh`]: upload of an [`npr_geometry::Mesh`] (interleaved position, normal, uv;
+//!   `u32` indices).
+//! - [`FrameUniforms`] / [`ObjectUniforms`]: `#[repr(C)]` Pod uniform blocks mirrored in
+//!   `shaders/common.wgsl`.
+//! - [`projective`]: the projective-texture matrix `tex_from_world` shared by the specular
+//!   and warping crates.
+//! - [`BaseShading`]: Phong, Gouraud and cel shading passes over which techniques draw.
+//!
+//! Every pass takes `&wgpu::Device`, `&wgpu::Queue` and target views from the caller, so
+//! it can be recorded into someone else's renderer; [`GpuContext`] is a convenience.
+
+mod camera;
+mod context;
+mod error;
+mod mesh;
+pub mod projective;
+mod readback;
+pub mod reference;
+pub mod shaders;
+mod shading;
+mod targets;
+pub mod testing;
+mod uniforms;
+
+pub use camera::{Camera, Light};
+pub use context::GpuContext;
+pub use error::GpuError;
+pub use mesh::{GpuMesh, Vertex};
+pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
+pub use shading::{BaseShading, ObjectBinding, ShadingModel, default_ramp, toon_ramp, upload_ramp};
+pub use targets::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget};
+pub use uniforms::{FrameUniforms, ObjectUniforms};
+
+pub use wgpu;

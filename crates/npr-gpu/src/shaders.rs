@@ -1,0 +1,28 @@
+//! Every WGSL source of the workspace, embedded at compile time so that the runtime and
+//! the tests read the same text. Technique crates take their shader text from here.
+
+/// Shared uniform structs and Blinn-Phong; prepended by [`compose`].
+pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
+/// Base shading passes: Phong, Gouraud, cel.
+pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl");
+
+/// Every shader file: `(file name, source, needs common.wgsl prepended)`. A test checks
+/// that this list names every `.wgsl` file in `shaders/` and that each validates.
+pub const ALL: &[(&str, &str, bool)] = &[
+    ("common.wgsl", COMMON, false),
+    ("base_shading.wgsl", BASE_SHADING, true),
+];
+
+/// `common.wgsl` followed by `source`: the text of a shader that uses the shared structs.
+pub fn compose(source: &str) -> String {
+    format!("{COMMON}\n{source}")
+}
+
+/// The full text of an entry of [`ALL`], composed if it needs `common.wgsl`.
+pub fn full_source(entry: &(&str, &str, bool)) -> String {
+    if entry.2 {
+        compose(entry.1)
+    } else {
+        entry.1.to_string()
+    }
+}

@@ -1,0 +1,126 @@
+//! Offscreen colour + depth render targets.
+
+use crate::GpuError;
+
+/// Colour format of offscreen targets: 8-bit sRGB, so passes write linear colour and the
+/// hardware encodes it, and readback yields PNG-ready sRGB bytes.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// Depth format of offscreen targets (WebGPU depth range 0..1, cleared to 1).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// A headless colour + depth target pair of one size.
+#[derive(Debug)]
+pub struct OffscreenTarget {
+    /// Colour texture ([`COLOR_FORMAT`]), renderable, copyable and sampleable.
+    pub color: wgpu::Texture,
+    /// Default view of `color`.
+    pub color_view: wgpu::TextureView,
+    /// Depth texture ([`DEPTH_FORMAT`]), renderable and sampleable.
+    pub depth: wgpu::Texture,
+    /// Default view of `depth`.
+    pub depth_view: wgpu::TextureView,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+impl OffscreenTarget {
+    /// Creates a target of `width` × `height` pixels.
+    ///
+    /// # Errors
+    /// [`GpuError::InvalidSize`] for a zero size or one past the device's 2-D limit.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Self, GpuError> {
+        let max = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(GpuError::InvalidSize {
+                width,
+                height,
+                reason: format!("each side must be in 1..={max}"),
+            });
+        }
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let make = |label, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let color = make(
+            "npr offscreen color",
+            COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let depth = make(
+            "npr offscreen depth",
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
+        let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
+        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor::default());
+        Ok(Self {
+            color,
+            color_view,
+            depth,
+            depth_view,
+            width,
+            height,
+        })
+    }
+
+    /// Width / height.
+    pub fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
+    }
+
+    /// Begins a render pass on this target that clears colour to `clear` (linear RGBA) and
+    /// depth to 1.
+    pub fn begin_clear_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        clear: [f64; 4],
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr clear pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: clear[0],
+                        g: clear[1],
+                        b: clear[2],
+                        a: clear[3],
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}

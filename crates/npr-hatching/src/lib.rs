@@ -1,0 +1,1 @@
+//! Real-time image-space hatching with tonal art maps.

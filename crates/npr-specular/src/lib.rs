@@ -1,0 +1,1 @@
+//! Stylized specular highlights by curvature-driven texture projectors.

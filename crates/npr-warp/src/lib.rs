@@ -1,0 +1,1 @@
+//! Post-rendering 3D warping with projective textures.
