@@ -1,2 +1,69 @@
-//! Project automation.
-fn main() {}
+//! Project automation (the cargo-xtask pattern): `cargo xtask test | demo | bench NAME |
+//! fixtures | curvature`. One module per subcommand.
+
+mod bench;
+mod curvature;
+mod demo;
+mod fixtures;
+mod gpu_setup;
+mod test;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "npr workspace automation")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// rustfmt check, clippy (warnings denied), every workspace test including the GPU
+    /// ones (installs Mesa's software Vulkan driver on Debian/Ubuntu when no adapter exists).
+    Test,
+    /// Render the demo images into target/demo/.
+    Demo,
+    /// Run a benchmark and print its tables (`curvature`, ...).
+    Bench {
+        /// Which benchmark.
+        name: String,
+        /// Also write the rows as JSON to this file.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+    /// Regenerate fixtures/ from the code that defines them.
+    Fixtures,
+    /// Find (and on Debian/Ubuntu as root, install) a GPU adapter and print it.
+    Doctor,
+    /// Per-vertex principal curvatures of an OBJ file, as CSV.
+    Curvature(curvature::CurvatureArgs),
+}
+
+fn main() -> anyhow::Result<()> {
+    gpu_setup::ensure_runtime_dir()?;
+    match Cli::parse().command {
+        Command::Test => test::run(),
+        Command::Demo => demo::run(),
+        Command::Bench { name, json } => bench::run(&name, json.as_deref()),
+        Command::Fixtures => fixtures::run(),
+        Command::Doctor => {
+            println!("adapter: {}", gpu_setup::ensure_adapter()?);
+            Ok(())
+        }
+        Command::Curvature(args) => curvature::run(args),
+    }
+}
+
+/// The workspace root (parent of the xtask crate).
+pub fn project_root() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    dir.parent().map(PathBuf::from).unwrap_or(dir)
+}
+
+/// `../shared/meshes/NAME` beside the checkout, if present.
+pub fn shared_mesh(name: &str) -> Option<PathBuf> {
+    let p = project_root().join("../shared/meshes").join(name);
+    p.exists().then_some(p)
+}

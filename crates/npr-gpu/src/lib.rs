@@ -18,12 +18,14 @@
 mod camera;
 mod context;
 mod error;
+pub mod fixtures;
 mod mesh;
 pub mod projective;
 mod readback;
 pub mod reference;
 pub mod shaders;
 mod shading;
+pub mod snapshot;
 mod targets;
 pub mod testing;
 mod uniforms;

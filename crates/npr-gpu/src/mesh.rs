@@ -52,7 +52,7 @@ impl GpuMesh {
     /// in length, its index count is not a multiple of 3, or an index is out of range.
     pub fn upload(device: &wgpu::Device, mesh: &Mesh) -> Result<Self, GpuError> {
         let n = mesh.positions.len();
-        if mesh.indices.is_empty() || mesh.indices.len() % 3 != 0 {
+        if mesh.indices.is_empty() || !mesh.indices.len().is_multiple_of(3) {
             return Err(GpuError::InvalidMesh(format!(
                 "{} indices: need a positive multiple of 3",
                 mesh.indices.len()

@@ -70,8 +70,21 @@ mod tests {
         let l = Vec3::new(1.0, 0.0, 1.0).normalize();
         let v = Vec3::new(-1.0, 0.0, 1.0).normalize();
         let h = (l + v).normalize();
-        let shade = |n: Vec3| blinn_phong(n, l, v, Vec3::ZERO, 1.0, Vec3::ONE, 50.0, Vec3::ONE, Vec3::ZERO).x;
-        assert!((shade(h) - 1.0).abs() < 1e-6);
+        let shade = |n: Vec3| {
+            blinn_phong(
+                n,
+                l,
+                v,
+                Vec3::ZERO,
+                1.0,
+                Vec3::ONE,
+                50.0,
+                Vec3::ONE,
+                Vec3::ZERO,
+            )
+            .x
+        };
+        assert!((shade(h) - 1.0).abs() < 1e-5, "{}", shade(h));
         assert!(shade(Vec3::new(0.2, 0.0, 1.0).normalize()) < shade(h));
         assert_eq!(shade(-l), 0.0);
     }

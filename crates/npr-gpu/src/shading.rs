@@ -78,7 +78,14 @@ pub fn upload_ramp(
 
 /// The default ramp: three shades (0.35, 0.65, 1.0 in sRGB) over 256 texels.
 pub fn default_ramp() -> Vec<[u8; 4]> {
-    toon_ramp(256, &[[89, 89, 89, 255], [166, 166, 166, 255], [255, 255, 255, 255]])
+    toon_ramp(
+        256,
+        &[
+            [89, 89, 89, 255],
+            [166, 166, 166, 255],
+            [255, 255, 255, 255],
+        ],
+    )
 }
 
 /// Per-object GPU state: its uniform buffer and bind group (group 1).
@@ -173,7 +180,11 @@ impl BaseShading {
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("npr base shading"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout), Some(&ramp_layout)],
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&object_layout),
+                Some(&ramp_layout),
+            ],
             immediate_size: 0,
         });
         let pipeline = |vs: &str, fs: &str| {

@@ -39,7 +39,9 @@ pub fn context_or_skip(test: &str) -> Option<&'static GpuContext> {
             if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") {
                 panic!("{test}: {REQUIRE_GPU_ENV}=1 but no GPU adapter: {e}");
             }
-            eprintln!("SKIPPED {test}: no GPU adapter ({e}); run `cargo xtask test` to install one");
+            eprintln!(
+                "SKIPPED {test}: no GPU adapter ({e}); run `cargo xtask test` to install one"
+            );
             None
         }
     }

@@ -1,0 +1,54 @@
+//! One-call offscreen rendering for tests, demos and tools: draws meshes with a base
+//! shading model into a new target and reads it back. It submits and waits, so it is not
+//! for use inside a caller's frame.
+
+use crate::{
+    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuError, GpuMesh, Light,
+    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba,
+};
+
+/// What [`render_base`] draws: meshes with their object uniforms, seen by a camera.
+#[derive(Debug)]
+pub struct BaseScene<'a> {
+    /// Meshes and their transform + material.
+    pub objects: &'a [(&'a GpuMesh, ObjectUniforms)],
+    /// The camera (its aspect should match the size).
+    pub camera: Camera,
+    /// The light.
+    pub light: Light,
+    /// Linear RGBA clear colour.
+    pub clear: [f64; 4],
+}
+
+/// Renders `scene` with `model` at `width × height` and returns the sRGB image.
+///
+/// # Errors
+/// [`GpuError::InvalidSize`] for a bad size, [`GpuError::Readback`] when readback fails.
+pub fn render_base(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &BaseScene<'_>,
+    model: ShadingModel,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage, GpuError> {
+    let target = OffscreenTarget::new(device, width, height)?;
+    let shading = BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT);
+    shading.set_frame(queue, &FrameUniforms::new(&scene.camera, &scene.light));
+    let bindings: Vec<_> = scene
+        .objects
+        .iter()
+        .map(|(_, u)| shading.create_object(device, u))
+        .collect();
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("npr render_base"),
+    });
+    {
+        let mut pass = target.begin_clear_pass(&mut encoder, scene.clear);
+        for ((mesh, _), binding) in scene.objects.iter().zip(&bindings) {
+            shading.draw(&mut pass, model, binding, mesh);
+        }
+    }
+    queue.submit(Some(encoder.finish()));
+    readback_rgba(device, queue, &target.color)
+}

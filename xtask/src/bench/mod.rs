@@ -1,0 +1,17 @@
+//! Benchmarks: `cargo xtask bench NAME [--json PATH]`.
+
+pub mod curvature;
+pub mod table;
+
+use std::path::Path;
+
+/// The benchmarks by name.
+pub const NAMES: &[&str] = &["curvature"];
+
+/// Runs benchmark `name`.
+pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
+    match name {
+        "curvature" => curvature::run(json),
+        _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
+    }
+}

@@ -1,0 +1,119 @@
+//! `cargo xtask demo`: renders the demo images into `target/demo/` and prints where.
+//! Base shadings of the procedural fixtures (and the shared real meshes when present);
+//! each technique adds its figures here.
+
+use crate::{project_root, shared_mesh};
+use anyhow::Context;
+use glam::{Mat4, Vec3};
+use npr_geometry::{Mesh, generate};
+use npr_gpu::snapshot::{BaseScene, render_base};
+use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use std::path::{Path, PathBuf};
+
+/// Where demo images go.
+pub fn demo_dir() -> PathBuf {
+    project_root().join("target/demo")
+}
+
+/// The procedural demo meshes, plus the shared real meshes when present.
+pub fn demo_meshes() -> Vec<(String, Mesh)> {
+    let mut meshes = vec![
+        ("sphere".to_string(), generate::icosphere(4, 1.0)),
+        ("torus".to_string(), generate::torus(1.0, 0.4, 96, 48)),
+        (
+            "ellipsoid".to_string(),
+            generate::ellipsoid(1.2, 0.8, 0.6, 24),
+        ),
+        (
+            "cylinder".to_string(),
+            generate::cylinder(0.6, 1.6, 64, 16, true),
+        ),
+        ("knot".to_string(), generate::paper_knot()),
+    ];
+    for name in ["spot.obj", "stanford-bunny.obj"] {
+        match shared_mesh(name).map(|p| npr_geometry::load_obj(&p)) {
+            Some(Ok(mesh)) => meshes.push((name.trim_end_matches(".obj").to_string(), mesh)),
+            Some(Err(e)) => eprintln!("demo: skipping {name}: {e}"),
+            None => eprintln!("demo: ../shared/meshes/{name} not found, skipping it"),
+        }
+    }
+    meshes
+}
+
+/// A camera framing `mesh` (bounding sphere) from a three-quarter view.
+pub fn framing_camera(mesh: &Mesh, aspect: f32) -> (Camera, Mat4) {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let centre = (lo + hi) * 0.5;
+    let radius = ((hi - lo) * 0.5).length().max(1e-6);
+    // Normalize to a unit bounding sphere at the origin.
+    let world_from_object =
+        Mat4::from_scale(Vec3::splat(1.0 / radius)) * Mat4::from_translation(-centre);
+    let eye = Vec3::new(0.9, 0.6, 2.4).normalize() * 2.3;
+    (Camera::look_at(eye, Vec3::ZERO, aspect), world_from_object)
+}
+
+/// Copies `tile` into `sheet` at (x, y).
+pub fn paste(sheet: &mut image::RgbaImage, tile: &image::RgbaImage, x: u32, y: u32) {
+    image::imageops::replace(sheet, tile, i64::from(x), i64::from(y));
+}
+
+fn save(image: &image::RgbaImage, path: &Path) -> anyhow::Result<()> {
+    image
+        .save(path)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Runs every demo.
+pub fn run() -> anyhow::Result<()> {
+    let dir = demo_dir();
+    std::fs::create_dir_all(&dir)?;
+    let ctx = GpuContext::new()?;
+    println!("demo: adapter {}", ctx.adapter_summary());
+    let written = base_shading(&ctx, &dir)?;
+    for p in &written {
+        println!("demo: wrote {}", p.display());
+    }
+    println!("demo: {} images in {}", written.len(), dir.display());
+    Ok(())
+}
+
+/// Base shadings (Phong, Gouraud, cel) of every demo mesh, one PNG each and a sheet.
+fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    const TILE: u32 = 320;
+    let meshes = demo_meshes();
+    let models = ShadingModel::ALL;
+    let mut sheet = image::RgbaImage::new(TILE * models.len() as u32, TILE * meshes.len() as u32);
+    let mut written = Vec::new();
+    let light = Light::directional(Vec3::new(1.0, 1.5, 2.0));
+    for (row, (name, mesh)) in meshes.iter().enumerate() {
+        let gpu = GpuMesh::upload(&ctx.device, mesh)?;
+        let (camera, world_from_object) = framing_camera(mesh, 1.0);
+        let object = ObjectUniforms::new(
+            world_from_object,
+            Vec3::new(0.75, 0.45, 0.3),
+            0.5,
+            Vec3::ONE,
+            40.0,
+        );
+        let scene = BaseScene {
+            objects: &[(&gpu, object)],
+            camera,
+            light,
+            clear: [1.0, 1.0, 1.0, 1.0],
+        };
+        for (col, model) in models.iter().enumerate() {
+            let image = render_base(&ctx.device, &ctx.queue, &scene, *model, TILE, TILE)?;
+            let path = dir.join(format!("base-{name}-{}.png", model.name()));
+            save(&image, &path)?;
+            paste(&mut sheet, &image, col as u32 * TILE, row as u32 * TILE);
+            written.push(path);
+        }
+    }
+    let path = dir.join("base-shading-sheet.png");
+    save(&sheet, &path)?;
+    written.push(path);
+    Ok(written)
+}

@@ -1,0 +1,90 @@
+//! Making sure a GPU adapter exists: Mesa's software Vulkan driver (lavapipe) is installed
+//! on Debian/Ubuntu when running as root and no adapter is found.
+
+use anyhow::{Context, bail};
+use std::process::Command;
+
+/// The exact command that installs the software Vulkan driver.
+pub const INSTALL_HINT: &str = "apt-get install -y mesa-vulkan-drivers libvulkan1";
+
+/// Sets `XDG_RUNTIME_DIR` to a private temp dir when unset (lavapipe complains otherwise).
+/// Called first thing in `main`, before any thread exists.
+pub fn ensure_runtime_dir() -> anyhow::Result<()> {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return Ok(());
+    }
+    let dir = std::env::temp_dir().join(format!("npr-xdg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))?;
+    }
+    // SAFETY: called at the start of `main`, before xtask starts any thread, so no other
+    // thread can read the environment concurrently. Children (cargo test) inherit it.
+    #[allow(unsafe_code)]
+    unsafe {
+        std::env::set_var("XDG_RUNTIME_DIR", &dir);
+    }
+    Ok(())
+}
+
+fn probe() -> Result<String, String> {
+    npr_gpu::GpuContext::new()
+        .map(|c| c.adapter_summary())
+        .map_err(|e| e.to_string())
+}
+
+fn is_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+fn is_debian_like() -> bool {
+    std::path::Path::new("/etc/debian_version").exists()
+}
+
+fn apt(args: &[&str]) -> anyhow::Result<()> {
+    let status = Command::new("apt-get")
+        .args(args)
+        .env("DEBIAN_FRONTEND", "noninteractive")
+        .status()
+        .context("running apt-get")?;
+    if !status.success() {
+        bail!("apt-get {} failed ({status})", args.join(" "));
+    }
+    Ok(())
+}
+
+/// Returns the adapter summary, installing lavapipe first if needed and possible.
+///
+/// # Errors
+/// When no adapter exists and the driver cannot be installed here; the message gives the
+/// exact command to run.
+pub fn ensure_adapter() -> anyhow::Result<String> {
+    match probe() {
+        Ok(summary) => return Ok(summary),
+        Err(e) => eprintln!("xtask: no GPU adapter found: {e}"),
+    }
+    if !(is_debian_like() && is_root()) {
+        bail!(
+            "no GPU adapter found. Install a Vulkan driver; on Debian/Ubuntu run as root:\n    \
+             {INSTALL_HINT}\nthen run `cargo xtask test` again."
+        );
+    }
+    eprintln!(
+        "xtask: installing Mesa's software Vulkan driver (lavapipe) so the GPU tests can run: \
+         {INSTALL_HINT}"
+    );
+    if apt(&["install", "-y", "-qq", "mesa-vulkan-drivers", "libvulkan1"]).is_err() {
+        apt(&["update", "-qq"])?;
+        apt(&["install", "-y", "-qq", "mesa-vulkan-drivers", "libvulkan1"])?;
+    }
+    probe().map_err(|e| {
+        anyhow::anyhow!(
+            "still no GPU adapter after installing the driver: {e}\nTry: {INSTALL_HINT}"
+        )
+    })
+}
