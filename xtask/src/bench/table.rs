@@ -98,7 +98,11 @@ impl Table {
 
     /// Appends one row; it must have one cell per column.
     pub fn push(&mut self, row: Vec<Cell>) {
-        assert_eq!(row.len(), self.columns.len(), "row width must match the columns");
+        assert_eq!(
+            row.len(),
+            self.columns.len(),
+            "row width must match the columns"
+        );
         self.rows.push(row);
     }
 
@@ -129,7 +133,9 @@ impl Table {
         let mut out = format!("## {}\n", self.title);
         out.push_str(&line(&self.columns));
         out.push('\n');
-        out.push_str(&line(&widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>()));
+        out.push_str(&line(
+            &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>(),
+        ));
         out.push('\n');
         for r in &cells {
             out.push_str(&line(r));
@@ -165,7 +171,11 @@ pub fn emit(tables: &[Table], json: Option<&Path>) -> anyhow::Result<()> {
         let mut rows = Vec::new();
         for t in tables {
             for r in t.json_rows() {
-                rows.push(format!("{{\"table\": {}, {}", json_string(&t.title), &r[1..]));
+                rows.push(format!(
+                    "{{\"table\": {}, {}",
+                    json_string(&t.title),
+                    &r[1..]
+                ));
             }
         }
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
