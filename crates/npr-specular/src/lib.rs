@@ -1,1 +1,26 @@
 //! Stylized specular highlights by curvature-driven texture projectors.
+//!
+//! Implements Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using
+//! Projective Textures based on Principal Curvature Analysis", Journal of the Korea
+//! Computer Graphics Society (SPEC §2): highlight centres where `N = H` (§3.1, in
+//! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized by
+//! the principal curvatures (Eq. (8)), user controls (§3.4), visibility by breadth-first
+//! search (§4.2), and a highlight pass over any base shading (§5, Eq. (9)).
+//!
+//! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
+//! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded
+//! into the caller's render pass after the base shading).
+
+mod error;
+pub mod pass;
+pub mod projector;
+pub mod set;
+pub mod snapshot;
+pub mod textures;
+pub mod visibility;
+
+pub use error::SpecularError;
+pub use pass::{HighlightDraw, HighlightPass, ProjectorGpu};
+pub use projector::{Projector, ProjectorControls, UpAxis, frustum_size};
+pub use set::{Highlight, HighlightSet, UpdateStats};
+pub use textures::HighlightShape;

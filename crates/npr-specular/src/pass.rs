@@ -1,0 +1,439 @@
+//! The highlight render pass (§5 of the specular paper): draws every highlight's
+//! receiver triangles with its projected texture, alpha-blended over any base shading,
+//! in one draw call. WGSL: `shaders/specular_highlight.wgsl`.
+//!
+//! Use: draw the base shading into a colour + depth target, then, in the same render pass
+//! (or a later one that loads that depth), call [`HighlightPass::draw`]. The pass tests
+//! depth with `LessEqual` and does not write it; the vertex transform is the base
+//! shader's expression, marked `@invariant`, so receivers land on exactly the base
+//! surface's depth.
+
+use crate::{HighlightSet, HighlightShape, SpecularError};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, Vertex, shaders};
+use wgpu::util::DeviceExt;
+
+/// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ProjectorGpu {
+    /// Eq. (9) world → texture.
+    pub tex_from_world: [[f32; 4]; 4],
+    /// World u axis, w unused.
+    pub axis_u: [f32; 4],
+    /// World up axis, w unused.
+    pub axis_v: [f32; 4],
+    /// Normal at the centre, w unused.
+    pub normal: [f32; 4],
+    /// Linear tint, a = opacity.
+    pub tint: [f32; 4],
+    /// x = layer, y = normal-map flag, z = Blinn exponent, w unused.
+    pub params: [f32; 4],
+}
+
+/// GPU buffers and bind groups of one mesh's highlights; refreshed per frame by
+/// [`HighlightPass::prepare`].
+#[derive(Debug)]
+pub struct HighlightDraw {
+    frame: wgpu::Buffer,
+    object: wgpu::Buffer,
+    draw_list: wgpu::Buffer,
+    projectors: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    object_group: wgpu::BindGroup,
+    storage_group: wgpu::BindGroup,
+    vertex_count: u32,
+    capacity: (u64, u64),
+}
+
+/// The highlight pipeline and its texture array. Create once per device and formats.
+#[derive(Debug)]
+pub struct HighlightPass {
+    pipeline: wgpu::RenderPipeline,
+    uniform_layout: wgpu::BindGroupLayout,
+    storage_layout: wgpu::BindGroupLayout,
+    texture_group: wgpu::BindGroup,
+    normal_map_layers: Vec<bool>,
+}
+
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl HighlightPass {
+    /// Builds the pass with the built-in textures ([`HighlightShape::ALL`], 128² each).
+    ///
+    /// # Errors
+    /// As [`HighlightPass::with_textures`].
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, SpecularError> {
+        let layers = crate::textures::builtin_set(128);
+        let normal: Vec<bool> = HighlightShape::ALL
+            .iter()
+            .map(|s| s.is_normal_map())
+            .collect();
+        Self::with_textures(device, queue, color_format, depth_format, &layers, &normal)
+    }
+
+    /// Builds the pass with caller textures (all the same square size; layer i is a normal
+    /// map when `normal_map[i]`).
+    ///
+    /// # Errors
+    /// [`SpecularError::TextureSet`] for an empty set, mixed sizes, or more layers than the
+    /// device allows.
+    pub fn with_textures(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        layers: &[image::RgbaImage],
+        normal_map: &[bool],
+    ) -> Result<Self, SpecularError> {
+        let Some(first) = layers.first() else {
+            return Err(SpecularError::TextureSet("no textures".into()));
+        };
+        let (w, h) = first.dimensions();
+        if layers.iter().any(|l| l.dimensions() != (w, h)) {
+            return Err(SpecularError::TextureSet("textures differ in size".into()));
+        }
+        if layers.len() as u32 > device.limits().max_texture_array_layers {
+            return Err(SpecularError::TextureSet(format!(
+                "{} layers exceed the device limit",
+                layers.len()
+            )));
+        }
+        let data: Vec<u8> = layers
+            .iter()
+            .flat_map(|l| l.as_raw().iter().copied())
+            .collect();
+        let texture = device.create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some("npr highlight textures"),
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: layers.len() as u32,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rgba8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &data,
+        );
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("npr highlight sampler"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let uniform_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr highlight uniform"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let storage_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr highlight storage"),
+            entries: &[storage_entry(0), storage_entry(1), storage_entry(2)],
+        });
+        let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr highlight textures"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let texture_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr highlight textures"),
+            layout: &texture_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&sampler),
+                },
+            ],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("specular_highlight.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::SPECULAR_HIGHLIGHT).into()),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr highlight"),
+            bind_group_layouts: &[
+                Some(&uniform_layout),
+                Some(&uniform_layout),
+                Some(&storage_layout),
+                Some(&texture_layout),
+            ],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("npr highlight"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_highlight"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: depth_format,
+                depth_write_enabled: Some(false),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_highlight"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: color_format,
+                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let mut normal_map_layers = normal_map.to_vec();
+        normal_map_layers.resize(layers.len(), false);
+        Ok(Self {
+            pipeline,
+            uniform_layout,
+            storage_layout,
+            texture_group,
+            normal_map_layers,
+        })
+    }
+
+    /// The GPU form of the set's current highlights.
+    pub fn projectors(&self, set: &HighlightSet) -> Vec<ProjectorGpu> {
+        set.highlights()
+            .iter()
+            .map(|h| {
+                let layer = h
+                    .controls
+                    .texture_layer
+                    .min(self.normal_map_layers.len().saturating_sub(1) as u32);
+                let normal_map = self
+                    .normal_map_layers
+                    .get(layer as usize)
+                    .copied()
+                    .unwrap_or(false);
+                let p = &h.projector;
+                ProjectorGpu {
+                    tex_from_world: p.tex_from_world.to_cols_array_2d(),
+                    axis_u: p.axis_u.extend(0.0).to_array(),
+                    axis_v: p.axis_v.extend(0.0).to_array(),
+                    normal: p.normal.extend(0.0).to_array(),
+                    tint: h.controls.tint.extend(h.opacity.clamp(0.0, 1.0)).to_array(),
+                    params: [
+                        layer as f32,
+                        if normal_map { 1.0 } else { 0.0 },
+                        h.controls.shininess,
+                        0.0,
+                    ],
+                }
+            })
+            .collect()
+    }
+
+    /// The vertex stream: (render vertex, projector) for each receiver triangle corner.
+    /// `indices` are the render mesh's triangle indices (faces in topology order).
+    pub fn draw_list(set: &HighlightSet, indices: &[u32]) -> Vec<[u32; 2]> {
+        let faces = set.receiver_faces();
+        let mut out = Vec::with_capacity(faces.len() * 3);
+        for (k, h) in set.highlights().iter().enumerate() {
+            for &f in &faces[h.receivers.clone()] {
+                let base = f as usize * 3;
+                if let Some(tri) = indices.get(base..base + 3) {
+                    out.extend(tri.iter().map(|&v| [v, k as u32]));
+                }
+            }
+        }
+        out
+    }
+
+    /// Creates the per-mesh buffers for `mesh` (its vertex buffer is read as storage).
+    pub fn create_draw(&self, device: &wgpu::Device, mesh: &GpuMesh) -> HighlightDraw {
+        let uniform = |label, size: usize| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let frame = uniform("npr highlight frame", std::mem::size_of::<FrameUniforms>());
+        let object = uniform(
+            "npr highlight object",
+            std::mem::size_of::<ObjectUniforms>(),
+        );
+        let group = |buffer: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr highlight uniform"),
+                layout: &self.uniform_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            })
+        };
+        let frame_group = group(&frame);
+        let object_group = group(&object);
+        let (draw_list, projectors, storage_group) = self.storage(device, mesh, 1024, 16);
+        let _ = std::mem::size_of::<Vertex>();
+        HighlightDraw {
+            frame,
+            object,
+            draw_list,
+            projectors,
+            frame_group,
+            object_group,
+            storage_group,
+            vertex_count: 0,
+            capacity: (1024, 16),
+        }
+    }
+
+    fn storage(
+        &self,
+        device: &wgpu::Device,
+        mesh: &GpuMesh,
+        list_capacity: u64,
+        projector_capacity: u64,
+    ) -> (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup) {
+        let make = |label, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let list = make("npr highlight draw list", list_capacity * 8);
+        let projectors = make(
+            "npr highlight projectors",
+            projector_capacity * std::mem::size_of::<ProjectorGpu>() as u64,
+        );
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr highlight storage"),
+            layout: &self.storage_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: mesh.vertex_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: list.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: projectors.as_entire_binding(),
+                },
+            ],
+        });
+        (list, projectors, group)
+    }
+
+    /// Uploads this frame's camera/light, object transform, projectors and draw list
+    /// (growing the buffers when needed). `indices` are the render mesh's indices.
+    pub fn prepare(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &mut HighlightDraw,
+        mesh: &GpuMesh,
+        indices: &[u32],
+        set: &HighlightSet,
+        frame: &FrameUniforms,
+        object: &ObjectUniforms,
+    ) {
+        queue.write_buffer(&draw.frame, 0, bytemuck::bytes_of(frame));
+        queue.write_buffer(&draw.object, 0, bytemuck::bytes_of(object));
+        let list = Self::draw_list(set, indices);
+        let projectors = self.projectors(set);
+        let need = (list.len() as u64, projectors.len() as u64);
+        if need.0 > draw.capacity.0 || need.1 > draw.capacity.1 {
+            let cap = (
+                need.0.next_power_of_two().max(draw.capacity.0),
+                need.1.next_power_of_two().max(draw.capacity.1),
+            );
+            let (l, p, g) = self.storage(device, mesh, cap.0, cap.1);
+            (draw.draw_list, draw.projectors, draw.storage_group) = (l, p, g);
+            draw.capacity = cap;
+        }
+        if !list.is_empty() {
+            queue.write_buffer(&draw.draw_list, 0, bytemuck::cast_slice(&list));
+            queue.write_buffer(&draw.projectors, 0, bytemuck::cast_slice(&projectors));
+        }
+        draw.vertex_count = list.len() as u32;
+    }
+
+    /// Records the highlight draw (one call for all highlights) into the caller's render
+    /// pass, which must have the base shading's depth attachment.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draw: &HighlightDraw) {
+        if draw.vertex_count == 0 {
+            return;
+        }
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &draw.frame_group, &[]);
+        pass.set_bind_group(1, &draw.object_group, &[]);
+        pass.set_bind_group(2, &draw.storage_group, &[]);
+        pass.set_bind_group(3, &self.texture_group, &[]);
+        pass.draw(0..draw.vertex_count, 0..1);
+    }
+}

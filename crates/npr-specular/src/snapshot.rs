@@ -1,0 +1,148 @@
+//! One-call rendering of a mesh with its highlights over a base shading, for tests,
+//! demos and tools. It submits and waits; in a real renderer record
+//! [`crate::HighlightPass::draw`] into your own pass instead.
+
+use crate::{HighlightPass, HighlightSet, SpecularError};
+use npr_gpu::{
+    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuMesh, Light, ObjectUniforms,
+    OffscreenTarget, ShadingModel, readback_rgba,
+};
+
+/// Everything [`render`] draws.
+#[derive(Debug)]
+pub struct HighlightScene<'a> {
+    /// The mesh on the GPU.
+    pub mesh: &'a GpuMesh,
+    /// Its render indices (faces in the order of the set's topology).
+    pub indices: &'a [u32],
+    /// The highlight set, already updated for this frame.
+    pub set: &'a HighlightSet,
+    /// Object transform and base material.
+    pub object: ObjectUniforms,
+    /// Camera.
+    pub camera: Camera,
+    /// Light.
+    pub light: Light,
+    /// Base shading model.
+    pub base: ShadingModel,
+    /// Whether to draw the highlight pass (false gives the base alone).
+    pub highlights: bool,
+    /// Linear clear colour.
+    pub clear: [f64; 4],
+}
+
+/// Reusable GPU state for [`render`] (pipelines, buffers, target).
+#[derive(Debug)]
+pub struct Renderer {
+    base: BaseShading,
+    pass: HighlightPass,
+    target: OffscreenTarget,
+}
+
+impl Renderer {
+    /// Creates the pipelines and a `width × height` target.
+    ///
+    /// # Errors
+    /// A bad size or texture set.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, SpecularError> {
+        Ok(Self {
+            base: BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT),
+            pass: HighlightPass::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT)?,
+            target: OffscreenTarget::new(device, width, height)?,
+        })
+    }
+
+    /// The highlight pass.
+    pub fn pass(&self) -> &HighlightPass {
+        &self.pass
+    }
+
+    /// The target.
+    pub fn target(&self) -> &OffscreenTarget {
+        &self.target
+    }
+
+    /// Records and submits one frame (base + highlights) without reading it back.
+    pub fn submit(&self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &HighlightScene<'_>) {
+        let frame = FrameUniforms::new(&scene.camera, &scene.light);
+        self.base.set_frame(queue, &frame);
+        let object = self.base.create_object(device, &scene.object);
+        let mut draw = self.pass.create_draw(device, scene.mesh);
+        if scene.highlights {
+            self.pass.prepare(
+                device,
+                queue,
+                &mut draw,
+                scene.mesh,
+                scene.indices,
+                scene.set,
+                &frame,
+                &scene.object,
+            );
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr specular frame"),
+        });
+        {
+            let mut rpass = self.target.begin_clear_pass(&mut encoder, scene.clear);
+            self.base.draw(&mut rpass, scene.base, &object, scene.mesh);
+            if scene.highlights {
+                self.pass.draw(&mut rpass, &draw);
+            }
+        }
+        queue.submit(Some(encoder.finish()));
+    }
+
+    /// Renders one frame and reads it back.
+    ///
+    /// # Errors
+    /// Readback failure.
+    pub fn render(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+    ) -> Result<image::RgbaImage, SpecularError> {
+        self.submit(device, queue, scene);
+        Ok(readback_rgba(device, queue, &self.target.color)?)
+    }
+}
+
+/// Renders `scene` at `width × height` with a fresh [`Renderer`].
+///
+/// # Errors
+/// As [`Renderer::new`] and [`Renderer::render`].
+pub fn render(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &HighlightScene<'_>,
+    width: u32,
+    height: u32,
+) -> Result<image::RgbaImage, SpecularError> {
+    Renderer::new(device, queue, width, height)?.render(device, queue, scene)
+}
+
+/// A light and a camera at the same direction `dir` from the origin (eye at distance
+/// `distance`), as `LightEye` for the N = H search and as npr-gpu camera + light.
+pub fn light_eye_along(
+    dir: glam::Vec3,
+    distance: f32,
+    aspect: f32,
+) -> (npr_geometry::LightEye, Camera, Light) {
+    let d = dir.normalize_or(glam::Vec3::Z);
+    let camera = Camera::look_at(d * distance, glam::Vec3::ZERO, aspect);
+    let light = Light::directional(d);
+    (
+        npr_geometry::LightEye::Directions {
+            to_light: d,
+            to_eye: d,
+        },
+        camera,
+        light,
+    )
+}

@@ -1,0 +1,111 @@
+//! Receiver faces of a projector, §4.2 of the specular paper: a triangle receives the
+//! highlight only if it is reachable by breadth-first search from the triangle holding
+//! the centre, lies at least partly inside the projector's frustum, and its face normal
+//! satisfies `N·N_max > 0`.
+//!
+//! The paper names this search its bottleneck. Here it costs time proportional to the
+//! region it visits: visited marks are generation-stamped in a reused buffer (no clearing
+//! per search), and the frontier never leaves the accepted faces.
+
+use crate::Projector;
+use glam::{Mat3, Mat4, Vec3};
+use npr_geometry::Topology;
+use std::collections::VecDeque;
+
+/// Reusable scratch space for [`receivers`]; keep one per mesh.
+#[derive(Clone, Debug, Default)]
+pub struct VisibilityScratch {
+    stamp: Vec<u32>,
+    generation: u32,
+    queue: VecDeque<u32>,
+}
+
+impl VisibilityScratch {
+    fn begin(&mut self, faces: usize) -> u32 {
+        if self.stamp.len() != faces {
+            self.stamp = vec![0; faces];
+            self.generation = 0;
+        }
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        self.queue.clear();
+        self.generation
+    }
+}
+
+/// Whether the triangle with projector coordinates `q` (x, y in [−1, 1], z in [0, 1]
+/// inside) can overlap the frustum box: false only when all three vertices lie outside
+/// the same face of the box (a conservative separating-plane test).
+fn overlaps_frustum(q: [Vec3; 3]) -> bool {
+    let all = |f: &dyn Fn(Vec3) -> bool| q.iter().all(|p| f(*p));
+    !(all(&|p| p.x < -1.0)
+        || all(&|p| p.x > 1.0)
+        || all(&|p| p.y < -1.0)
+        || all(&|p| p.y > 1.0)
+        || all(&|p| p.z < 0.0)
+        || all(&|p| p.z > 1.0))
+}
+
+/// Appends to `out` every receiver face of `projector` (§4.2), searching from
+/// `start_face` over `topology`'s face adjacency, for the object placed by
+/// `world_from_object`. Degenerate faces are skipped (never received, never crossed).
+/// Returns the number of faces appended.
+pub fn receivers(
+    topology: &Topology,
+    world_from_object: Mat4,
+    projector: &Projector,
+    start_face: u32,
+    scratch: &mut VisibilityScratch,
+    out: &mut Vec<u32>,
+) -> usize {
+    let faces = topology.face_count();
+    if start_face as usize >= faces {
+        return 0;
+    }
+    let generation = scratch.begin(faces);
+    let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
+    let n_max = projector.normal;
+    let before = out.len();
+    let accept = |f: usize| -> bool {
+        if topology.is_degenerate(f) {
+            return false;
+        }
+        let n = normal_from_object * topology.face_normals[f];
+        if n.dot(n_max) <= 0.0 {
+            return false;
+        }
+        let t = topology.triangles[f];
+        let q = t.map(|v| {
+            projector.ndc(world_from_object.transform_point3(topology.positions[v as usize]))
+        });
+        overlaps_frustum(q)
+    };
+    scratch.stamp[start_face as usize] = generation;
+    if !accept(start_face as usize) {
+        return 0;
+    }
+    scratch.queue.push_back(start_face);
+    while let Some(f) = scratch.queue.pop_front() {
+        out.push(f);
+        for &g in topology.face_neighbours(f as usize) {
+            let gi = g as usize;
+            if scratch.stamp[gi] == generation {
+                continue;
+            }
+            scratch.stamp[gi] = generation;
+            if accept(gi) {
+                scratch.queue.push_back(g);
+            }
+        }
+    }
+    out.len() - before
+}
+
+/// The frustum overlap test alone, for tests and tools: whether a world-space triangle
+/// can touch the projector's frustum.
+pub fn triangle_touches_frustum(projector: &Projector, tri_world: [Vec3; 3]) -> bool {
+    overlaps_frustum(tri_world.map(|p| projector.ndc(p)))
+}

@@ -1,0 +1,86 @@
+// Stylized specular highlights by projective textures: the highlight pass.
+// Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using Projective Textures
+// based on Principal Curvature Analysis", Journal of the Korea Computer Graphics Society.
+//
+// One draw for all highlights (§5: a separate pass over any base shading): the vertex
+// stream is a list of (render vertex, projector) pairs, three per receiver triangle
+// (§4.2), pulled from storage buffers. Eq. (9) `q = M p`, `uv = ((q.x+1)/2, (1-q.y)/2)`
+// is computed in the vertex shader (M = the projector's tex_from_world, which already
+// holds the bias and scale). Prepended with common.wgsl.
+
+struct Projector {
+    // Eq. (9): world -> texture (u, v, depth, 1) for this orthographic projector.
+    tex_from_world: mat4x4<f32>,
+    // xyz = world texture-u axis (e_max after rotation), w unused.
+    axis_u: vec4<f32>,
+    // xyz = world texture-up axis (e_min after rotation), w unused.
+    axis_v: vec4<f32>,
+    // xyz = surface normal N at the centre, w unused.
+    normal: vec4<f32>,
+    // rgb = linear tint, a = opacity (fades).
+    tint: vec4<f32>,
+    // x = texture layer, y = 1 for a normal-map layer, z = Blinn exponent, w unused.
+    params: vec4<f32>,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(1) @binding(0) var<uniform> object: Object;
+// Interleaved render vertices of the mesh (npr_gpu::Vertex: 3 position, 3 normal, 2 uv).
+@group(2) @binding(0) var<storage, read> vertices: array<f32>;
+// (render vertex index, projector index) per emitted vertex.
+@group(2) @binding(1) var<storage, read> draw_list: array<vec2<u32>>;
+@group(2) @binding(2) var<storage, read> projectors: array<Projector>;
+@group(3) @binding(0) var highlight_textures: texture_2d_array<f32>;
+@group(3) @binding(1) var highlight_sampler: sampler;
+
+struct VertexOut {
+    @builtin(position) @invariant clip: vec4<f32>,
+    @location(0) tex: vec3<f32>,
+    @location(1) world: vec3<f32>,
+    @location(2) @interpolate(flat) projector: u32,
+};
+
+@vertex
+fn vs_highlight(@builtin(vertex_index) index: u32) -> VertexOut {
+    let entry = draw_list[index];
+    let base = entry.x * 8u;
+    let position = vec3<f32>(vertices[base], vertices[base + 1u], vertices[base + 2u]);
+    // Same expression as base_shading.wgsl so depth matches bit for bit (LessEqual test).
+    let world = object.world_from_object * vec4<f32>(position, 1.0);
+    var out: VertexOut;
+    out.clip = frame.clip_from_world * world;
+    // Eq. (9): q = M p; orthographic, so w = 1.
+    let q = projectors[entry.y].tex_from_world * world;
+    out.tex = q.xyz / q.w;
+    out.world = world.xyz;
+    out.projector = entry.y;
+    return out;
+}
+
+@fragment
+fn fs_highlight(in: VertexOut) -> @location(0) vec4<f32> {
+    let p = projectors[in.projector];
+    // Outside the projector's frustum nothing is projected.
+    if any(in.tex.xy < vec2<f32>(0.0)) || any(in.tex.xy > vec2<f32>(1.0)) || in.tex.z < 0.0 || in.tex.z > 1.0 {
+        discard;
+    }
+    let texel = textureSampleLevel(highlight_textures, highlight_sampler, in.tex.xy, i32(p.params.x), 0.0);
+    var rgb = p.tint.rgb * texel.rgb;
+    var alpha = texel.a * p.tint.a;
+    if p.params.y > 0.5 {
+        // Normal-map layer (Fig. 6c): the texel is a normal in the projector frame;
+        // shade it with Blinn's (N.H)^n, Eq. (2)-(3).
+        let t = texel.rgb * 2.0 - vec3<f32>(1.0);
+        let n = normalize(t.x * p.axis_u.xyz + t.y * p.axis_v.xyz + t.z * p.normal.xyz);
+        let l = light_dir_world(frame, in.world);
+        let v = normalize(frame.eye_world.xyz - in.world);
+        let h = normalize(l + v);
+        let intensity = pow(max(dot(n, h), 0.0), p.params.z);
+        rgb = p.tint.rgb * frame.light_color.rgb;
+        alpha = alpha * intensity;
+    }
+    if alpha <= 0.0 {
+        discard;
+    }
+    return vec4<f32>(rgb, alpha);
+}
