@@ -97,6 +97,9 @@ pub fn frustum_size(kappa: f32, sigma: f32, radius: f32) -> f32 {
 pub struct Projector {
     /// The (translated) centre on the surface the projector looks at.
     pub centre_world: Vec3,
+    /// The untranslated `N = H` centre; the visibility search starts from its face and
+    /// walks to the translated frustum (§3.4 translation, §4.2).
+    pub anchor_world: Vec3,
     /// World direction of texture u (after rotation; `e_max` for the default up).
     pub axis_u: Vec3,
     /// World direction of texture −v, the projector's up.
@@ -158,6 +161,7 @@ impl Projector {
         let clip_from_world = clip_from_view * view_from_world;
         Some(Self {
             centre_world,
+            anchor_world: centre.position_world,
             axis_u: u,
             axis_v: v,
             normal: n,

@@ -8,8 +8,8 @@
 //!   so a highlight keeps its identity and its controls;
 //! - new highlights fade in and lost ones fade out over [`HighlightSet::fade_frames`]
 //!   updates instead of popping;
-//! - two projectors claiming the same region (centres closer than half the smaller
-//!   frustum) are merged into the older one.
+//! - two projectors claiming the same region (one's centre inside the central half of the
+//!   other's frustum) are merged into the older one.
 
 use crate::visibility::{VisibilityScratch, receivers};
 use crate::{Projector, ProjectorControls, SpecularError};
@@ -295,6 +295,7 @@ impl HighlightSet {
         let controls = self.global.compose(&local);
         let projector = Projector::new(&centre, &controls, radius_world).unwrap_or(Projector {
             centre_world: centre.position_world,
+            anchor_world: centre.position_world,
             axis_u: Vec3::X,
             axis_v: Vec3::Y,
             normal: Vec3::Z,

@@ -31,6 +31,13 @@ pub struct HighlightScene<'a> {
     pub clear: [f64; 4],
 }
 
+/// Per-mesh buffers of [`Renderer::submit`]: the object uniforms and the highlight draw.
+#[derive(Debug)]
+pub struct FrameResources {
+    object: npr_gpu::ObjectBinding,
+    draw: crate::HighlightDraw,
+}
+
 /// Reusable GPU state for [`render`] (pipelines, buffers, target).
 #[derive(Debug)]
 pub struct Renderer {
@@ -67,17 +74,34 @@ impl Renderer {
         &self.target
     }
 
-    /// Records and submits one frame (base + highlights) without reading it back.
-    pub fn submit(&self, device: &wgpu::Device, queue: &wgpu::Queue, scene: &HighlightScene<'_>) {
+    /// Per-mesh GPU state for [`Renderer::submit`]; create once per mesh and reuse.
+    pub fn resources(&self, device: &wgpu::Device, mesh: &GpuMesh) -> FrameResources {
+        FrameResources {
+            object: self.base.create_object(
+                device,
+                &ObjectUniforms::default_material(glam::Mat4::IDENTITY),
+            ),
+            draw: self.pass.create_draw(device, mesh),
+        }
+    }
+
+    /// Records and submits one frame (base + highlights) without reading it back or
+    /// waiting.
+    pub fn submit(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+        res: &mut FrameResources,
+    ) {
         let frame = FrameUniforms::new(&scene.camera, &scene.light);
         self.base.set_frame(queue, &frame);
-        let object = self.base.create_object(device, &scene.object);
-        let mut draw = self.pass.create_draw(device, scene.mesh);
+        res.object.update(queue, &scene.object);
         if scene.highlights {
             self.pass.prepare(
                 device,
                 queue,
-                &mut draw,
+                &mut res.draw,
                 scene.mesh,
                 scene.indices,
                 scene.set,
@@ -90,9 +114,10 @@ impl Renderer {
         });
         {
             let mut rpass = self.target.begin_clear_pass(&mut encoder, scene.clear);
-            self.base.draw(&mut rpass, scene.base, &object, scene.mesh);
+            self.base
+                .draw(&mut rpass, scene.base, &res.object, scene.mesh);
             if scene.highlights {
-                self.pass.draw(&mut rpass, &draw);
+                self.pass.draw(&mut rpass, &res.draw);
             }
         }
         queue.submit(Some(encoder.finish()));
@@ -108,7 +133,8 @@ impl Renderer {
         queue: &wgpu::Queue,
         scene: &HighlightScene<'_>,
     ) -> Result<image::RgbaImage, SpecularError> {
-        self.submit(device, queue, scene);
+        let mut res = self.resources(device, scene.mesh);
+        self.submit(device, queue, scene, &mut res);
         Ok(readback_rgba(device, queue, &self.target.color)?)
     }
 }

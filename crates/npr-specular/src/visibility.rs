@@ -36,17 +36,24 @@ impl VisibilityScratch {
     }
 }
 
-/// Whether the triangle with projector coordinates `q` (x, y in [−1, 1], z in [0, 1]
-/// inside) can overlap the frustum box: false only when all three vertices lie outside
-/// the same face of the box (a conservative separating-plane test).
-fn overlaps_frustum(q: [Vec3; 3]) -> bool {
+/// Whether the triangle with projector coordinates `q` can overlap the box
+/// `lo..hi` (the frustum is x, y in [−1, 1], z in [0, 1]): false only when all three
+/// vertices lie outside the same face of the box (a conservative separating-plane test).
+fn overlaps_box(q: [Vec3; 3], lo: Vec3, hi: Vec3) -> bool {
     let all = |f: &dyn Fn(Vec3) -> bool| q.iter().all(|p| f(*p));
-    !(all(&|p| p.x < -1.0)
-        || all(&|p| p.x > 1.0)
-        || all(&|p| p.y < -1.0)
-        || all(&|p| p.y > 1.0)
-        || all(&|p| p.z < 0.0)
-        || all(&|p| p.z > 1.0))
+    !(all(&|p| p.x < lo.x)
+        || all(&|p| p.x > hi.x)
+        || all(&|p| p.y < lo.y)
+        || all(&|p| p.y > hi.y)
+        || all(&|p| p.z < lo.z)
+        || all(&|p| p.z > hi.z))
+}
+
+const FRUSTUM_LO: Vec3 = Vec3::new(-1.0, -1.0, 0.0);
+const FRUSTUM_HI: Vec3 = Vec3::new(1.0, 1.0, 1.0);
+
+fn overlaps_frustum(q: [Vec3; 3]) -> bool {
+    overlaps_box(q, FRUSTUM_LO, FRUSTUM_HI)
 }
 
 /// Appends to `out` every receiver face of `projector` (§4.2), searching from
@@ -69,34 +76,48 @@ pub fn receivers(
     let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
     let n_max = projector.normal;
     let before = out.len();
-    let accept = |f: usize| -> bool {
+    // A translated projector (§3.4) may not cover the centre's own face: the walk
+    // crosses the box spanning both the frustum and the untranslated centre, and only
+    // faces touching the frustum itself are received.
+    let anchor = projector.ndc(projector.anchor_world);
+    let walk_lo = FRUSTUM_LO.min(anchor.with_z(0.0));
+    let walk_hi = FRUSTUM_HI.max(anchor.with_z(1.0));
+    // `None`: not crossed; `Some(received)`: crossed, and received or not.
+    let visit = |f: usize| -> Option<bool> {
         if topology.is_degenerate(f) {
-            return false;
+            return None;
         }
         let n = normal_from_object * topology.face_normals[f];
         if n.dot(n_max) <= 0.0 {
-            return false;
+            return None;
         }
         let t = topology.triangles[f];
         let q = t.map(|v| {
             projector.ndc(world_from_object.transform_point3(topology.positions[v as usize]))
         });
-        overlaps_frustum(q)
+        overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
     scratch.stamp[start_face as usize] = generation;
-    if !accept(start_face as usize) {
-        return 0;
+    match visit(start_face as usize) {
+        None => return 0,
+        Some(received) => {
+            if received {
+                out.push(start_face);
+            }
+            scratch.queue.push_back(start_face);
+        }
     }
-    scratch.queue.push_back(start_face);
     while let Some(f) = scratch.queue.pop_front() {
-        out.push(f);
         for &g in topology.face_neighbours(f as usize) {
             let gi = g as usize;
             if scratch.stamp[gi] == generation {
                 continue;
             }
             scratch.stamp[gi] = generation;
-            if accept(gi) {
+            if let Some(received) = visit(gi) {
+                if received {
+                    out.push(g);
+                }
                 scratch.queue.push_back(g);
             }
         }

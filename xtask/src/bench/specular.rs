@@ -1,0 +1,133 @@
+//! `cargo xtask bench specular`: the specular paper's Table 1 on our meshes — highlight
+//! count, CPU setup per frame (N = H search + matching + projectors + BFS visibility),
+//! GPU frame time with and without the highlight pass on the adapter in use, and their
+//! ratio. Frames rotate the object 3° each; GPU times include submit and wait.
+
+use super::table::{Cell, Table, emit};
+use glam::{Mat4, Vec3};
+use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
+use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use npr_specular::HighlightSet;
+use npr_specular::snapshot::{HighlightScene, Renderer};
+use std::path::Path;
+use std::time::Instant;
+
+const FRAMES: usize = 60;
+const WIDTH: u32 = 640;
+const HEIGHT: u32 = 480;
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// Runs the benchmark.
+pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
+    let ctx = GpuContext::new()?;
+    let adapter = ctx.adapter_summary();
+    let mut meshes: Vec<(String, Mesh)> = vec![
+        ("sphere".into(), generate::icosphere(3, 1.0)),
+        ("knot (paper, 2,880 faces)".into(), generate::paper_knot()),
+        (
+            "torus (2,200 faces)".into(),
+            generate::torus(1.0, 0.45, 55, 20),
+        ),
+    ];
+    for name in ["spot.obj", "stanford-bunny.obj"] {
+        match crate::shared_mesh(name) {
+            Some(p) => meshes.push((
+                name.trim_end_matches(".obj").into(),
+                npr_geometry::load_obj(&p)?,
+            )),
+            None => println!("bench specular: ../shared/meshes/{name} not found, skipped"),
+        }
+    }
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
+    let mut table = Table::new(
+        &format!(
+            "specular: Table 1 on our meshes, {WIDTH}x{HEIGHT}, {FRAMES} frames, adapter {adapter}"
+        ),
+        &[
+            "mesh",
+            "faces",
+            "highlights_min",
+            "highlights_max",
+            "receiver_faces_median",
+            "setup_us_median",
+            "base_ms_median",
+            "with_highlights_ms_median",
+            "highlight_cost_ratio",
+            "adapter",
+        ],
+    );
+    for (name, mesh) in &meshes {
+        let (camera, world_from_normalized) =
+            crate::demo::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
+        let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+        let gpu = GpuMesh::upload(&ctx.device, mesh)?;
+        let mut res = renderer.resources(&ctx.device, &gpu);
+        let to_light = Vec3::new(0.4, 0.7, 1.0).normalize();
+        let light = Light::directional(to_light);
+        let (mut setup, mut base, mut with, mut receivers) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut hmin, mut hmax) = (usize::MAX, 0);
+        for frame in 0..FRAMES + 3 {
+            let world_from_object =
+                Mat4::from_rotation_y((frame as f32 * 3.0).to_radians()) * world_from_normalized;
+            let le = LightEye::Positions {
+                light: to_light * 50.0,
+                eye: camera.eye,
+            };
+            let t = Instant::now();
+            set.update(le, world_from_object);
+            let setup_us = t.elapsed().as_secs_f64() * 1e6;
+            let scene = |highlights| HighlightScene {
+                mesh: &gpu,
+                indices: &mesh.indices,
+                set: &set,
+                object: ObjectUniforms::new(
+                    world_from_object,
+                    Vec3::new(0.8, 0.35, 0.25),
+                    0.0,
+                    Vec3::ONE,
+                    60.0,
+                ),
+                camera,
+                light,
+                base: ShadingModel::Phong,
+                highlights,
+                clear: [1.0; 4],
+            };
+            let mut time = |highlights| -> anyhow::Result<f64> {
+                let t = Instant::now();
+                renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res);
+                ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+                Ok(t.elapsed().as_secs_f64() * 1e3)
+            };
+            let b = time(false)?;
+            let w = time(true)?;
+            if frame >= 3 {
+                setup.push(setup_us);
+                base.push(b);
+                with.push(w);
+                receivers.push(set.stats().receiver_faces as f64);
+                hmin = hmin.min(set.highlights().len());
+                hmax = hmax.max(set.highlights().len());
+            }
+        }
+        let (b, w) = (median(&mut base), median(&mut with));
+        table.push(vec![
+            name.as_str().into(),
+            (mesh.indices.len() / 3).into(),
+            hmin.into(),
+            hmax.into(),
+            Cell::Num(median(&mut receivers), 0),
+            Cell::Num(median(&mut setup), 1),
+            Cell::Num(b, 3),
+            Cell::Num(w, 3),
+            Cell::Num(w / b, 3),
+            adapter.as_str().into(),
+        ]);
+    }
+    emit(&[table], json)
+}

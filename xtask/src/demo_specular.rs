@@ -1,0 +1,242 @@
+//! Specular demo figures (the specular paper's Fig. 4, 6, 7, 8) into `target/demo/`.
+
+use crate::demo::{framing_camera, paste};
+use anyhow::Context;
+use glam::{Mat4, Vec2, Vec3};
+use npr_geometry::{CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
+use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use npr_specular::snapshot::{HighlightScene, Renderer};
+use npr_specular::{HighlightSet, HighlightShape, ProjectorControls};
+use std::path::{Path, PathBuf};
+
+const TILE: u32 = 360;
+
+struct Subject {
+    name: String,
+    mesh: Mesh,
+    gpu: GpuMesh,
+    set: HighlightSet,
+    world_from_normalized: Mat4,
+}
+
+/// `smoothing`: curvature ball radius in mean edge lengths (scanned meshes carry bumps
+/// that a larger ball smooths into fewer, calmer highlights).
+fn subject(ctx: &GpuContext, name: &str, mesh: Mesh, smoothing: f32) -> anyhow::Result<Subject> {
+    let gpu = GpuMesh::upload(&ctx.device, &mesh)?;
+    let options = CurvatureOptions {
+        radius: CurvatureRadius::EdgeLengths(smoothing),
+        ..CurvatureOptions::default()
+    };
+    let set = HighlightSet::new(&mesh, &options)?;
+    let (_, world_from_normalized) = framing_camera(&mesh, 1.0);
+    Ok(Subject {
+        name: name.to_string(),
+        mesh,
+        gpu,
+        set,
+        world_from_normalized,
+    })
+}
+
+/// Renders one tile: base `model` (+ highlights with `controls` when given).
+fn tile(
+    ctx: &GpuContext,
+    renderer: &Renderer,
+    s: &mut Subject,
+    spin: Mat4,
+    model: ShadingModel,
+    controls: Option<ProjectorControls>,
+    phong_specular: bool,
+) -> anyhow::Result<image::RgbaImage> {
+    let (camera, _) = framing_camera(&s.mesh, 1.0);
+    let to_light = Vec3::new(0.4, 0.7, 1.0).normalize();
+    let light = Light::directional(to_light);
+    let world_from_object = spin * s.world_from_normalized;
+    if let Some(c) = controls {
+        s.set.global = c;
+    }
+    let le = LightEye::Positions {
+        light: to_light * 50.0,
+        eye: camera.eye,
+    };
+    s.set.update(le, world_from_object);
+    let k_s = if phong_specular { 0.8 } else { 0.0 };
+    let object = ObjectUniforms::new(
+        world_from_object,
+        Vec3::new(0.8, 0.35, 0.25),
+        k_s,
+        Vec3::ONE,
+        60.0,
+    );
+    let scene = HighlightScene {
+        mesh: &s.gpu,
+        indices: &s.mesh.indices,
+        set: &s.set,
+        object,
+        camera,
+        light,
+        base: model,
+        highlights: controls.is_some(),
+        clear: [1.0, 1.0, 1.0, 1.0],
+    };
+    Ok(renderer.render(&ctx.device, &ctx.queue, &scene)?)
+}
+
+fn sheet(tiles: &[image::RgbaImage]) -> image::RgbaImage {
+    let mut out = image::RgbaImage::new(TILE * tiles.len() as u32, TILE);
+    for (i, t) in tiles.iter().enumerate() {
+        paste(&mut out, t, i as u32 * TILE, 0);
+    }
+    out
+}
+
+/// Writes the specular figures; returns the files written.
+pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, TILE, TILE)?;
+    let mut subjects = vec![
+        subject(ctx, "knot", generate::paper_knot(), 3.0)?,
+        subject(
+            ctx,
+            "ellipsoid",
+            generate::ellipsoid(1.2, 0.8, 0.6, 24),
+            3.0,
+        )?,
+    ];
+    for name in ["spot.obj", "stanford-bunny.obj"] {
+        if let Some(path) = crate::shared_mesh(name) {
+            let mesh = npr_geometry::load_obj(&path).with_context(|| format!("loading {name}"))?;
+            subjects.push(subject(ctx, name.trim_end_matches(".obj"), mesh, 3.0)?);
+        }
+    }
+    let mut written = Vec::new();
+    let mut save = |img: &image::RgbaImage, name: &str| -> anyhow::Result<()> {
+        let p = dir.join(name);
+        img.save(&p)
+            .with_context(|| format!("writing {}", p.display()))?;
+        written.push(p);
+        Ok(())
+    };
+    let star = ProjectorControls {
+        texture_layer: HighlightShape::Star.layer(),
+        sigma: 0.92,
+        ..Default::default()
+    };
+    let disc = ProjectorControls {
+        texture_layer: HighlightShape::Disc.layer(),
+        ..Default::default()
+    };
+    let normal_map = ProjectorControls {
+        texture_layer: HighlightShape::NormalMap.layer(),
+        shininess: 8.0,
+        ..Default::default()
+    };
+    let spin = Mat4::from_rotation_y(0.4);
+    for s in &mut subjects {
+        // Fig. 4: original, scaled, rotated, translated.
+        let fig4 = [
+            star,
+            ProjectorControls {
+                scale: Vec2::new(1.6, 0.8),
+                ..star
+            },
+            ProjectorControls {
+                rotate_rad: 0.6,
+                ..star
+            },
+            ProjectorControls {
+                translate: Vec2::new(0.02, 0.1),
+                ..star
+            },
+        ];
+        let tiles: Vec<_> = fig4
+            .iter()
+            .map(|c| {
+                tile(
+                    ctx,
+                    &renderer,
+                    s,
+                    spin,
+                    ShadingModel::Phong,
+                    Some(*c),
+                    false,
+                )
+            })
+            .collect::<anyhow::Result<_>>()?;
+        save(&sheet(&tiles), &format!("specular-fig4-{}.png", s.name))?;
+        // Fig. 6: Phong highlight, disc texture, normal-map texture.
+        let tiles = vec![
+            tile(ctx, &renderer, s, spin, ShadingModel::Phong, None, true)?,
+            tile(
+                ctx,
+                &renderer,
+                s,
+                spin,
+                ShadingModel::Phong,
+                Some(disc),
+                false,
+            )?,
+            tile(
+                ctx,
+                &renderer,
+                s,
+                spin,
+                ShadingModel::Phong,
+                Some(normal_map),
+                false,
+            )?,
+        ];
+        save(&sheet(&tiles), &format!("specular-fig6-{}.png", s.name))?;
+        // Fig. 7: Gouraud and cel base shading with stylized highlights.
+        let tiles = vec![
+            tile(
+                ctx,
+                &renderer,
+                s,
+                spin,
+                ShadingModel::Gouraud,
+                Some(star),
+                false,
+            )?,
+            tile(
+                ctx,
+                &renderer,
+                s,
+                spin,
+                ShadingModel::Cel,
+                Some(disc),
+                false,
+            )?,
+        ];
+        save(&sheet(&tiles), &format!("specular-fig7-{}.png", s.name))?;
+    }
+    // Fig. 8: the rotating knot as a frame strip and an animated GIF.
+    let knot = &mut subjects[0];
+    knot.set.reset();
+    let mut frames = Vec::new();
+    for step in 0..72 {
+        let spin =
+            Mat4::from_rotation_y((step as f32 * 5.0).to_radians()) * Mat4::from_rotation_x(0.5);
+        frames.push(tile(
+            ctx,
+            &renderer,
+            knot,
+            spin,
+            ShadingModel::Cel,
+            Some(star),
+            false,
+        )?);
+    }
+    let strip: Vec<_> = frames.iter().step_by(9).cloned().collect();
+    save(&sheet(&strip), "specular-fig8-knot-strip.png")?;
+    let gif_path = dir.join("specular-fig8-knot.gif");
+    let file = std::fs::File::create(&gif_path)?;
+    let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
+    encoder.set_repeat(image::codecs::gif::Repeat::Infinite)?;
+    encoder.encode_frames(
+        frames
+            .into_iter()
+            .map(|f| image::Frame::from_parts(f, 0, 0, image::Delay::from_numer_denom_ms(60, 1))),
+    )?;
+    written.push(gif_path);
+    Ok(written)
+}
