@@ -72,7 +72,11 @@ pub fn run() -> anyhow::Result<()> {
     std::fs::create_dir_all(&dir)?;
     let ctx = GpuContext::new()?;
     println!("demo: adapter {}", ctx.adapter_summary());
-    let written = base_shading(&ctx, &dir)?;
+    let written = [
+        base_shading(&ctx, &dir)?,
+        crate::demo_hatching::run(&ctx, &dir)?,
+    ]
+    .concat();
     for p in &written {
         println!("demo: wrote {}", p.display());
     }
