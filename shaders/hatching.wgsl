@@ -90,6 +90,10 @@ fn blended(t: f32, offset: bool, p: vec2<f32>, slice: i32, a: f32) -> f32 {
 fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32) -> f32 {
     let max_cov = hatch.paper.a;
     let c = clamp(1.0 - tone, 0.0, max_cov);
+    // Slice 0 is blank paper: no lookups needed (they would all read 0).
+    if c <= 0.0 {
+        return 0.0;
+    }
     let s = c * hatch.tone.x;
     let slice = min(max(i32(floor(s)), 0), i32(hatch.config.w) - 2);
     let a = s - f32(slice);

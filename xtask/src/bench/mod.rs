@@ -1,17 +1,19 @@
 //! Benchmarks: `cargo xtask bench NAME [--json PATH]`.
 
 pub mod curvature;
+pub mod hatching;
 pub mod table;
 
 use std::path::Path;
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature"];
+pub const NAMES: &[&str] = &["curvature", "hatching"];
 
 /// Runs benchmark `name`.
 pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
     match name {
         "curvature" => curvature::run(json),
+        "hatching" => hatching::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
     }
 }
