@@ -310,6 +310,30 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         }
     }
 
+    // The same scene under a spot light (cone and shadows from the VSM).
+    let spot = ShadowLight::Spot {
+        position: Vec3::new(-2.5, 5.0, 2.5),
+        target: Vec3::new(0.0, 0.5, 0.0),
+        outer_angle_rad: 38f32.to_radians(),
+        inner_angle_rad: 26f32.to_radians(),
+        range: 14.0,
+    };
+    let imgs = render(
+        ctx,
+        &items,
+        &camera,
+        &spot,
+        &pen,
+        &[HatchParams::default()],
+        false,
+        (960, 600),
+    )?;
+    save(
+        &imgs[0],
+        &dir.join("hatching-fig3-scene-spot-pen.png"),
+        &mut written,
+    )?;
+
     // §5: 2-D flow visualisation, GPU and CPU.
     let flow = flow_inputs(640, 480)?;
     let params = HatchParams::default();

@@ -14,7 +14,7 @@
 //!   shared by GPU and CPU.
 //! - [`inputs`]: tone/θ images from the caller ([`HatchInputs`]), including 2-D flow
 //!   fields (§5's "flow visualisation").
-//! - [`reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
+//! - [`mod@reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
 //! - [`pass`]: the GPU hatching pass ([`HatchPass`]) and its G-buffer ([`GBuffer`]).
 //! - [`scene`]: variance shadow maps (Donnelly & Lauritzen 2006) and the G-buffer pass
 //!   for 3-D scenes, with per-vertex stroke directions from the caller.
@@ -22,6 +22,19 @@
 //!
 //! Passes record into the caller's `wgpu::CommandEncoder` and views; only the helpers
 //! named for it ([`hatch_image_gpu`], [`HatchFrame::render_hatched`]) submit and read back.
+//!
+//! Hatching an image on the CPU, no GPU needed:
+//! ```
+//! use npr_hatching::{CpuHatcher, HatchInputs, HatchParams, TamParams, TonalArtMap};
+//! # fn main() -> Result<(), npr_hatching::HatchError> {
+//! let tam = TonalArtMap::generate(&TamParams::pen())?;
+//! // A tone ramp from black (left) to white, strokes turning with the row.
+//! let inputs = HatchInputs::from_fn(64, 48, |x, y| (x / 64.0, 0.02 * y))?;
+//! let image = CpuHatcher::new(&tam, &HatchParams::default())?.hatch_rgba8(&inputs)?;
+//! assert_eq!(image.dimensions(), (64, 48));
+//! # Ok(())
+//! # }
+//! ```
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
 mod error;

@@ -1,7 +1,7 @@
 //! The inputs of the hatching pass for 3-D scenes (§2 of Kim & Lee, "Real-time
 //! Image-space Hatching", 2008): a variance shadow map (W. Donnelly and A. Lauritzen,
 //! "Variance Shadow Maps", Proc. Symposium on Interactive 3D Graphics and Games 2006,
-//! pp. 161–165; the paper's reference [4]) for a directional or spot light, then a
+//! pp. 161–165; the paper's reference \[4\]) for a directional or spot light, then a
 //! G-buffer of per-pixel tone (Phong shading with the VSM shadows) and stroke direction θ
 //! (a per-vertex surface direction, e.g. a principal curvature direction, projected to the
 //! screen). WGSL: `shaders/hatching_scene.wgsl`, `shaders/vsm_blur.wgsl`.

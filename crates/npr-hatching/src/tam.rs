@@ -1,9 +1,9 @@
 //! Tonal art maps generated in code: a stack of stroke textures sorted by tone, each
 //! slice tileable, with the nesting property of
 //! E. Praun, H. Hoppe, M. Webb, A. Finkelstein, "Real-Time Hatching", ACM SIGGRAPH 2001,
-//! pp. 579–584 (the hatching paper's reference [1]), in the slice-stack layout without
+//! pp. 579–584 (the hatching paper's reference \[1\]), in the slice-stack layout without
 //! mipmaps of H. Lee, S. Kwon, S. Lee, "Real-Time Pencil Rendering", NPAR 2006, pp. 37–45
-//! (reference [3]), as used by §2 of Kim & Lee, "Real-time Image-space Hatching".
+//! (reference \[3\]), as used by §2 of Kim & Lee, "Real-time Image-space Hatching".
 //!
 //! Slice `i` of `n` has ink coverage `max_coverage · i / (n − 1)`: slice 0 is blank paper,
 //! slice `n − 1` the darkest. Strokes are only ever *added* going from a lighter slice to

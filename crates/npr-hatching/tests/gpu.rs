@@ -312,3 +312,98 @@ fn gpu_bad_inputs_are_typed_errors() {
         "NaN directions give θ = 0"
     );
 }
+
+/// Spot light: a plane lit by a spot light 3 units straight above it with a 20° cone
+/// (full strength within 15°), a small sphere in the beam, seen obliquely so that the
+/// shadow is visible. Inside the cone and away from the shadow the tone is lit (> 0.5);
+/// outside the cone it is the ambient term (0.1 ± 0.02); the sphere casts a shadow: at
+/// least 200 pixels of the beam darker than 0.3.
+#[test]
+fn spot_light_cone_and_shadow() {
+    let Some(ctx) = testing::context_or_skip("spot_light_cone_and_shadow") else {
+        return;
+    };
+    let (w, h) = (160u32, 160u32);
+    let plane = npr_geometry::generate::plane(6.0, 6.0, 8, 8);
+    let sphere = npr_geometry::generate::icosphere(3, 0.25);
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &HatchParams::default(),
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    let mut objs = Vec::new();
+    for (mesh, m) in [
+        (&plane, Mat4::IDENTITY),
+        (&sphere, Mat4::from_translation(Vec3::new(0.3, 1.5, 0.0))),
+    ] {
+        let g = GpuMesh::upload(&ctx.device, mesh).unwrap();
+        let u = ObjectUniforms::new(m, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
+        let dirs = vec![Vec3::X; mesh.positions.len()];
+        let o = frame
+            .scene
+            .create_object(&ctx.device, &g, &u, &dirs)
+            .unwrap();
+        objs.push((g, o));
+    }
+    let camera = Camera::look_at(Vec3::new(4.0, 5.0, 0.01), Vec3::ZERO, 1.0);
+    let light = ShadowLight::Spot {
+        position: Vec3::new(0.0, 3.0, 0.0),
+        target: Vec3::ZERO,
+        outer_angle_rad: 20f32.to_radians(),
+        inner_angle_rad: 15f32.to_radians(),
+        range: 10.0,
+    };
+    frame.set_view(&ctx.queue, &camera, &light);
+    let refs: Vec<_> = objs.iter().map(|(g, o)| (g, o)).collect();
+    frame
+        .render_hatched(&ctx.device, &ctx.queue, &refs)
+        .unwrap();
+    let g = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    let inv = camera.clip_from_world().inverse();
+    let (mut lit, mut dark_in_beam, mut outside) = (0, 0, Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            // The plane point under pixel (x, y).
+            let ndc = |z: f32| {
+                Vec3::new(
+                    (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+                    z,
+                )
+            };
+            let (a, b) = (inv.project_point3(ndc(0.0)), inv.project_point3(ndc(1.0)));
+            let p = a + (b - a) * (a.y / (a.y - b.y));
+            let r = p.length();
+            let tone = g.tone()[(y * w + x) as usize];
+            // Cone radius on the plane: 3 tan 15° = 0.80 (full), 3 tan 20° = 1.09 (zero).
+            // Shadow centre on the plane: (0.6, 0, 0), radius ≈ 0.5; the sphere itself hides
+            // the plane around (−1.3, 0, 0) from this camera.
+            let in_shadow = (p - Vec3::new(0.6, 0.0, 0.0)).length() < 0.65;
+            let behind_sphere = (p - Vec3::new(-1.3, 0.0, 0.0)).length() < 0.7;
+            if r < 0.7 && !in_shadow {
+                assert!(tone > 0.5, "lit pixel ({x}, {y}) at {p}: tone {tone}");
+                lit += 1;
+            }
+            if r < 0.7 && tone < 0.3 {
+                dark_in_beam += 1;
+            }
+            if r > 1.2 && r < 2.5 && !behind_sphere {
+                outside.push(tone);
+            }
+        }
+    }
+    eprintln!("spot: {lit} lit pixels checked, {dark_in_beam} shadowed in the beam");
+    assert!(lit > 200);
+    assert!(dark_in_beam >= 200, "{dark_in_beam}");
+    assert!(
+        outside.iter().all(|t| (t - 0.1).abs() <= 0.02),
+        "outside the cone"
+    );
+}
