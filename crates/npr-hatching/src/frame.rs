@@ -50,6 +50,21 @@ impl HatchFrame {
         })
     }
 
+    /// Switches the tonal art map (style) and rebinds the hatching pass.
+    ///
+    /// # Errors
+    /// As [`HatchPass::set_tam`].
+    pub fn set_tam(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tam: &TonalArtMap,
+    ) -> Result<(), HatchError> {
+        self.hatch.set_tam(device, queue, tam)?;
+        self.hatch_group = self.hatch.bind(device, &self.gbuffer.view);
+        Ok(())
+    }
+
     /// Width × height of the G-buffer (and of the targets to draw into).
     pub fn size(&self) -> (u32, u32) {
         (self.gbuffer.width(), self.gbuffer.height())

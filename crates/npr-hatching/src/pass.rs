@@ -278,6 +278,30 @@ impl HatchPass {
         Ok(())
     }
 
+    /// Switches the tonal art map (e.g. pen to pencil: the style parameter). Bind groups
+    /// made before read the old map: make new ones with [`HatchPass::bind`].
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] when the current parameters do not fit (never for
+    /// parameters accepted before); the old map stays in force.
+    pub fn set_tam(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tam: &TonalArtMap,
+    ) -> Result<(), HatchError> {
+        let u = HatchUniforms::new(&self.params, tam)?;
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
+        self.tam_view = tam
+            .upload(device, queue)
+            .create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+        self.tam = tam.clone();
+        Ok(())
+    }
+
     /// The current parameters.
     pub fn params(&self) -> &HatchParams {
         &self.params

@@ -407,3 +407,55 @@ fn spot_light_cone_and_shadow() {
         "outside the cone"
     );
 }
+
+/// Switching style on a live frame ([`HatchFrame::set_tam`], pen → pencil) gives what the
+/// CPU reference draws with the pencil map on the same G-buffer (same bound as above).
+#[test]
+fn switching_style_rebinds_the_map() {
+    let Some(ctx) = testing::context_or_skip("switching_style_rebinds_the_map") else {
+        return;
+    };
+    let (w, h) = (128u32, 96u32);
+    let pen = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let pencil = TonalArtMap::generate(&TamParams::pencil()).unwrap();
+    let params = HatchParams::default();
+    let mut frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &pen,
+        &params,
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    let mesh = npr_geometry::generate::icosphere(3, 1.0);
+    let g = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let u = ObjectUniforms::default_material(Mat4::IDENTITY);
+    let o = frame
+        .scene
+        .create_object(&ctx.device, &g, &u, &meridian_directions(&mesh))
+        .unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 1.0, 3.5), Vec3::ZERO, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(1.0, 1.0, 1.0),
+        center: Vec3::ZERO,
+        radius: 1.2,
+    };
+    frame.set_view(&ctx.queue, &camera, &light);
+    frame.set_tam(&ctx.device, &ctx.queue, &pencil).unwrap();
+    let img = frame
+        .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+        .unwrap();
+    let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    let cpu = CpuHatcher::new(&pencil, &params)
+        .unwrap()
+        .hatch_rgba8(&gb)
+        .unwrap();
+    let (mean, frac) = compare(&img, &cpu);
+    assert!(
+        mean <= 0.25 && frac <= 0.005,
+        "mean {mean}, fraction {frac}"
+    );
+}
