@@ -459,3 +459,58 @@ fn switching_style_rebinds_the_map() {
         "mean {mean}, fraction {frac}"
     );
 }
+
+/// The sign convention of θ: a quad facing the camera (world x right, y up on screen)
+/// with stroke direction (1, 1, 0) gets θ = π/4 (counter-clockwise from +x, y up), and
+/// (1, −1, 0) gets 3π/4, within 1° at the centre.
+#[test]
+fn gbuffer_theta_is_counter_clockwise_on_screen() {
+    let Some(ctx) = testing::context_or_skip("gbuffer_theta_is_counter_clockwise_on_screen") else {
+        return;
+    };
+    let (w, h) = (96u32, 64u32);
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &HatchParams::default(),
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    // The xz plane turned to face +z.
+    let plane = npr_geometry::generate::plane(2.0, 2.0, 2, 2);
+    let m = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let g = GpuMesh::upload(&ctx.device, &plane).unwrap();
+    let u = ObjectUniforms::default_material(m);
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::Z,
+        center: Vec3::ZERO,
+        radius: 1.5,
+    };
+    for (dir_world, want) in [
+        (Vec3::new(1.0, 1.0, 0.0), PI / 4.0),
+        (Vec3::new(1.0, -1.0, 0.0), 3.0 * PI / 4.0),
+    ] {
+        let d = m.inverse().transform_vector3(dir_world);
+        let o = frame
+            .scene
+            .create_object(&ctx.device, &g, &u, &vec![d; plane.positions.len()])
+            .unwrap();
+        frame.set_view(&ctx.queue, &camera, &light);
+        frame
+            .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+            .unwrap();
+        let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+        let theta = gb.theta()[(h / 2 * w + w / 2) as usize];
+        assert!(
+            (theta - want).abs() < 1f32.to_radians(),
+            "{dir_world}: θ {theta}, want {want}"
+        );
+        // θ = 0 (the background) would fail above, so the quad was drawn.
+    }
+}
