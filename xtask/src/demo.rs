@@ -72,8 +72,12 @@ pub fn run() -> anyhow::Result<()> {
     std::fs::create_dir_all(&dir)?;
     let ctx = GpuContext::new()?;
     println!("demo: adapter {}", ctx.adapter_summary());
-    let mut written = base_shading(&ctx, &dir)?;
-    written.extend(crate::demo_specular::run(&ctx, &dir)?);
+    let written = [
+        base_shading(&ctx, &dir)?,
+        crate::demo_specular::run(&ctx, &dir)?,
+        crate::demo_hatching::run(&ctx, &dir)?,
+    ]
+    .concat();
     for p in &written {
         println!("demo: wrote {}", p.display());
     }

@@ -5,6 +5,7 @@ mod bench;
 mod curvature;
 mod demo;
 mod demo_specular;
+mod demo_hatching;
 mod fixtures;
 mod gpu_setup;
 mod test;

@@ -8,6 +8,12 @@ pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl"
 
 /// The specular highlight pass (npr-specular).
 pub const SPECULAR_HIGHLIGHT: &str = include_str!("../../../shaders/specular_highlight.wgsl");
+/// Image-space hatching pass (npr-hatching): Eq. (1)-(3), §3.1-§3.3.
+pub const HATCHING: &str = include_str!("../../../shaders/hatching.wgsl");
+/// Hatching inputs (npr-hatching): VSM shadow pass, tone + direction G-buffer, Phong + VSM.
+pub const HATCHING_SCENE: &str = include_str!("../../../shaders/hatching_scene.wgsl");
+/// Separable blur of variance-shadow-map moments (npr-hatching).
+pub const VSM_BLUR: &str = include_str!("../../../shaders/vsm_blur.wgsl");
 
 /// Every shader file: `(file name, source, needs common.wgsl prepended)`. A test checks
 /// that this list names every `.wgsl` file in `shaders/` and that each validates.
@@ -15,6 +21,9 @@ pub const ALL: &[(&str, &str, bool)] = &[
     ("common.wgsl", COMMON, false),
     ("base_shading.wgsl", BASE_SHADING, true),
     ("specular_highlight.wgsl", SPECULAR_HIGHLIGHT, true),
+    ("hatching.wgsl", HATCHING, false),
+    ("hatching_scene.wgsl", HATCHING_SCENE, true),
+    ("vsm_blur.wgsl", VSM_BLUR, false),
 ];
 
 /// `common.wgsl` followed by `source`: the text of a shader that uses the shared structs.

@@ -1,1 +1,56 @@
 //! Real-time image-space hatching with tonal art maps.
+//!
+//! Implements Yongjin Kim (김용진) and Seungyong Lee (이승용), "Real-time Image-space
+//! Hatching" (실시간 영상 공간 해칭, "GPU 기반 실시간 픽셀 단위 영상공간 해칭"), Journal of
+//! the Korea Computer Graphics Society, POSTECH, 2008: given a tone and a stroke direction
+//! θ ∈ [0, π) per pixel, one fragment shader draws strokes from a tonal art map by
+//! rotating the pixel coordinates into the quantized direction (Eq. (1), §3.1), blending
+//! the neighbouring direction bins (Eq. (2)–(3), §3.2) and mixing in a second partition
+//! offset by half a bin (§3.3). Each pixel is independent of its neighbours.
+//!
+//! - [`tam`]: tonal art maps generated in code (Praun et al. 2001), pen and pencil,
+//!   nested and tileable.
+//! - [`params`]: bin count, stroke scale, [`BlendMode`], colours; the uniform block
+//!   shared by GPU and CPU.
+//! - [`inputs`]: tone/θ images from the caller ([`HatchInputs`]), including 2-D flow
+//!   fields (§5's "flow visualisation").
+//! - [`mod@reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
+//! - [`pass`]: the GPU hatching pass ([`HatchPass`]) and its G-buffer ([`GBuffer`]).
+//! - [`scene`]: variance shadow maps (Donnelly & Lauritzen 2006) and the G-buffer pass
+//!   for 3-D scenes, with per-vertex stroke directions from the caller.
+//! - [`frame`]: the whole frame (shadow → G-buffer → hatching) and its Phong baseline.
+//!
+//! Passes record into the caller's `wgpu::CommandEncoder` and views; only the helpers
+//! named for it ([`hatch_image_gpu`], [`HatchFrame::render_hatched`]) submit and read back.
+//!
+//! Hatching an image on the CPU, no GPU needed:
+//! ```
+//! use npr_hatching::{CpuHatcher, HatchInputs, HatchParams, TamParams, TonalArtMap};
+//! # fn main() -> Result<(), npr_hatching::HatchError> {
+//! let tam = TonalArtMap::generate(&TamParams::pen())?;
+//! // A tone ramp from black (left) to white, strokes turning with the row.
+//! let inputs = HatchInputs::from_fn(64, 48, |x, y| (x / 64.0, 0.02 * y))?;
+//! let image = CpuHatcher::new(&tam, &HatchParams::default())?.hatch_rgba8(&inputs)?;
+//! assert_eq!(image.dimensions(), (64, 48));
+//! # Ok(())
+//! # }
+//! ```
+#![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
+
+mod error;
+pub mod frame;
+pub mod inputs;
+pub mod params;
+pub mod pass;
+pub mod reference;
+pub mod scene;
+pub mod tam;
+
+pub use error::HatchError;
+pub use frame::HatchFrame;
+pub use inputs::HatchInputs;
+pub use params::{BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS};
+pub use pass::{GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
+pub use reference::{CpuHatcher, hatch_cpu};
+pub use scene::{HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings};
+pub use tam::{TamParams, TamStyle, TonalArtMap};

@@ -2,18 +2,20 @@
 
 pub mod curvature;
 pub mod specular;
+pub mod hatching;
 pub mod table;
 
 use std::path::Path;
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature", "specular"];
+pub const NAMES: &[&str] = &["curvature", "specular", "hatching"];
 
 /// Runs benchmark `name`.
 pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
     match name {
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
+        "hatching" => hatching::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
     }
 }

@@ -1,0 +1,202 @@
+//! Parameters of the hatching pass (§3 of Kim & Lee, "Real-time Image-space Hatching") and
+//! their uniform block, shared byte for byte by the GPU pass (`shaders/hatching.wgsl`,
+//! struct `Hatch`) and the CPU reference, so both evaluate the same constants.
+
+use crate::{HatchError, TonalArtMap};
+use std::f32::consts::PI;
+
+/// Which steps of §3 the pass applies (Fig. 1 shows all three).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BlendMode {
+    /// Eq. (1), §3.1: one texture lookup in the quantized direction θ^q (seams between
+    /// partitions; Fig. 1 left).
+    CutAndPaste,
+    /// Eq. (2)–(3), §3.2: the two nearest bins blended with `w_k = 1 − |θ−θ_k|/Δθ`
+    /// (Fig. 1 middle).
+    Blended,
+    /// §3.3: Eq. (2)–(3) again on bins offset by Δθ/2, mixed 50/50 with the blended result
+    /// (Fig. 1 right). The paper's final method and the default.
+    OffsetPartition,
+}
+
+impl BlendMode {
+    /// All modes in the order of Fig. 1.
+    pub const ALL: [BlendMode; 3] = [Self::CutAndPaste, Self::Blended, Self::OffsetPartition];
+
+    /// Lower-case name, for file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::CutAndPaste => "cut-and-paste",
+            Self::Blended => "blended",
+            Self::OffsetPartition => "offset-partition",
+        }
+    }
+
+    fn code(self) -> u32 {
+        match self {
+            Self::CutAndPaste => 0,
+            Self::Blended => 1,
+            Self::OffsetPartition => 2,
+        }
+    }
+}
+
+/// Parameters of the hatching pass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HatchParams {
+    /// Number of direction bins over [0, π), 12..=24 (Eq. (1), §3.1); Δθ = π / bins.
+    pub bins: u32,
+    /// Screen pixels per texel of the tonal art map (> 0): stroke spacing and width in
+    /// pixels, constant over the screen whatever the depth.
+    pub stroke_scale: f32,
+    /// Which steps of §3 to apply.
+    pub mode: BlendMode,
+    /// Linear RGB of the ink.
+    pub ink: [f32; 3],
+    /// Linear RGB of the paper.
+    pub paper: [f32; 3],
+}
+
+impl Default for HatchParams {
+    /// 16 bins, 1 pixel per texel, offset partition, black ink on white paper.
+    fn default() -> Self {
+        Self {
+            bins: 16,
+            stroke_scale: 1.0,
+            mode: BlendMode::OffsetPartition,
+            ink: [0.0; 3],
+            paper: [1.0; 3],
+        }
+    }
+}
+
+impl HatchParams {
+    /// Checks the ranges documented on the fields.
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), HatchError> {
+        if !(MIN_BINS..=MAX_BINS).contains(&self.bins) {
+            return Err(HatchError::InvalidParams {
+                what: "bins",
+                reason: format!("{MIN_BINS}..={MAX_BINS} (Eq. (1), §3.1), got {}", self.bins),
+            });
+        }
+        if !(self.stroke_scale.is_finite() && self.stroke_scale > 0.0) {
+            return Err(HatchError::InvalidParams {
+                what: "stroke_scale",
+                reason: format!("finite and > 0, got {}", self.stroke_scale),
+            });
+        }
+        if !self.ink.iter().chain(&self.paper).all(|c| c.is_finite()) {
+            return Err(HatchError::InvalidParams {
+                what: "ink/paper",
+                reason: "finite colours".to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Δθ = π / bins, in radians.
+    pub fn bin_width_rad(&self) -> f32 {
+        PI / self.bins as f32
+    }
+}
+
+/// Fewest direction bins (Eq. (1), §3.1: "12~24").
+pub const MIN_BINS: u32 = 12;
+/// Most direction bins.
+pub const MAX_BINS: u32 = 24;
+
+/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 448 bytes),
+/// also read by the CPU reference so both use the very same constants.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct HatchUniforms {
+    /// Per bin k: (cos θ_k, sin θ_k) of the partition (θ_k = kΔθ) and of the offset
+    /// partition (θ_k = (k + ½)Δθ, §3.3), each pre-multiplied by 1 / stroke_scale so that
+    /// Eq. (1)'s rotated coordinates come out in texels.
+    pub bins: [[f32; 4]; MAX_BINS as usize],
+    /// rgb = ink (linear), a = 1 / Δθ.
+    pub ink: [f32; 4],
+    /// rgb = paper (linear), a = max coverage of the map.
+    pub paper: [f32; 4],
+    /// x = (tones − 1) / max coverage (coverage → slice), y..w unused.
+    pub tone: [f32; 4],
+    /// x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
+    /// z = map size − 1 (texel mask), w = tones.
+    pub config: [u32; 4],
+}
+
+impl HatchUniforms {
+    /// The uniforms for `params` and `tam`.
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] when `params` fails [`HatchParams::validate`].
+    pub fn new(params: &HatchParams, tam: &TonalArtMap) -> Result<Self, HatchError> {
+        params.validate()?;
+        let dtheta = params.bin_width_rad();
+        let inv_scale = 1.0 / params.stroke_scale;
+        let mut bins = [[0.0; 4]; MAX_BINS as usize];
+        for (k, b) in bins.iter_mut().enumerate().take(params.bins as usize) {
+            let (s0, c0) = (k as f32 * dtheta).sin_cos();
+            let (s1, c1) = ((k as f32 + 0.5) * dtheta).sin_cos();
+            *b = [
+                c0 * inv_scale,
+                s0 * inv_scale,
+                c1 * inv_scale,
+                s1 * inv_scale,
+            ];
+        }
+        let [ir, ig, ib] = params.ink;
+        let [pr, pg, pb] = params.paper;
+        Ok(Self {
+            bins,
+            ink: [ir, ig, ib, 1.0 / dtheta],
+            paper: [pr, pg, pb, tam.max_coverage()],
+            tone: [(tam.tones() - 1) as f32 / tam.max_coverage(), 0.0, 0.0, 0.0],
+            config: [params.bins, params.mode.code(), tam.size() - 1, tam.tones()],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_size_matches_wgsl() {
+        assert_eq!(std::mem::size_of::<HatchUniforms>(), 448);
+    }
+
+    #[test]
+    fn bad_params_are_errors() {
+        for p in [
+            HatchParams {
+                bins: 11,
+                ..Default::default()
+            },
+            HatchParams {
+                bins: 25,
+                ..Default::default()
+            },
+            HatchParams {
+                stroke_scale: 0.0,
+                ..Default::default()
+            },
+            HatchParams {
+                stroke_scale: f32::NAN,
+                ..Default::default()
+            },
+            HatchParams {
+                ink: [f32::INFINITY, 0.0, 0.0],
+                ..Default::default()
+            },
+        ] {
+            assert!(matches!(
+                p.validate(),
+                Err(HatchError::InvalidParams { .. })
+            ));
+        }
+    }
+}

@@ -1,0 +1,396 @@
+//! The GPU hatching pass of Yongjin Kim and Seungyong Lee, "Real-time Image-space
+//! Hatching" (실시간 영상 공간 해칭), Journal of the Korea Computer Graphics Society, 2008:
+//! one fragment shader (`shaders/hatching.wgsl`, `fs_hatch`) over a full-screen triangle,
+//! Eq. (1) (§3.1), Eq. (2)–(3) (§3.2) and §3.3, reading a tone/θ G-buffer and the tonal
+//! art map. Its CPU twin is [`crate::CpuHatcher`].
+//!
+//! The pass records into the caller's encoder and target; only the helper named for it
+//! ([`hatch_image_gpu`]) submits and reads back.
+
+use crate::inputs::pixel_count;
+use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
+use wgpu::util::DeviceExt;
+
+/// Format of the G-buffer: r = tone, g = θ, full 32-bit floats (so θ's bin and the tone's
+/// slice are decided on exactly the values the CPU reference sees).
+pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+
+/// A tone/θ G-buffer ([`GBUFFER_FORMAT`]) with its depth buffer
+/// ([`npr_gpu::DEPTH_FORMAT`]), written by [`crate::ScenePasses::record_gbuffer`] or
+/// uploaded from CPU images with [`GBuffer::from_inputs`].
+#[derive(Debug)]
+pub struct GBuffer {
+    /// The `Rg32Float` texture (render attachment, texture binding, copy source/dest).
+    pub texture: wgpu::Texture,
+    /// Its default view.
+    pub view: wgpu::TextureView,
+    /// Depth texture for drawing the scene into it.
+    pub depth: wgpu::Texture,
+    /// View of `depth`.
+    pub depth_view: wgpu::TextureView,
+}
+
+impl GBuffer {
+    /// An empty G-buffer of `width × height`.
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidSize`] for a zero size or one past the device's 2-D limit.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Self, HatchError> {
+        pixel_count(width, height)?;
+        let max = device.limits().max_texture_dimension_2d;
+        if width > max || height > max {
+            return Err(HatchError::InvalidSize {
+                width,
+                height,
+                reason: "larger than the device's max_texture_dimension_2d",
+            });
+        }
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let make = |label, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let texture = make(
+            "npr hatching g-buffer",
+            GBUFFER_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::COPY_DST,
+        );
+        let depth = make(
+            "npr hatching g-buffer depth",
+            npr_gpu::DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        Ok(Self {
+            view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+            depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+            texture,
+            depth,
+        })
+    }
+
+    /// A G-buffer holding caller-supplied tone and direction images (2-D use, e.g. flow
+    /// fields): the texture is written with `queue.write_texture`.
+    ///
+    /// # Errors
+    /// As [`GBuffer::new`].
+    pub fn from_inputs(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        inputs: &HatchInputs,
+    ) -> Result<Self, HatchError> {
+        let g = Self::new(device, inputs.width(), inputs.height())?;
+        g.write(queue, inputs);
+        Ok(g)
+    }
+
+    /// Overwrites the G-buffer with `inputs` (which must have its size; a different size
+    /// writes the overlapping part only).
+    pub fn write(&self, queue: &wgpu::Queue, inputs: &HatchInputs) {
+        let width = inputs.width().min(self.width());
+        let height = inputs.height().min(self.height());
+        let data = inputs.interleaved();
+        queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &self.texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(&data),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(inputs.width() * 8),
+                rows_per_image: Some(inputs.height()),
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.texture.width()
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.texture.height()
+    }
+
+    /// Reads the G-buffer back as [`HatchInputs`] (submits and waits: outside a frame).
+    ///
+    /// # Errors
+    /// [`HatchError::Gpu`] when readback fails.
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<HatchInputs, HatchError> {
+        let bytes = npr_gpu::readback_texture(device, queue, &self.texture)?;
+        let pairs: Vec<[f32; 2]> = bytes
+            .chunks_exact(8)
+            .map(|c| {
+                let f = |o: usize| f32::from_le_bytes([c[o], c[o + 1], c[o + 2], c[o + 3]]);
+                [f(0), f(4)]
+            })
+            .collect();
+        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)
+    }
+}
+
+/// The hatching pass: pipeline, uniform buffer and the tonal art map on the GPU. Create
+/// once per device, map and target format; bind a G-buffer with [`HatchPass::bind`];
+/// record with [`HatchPass::record`] (own render pass) or [`HatchPass::draw`] (into the
+/// caller's pass).
+#[derive(Debug)]
+pub struct HatchPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    tam_view: wgpu::TextureView,
+    tam: TonalArtMap,
+    params: HatchParams,
+}
+
+impl HatchPass {
+    /// Builds the pass for `tam` and `params`, drawing into targets of `target_format`
+    /// (linear colour is written; an sRGB format encodes it).
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] when `params` fails [`HatchParams::validate`].
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tam: &TonalArtMap,
+        params: &HatchParams,
+        target_format: wgpu::TextureFormat,
+    ) -> Result<Self, HatchError> {
+        let u = HatchUniforms::new(params, tam)?;
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("hatching.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::HATCHING.into()),
+        });
+        let texture_entry = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr hatching"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(1, wgpu::TextureViewDimension::D2Array),
+                texture_entry(2, wgpu::TextureViewDimension::D2),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr hatching"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("npr hatching fs_hatch"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_hatch"),
+                compilation_options: Default::default(),
+                targets: &[Some(target_format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr hatching uniforms"),
+            contents: bytemuck::bytes_of(&u),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let tam_view = tam
+            .upload(device, queue)
+            .create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+        Ok(Self {
+            pipeline,
+            layout,
+            uniforms,
+            tam_view,
+            tam: tam.clone(),
+            params: *params,
+        })
+    }
+
+    /// Changes bin count, stroke scale, mode or colours (a buffer write; bind groups stay
+    /// valid).
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`]; the previous parameters stay in force.
+    pub fn set_params(
+        &mut self,
+        queue: &wgpu::Queue,
+        params: &HatchParams,
+    ) -> Result<(), HatchError> {
+        let u = HatchUniforms::new(params, &self.tam)?;
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
+        self.params = *params;
+        Ok(())
+    }
+
+    /// Switches the tonal art map (e.g. pen to pencil: the style parameter). Bind groups
+    /// made before read the old map: make new ones with [`HatchPass::bind`].
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] when the current parameters do not fit (never for
+    /// parameters accepted before); the old map stays in force.
+    pub fn set_tam(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tam: &TonalArtMap,
+    ) -> Result<(), HatchError> {
+        let u = HatchUniforms::new(&self.params, tam)?;
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
+        self.tam_view = tam
+            .upload(device, queue)
+            .create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+        self.tam = tam.clone();
+        Ok(())
+    }
+
+    /// The current parameters.
+    pub fn params(&self) -> &HatchParams {
+        &self.params
+    }
+
+    /// The tonal art map in use.
+    pub fn tam(&self) -> &TonalArtMap {
+        &self.tam
+    }
+
+    /// A bind group reading `gbuffer_view` (a view of a [`GBUFFER_FORMAT`] texture).
+    pub fn bind(&self, device: &wgpu::Device, gbuffer_view: &wgpu::TextureView) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr hatching"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&self.tam_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(gbuffer_view),
+                },
+            ],
+        })
+    }
+
+    /// Records the full-screen hatching draw into the caller's render pass (whose colour
+    /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// Records a render pass over `target` (the G-buffer's size) that hatches every pixel.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        bind_group: &wgpu::BindGroup,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr hatching"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.draw(&mut pass, bind_group);
+    }
+}
+
+/// One-call GPU hatching of CPU images: uploads `inputs`, hatches into an
+/// [`npr_gpu::COLOR_FORMAT`] target, submits, waits and reads back the sRGB image. For
+/// tests, tools and 2-D use; a renderer records [`HatchPass`] itself.
+///
+/// # Errors
+/// [`HatchError::InvalidParams`], [`HatchError::InvalidSize`], or [`HatchError::Gpu`] when
+/// readback fails.
+pub fn hatch_image_gpu(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    inputs: &HatchInputs,
+    tam: &TonalArtMap,
+    params: &HatchParams,
+) -> Result<image::RgbaImage, HatchError> {
+    let pass = HatchPass::new(device, queue, tam, params, npr_gpu::COLOR_FORMAT)?;
+    let gbuffer = GBuffer::from_inputs(device, queue, inputs)?;
+    let target = npr_gpu::OffscreenTarget::new(device, inputs.width(), inputs.height())?;
+    let bind = pass.bind(device, &gbuffer.view);
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("npr hatch_image_gpu"),
+    });
+    pass.record(&mut encoder, &target.color_view, &bind);
+    queue.submit(Some(encoder.finish()));
+    Ok(npr_gpu::readback_rgba(device, queue, &target.color)?)
+}

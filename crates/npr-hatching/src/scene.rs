@@ -1,0 +1,758 @@
+//! The inputs of the hatching pass for 3-D scenes (§2 of Kim & Lee, "Real-time
+//! Image-space Hatching", 2008): a variance shadow map (W. Donnelly and A. Lauritzen,
+//! "Variance Shadow Maps", Proc. Symposium on Interactive 3D Graphics and Games 2006,
+//! pp. 161–165; the paper's reference \[4\]) for a directional or spot light, then a
+//! G-buffer of per-pixel tone (Phong shading with the VSM shadows) and stroke direction θ
+//! (a per-vertex surface direction, e.g. a principal curvature direction, projected to the
+//! screen). WGSL: `shaders/hatching_scene.wgsl`, `shaders/vsm_blur.wgsl`.
+//!
+//! The same shading as colour ([`ScenePasses::record_phong`]) is the baseline the
+//! benchmark compares the hatching frame against.
+
+use crate::HatchError;
+use crate::pass::{GBUFFER_FORMAT, GBuffer};
+use glam::{Mat4, Vec3};
+use npr_gpu::{Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, Vertex};
+use wgpu::util::DeviceExt;
+
+/// Format of the variance shadow map's moments.
+pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+
+/// The light that casts the variance shadow map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowLight {
+    /// A directional light, shining from `towards_light`; the shadow map is an
+    /// orthographic box around the sphere (`center`, `radius`) that holds the scene.
+    Directional {
+        /// Direction from the scene towards the light.
+        towards_light: Vec3,
+        /// Centre of the scene's bounding sphere (world).
+        center: Vec3,
+        /// Radius of the scene's bounding sphere (world, > 0).
+        radius: f32,
+    },
+    /// A spot light at `position` aimed at `target`, lighting a cone of half-angle
+    /// `outer_angle_rad` (full strength inside `inner_angle_rad`), reaching `range`.
+    Spot {
+        /// Light position (world).
+        position: Vec3,
+        /// Point the cone's axis passes through.
+        target: Vec3,
+        /// Half-angle where the light falls to zero, radians in (0, π/2).
+        outer_angle_rad: f32,
+        /// Half-angle of full strength, radians, ≤ `outer_angle_rad`.
+        inner_angle_rad: f32,
+        /// Farthest lit distance (world, > 0); also the shadow map's far plane.
+        range: f32,
+    },
+}
+
+impl ShadowLight {
+    /// The light as the shading uniforms see it (white, ambient 0.1).
+    pub fn light(&self) -> Light {
+        match *self {
+            Self::Directional { towards_light, .. } => Light::directional(towards_light),
+            Self::Spot { position, .. } => Light::point(position),
+        }
+    }
+
+    /// World → light clip space (depth 0..1).
+    pub fn light_clip_from_world(&self) -> Mat4 {
+        match *self {
+            Self::Directional {
+                towards_light,
+                center,
+                radius,
+            } => {
+                let r = radius.max(1e-4);
+                let dir = towards_light.normalize_or(Vec3::Y);
+                let up = if dir.cross(Vec3::Y).length_squared() < 1e-6 {
+                    Vec3::Z
+                } else {
+                    Vec3::Y
+                };
+                let view =
+                    glam::camera::rh::view::look_at_mat4(center + dir * (2.0 * r), center, up);
+                glam::camera::rh::proj::directx::orthographic(-r, r, -r, r, 0.5 * r, 3.5 * r) * view
+            }
+            Self::Spot {
+                position,
+                target,
+                outer_angle_rad,
+                range,
+                ..
+            } => {
+                let dir = (target - position).normalize_or(Vec3::NEG_Y);
+                let up = if dir.cross(Vec3::Y).length_squared() < 1e-6 {
+                    Vec3::Z
+                } else {
+                    Vec3::Y
+                };
+                let view = glam::camera::rh::view::look_at_mat4(position, position + dir, up);
+                let fov = (2.0 * outer_angle_rad).clamp(0.01, 3.0);
+                let far = range.max(1e-3);
+                glam::camera::rh::proj::directx::perspective(fov, 1.0, far * 1e-3, far) * view
+            }
+        }
+    }
+}
+
+/// Variance-shadow-map settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VsmSettings {
+    /// Side of the square shadow map in texels (≥ 16).
+    pub size: u32,
+    /// Blur the moments (5-tap binomial, separable) before shading.
+    pub blur: bool,
+    /// Minimum variance (Donnelly & Lauritzen §3.1), in squared light-depth units.
+    pub min_variance: f32,
+    /// Light-bleeding reduction in [0, 1): visibilities below it become 0.
+    pub light_bleed_reduction: f32,
+    /// `false` turns shadows off (visibility 1 everywhere).
+    pub enabled: bool,
+}
+
+impl Default for VsmSettings {
+    /// 1024², blurred, minimum variance 1e-5, bleeding reduction 0.3.
+    fn default() -> Self {
+        Self {
+            size: 1024,
+            blur: true,
+            min_variance: 1e-5,
+            light_bleed_reduction: 0.3,
+            enabled: true,
+        }
+    }
+}
+
+/// `Scene` in `hatching_scene.wgsl` (128 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct SceneUniforms {
+    light_clip_from_world: [[f32; 4]; 4],
+    light_pos: [f32; 4],
+    spot: [f32; 4],
+    vsm: [f32; 4],
+    viewport: [f32; 4],
+}
+
+/// One object of a hatched scene: its uniform buffer and bind group, and its per-vertex
+/// stroke directions as a second vertex buffer (`@location(3)`).
+#[derive(Debug)]
+pub struct HatchObject {
+    uniforms: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    directions: wgpu::Buffer,
+    vertex_count: u32,
+}
+
+impl HatchObject {
+    /// Writes new object uniforms (transform, material).
+    pub fn update(&self, queue: &wgpu::Queue, uniforms: &ObjectUniforms) {
+        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(uniforms));
+    }
+
+    /// Number of render vertices the directions were given for.
+    pub fn vertex_count(&self) -> u32 {
+        self.vertex_count
+    }
+}
+
+/// The shadow, G-buffer and Phong + VSM passes. Create once per device; per frame call
+/// [`ScenePasses::set_frame`], then record [`ScenePasses::record_shadow`] and
+/// [`ScenePasses::record_gbuffer`] (hatching) or [`ScenePasses::record_phong`]
+/// (baseline). Nothing here submits.
+#[derive(Debug)]
+pub struct ScenePasses {
+    shadow_pipeline: wgpu::RenderPipeline,
+    gbuffer_pipeline: wgpu::RenderPipeline,
+    phong_pipeline: wgpu::RenderPipeline,
+    blur_h: wgpu::RenderPipeline,
+    blur_v: wgpu::RenderPipeline,
+    object_layout: wgpu::BindGroupLayout,
+    frame_buffer: wgpu::Buffer,
+    scene_buffer: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    moments_group: wgpu::BindGroup,
+    blur_from_moments: wgpu::BindGroup,
+    blur_from_scratch: wgpu::BindGroup,
+    moments_view: wgpu::TextureView,
+    scratch_view: wgpu::TextureView,
+    shadow_depth_view: wgpu::TextureView,
+    vsm: VsmSettings,
+}
+
+fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn texture_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    })
+}
+
+fn texture_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    view: &wgpu::TextureView,
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("npr hatching texture"),
+        layout,
+        entries: &[wgpu::BindGroupEntry {
+            binding: 0,
+            resource: wgpu::BindingResource::TextureView(view),
+        }],
+    })
+}
+
+/// The vertex layout of the stroke directions (`@location(3)`, one `vec3<f32>` per vertex).
+const DIRECTION_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Float32x3];
+
+impl ScenePasses {
+    /// Builds the passes: the G-buffer pass writes [`GBUFFER_FORMAT`], the Phong pass
+    /// `color_format`, both with [`npr_gpu::DEPTH_FORMAT`] depth.
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidSize`] for a shadow map size below 16 or above the device
+    /// limit.
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        vsm: VsmSettings,
+    ) -> Result<Self, HatchError> {
+        let max = device.limits().max_texture_dimension_2d;
+        if vsm.size < 16 || vsm.size > max {
+            return Err(HatchError::InvalidSize {
+                width: vsm.size,
+                height: vsm.size,
+                reason: "shadow map side must be in 16..=max_texture_dimension_2d",
+            });
+        }
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("hatching_scene.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(
+                npr_gpu::shaders::compose(npr_gpu::shaders::HATCHING_SCENE).into(),
+            ),
+        });
+        let blur_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("vsm_blur.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::VSM_BLUR.into()),
+        });
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr hatching frame"),
+            entries: &[uniform_entry(0), uniform_entry(1)],
+        });
+        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr hatching object"),
+            entries: &[uniform_entry(0)],
+        });
+        let moments_layout = texture_layout(device, "npr vsm moments");
+        let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr vsm shadow"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout)],
+            immediate_size: 0,
+        });
+        let shade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr hatching shade"),
+            bind_group_layouts: &[
+                Some(&frame_layout),
+                Some(&object_layout),
+                Some(&moments_layout),
+            ],
+            immediate_size: 0,
+        });
+        let blur_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr vsm blur"),
+            bind_group_layouts: &[Some(&moments_layout)],
+            immediate_size: 0,
+        });
+        let direction_layout = wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &DIRECTION_ATTRIBUTES,
+        };
+        let depth_state = Some(wgpu::DepthStencilState {
+            format: npr_gpu::DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        });
+        let mesh_pipeline = |label: &str,
+                             layout: &wgpu::PipelineLayout,
+                             vs: &str,
+                             fs: &str,
+                             format: wgpu::TextureFormat,
+                             buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
+                             cull: Option<wgpu::Face>| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..Default::default()
+                },
+                depth_stencil: depth_state.clone(),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(format.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let scene_buffers = [Some(Vertex::layout()), Some(direction_layout)];
+        // The shadow pass draws both faces so thin or open meshes still cast shadows.
+        let shadow_pipeline = mesh_pipeline(
+            "npr vsm shadow",
+            &shadow_layout,
+            "vs_shadow",
+            "fs_shadow",
+            MOMENTS_FORMAT,
+            &[Some(Vertex::layout())],
+            None,
+        );
+        let gbuffer_pipeline = mesh_pipeline(
+            "npr hatching g-buffer",
+            &shade_layout,
+            "vs_scene",
+            "fs_gbuffer",
+            GBUFFER_FORMAT,
+            &scene_buffers,
+            Some(wgpu::Face::Back),
+        );
+        let phong_pipeline = mesh_pipeline(
+            "npr phong + vsm",
+            &shade_layout,
+            "vs_scene",
+            "fs_phong_vsm",
+            color_format,
+            &scene_buffers,
+            Some(wgpu::Face::Back),
+        );
+        let blur = |fs: &str| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(fs),
+                layout: Some(&blur_layout),
+                vertex: wgpu::VertexState {
+                    module: &blur_module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &blur_module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(MOMENTS_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr hatching frame"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr hatching scene"),
+            size: std::mem::size_of::<SceneUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr hatching frame"),
+            layout: &frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: frame_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: scene_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        let map = |label, format, usage| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width: vsm.size,
+                        height: vsm.size,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
+        };
+        let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let moments_view = map("npr vsm moments", MOMENTS_FORMAT, rt);
+        let scratch_view = map("npr vsm blur scratch", MOMENTS_FORMAT, rt);
+        let shadow_depth_view = map(
+            "npr vsm depth",
+            npr_gpu::DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        Ok(Self {
+            shadow_pipeline,
+            gbuffer_pipeline,
+            phong_pipeline,
+            blur_h: blur("fs_blur_h"),
+            blur_v: blur("fs_blur_v"),
+            frame_group,
+            moments_group: texture_group(device, &moments_layout, &moments_view),
+            blur_from_moments: texture_group(device, &moments_layout, &moments_view),
+            blur_from_scratch: texture_group(device, &moments_layout, &scratch_view),
+            object_layout,
+            frame_buffer,
+            scene_buffer,
+            moments_view,
+            scratch_view,
+            shadow_depth_view,
+            vsm,
+        })
+    }
+
+    /// Creates an object: `uniforms` (transform, material) and one stroke direction per
+    /// render vertex of `mesh`, in object space (e.g. `dir_kappa_max` of a curvature
+    /// field mapped to render vertices). Directions need not be unit length or
+    /// consistently signed (θ is a line field); a non-finite direction becomes zero and
+    /// its pixels get θ = 0.
+    ///
+    /// # Errors
+    /// [`HatchError::LengthMismatch`] when `directions.len()` differs from the mesh's
+    /// vertex count.
+    pub fn create_object(
+        &self,
+        device: &wgpu::Device,
+        mesh: &GpuMesh,
+        uniforms: &ObjectUniforms,
+        directions: &[Vec3],
+    ) -> Result<HatchObject, HatchError> {
+        if directions.len() != mesh.vertex_count as usize {
+            return Err(HatchError::LengthMismatch {
+                what: "stroke directions (one per render vertex)",
+                expected: mesh.vertex_count as usize,
+                actual: directions.len(),
+            });
+        }
+        let clean: Vec<[f32; 3]> = directions
+            .iter()
+            .map(|d| {
+                if d.is_finite() {
+                    d.to_array()
+                } else {
+                    [0.0; 3]
+                }
+            })
+            .collect();
+        let directions = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr hatching directions"),
+            contents: bytemuck::cast_slice(&clean),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr hatching object"),
+            contents: bytemuck::bytes_of(uniforms),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr hatching object"),
+            layout: &self.object_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        Ok(HatchObject {
+            uniforms: buffer,
+            bind_group,
+            directions,
+            vertex_count: mesh.vertex_count,
+        })
+    }
+
+    /// Writes the frame's camera, light and viewport size (pixels of the G-buffer or
+    /// colour target drawn next).
+    pub fn set_frame(
+        &self,
+        queue: &wgpu::Queue,
+        camera: &Camera,
+        light: &ShadowLight,
+        viewport: (u32, u32),
+    ) {
+        let frame = FrameUniforms::new(camera, &light.light());
+        let (light_pos, spot, inner) = match *light {
+            ShadowLight::Directional { .. } => ([0.0; 4], [0.0, 0.0, 0.0, -2.0], -1.0),
+            ShadowLight::Spot {
+                position,
+                target,
+                outer_angle_rad,
+                inner_angle_rad,
+                range,
+            } => {
+                let axis = (target - position).normalize_or(Vec3::NEG_Y);
+                let outer = outer_angle_rad.cos();
+                let inner = inner_angle_rad.min(outer_angle_rad).cos();
+                (
+                    position.extend(1.0 / range.max(1e-6)).to_array(),
+                    axis.extend(outer).to_array(),
+                    // smoothstep needs edge0 < edge1.
+                    inner.max(outer + 1e-4),
+                )
+            }
+        };
+        let scene = SceneUniforms {
+            light_clip_from_world: light.light_clip_from_world().to_cols_array_2d(),
+            light_pos,
+            spot,
+            vsm: [
+                self.vsm.min_variance,
+                self.vsm.light_bleed_reduction.clamp(0.0, 0.999),
+                self.vsm.size as f32,
+                if self.vsm.enabled { 1.0 } else { 0.0 },
+            ],
+            viewport: [viewport.0 as f32, viewport.1 as f32, inner, 0.0],
+        };
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&frame));
+        queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(&scene));
+    }
+
+    /// Records the variance shadow map: the moments of light depth of every object
+    /// (cleared to the far plane), then the optional separable blur.
+    pub fn record_shadow(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        objects: &[(&GpuMesh, &HatchObject)],
+    ) {
+        if !self.vsm.enabled {
+            return;
+        }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("npr vsm shadow"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &self.moments_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 1.0,
+                            g: 1.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(depth_attachment(&self.shadow_depth_view)),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &self.frame_group, &[]);
+            for (mesh, object) in objects {
+                pass.set_bind_group(1, &object.bind_group, &[]);
+                mesh.draw(&mut pass);
+            }
+        }
+        if self.vsm.blur {
+            for (target, pipeline, source) in [
+                (&self.scratch_view, &self.blur_h, &self.blur_from_moments),
+                (&self.moments_view, &self.blur_v, &self.blur_from_scratch),
+            ] {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("npr vsm blur"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: target,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: None,
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, source, &[]);
+                pass.draw(0..3, 0..1);
+            }
+        }
+    }
+
+    fn draw_objects(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipeline: &wgpu::RenderPipeline,
+        objects: &[(&GpuMesh, &HatchObject)],
+    ) {
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.frame_group, &[]);
+        pass.set_bind_group(2, &self.moments_group, &[]);
+        for (mesh, object) in objects {
+            pass.set_bind_group(1, &object.bind_group, &[]);
+            pass.set_vertex_buffer(1, object.directions.slice(..));
+            mesh.draw(pass);
+        }
+    }
+
+    /// Records the G-buffer pass: tone and θ of every object into `gbuffer`, cleared to
+    /// tone 1 (paper) and θ 0. Record [`ScenePasses::record_shadow`] first.
+    pub fn record_gbuffer(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        gbuffer: &GBuffer,
+        objects: &[(&GpuMesh, &HatchObject)],
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr hatching g-buffer"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &gbuffer.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 1.0,
+                        g: 0.0,
+                        b: 0.0,
+                        a: 1.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(depth_attachment(&gbuffer.depth_view)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.draw_objects(&mut pass, &self.gbuffer_pipeline, objects);
+    }
+
+    /// Records the baseline: the same Phong shading with the same VSM, as colour, into
+    /// `color` (the `color_format` of [`ScenePasses::new`]) with `depth`, cleared to
+    /// `clear` (linear RGBA). Record [`ScenePasses::record_shadow`] first.
+    pub fn record_phong(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        clear: [f64; 4],
+        objects: &[(&GpuMesh, &HatchObject)],
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr phong + vsm"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: clear[0],
+                        g: clear[1],
+                        b: clear[2],
+                        a: clear[3],
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(depth_attachment(depth)),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.draw_objects(&mut pass, &self.phong_pipeline, objects);
+    }
+}
+
+fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+    wgpu::RenderPassDepthStencilAttachment {
+        view,
+        depth_ops: Some(wgpu::Operations {
+            load: wgpu::LoadOp::Clear(1.0),
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scene_uniforms_match_wgsl_size() {
+        assert_eq!(std::mem::size_of::<SceneUniforms>(), 128);
+    }
+
+    #[test]
+    fn light_matrices_are_finite_for_degenerate_lights() {
+        for l in [
+            ShadowLight::Directional {
+                towards_light: Vec3::ZERO,
+                center: Vec3::ZERO,
+                radius: 0.0,
+            },
+            ShadowLight::Directional {
+                towards_light: Vec3::Y,
+                center: Vec3::ONE,
+                radius: 2.0,
+            },
+            ShadowLight::Spot {
+                position: Vec3::ZERO,
+                target: Vec3::ZERO,
+                outer_angle_rad: 0.0,
+                inner_angle_rad: 0.0,
+                range: 0.0,
+            },
+        ] {
+            assert!(l.light_clip_from_world().is_finite(), "{l:?}");
+        }
+    }
+}

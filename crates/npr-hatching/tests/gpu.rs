@@ -1,0 +1,516 @@
+//! GPU tests of the hatching pass and its inputs against the CPU reference and analytic
+//! expectations. Each test skips with a printed reason when no adapter exists, except
+//! under `cargo xtask test` (`NPR_REQUIRE_GPU=1`), where that is a failure.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat4, Vec3};
+use npr_gpu::{Camera, GpuMesh, ObjectUniforms, testing};
+use npr_hatching::{
+    BlendMode, CpuHatcher, HatchError, HatchFrame, HatchInputs, HatchParams, ShadowLight,
+    TamParams, TamStyle, TonalArtMap, VsmSettings, hatch_image_gpu,
+};
+use std::f32::consts::PI;
+
+/// Per-channel comparison of two sRGB images: (mean absolute difference in code values,
+/// fraction of pixels whose largest channel difference exceeds 2 code values).
+fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64) {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let (mut sum, mut bad) = (0u64, 0usize);
+    for (p, q) in a.pixels().zip(b.pixels()) {
+        let d = (0..3)
+            .map(|c| (i32::from(p[c]) - i32::from(q[c])).unsigned_abs())
+            .max()
+            .unwrap_or(0);
+        sum += u64::from(d);
+        if d > 2 {
+            bad += 1;
+        }
+    }
+    let n = (a.width() * a.height()) as f64;
+    (sum as f64 / n, bad as f64 / n)
+}
+
+/// GPU = CPU on the same inputs: a tone ramp with a swirling θ field, both styles, all
+/// three modes, a coloured ink and paper. Bound: mean |difference| ≤ 0.25 code values and
+/// at most 0.5 % of pixels differing by more than 2 code values (float rounding, e.g.
+/// fused multiply-adds, can move a rotated coordinate across a texel edge).
+#[test]
+fn gpu_hatching_equals_cpu_reference() {
+    let Some(ctx) = testing::context_or_skip("gpu_hatching_equals_cpu_reference") else {
+        return;
+    };
+    let (w, h) = (320u32, 240u32);
+    let inputs = HatchInputs::from_fn(w, h, |x, y| {
+        let tone = x / w as f32;
+        let theta = 0.02 * x + 0.015 * y + (0.03 * y).sin();
+        (tone, theta)
+    })
+    .unwrap();
+    for style in [TamStyle::Pen, TamStyle::Pencil] {
+        let tam = TonalArtMap::generate(&TamParams::for_style(style)).unwrap();
+        for mode in BlendMode::ALL {
+            let params = HatchParams {
+                mode,
+                bins: 18,
+                stroke_scale: 1.5,
+                ink: [0.05, 0.02, 0.1],
+                paper: [0.95, 0.9, 0.8],
+            };
+            let gpu = hatch_image_gpu(&ctx.device, &ctx.queue, &inputs, &tam, &params).unwrap();
+            let cpu = CpuHatcher::new(&tam, &params)
+                .unwrap()
+                .hatch_rgba8(&inputs)
+                .unwrap();
+            let (mean, frac) = compare(&gpu, &cpu);
+            eprintln!(
+                "{style:?} {mode:?}: mean |Δ| {mean:.4}, pixels > 2: {:.4} %",
+                frac * 100.0
+            );
+            assert!(
+                mean <= 0.25 && frac <= 0.005,
+                "{style:?} {mode:?}: mean {mean}, fraction {frac}"
+            );
+        }
+    }
+}
+
+/// Analytic stroke directions for a sphere: the projection of the world y axis onto the
+/// tangent plane (the meridian direction, a principal direction of the sphere).
+fn meridian_directions(mesh: &npr_geometry::Mesh) -> Vec<Vec3> {
+    mesh.normals
+        .iter()
+        .map(|n| (Vec3::Y - *n * n.dot(Vec3::Y)).normalize_or_zero())
+        .collect()
+}
+
+/// The whole frame on the GPU (VSM, G-buffer, hatching) equals the CPU reference applied
+/// to the G-buffer read back (same bound as above), the G-buffer's θ on the sphere's
+/// central column is the meridian's screen direction (vertical, π/2, within 2°), and the
+/// tone there follows Lambert's law for the unshadowed front (within 0.03).
+#[test]
+fn scene_frame_matches_cpu_on_its_gbuffer() {
+    let Some(ctx) = testing::context_or_skip("scene_frame_matches_cpu_on_its_gbuffer") else {
+        return;
+    };
+    let (w, h) = (200u32, 160u32);
+    let mesh = npr_geometry::generate::icosphere(4, 1.0);
+    let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let params = HatchParams::default();
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &params,
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    // Diffuse only, so tone = ambient + N·L.
+    let object_uniforms = ObjectUniforms::new(Mat4::IDENTITY, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
+    let object = frame
+        .scene
+        .create_object(
+            &ctx.device,
+            &gpu_mesh,
+            &object_uniforms,
+            &meridian_directions(&mesh),
+        )
+        .unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(0.0, 0.0, 1.0),
+        center: Vec3::ZERO,
+        radius: 1.5,
+    };
+    frame.set_view(&ctx.queue, &camera, &light);
+    let objects = [(&gpu_mesh, &object)];
+    let hatched = frame
+        .render_hatched(&ctx.device, &ctx.queue, &objects)
+        .unwrap();
+    let gbuffer = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    let cpu = CpuHatcher::new(&tam, &params)
+        .unwrap()
+        .hatch_rgba8(&gbuffer)
+        .unwrap();
+    let (mean, frac) = compare(&hatched, &cpu);
+    eprintln!(
+        "scene frame: mean |Δ| {mean:.4}, pixels > 2: {:.4} %",
+        frac * 100.0
+    );
+    assert!(
+        mean <= 0.25 && frac <= 0.005,
+        "mean {mean}, fraction {frac}"
+    );
+    // Central column, rows over the sphere's middle: the meridian is vertical on screen.
+    let x = w / 2;
+    let inv = camera.clip_from_world().inverse();
+    for y in (h / 2 - 30..h / 2 + 30).step_by(5) {
+        let i = (y * w + x) as usize;
+        let theta = gbuffer.theta()[i];
+        assert!(
+            (theta - PI / 2.0).abs() < 2f32.to_radians(),
+            "row {y}: θ {theta}"
+        );
+        // Analytic tone: ray through the pixel centre, hit point normal, N·L + ambient.
+        let ndc = Vec3::new(
+            (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+            1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+            0.0,
+        );
+        let near = inv.project_point3(ndc);
+        let far = inv.project_point3(ndc.with_z(1.0));
+        let d = (far - near).normalize();
+        let o = camera.eye;
+        let b = o.dot(d);
+        let t = -b - (b * b - (o.length_squared() - 1.0)).sqrt();
+        let n = (o + d * t).normalize();
+        let expected = 0.1 + n.z.max(0.0);
+        let tone = gbuffer.tone()[i];
+        assert!(
+            (tone - expected.min(1.0)).abs() < 0.03,
+            "row {y}: tone {tone} vs {expected}"
+        );
+    }
+    // Background is paper: tone 1.
+    assert_eq!(gbuffer.tone()[0], 1.0);
+}
+
+/// Variance shadow map: a sphere over a plane, lit at 45°, seen from above. Compared with
+/// the same frame without shadows, at least 1,000 pixels (the shadow on the plane, about
+/// 2,000 px expected) get darker by more than 0.3 in tone, and none gets lighter by more
+/// than 0.02.
+#[test]
+fn vsm_darkens_the_shadowed_plane() {
+    let Some(ctx) = testing::context_or_skip("vsm_darkens_the_shadowed_plane") else {
+        return;
+    };
+    let (w, h) = (160u32, 160u32);
+    let sphere = npr_geometry::generate::icosphere(3, 0.5);
+    let plane = npr_geometry::generate::plane(4.0, 4.0, 4, 4);
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 5.0, 0.01), Vec3::ZERO, 1.0);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(1.0, 1.0, 0.0),
+        center: Vec3::ZERO,
+        radius: 3.0,
+    };
+    let mut tones = Vec::new();
+    for enabled in [true, false] {
+        let frame = HatchFrame::new(
+            &ctx.device,
+            &ctx.queue,
+            &tam,
+            &HatchParams::default(),
+            VsmSettings {
+                enabled,
+                size: 512,
+                ..Default::default()
+            },
+            npr_gpu::COLOR_FORMAT,
+            w,
+            h,
+        )
+        .unwrap();
+        let mut objs = Vec::new();
+        for (mesh, m) in [
+            (&sphere, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
+            (&plane, Mat4::IDENTITY),
+        ] {
+            let g = GpuMesh::upload(&ctx.device, mesh).unwrap();
+            let u = ObjectUniforms::new(m, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
+            let dirs = vec![Vec3::X; mesh.positions.len()];
+            let o = frame
+                .scene
+                .create_object(&ctx.device, &g, &u, &dirs)
+                .unwrap();
+            objs.push((g, o));
+        }
+        frame.set_view(&ctx.queue, &camera, &light);
+        let refs: Vec<_> = objs.iter().map(|(g, o)| (g, o)).collect();
+        frame
+            .render_hatched(&ctx.device, &ctx.queue, &refs)
+            .unwrap();
+        tones.push(frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap());
+    }
+    let (on, off) = (tones[0].tone(), tones[1].tone());
+    let darker = on.iter().zip(off).filter(|(a, b)| **a < **b - 0.3).count();
+    let lighter = on.iter().zip(off).filter(|(a, b)| **a > **b + 0.02).count();
+    eprintln!("VSM: {darker} pixels darker by > 0.3, {lighter} lighter");
+    assert!(darker >= 1000, "{darker}");
+    assert_eq!(lighter, 0);
+}
+
+/// Typed errors and no panics on the GPU side: wrong direction count, bad parameters,
+/// zero sizes, NaN directions.
+#[test]
+fn gpu_bad_inputs_are_typed_errors() {
+    let Some(ctx) = testing::context_or_skip("gpu_bad_inputs_are_typed_errors") else {
+        return;
+    };
+    let tam = TonalArtMap::generate(&TamParams::pencil()).unwrap();
+    assert!(matches!(
+        npr_hatching::HatchPass::new(
+            &ctx.device,
+            &ctx.queue,
+            &tam,
+            &HatchParams {
+                bins: 30,
+                ..Default::default()
+            },
+            npr_gpu::COLOR_FORMAT
+        ),
+        Err(HatchError::InvalidParams { .. })
+    ));
+    assert!(matches!(
+        npr_hatching::GBuffer::new(&ctx.device, 0, 10),
+        Err(HatchError::InvalidSize { .. })
+    ));
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &HatchParams::default(),
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        64,
+        48,
+    )
+    .unwrap();
+    let mesh = npr_geometry::generate::icosphere(2, 1.0);
+    let g = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let u = ObjectUniforms::default_material(Mat4::IDENTITY);
+    assert!(matches!(
+        frame
+            .scene
+            .create_object(&ctx.device, &g, &u, &[Vec3::X; 3]),
+        Err(HatchError::LengthMismatch { .. })
+    ));
+    let nan = vec![Vec3::NAN; mesh.positions.len()];
+    let o = frame
+        .scene
+        .create_object(&ctx.device, &g, &u, &nan)
+        .unwrap();
+    frame.set_view(
+        &ctx.queue,
+        &Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 64.0 / 48.0),
+        &ShadowLight::Directional {
+            towards_light: Vec3::Z,
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+    );
+    let img = frame
+        .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+        .unwrap();
+    assert_eq!(img.dimensions(), (64, 48));
+    let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    assert!(
+        gb.theta().iter().all(|t| *t == 0.0),
+        "NaN directions give θ = 0"
+    );
+}
+
+/// Spot light: a plane lit by a spot light 3 units straight above it with a 20° cone
+/// (full strength within 15°), a small sphere in the beam, seen obliquely so that the
+/// shadow is visible. Inside the cone and away from the shadow the tone is lit (> 0.5);
+/// outside the cone it is the ambient term (0.1 ± 0.02); the sphere casts a shadow: at
+/// least 200 pixels of the beam darker than 0.3.
+#[test]
+fn spot_light_cone_and_shadow() {
+    let Some(ctx) = testing::context_or_skip("spot_light_cone_and_shadow") else {
+        return;
+    };
+    let (w, h) = (160u32, 160u32);
+    let plane = npr_geometry::generate::plane(6.0, 6.0, 8, 8);
+    let sphere = npr_geometry::generate::icosphere(3, 0.25);
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &HatchParams::default(),
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    let mut objs = Vec::new();
+    for (mesh, m) in [
+        (&plane, Mat4::IDENTITY),
+        (&sphere, Mat4::from_translation(Vec3::new(0.3, 1.5, 0.0))),
+    ] {
+        let g = GpuMesh::upload(&ctx.device, mesh).unwrap();
+        let u = ObjectUniforms::new(m, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
+        let dirs = vec![Vec3::X; mesh.positions.len()];
+        let o = frame
+            .scene
+            .create_object(&ctx.device, &g, &u, &dirs)
+            .unwrap();
+        objs.push((g, o));
+    }
+    let camera = Camera::look_at(Vec3::new(4.0, 5.0, 0.01), Vec3::ZERO, 1.0);
+    let light = ShadowLight::Spot {
+        position: Vec3::new(0.0, 3.0, 0.0),
+        target: Vec3::ZERO,
+        outer_angle_rad: 20f32.to_radians(),
+        inner_angle_rad: 15f32.to_radians(),
+        range: 10.0,
+    };
+    frame.set_view(&ctx.queue, &camera, &light);
+    let refs: Vec<_> = objs.iter().map(|(g, o)| (g, o)).collect();
+    frame
+        .render_hatched(&ctx.device, &ctx.queue, &refs)
+        .unwrap();
+    let g = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    let inv = camera.clip_from_world().inverse();
+    let (mut lit, mut dark_in_beam, mut outside) = (0, 0, Vec::new());
+    for y in 0..h {
+        for x in 0..w {
+            // The plane point under pixel (x, y).
+            let ndc = |z: f32| {
+                Vec3::new(
+                    (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                    1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+                    z,
+                )
+            };
+            let (a, b) = (inv.project_point3(ndc(0.0)), inv.project_point3(ndc(1.0)));
+            let p = a + (b - a) * (a.y / (a.y - b.y));
+            let r = p.length();
+            let tone = g.tone()[(y * w + x) as usize];
+            // Cone radius on the plane: 3 tan 15° = 0.80 (full), 3 tan 20° = 1.09 (zero).
+            // Shadow centre on the plane: (0.6, 0, 0), radius ≈ 0.5; the sphere itself hides
+            // the plane around (−1.3, 0, 0) from this camera.
+            let in_shadow = (p - Vec3::new(0.6, 0.0, 0.0)).length() < 0.65;
+            let behind_sphere = (p - Vec3::new(-1.3, 0.0, 0.0)).length() < 0.7;
+            if r < 0.7 && !in_shadow {
+                assert!(tone > 0.5, "lit pixel ({x}, {y}) at {p}: tone {tone}");
+                lit += 1;
+            }
+            if r < 0.7 && tone < 0.3 {
+                dark_in_beam += 1;
+            }
+            if r > 1.2 && r < 2.5 && !behind_sphere {
+                outside.push(tone);
+            }
+        }
+    }
+    eprintln!("spot: {lit} lit pixels checked, {dark_in_beam} shadowed in the beam");
+    assert!(lit > 200);
+    assert!(dark_in_beam >= 200, "{dark_in_beam}");
+    assert!(
+        outside.iter().all(|t| (t - 0.1).abs() <= 0.02),
+        "outside the cone"
+    );
+}
+
+/// Switching style on a live frame ([`HatchFrame::set_tam`], pen → pencil) gives what the
+/// CPU reference draws with the pencil map on the same G-buffer (same bound as above).
+#[test]
+fn switching_style_rebinds_the_map() {
+    let Some(ctx) = testing::context_or_skip("switching_style_rebinds_the_map") else {
+        return;
+    };
+    let (w, h) = (128u32, 96u32);
+    let pen = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let pencil = TonalArtMap::generate(&TamParams::pencil()).unwrap();
+    let params = HatchParams::default();
+    let mut frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &pen,
+        &params,
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    let mesh = npr_geometry::generate::icosphere(3, 1.0);
+    let g = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let u = ObjectUniforms::default_material(Mat4::IDENTITY);
+    let o = frame
+        .scene
+        .create_object(&ctx.device, &g, &u, &meridian_directions(&mesh))
+        .unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 1.0, 3.5), Vec3::ZERO, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(1.0, 1.0, 1.0),
+        center: Vec3::ZERO,
+        radius: 1.2,
+    };
+    frame.set_view(&ctx.queue, &camera, &light);
+    frame.set_tam(&ctx.device, &ctx.queue, &pencil).unwrap();
+    let img = frame
+        .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+        .unwrap();
+    let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+    let cpu = CpuHatcher::new(&pencil, &params)
+        .unwrap()
+        .hatch_rgba8(&gb)
+        .unwrap();
+    let (mean, frac) = compare(&img, &cpu);
+    assert!(
+        mean <= 0.25 && frac <= 0.005,
+        "mean {mean}, fraction {frac}"
+    );
+}
+
+/// The sign convention of θ: a quad facing the camera (world x right, y up on screen)
+/// with stroke direction (1, 1, 0) gets θ = π/4 (counter-clockwise from +x, y up), and
+/// (1, −1, 0) gets 3π/4, within 1° at the centre.
+#[test]
+fn gbuffer_theta_is_counter_clockwise_on_screen() {
+    let Some(ctx) = testing::context_or_skip("gbuffer_theta_is_counter_clockwise_on_screen") else {
+        return;
+    };
+    let (w, h) = (96u32, 64u32);
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        &tam,
+        &HatchParams::default(),
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )
+    .unwrap();
+    // The xz plane turned to face +z.
+    let plane = npr_geometry::generate::plane(2.0, 2.0, 2, 2);
+    let m = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    let g = GpuMesh::upload(&ctx.device, &plane).unwrap();
+    let u = ObjectUniforms::default_material(m);
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::Z,
+        center: Vec3::ZERO,
+        radius: 1.5,
+    };
+    for (dir_world, want) in [
+        (Vec3::new(1.0, 1.0, 0.0), PI / 4.0),
+        (Vec3::new(1.0, -1.0, 0.0), 3.0 * PI / 4.0),
+    ] {
+        let d = m.inverse().transform_vector3(dir_world);
+        let o = frame
+            .scene
+            .create_object(&ctx.device, &g, &u, &vec![d; plane.positions.len()])
+            .unwrap();
+        frame.set_view(&ctx.queue, &camera, &light);
+        frame
+            .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+            .unwrap();
+        let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+        let theta = gb.theta()[(h / 2 * w + w / 2) as usize];
+        assert!(
+            (theta - want).abs() < 1f32.to_radians(),
+            "{dir_world}: θ {theta}, want {want}"
+        );
+        // θ = 0 (the background) would fail above, so the quad was drawn.
+    }
+}

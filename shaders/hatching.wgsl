@@ -1,0 +1,116 @@
+// The image-space hatching pass of Yongjin Kim and Seungyong Lee, "Real-time Image-space
+// Hatching" (실시간 영상 공간 해칭), Journal of the Korea Computer Graphics Society, 2008:
+// Eq. (1) (§3.1), Eq. (2)-(3) (§3.2) and §3.3, in one fragment shader over a full-screen
+// triangle. Each pixel reads only its own tone and direction from the G-buffer.
+// CPU twin: `npr_hatching::CpuHatcher` (crates/npr-hatching/src/reference.rs); the two
+// read the same uniform block (`HatchUniforms`) and must stay in step.
+
+struct Hatch {
+    // Per bin k: (cos, sin) of theta_k = k*dtheta and of the offset partition's
+    // theta_k = (k + 1/2)*dtheta, each divided by the stroke scale (pixels per texel).
+    bins: array<vec4<f32>, 24>,
+    // rgb = ink (linear), a = 1 / dtheta.
+    ink: vec4<f32>,
+    // rgb = paper (linear), a = max coverage of the tonal art map.
+    paper: vec4<f32>,
+    // x = (tones - 1) / max coverage.
+    tone: vec4<f32>,
+    // x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
+    // z = map size - 1 (texel mask), w = tones.
+    config: vec4<u32>,
+};
+
+@group(0) @binding(0) var<uniform> hatch: Hatch;
+// The tonal art map, one R8Unorm layer per tone, light to dark; fetched nearest.
+@group(0) @binding(1) var tam: texture_2d_array<f32>;
+// The G-buffer: r = tone (1 = paper), g = theta in [0, pi).
+@group(0) @binding(2) var gbuffer: texture_2d<f32>;
+
+struct FullscreenOut {
+    @builtin(position) clip: vec4<f32>,
+};
+
+// One triangle covering the screen.
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    let x = f32(i32(i & 1u) * 4 - 1);
+    let y = f32(i32(i >> 1u) * 4 - 1);
+    var out: FullscreenOut;
+    out.clip = vec4<f32>(x, y, 0.0, 1.0);
+    return out;
+}
+
+// f(u_k, v_k) of Eq. (2): the pixel (x, y) rotated by theta_k (Eq. (1), §3.1), read from
+// the map nearest with wrap-around, blended between slices `slice` and `slice + 1` by `a`.
+// `cs` = (cos theta_k, sin theta_k) / stroke scale. Mirrors `CpuHatcher::stroke_texel`.
+fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32) -> f32 {
+    let u = cs.x * p.x - cs.y * p.y;
+    let v = cs.y * p.x + cs.x * p.y;
+    let mask = i32(hatch.config.z);
+    let t = vec2<i32>(i32(floor(u)) & mask, i32(floor(v)) & mask);
+    let t0 = textureLoad(tam, t, slice, 0).r;
+    let t1 = textureLoad(tam, t, slice + 1, 0).r;
+    return t0 + (t1 - t0) * a;
+}
+
+fn bin_cs(k: i32, offset: bool) -> vec2<f32> {
+    let n = i32(hatch.config.x);
+    let b = hatch.bins[((k % n) + n) % n];
+    if offset {
+        return b.zw;
+    }
+    return b.xy;
+}
+
+// Eq. (2)-(3), §3.2: sum_k w_k f(u_k, v_k), w_k = 1 - |theta - theta_k| / dtheta, on the
+// partition offset by `offset` (0 or 1/2 bin, §3.3). Only the nearest bin and its
+// neighbour on theta's side have non-zero weight (1 - |d| and |d|). Mirrors
+// `CpuHatcher::blended`.
+fn blended(t: f32, offset: bool, p: vec2<f32>, slice: i32, a: f32) -> f32 {
+    var tt = t;
+    if offset {
+        tt = t - 0.5;
+    }
+    let q = i32(floor(tt + 0.5));
+    let d = tt - f32(q);
+    var k1 = q - 1;
+    var w1 = -d;
+    if d >= 0.0 {
+        k1 = q + 1;
+        w1 = d;
+    }
+    let f0 = stroke_texel(bin_cs(q, offset), p, slice, a);
+    let f1 = stroke_texel(bin_cs(k1, offset), p, slice, a);
+    return (1.0 - w1) * f0 + w1 * f1;
+}
+
+// Ink coverage of the pixel centred at p for a tone in [0, 1] and theta in [0, pi):
+// Eq. (1) (mode 0), Eq. (2)-(3) (mode 1), or §3.3 offset partition mixed 50/50 (mode 2),
+// the tone interpolated between the two nearest slices. Mirrors `CpuHatcher::coverage`.
+fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32) -> f32 {
+    let max_cov = hatch.paper.a;
+    let c = clamp(1.0 - tone, 0.0, max_cov);
+    // Slice 0 is blank paper: no lookups needed (they would all read 0).
+    if c <= 0.0 {
+        return 0.0;
+    }
+    let s = c * hatch.tone.x;
+    let slice = min(max(i32(floor(s)), 0), i32(hatch.config.w) - 2);
+    let a = s - f32(slice);
+    let t = theta * hatch.ink.a;
+    if hatch.config.y == 0u {
+        let q = i32(floor(t + 0.5));
+        return stroke_texel(bin_cs(q, false), p, slice, a);
+    }
+    if hatch.config.y == 1u {
+        return blended(t, false, p, slice, a);
+    }
+    return 0.5 * blended(t, false, p, slice, a) + 0.5 * blended(t, true, p, slice, a);
+}
+
+@fragment
+fn fs_hatch(in: FullscreenOut) -> @location(0) vec4<f32> {
+    let g = textureLoad(gbuffer, vec2<i32>(floor(in.clip.xy)), 0);
+    let c = hatch_coverage(in.clip.xy, g.r, g.g);
+    return vec4<f32>(hatch.paper.rgb + (hatch.ink.rgb - hatch.paper.rgb) * c, 1.0);
+}

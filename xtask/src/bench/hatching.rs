@@ -1,0 +1,264 @@
+//! `cargo xtask bench hatching`: the image-space hatching paper's three workloads (§4:
+//! single objects at 640×480, a ~35,000-triangle scene at 640×480, a ~1,100,000-triangle
+//! scene at 1280×480). For each: the median time of the whole hatching frame (variance
+//! shadow map + G-buffer + hatching pass) against a Phong frame with the same shadow map,
+//! same scene, same adapter, same run, frames alternating, the GPU waited for after each;
+//! and the CPU reference's throughput on that scene's G-buffer (`cpu_mpix_per_s`; paper
+//! pixels cost one comparison) and on an image of the same size inked everywhere
+//! (`cpu_mpix_per_s_all_inked`, the worst case; median and best of 15), with the machine's
+//! load average beside them, since other processes take cores from rayon.
+//! Targets (issue 5): ratio ≤ 1.5, CPU ≥ 20 megapixels per second on 2 cores.
+
+use super::table::{Cell, Table, emit};
+use crate::demo_hatching::demo_directions;
+use glam::{Mat4, Vec3};
+use npr_geometry::{Mesh, generate};
+use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
+use npr_hatching::{
+    CpuHatcher, HatchFrame, HatchParams, ShadowLight, TamParams, TonalArtMap, VsmSettings,
+};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// One benchmark scene: objects with transforms and stroke directions, camera, light.
+struct Workload {
+    name: &'static str,
+    objects: Vec<(Mesh, Mat4, Vec<Vec3>)>,
+    size: (u32, u32),
+    eye: Vec3,
+    light: ShadowLight,
+    paper_fps: f64,
+    frames: usize,
+}
+
+fn object(name: &str, mesh: Mesh, m: Mat4) -> (Mesh, Mat4, Vec<Vec3>) {
+    let d = demo_directions(name, &mesh);
+    (mesh, m, d)
+}
+
+fn workloads() -> Vec<Workload> {
+    let light = |radius: f32| ShadowLight::Directional {
+        towards_light: Vec3::new(-1.2, 2.0, 0.9),
+        center: Vec3::ZERO,
+        radius,
+    };
+    let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
+    let knot = |segments, tube_segments| {
+        generate::torus_knot(&generate::TorusKnot {
+            p: 2,
+            q: 3,
+            major_radius: 1.0,
+            minor_radius: 0.4,
+            tube_radius: 0.15,
+            segments,
+            tube_segments,
+        })
+    };
+    vec![
+        Workload {
+            name: "single object (torus)",
+            objects: vec![object(
+                "torus",
+                generate::torus(1.0, 0.4, 96, 48),
+                Mat4::IDENTITY,
+            )],
+            size: (640, 480),
+            eye: Vec3::new(1.2, 2.0, 3.2),
+            light: light(1.5),
+            paper_fps: 51.0,
+            frames: 21,
+        },
+        Workload {
+            name: "scene (6 objects on a plane)",
+            objects: vec![
+                object("plane", generate::plane(9.0, 7.0, 8, 8), Mat4::IDENTITY),
+                object("sphere", generate::icosphere(4, 0.8), t(-2.2, 0.8, 0.6)),
+                object(
+                    "torus",
+                    generate::torus(0.9, 0.35, 96, 48),
+                    t(0.2, 0.35, 1.4),
+                ),
+                object(
+                    "cylinder",
+                    generate::cylinder(0.5, 1.8, 64, 16, true),
+                    t(2.3, 0.9, -0.4),
+                ),
+                object(
+                    "knot",
+                    knot(280, 24),
+                    t(0.0, 1.3, -1.3) * Mat4::from_scale(Vec3::splat(0.8)),
+                ),
+                object(
+                    "ellipsoid",
+                    generate::ellipsoid(0.9, 0.5, 0.6, 16),
+                    t(-1.4, 0.5, -1.8),
+                ),
+            ],
+            size: (640, 480),
+            eye: Vec3::new(1.5, 4.2, 7.0),
+            light: light(5.5),
+            paper_fps: 45.0,
+            frames: 21,
+        },
+        Workload {
+            name: "benchmark_knot",
+            objects: vec![object("knot", generate::benchmark_knot(), Mat4::IDENTITY)],
+            size: (1280, 480),
+            eye: Vec3::new(0.0, 1.2, 3.4),
+            light: light(1.7),
+            paper_fps: 21.0,
+            frames: 9,
+        },
+    ]
+}
+
+/// The 1-minute load average (Linux), to read the CPU numbers of a shared machine by.
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+fn median(mut v: Vec<Duration>) -> f64 {
+    v.sort();
+    v.get(v.len() / 2)
+        .map_or(f64::NAN, |d| d.as_secs_f64() * 1e3)
+}
+
+/// Runs the benchmark and prints (and optionally writes) its table.
+pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
+    let ctx = GpuContext::new()?;
+    let adapter = ctx.adapter.get_info().name;
+    println!("bench hatching: adapter {}", ctx.adapter_summary());
+    let tam = TonalArtMap::generate(&TamParams::pen())?;
+    let params = HatchParams::default();
+    let cpu = CpuHatcher::new(&tam, &params)?;
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut table = Table::new(
+        "image-space hatching: whole frame vs Phong + VSM frame (median, GPU waited each frame)",
+        &[
+            "scene",
+            "triangles",
+            "width_px",
+            "height_px",
+            "adapter",
+            "frames",
+            "hatch_ms_median",
+            "phong_vsm_ms_median",
+            "ratio",
+            "hatch_fps",
+            "paper_fps",
+            "cpu_mpix_per_s",
+            "cpu_mpix_per_s_all_inked",
+            "cpu_mpix_per_s_all_inked_best",
+            "cpu_threads",
+            "load_avg_1m",
+        ],
+    );
+    for w in workloads() {
+        let (width, height) = w.size;
+        let frame = HatchFrame::new(
+            &ctx.device,
+            &ctx.queue,
+            &tam,
+            &params,
+            VsmSettings::default(),
+            npr_gpu::COLOR_FORMAT,
+            width,
+            height,
+        )?;
+        let mut gpu = Vec::new();
+        let mut triangles = 0usize;
+        for (mesh, m, dirs) in &w.objects {
+            triangles += mesh.triangle_count();
+            let g = GpuMesh::upload(&ctx.device, mesh)?;
+            let u = ObjectUniforms::new(*m, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0);
+            let o = frame.scene.create_object(&ctx.device, &g, &u, dirs)?;
+            gpu.push((g, o));
+        }
+        let objects: Vec<_> = gpu.iter().map(|(g, o)| (g, o)).collect();
+        let camera = Camera::look_at(
+            w.eye,
+            Vec3::new(0.0, 0.3, 0.0),
+            width as f32 / height as f32,
+        );
+        frame.set_view(&ctx.queue, &camera, &w.light);
+        let target = OffscreenTarget::new(&ctx.device, width, height)?;
+        let wait = || {
+            ctx.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map(|_| ())
+                .map_err(|e| anyhow::anyhow!("poll: {e}"))
+        };
+        let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
+        // Two warm-up frames of each, then alternate.
+        for i in 0..w.frames + 2 {
+            let t0 = Instant::now();
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            frame.record(&mut enc, &target.color_view, &objects);
+            ctx.queue.submit(Some(enc.finish()));
+            wait()?;
+            let hatch = t0.elapsed();
+            let t1 = Instant::now();
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            frame.record_phong(&mut enc, &target, &objects);
+            ctx.queue.submit(Some(enc.finish()));
+            wait()?;
+            let phong = t1.elapsed();
+            if i >= 2 {
+                hatch_t.push(hatch);
+                phong_t.push(phong);
+            }
+        }
+        let (h_ms, p_ms) = (median(hatch_t), median(phong_t));
+        // CPU reference on this scene's G-buffer (left by the last hatching frame).
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        frame.record(&mut enc, &target.color_view, &objects);
+        ctx.queue.submit(Some(enc.finish()));
+        let inputs = frame.gbuffer.read(&ctx.device, &ctx.queue)?;
+        let mut cpu_t = Vec::new();
+        for _ in 0..7 {
+            let t = Instant::now();
+            let img = cpu.hatch_rgba8(&inputs)?;
+            cpu_t.push(t.elapsed());
+            std::hint::black_box(img);
+        }
+        let mpix = f64::from(width * height) / 1e6 / (median(cpu_t) / 1e3);
+        // Worst case: every pixel inked (no paper background), θ varying.
+        let inked = npr_hatching::HatchInputs::from_fn(width, height, |x, y| {
+            (0.5 + 0.4 * (0.01 * x).sin(), 0.003 * x + 0.002 * y)
+        })?;
+        let mut cpu_t = Vec::new();
+        for _ in 0..15 {
+            let t = Instant::now();
+            let img = cpu.hatch_rgba8(&inked)?;
+            cpu_t.push(t.elapsed());
+            std::hint::black_box(img);
+        }
+        let best = cpu_t.iter().min().map_or(f64::NAN, |d| d.as_secs_f64());
+        let mpix_inked_best = f64::from(width * height) / 1e6 / best;
+        let mpix_inked = f64::from(width * height) / 1e6 / (median(cpu_t) / 1e3);
+        table.push(vec![
+            w.name.into(),
+            triangles.into(),
+            width.into(),
+            height.into(),
+            adapter.clone().into(),
+            w.frames.into(),
+            Cell::Num(h_ms, 2),
+            Cell::Num(p_ms, 2),
+            Cell::Num(h_ms / p_ms, 3),
+            Cell::Num(1e3 / h_ms, 1),
+            Cell::Num(w.paper_fps, 0),
+            Cell::Num(mpix, 1),
+            Cell::Num(mpix_inked, 1),
+            Cell::Num(mpix_inked_best, 1),
+            threads.into(),
+            load_average().map_or(Cell::Empty, |l| Cell::Num(l, 2)),
+        ]);
+    }
+    emit(&[table], json)
+}

@@ -1,0 +1,430 @@
+//! Demo figures of the image-space hatching paper (Kim & Lee 2008, `npr-hatching`):
+//! Fig. 1 (cut-and-paste, blended, offset partition), Fig. 2 (pen and pencil on single
+//! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, a 2-D flow
+//! field (§5), and the tonal art maps themselves.
+//!
+//! Stroke directions: until `npr_geometry::CurvatureField` lands, the demo uses analytic
+//! or parametric surface directions computed here (around the tube of a torus or knot,
+//! parallels of a sphere or cylinder, and for other meshes the horizontal tangent `y × n`),
+//! which for these surfaces are principal directions or close to them.
+
+use crate::demo::{demo_meshes, framing_camera, paste};
+use anyhow::Context;
+use glam::{Mat4, Vec2, Vec3};
+use npr_geometry::{Mesh, generate};
+use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
+use npr_hatching::{
+    BlendMode, HatchFrame, HatchInputs, HatchParams, ShadowLight, TamParams, TamStyle, TonalArtMap,
+    VsmSettings, hatch_cpu, hatch_image_gpu,
+};
+use std::path::{Path, PathBuf};
+
+/// Per-vertex tangents along one texture axis (`dP/du` or `dP/dv`), from each triangle's
+/// uv gradient, accumulated and projected onto the tangent plane. For the parametric
+/// meshes of `npr_geometry::generate` (torus, knot, cylinder) these are the parameter
+/// lines, which are lines of curvature there.
+pub fn uv_tangents(mesh: &Mesh, along_v: bool) -> Vec<Vec3> {
+    let mut acc = vec![Vec3::ZERO; mesh.positions.len()];
+    for t in mesh.indices.chunks_exact(3) {
+        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize);
+        let (Some(&pa), Some(&pb), Some(&pc)) = (
+            mesh.positions.get(a),
+            mesh.positions.get(b),
+            mesh.positions.get(c),
+        ) else {
+            continue;
+        };
+        let uv = |i: usize| mesh.uvs.get(i).copied().unwrap_or(Vec2::ZERO);
+        let (e1, e2) = (pb - pa, pc - pa);
+        let (d1, d2) = (uv(b) - uv(a), uv(c) - uv(a));
+        let det = d1.x * d2.y - d2.x * d1.y;
+        if det.abs() < 1e-12 {
+            continue;
+        }
+        let dir = if along_v {
+            (e2 * d1.x - e1 * d2.x) / det
+        } else {
+            (e1 * d2.y - e2 * d1.y) / det
+        };
+        for i in [a, b, c] {
+            // Parameter lines may flip sign across a seam: align before summing.
+            let s = if acc[i].dot(dir) < 0.0 { -1.0 } else { 1.0 };
+            acc[i] += dir.normalize_or_zero() * s;
+        }
+    }
+    acc.iter()
+        .zip(&mesh.normals)
+        .map(|(d, n)| (*d - *n * n.dot(*d)).normalize_or_zero())
+        .collect()
+}
+
+/// `axis × n`: the horizontal tangent (parallels of a surface of revolution about `axis`).
+pub fn ring_directions(mesh: &Mesh, axis: Vec3) -> Vec<Vec3> {
+    mesh.normals
+        .iter()
+        .map(|n| axis.cross(*n).normalize_or_zero())
+        .collect()
+}
+
+/// The hatching demo knot: the (2, 3) knot of the specular paper, finer.
+pub fn demo_knot() -> Mesh {
+    generate::torus_knot(&generate::TorusKnot {
+        p: 2,
+        q: 3,
+        major_radius: 1.0,
+        minor_radius: 0.4,
+        tube_radius: 0.15,
+        segments: 480,
+        tube_segments: 40,
+    })
+}
+
+/// Stroke directions for a named demo mesh (see the module docs).
+pub fn demo_directions(name: &str, mesh: &Mesh) -> Vec<Vec3> {
+    match name {
+        "torus" | "knot" => uv_tangents(mesh, true),
+        "cylinder" => uv_tangents(mesh, false),
+        _ => ring_directions(mesh, Vec3::Y),
+    }
+}
+
+/// One object of a demo scene.
+struct Item {
+    mesh: Mesh,
+    world_from_object: Mat4,
+    directions: Vec<Vec3>,
+}
+
+fn save(image: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyhow::Result<()> {
+    image
+        .save(path)
+        .with_context(|| format!("writing {}", path.display()))?;
+    written.push(path.to_path_buf());
+    Ok(())
+}
+
+/// Renders `items` hatched with each `params` (and optionally the Phong + VSM baseline).
+#[allow(clippy::too_many_arguments)]
+fn render(
+    ctx: &GpuContext,
+    items: &[Item],
+    camera: &Camera,
+    light: &ShadowLight,
+    tam: &TonalArtMap,
+    params: &[HatchParams],
+    with_phong: bool,
+    (w, h): (u32, u32),
+) -> anyhow::Result<Vec<image::RgbaImage>> {
+    let first = params.first().copied().unwrap_or_default();
+    let mut frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        tam,
+        &first,
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        w,
+        h,
+    )?;
+    let mut gpu = Vec::new();
+    for item in items {
+        let mesh = GpuMesh::upload(&ctx.device, &item.mesh)?;
+        let uniforms = ObjectUniforms::new(
+            item.world_from_object,
+            Vec3::splat(0.9),
+            0.35,
+            Vec3::ONE,
+            24.0,
+        );
+        let object = frame
+            .scene
+            .create_object(&ctx.device, &mesh, &uniforms, &item.directions)?;
+        gpu.push((mesh, object));
+    }
+    let objects: Vec<_> = gpu.iter().map(|(m, o)| (m, o)).collect();
+    frame.set_view(&ctx.queue, camera, light);
+    let mut out = Vec::new();
+    for p in params {
+        frame.hatch.set_params(&ctx.queue, p)?;
+        out.push(frame.render_hatched(&ctx.device, &ctx.queue, &objects)?);
+    }
+    if with_phong {
+        out.push(frame.render_phong(&ctx.device, &ctx.queue, &objects)?);
+    }
+    Ok(out)
+}
+
+fn single(name: &str, mesh: Mesh) -> (Item, Camera, ShadowLight) {
+    let (camera, world_from_object) = framing_camera(&mesh, 4.0 / 3.0);
+    let directions = demo_directions(name, &mesh);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(-1.0, 1.6, 1.2),
+        center: Vec3::ZERO,
+        radius: 1.05,
+    };
+    (
+        Item {
+            mesh,
+            world_from_object,
+            directions,
+        },
+        camera,
+        light,
+    )
+}
+
+fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
+    let (tw, th) = tiles.first().map_or((1, 1), |t| t.dimensions());
+    let rows = (tiles.len() as u32).div_ceil(columns.max(1));
+    let mut s = image::RgbaImage::from_pixel(tw * columns, th * rows, image::Rgba([255; 4]));
+    for (i, t) in tiles.iter().enumerate() {
+        let i = i as u32;
+        paste(&mut s, t, (i % columns) * tw, (i / columns) * th);
+    }
+    s
+}
+
+/// Writes the hatching figures into `dir` and returns their paths.
+pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let pen = TonalArtMap::generate(&TamParams::pen())?;
+    let pencil = TonalArtMap::generate(&TamParams::pencil())?;
+
+    // The tonal art maps, light to dark.
+    for tam in [&pen, &pencil] {
+        let tiles: Vec<image::RgbaImage> = (0..tam.tones())
+            .filter_map(|i| tam.slice_image(i))
+            .map(|g| image::DynamicImage::ImageLuma8(g).to_rgba8())
+            .collect();
+        let path = dir.join(format!("hatching-tam-{}.png", tam.style().name()));
+        save(&sheet(&tiles, tam.tones()), &path, &mut written)?;
+    }
+
+    // Fig. 1: the three stages on one object.
+    // A close-up, strokes 1.5 px per texel, so that the partitions are visible.
+    let (item, mut camera, light) = single("knot", demo_knot());
+    camera.eye = Vec3::new(0.5, 0.9, 2.4).normalize() * 1.45;
+    camera.target = Vec3::new(0.15, 0.0, 0.2);
+    let params: Vec<HatchParams> = BlendMode::ALL
+        .iter()
+        .map(|&mode| HatchParams {
+            mode,
+            stroke_scale: 1.5,
+            ..Default::default()
+        })
+        .collect();
+    let images = render(
+        ctx,
+        &[item],
+        &camera,
+        &light,
+        &pen,
+        &params,
+        false,
+        (480, 360),
+    )?;
+    for (img, mode) in images.iter().zip(BlendMode::ALL) {
+        save(
+            img,
+            &dir.join(format!("hatching-fig1-{}.png", mode.name())),
+            &mut written,
+        )?;
+    }
+    save(
+        &sheet(&images, 3),
+        &dir.join("hatching-fig1.png"),
+        &mut written,
+    )?;
+
+    // Fig. 2: pen and pencil on single objects, 640×480 as in the paper.
+    let mut singles: Vec<(String, Mesh)> = vec![("knot".to_string(), demo_knot())];
+    singles.extend(
+        demo_meshes()
+            .into_iter()
+            .filter(|(n, _)| matches!(n.as_str(), "torus" | "sphere" | "spot" | "stanford-bunny")),
+    );
+    let mut tiles = Vec::new();
+    for (name, mesh) in singles {
+        let (item, camera, light) = single(&name, mesh);
+        let styles = [(&pen, TamStyle::Pen), (&pencil, TamStyle::Pencil)];
+        for (tam, style) in styles {
+            let params = [HatchParams {
+                stroke_scale: if style == TamStyle::Pencil { 1.25 } else { 1.0 },
+                ink: if style == TamStyle::Pencil {
+                    [0.04, 0.04, 0.05]
+                } else {
+                    [0.0; 3]
+                },
+                ..Default::default()
+            }];
+            let imgs = render(
+                ctx,
+                std::slice::from_ref(&item),
+                &camera,
+                &light,
+                tam,
+                &params,
+                false,
+                (640, 480),
+            )?;
+            for img in imgs {
+                save(
+                    &img,
+                    &dir.join(format!("hatching-fig2-{name}-{}.png", style.name())),
+                    &mut written,
+                )?;
+                tiles.push(img);
+            }
+        }
+    }
+    save(
+        &sheet(&tiles, 2),
+        &dir.join("hatching-fig2.png"),
+        &mut written,
+    )?;
+
+    // Fig. 3: a multi-object scene on a ground plane with cast shadows.
+    let (items, camera, light) = scene_fig3();
+    for (tam, style) in [(&pen, TamStyle::Pen), (&pencil, TamStyle::Pencil)] {
+        let imgs = render(
+            ctx,
+            &items,
+            &camera,
+            &light,
+            tam,
+            &[HatchParams::default()],
+            style == TamStyle::Pen,
+            (960, 600),
+        )?;
+        save(
+            &imgs[0],
+            &dir.join(format!("hatching-fig3-scene-{}.png", style.name())),
+            &mut written,
+        )?;
+        if let Some(phong) = imgs.get(1) {
+            save(
+                phong,
+                &dir.join("hatching-fig3-scene-phong-vsm.png"),
+                &mut written,
+            )?;
+        }
+    }
+
+    // The same scene under a spot light (cone and shadows from the VSM).
+    let spot = ShadowLight::Spot {
+        position: Vec3::new(-2.5, 5.0, 2.5),
+        target: Vec3::new(0.0, 0.5, 0.0),
+        outer_angle_rad: 38f32.to_radians(),
+        inner_angle_rad: 26f32.to_radians(),
+        range: 14.0,
+    };
+    let imgs = render(
+        ctx,
+        &items,
+        &camera,
+        &spot,
+        &pen,
+        &[HatchParams::default()],
+        false,
+        (960, 600),
+    )?;
+    save(
+        &imgs[0],
+        &dir.join("hatching-fig3-scene-spot-pen.png"),
+        &mut written,
+    )?;
+
+    // §5: 2-D flow visualisation, GPU and CPU.
+    let flow = flow_inputs(640, 480)?;
+    let params = HatchParams::default();
+    let gpu = hatch_image_gpu(&ctx.device, &ctx.queue, &flow, &pen, &params)?;
+    save(&gpu, &dir.join("hatching-flow-gpu.png"), &mut written)?;
+    let cpu = hatch_cpu(&flow, &pencil, &params)?;
+    save(
+        &cpu,
+        &dir.join("hatching-flow-cpu-pencil.png"),
+        &mut written,
+    )?;
+    Ok(written)
+}
+
+/// The Fig. 3-like scene: ground plane, and six objects; a directional light with shadows.
+fn scene_fig3() -> (Vec<Item>, Camera, ShadowLight) {
+    let mut items = Vec::new();
+    let plane = generate::plane(9.0, 7.0, 8, 8);
+    let dirs = vec![Vec3::new(1.0, 0.0, 0.35); plane.positions.len()];
+    items.push(Item {
+        mesh: plane,
+        world_from_object: Mat4::IDENTITY,
+        directions: dirs,
+    });
+    let mut add = |name: &str, mesh: Mesh, m: Mat4| {
+        let directions = demo_directions(name, &mesh);
+        items.push(Item {
+            mesh,
+            world_from_object: m,
+            directions,
+        });
+    };
+    add(
+        "sphere",
+        generate::icosphere(4, 0.8),
+        Mat4::from_translation(Vec3::new(-2.2, 0.8, 0.6)),
+    );
+    add(
+        "torus",
+        generate::torus(0.9, 0.35, 96, 48),
+        Mat4::from_translation(Vec3::new(0.2, 0.35, 1.4)),
+    );
+    add(
+        "cylinder",
+        generate::cylinder(0.5, 1.8, 64, 16, true),
+        Mat4::from_translation(Vec3::new(2.3, 0.9, -0.4)),
+    );
+    add(
+        "knot",
+        demo_knot(),
+        Mat4::from_translation(Vec3::new(0.0, 1.3, -1.3)) * Mat4::from_scale(Vec3::splat(0.8)),
+    );
+    add(
+        "ellipsoid",
+        generate::ellipsoid(0.9, 0.5, 0.6, 24),
+        Mat4::from_translation(Vec3::new(-1.4, 0.5, -1.8)),
+    );
+    let camera = Camera::look_at(
+        Vec3::new(1.5, 4.2, 7.0),
+        Vec3::new(0.0, 0.4, 0.0),
+        960.0 / 600.0,
+    );
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(-1.2, 2.0, 0.9),
+        center: Vec3::new(0.0, 0.5, 0.0),
+        radius: 5.5,
+    };
+    (items, camera, light)
+}
+
+/// A 2-D flow: a uniform stream past two counter-rotating vortices; tone from speed.
+pub fn flow_inputs(w: u32, h: u32) -> anyhow::Result<HatchInputs> {
+    let mut dir = Vec::with_capacity((w * h) as usize);
+    let mut mag = Vec::with_capacity((w * h) as usize);
+    let vortices = [
+        (Vec2::new(0.32, 0.45), 1.0f32),
+        (Vec2::new(0.68, 0.58), -1.0),
+    ];
+    for y in 0..h {
+        for x in 0..w {
+            // Screen axes, y up, in units of the height.
+            let p = Vec2::new(x as f32 + 0.5, h as f32 - y as f32 - 0.5) / h as f32;
+            let mut v = Vec2::new(0.25, 0.0);
+            for (c, s) in vortices {
+                let d = p - c;
+                let r2 = d.length_squared() + 0.004;
+                v += s * 0.08 * Vec2::new(-d.y, d.x) / r2;
+            }
+            dir.push([v.x, v.y]);
+            mag.push(v.length());
+        }
+    }
+    Ok(HatchInputs::from_flow(w, h, &dir, &mag, 3.0)?)
+}
