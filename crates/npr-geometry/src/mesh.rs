@@ -60,10 +60,16 @@ impl Mesh {
             )));
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(GeometryError::NonFinite { vertex: i, what: "position" });
+            return Err(GeometryError::NonFinite {
+                vertex: i,
+                what: "position",
+            });
         }
         if let Some(i) = self.normals.iter().position(|p| !p.is_finite()) {
-            return Err(GeometryError::NonFinite { vertex: i, what: "normal" });
+            return Err(GeometryError::NonFinite {
+                vertex: i,
+                what: "normal",
+            });
         }
         if let Some(k) = self.indices.iter().position(|&i| i as usize >= n) {
             return Err(GeometryError::IndexOutOfRange {
