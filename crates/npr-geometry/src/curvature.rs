@@ -22,7 +22,7 @@
 use std::cell::RefCell;
 
 use glam::{DVec3, Vec3};
-use nalgebra::{Matrix2, Matrix3, SymmetricEigen};
+use nalgebra::{Matrix3, SymmetricEigen};
 use rayon::prelude::*;
 
 use crate::topology::{NO_EDGE, Topology};
@@ -143,6 +143,34 @@ struct FaceData {
     t: [f32; 6],
 }
 
+/// Corrected-form face data split for the hot loop: bounding spheres (centroid, radius)
+/// scanned for every visited face, weights (`T_f` xx, xy, xz, yy, yz, zz, area, 0) read
+/// only for faces inside the ball.
+struct Packed {
+    sphere: Vec<[f32; 4]>,
+    weight: Vec<[glam::Vec4; 2]>,
+}
+
+impl Packed {
+    fn new(faces: &[FaceData]) -> Self {
+        Self {
+            sphere: faces
+                .iter()
+                .map(|f| [f.c[0], f.c[1], f.c[2], f.rad])
+                .collect(),
+            weight: faces
+                .iter()
+                .map(|f| {
+                    [
+                        glam::Vec4::new(f.t[0], f.t[1], f.t[2], f.t[3]),
+                        glam::Vec4::new(f.t[4], f.t[5], f.area, 0.0),
+                    ]
+                })
+                .collect(),
+        }
+    }
+}
+
 struct Scratch {
     face_mark: Vec<u32>,
     edge_mark: Vec<u32>,
@@ -238,6 +266,11 @@ impl CurvatureField {
         } else {
             edge_tensors(topo)
         };
+        let packed = if method == CurvatureMethod::Corrected {
+            Some(Packed::new(&faces))
+        } else {
+            None
+        };
         let ok_radius = r.is_finite() && r > 0.0;
         let frames: Vec<Frame> = (0..nv)
             .into_par_iter()
@@ -248,7 +281,10 @@ impl CurvatureField {
                 }
                 SCRATCH.with(|s| {
                     let mut s = s.borrow_mut();
-                    vertex_frame(topo, &faces, &edge_t, v, r, method, &mut s)
+                    match &packed {
+                        Some(p) => corrected_frame(topo, p, v, r, &mut s),
+                        None => vertex_frame(topo, &faces, &edge_t, v, r, method, &mut s),
+                    }
                 })
             })
             .collect();
@@ -400,6 +436,79 @@ fn face_data(topo: &Topology, method: CurvatureMethod) -> Vec<FaceData> {
         .collect()
 }
 
+/// Restarts the visit marks for a new vertex; returns the stamp for this vertex.
+fn next_stamp(s: &mut Scratch, nf: usize, ne: usize) -> u32 {
+    if s.face_mark.len() != nf {
+        s.face_mark.clear();
+        s.face_mark.resize(nf, 0);
+        s.stamp = 0;
+    }
+    if s.edge_mark.len() != ne {
+        s.edge_mark.clear();
+        s.edge_mark.resize(ne, 0);
+        s.stamp = 0;
+    }
+    s.stamp = s.stamp.wrapping_add(1);
+    if s.stamp == 0 {
+        s.face_mark.fill(0);
+        s.edge_mark.fill(0);
+        s.stamp = 1;
+    }
+    s.stamp
+}
+
+/// The corrected form's hot loop: `Σ w_f T_f` and `Σ w_f A_f` over the faces whose
+/// centroid lies in the ball, grown from the vertex's faces over face adjacency.
+fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratch) -> Frame {
+    let stamp = next_stamp(s, p.sphere.len(), 0);
+    let pv = topo.positions[v];
+    let r2 = r * r;
+    let inv_r2 = 1.0 / r2;
+    // Two SIMD accumulators: (xx, xy, xz, yy) and (yz, zz, area, 0).
+    let (mut acc0, mut acc1) = (glam::Vec4::ZERO, glam::Vec4::ZERO);
+    s.stack.clear();
+    for &f in topo.vertex_faces(v) {
+        s.face_mark[f as usize] = stamp;
+        s.stack.push(f);
+    }
+    while let Some(f) = s.stack.pop() {
+        let [cx, cy, cz, rad] = p.sphere[f as usize];
+        let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
+        let d2 = dx * dx + dy * dy + dz * dz;
+        if d2 < r2 {
+            let q = 1.0 - d2 * inv_r2;
+            let w = q * q;
+            let [t0, t1] = p.weight[f as usize];
+            acc0 += w * t0;
+            acc1 += w * t1;
+        } else {
+            // Outside: pass the ball on only if the face is large against the ball and
+            // its bounding sphere reaches in (small faces outside have no inside
+            // neighbour the ring does not already reach).
+            let reach = r + rad;
+            if !(rad > 0.5 * r && d2 < reach * reach) {
+                continue;
+            }
+        }
+        for &g in topo.face_neighbours(f as usize) {
+            let m = &mut s.face_mark[g as usize];
+            if *m != stamp {
+                *m = stamp;
+                s.stack.push(g);
+            }
+        }
+    }
+    let area = f64::from(acc1.z);
+    let mesh_n = topo.vertex_normals[v];
+    if !(area > 0.0) || !acc0.is_finite() || !acc1.is_finite() {
+        return invalid(mesh_n);
+    }
+    let acc = [acc0.x, acc0.y, acc0.z, acc0.w, acc1.x, acc1.y];
+    let t = acc.map(|x| f64::from(x) / area);
+    let m = Matrix3::new(t[0], t[1], t[2], t[1], t[3], t[4], t[2], t[4], t[5]);
+    tangent_frame(&m, mesh_n.as_dvec3()).unwrap_or_else(|| invalid(mesh_n))
+}
+
 fn vertex_frame(
     topo: &Topology,
     faces: &[FaceData],
@@ -409,24 +518,7 @@ fn vertex_frame(
     method: CurvatureMethod,
     s: &mut Scratch,
 ) -> Frame {
-    let nf = faces.len();
-    if s.face_mark.len() != nf {
-        s.face_mark.clear();
-        s.face_mark.resize(nf, 0);
-        s.stamp = 0;
-    }
-    if method != CurvatureMethod::Corrected && s.edge_mark.len() != edge_t.len() {
-        s.edge_mark.clear();
-        s.edge_mark.resize(edge_t.len(), 0);
-        s.stamp = 0;
-    }
-    s.stamp = s.stamp.wrapping_add(1);
-    if s.stamp == 0 {
-        s.face_mark.fill(0);
-        s.edge_mark.fill(0);
-        s.stamp = 1;
-    }
-    let stamp = s.stamp;
+    let stamp = next_stamp(s, faces.len(), edge_t.len());
     let pv = topo.positions[v];
     let r2 = r * r;
     let mesh_n = topo.vertex_normals[v];
@@ -441,7 +533,15 @@ fn vertex_frame(
         let fd = &faces[f as usize];
         let d = Vec3::from_array(fd.c) - pv;
         let d2 = d.length_squared();
-        let reach = r + fd.rad;
+        // Corrected: pass the ball on through faces whose centroid is inside (their
+        // weight is non-zero), or whose bounding sphere reaches in when the face is large
+        // against the ball. Paper / clipped: through every face that can touch the ball.
+        let slack = if method != CurvatureMethod::Corrected || fd.rad > 0.5 * r {
+            fd.rad
+        } else {
+            0.0
+        };
+        let reach = r + slack;
         if !(d2 < reach * reach) {
             continue;
         }
@@ -522,19 +622,35 @@ fn tangent_frame(m: &Matrix3<f64>, n: DVec3) -> Option<Frame> {
         DVec3::new(v.x, v.y, v.z)
     };
     let (m1, m2) = (mv(t1), mv(t2));
-    let a = Matrix2::new(t1.dot(m1), t1.dot(m2), t2.dot(m1), t2.dot(m2));
-    let eig = SymmetricEigen::try_new(a, 1e-14, 64)?;
-    let (hi, lo) = if eig.eigenvalues[0] >= eig.eigenvalues[1] {
-        (0, 1)
-    } else {
-        (1, 0)
-    };
-    let u = eig.eigenvectors.column(hi);
+    let (lam_hi, lam_lo, u) = sym2_eigen(t1.dot(m1), 0.5 * (t1.dot(m2) + t2.dot(m1)), t2.dot(m2));
     // Larger eigenvalue ↔ direction of MINIMUM curvature (the tensor swaps them).
     let dmin = (u[0] * t1 + u[1] * t2).try_normalize()?;
     let dmax = dmin.cross(n);
-    let (kmax, kmin) = (eig.eigenvalues[hi], eig.eigenvalues[lo]);
-    finish(n, dmax, kmax, kmin)
+    finish(n, dmax, lam_hi, lam_lo)
+}
+
+/// Closed-form eigen-decomposition of the symmetric 2×2 `[[a, b], [b, c]]`: (larger
+/// eigenvalue, smaller eigenvalue, unit eigenvector of the larger). Exact and much
+/// cheaper than an iterative solver; a unit test checks it against nalgebra's
+/// `SymmetricEigen` (which the 3×3 forms use).
+pub(crate) fn sym2_eigen(a: f64, b: f64, c: f64) -> (f64, f64, [f64; 2]) {
+    let mean = 0.5 * (a + c);
+    let half = 0.5 * (a - c);
+    let d = (half * half + b * b).sqrt();
+    let (hi, lo) = (mean + d, mean - d);
+    // Eigenvector of the larger eigenvalue, from the better-conditioned row.
+    let v = if half >= 0.0 {
+        [half + d, b]
+    } else {
+        [b, d - half]
+    };
+    let l = (v[0] * v[0] + v[1] * v[1]).sqrt();
+    let u = if l > 0.0 {
+        [v[0] / l, v[1] / l]
+    } else {
+        [1.0, 0.0]
+    };
+    (hi, lo, u)
 }
 
 /// The paper's eigen-analysis of the full 3×3 T: smallest |eigenvalue| → normal.
@@ -631,4 +747,30 @@ fn clipped_area(p: [DVec3; 3], c: DVec3, r: f64, depth: u32) -> f64 {
         + clipped_area([m[0], p[1], m[1]], c, r, depth - 1)
         + clipped_area([m[2], m[1], p[2]], c, r, depth - 1)
         + clipped_area([m[0], m[1], m[2]], c, r, depth - 1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::XorShift64;
+    use nalgebra::Matrix2;
+
+    #[test]
+    fn closed_form_2x2_matches_nalgebra() {
+        let mut rng = XorShift64::new(3);
+        for k in 0..2000 {
+            let (a, mut b, c) = (rng.next_signed(), rng.next_signed(), rng.next_signed());
+            if k % 10 == 0 {
+                b = 0.0;
+            }
+            let (hi, lo, u) = sym2_eigen(a, b, c);
+            let e = SymmetricEigen::new(Matrix2::new(a, b, b, c));
+            let (nh, nl) = (e.eigenvalues.max(), e.eigenvalues.min());
+            assert!((hi - nh).abs() < 1e-12 && (lo - nl).abs() < 1e-12);
+            // u is an eigenvector of hi.
+            let m = Matrix2::new(a, b, b, c) * nalgebra::Vector2::new(u[0], u[1]);
+            assert!((m[0] - hi * u[0]).abs() < 1e-12 && (m[1] - hi * u[1]).abs() < 1e-12);
+            assert!((u[0].hypot(u[1]) - 1.0).abs() < 1e-12);
+        }
+    }
 }

@@ -12,6 +12,9 @@
 //! [`CurvatureField`] (once per mesh) → per frame [`HighlightSearch::find`].
 //! No GPU code lives here.
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
+// `!(x > 0.0)` is used on purpose throughout: it is also true for NaN, which is how
+// non-finite input is turned into "invalid" instead of leaking.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod analytic;
 pub mod curvature;
