@@ -174,12 +174,16 @@ pub struct HighlightSearch {
     field: CurvatureField,
     vf_offsets: Vec<u32>,
     vf: Vec<u32>,
-    /// Largest angle (rad) between two vertex normals of any face.
-    max_face_spread: f32,
-    /// Longest edge, object space.
-    max_edge: f32,
+    /// Per vertex: cos of the largest angle between two vertex normals of any face
+    /// around it (the normal spread a centre in those faces can be away from N_v).
+    cos_spread: Vec<f32>,
+    /// Per vertex: longest incident edge, object space.
+    reach: Vec<f32>,
     merge_distance: f32,
 }
+
+/// Margin (rad) added to the rejection bounds for the ε-acceptance and rounding.
+const ANGLE_MARGIN: f32 = 0.01;
 
 impl HighlightSearch {
     /// Prepares the search. Normals are the field's (`CurvatureField::normal`), so the
@@ -202,17 +206,22 @@ impl HighlightSearch {
             vf.extend_from_slice(topo.vertex_faces(v));
             vf_offsets.push(vf.len() as u32);
         }
-        let mut max_face_spread = 0f32;
-        let mut max_edge = 0f32;
+        let mut cos_spread = vec![1f32; nv];
+        let mut reach = vec![0f32; nv];
         for t in &topo.triangles {
             if t.iter().any(|&i| i as usize >= nv) {
                 continue;
             }
+            let mut c = 1f32;
             for k in 0..3 {
                 let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
-                let c = normals[a].dot(normals[b]).clamp(-1.0, 1.0);
-                max_face_spread = max_face_spread.max(c.acos());
-                max_edge = max_edge.max(topo.positions[a].distance(topo.positions[b]));
+                c = c.min(normals[a].dot(normals[b]).clamp(-1.0, 1.0));
+                let l = topo.positions[a].distance(topo.positions[b]);
+                reach[a] = reach[a].max(l);
+                reach[b] = reach[b].max(l);
+            }
+            for &i in t {
+                cos_spread[i as usize] = cos_spread[i as usize].min(c);
             }
         }
         Self {
@@ -222,8 +231,8 @@ impl HighlightSearch {
             field: field.clone(),
             vf_offsets,
             vf,
-            max_face_spread,
-            max_edge,
+            cos_spread,
+            reach,
             merge_distance: 1e-2 * topo.mean_edge_length,
         }
     }
@@ -231,90 +240,114 @@ impl HighlightSearch {
     /// Every highlight centre on the mesh for this light, eye and object transform
     /// (`world_from_object`, affine), duplicates from neighbouring faces merged.
     ///
-    /// Cheap rejection first: a centre inside a face means each of its vertices has
-    /// `angle(N_k, H_k) ≤ spread_N + spread_H` (the normal and half-vector spreads over
-    /// the face), so only faces whose three vertices pass a per-frame bound on that angle
-    /// are solved. Cost: one pass over the vertices plus a solve per surviving face.
+    /// Cheap rejection first, both tests conservative (they never drop a centre):
+    /// 1. per vertex: a centre in a face around `v` means `angle(N_v, H_v) ≤ s_v + b_v`,
+    ///    with `s_v` the normal spread of those faces (precomputed) and `b_v` a bound on
+    ///    how far `H` turns across them (0 for directions; from the edge length, the
+    ///    distances to light and eye and `|L̂ + V̂|` for positions). A face is solved only
+    ///    if its three vertices pass.
+    /// 2. per face: the averaged half vector must lie in the cone of the three vertex
+    ///    normals, up to the same bound (`N(α, β)` with non-negative weights spans exactly
+    ///    that cone).
+    ///
+    /// Then Eq. (6) and its normalised refinement ([`try_solve_barycentric`]).
     pub fn find(&self, light_eye: LightEye, world_from_object: Mat4) -> Vec<HighlightCentre> {
         let nv = self.positions.len();
         let lin = Mat3::from_mat4(world_from_object);
-        let lin_t = lin.transpose();
         let normal_world_from_object = lin.inverse().transpose();
-        if !normal_world_from_object.is_finite() {
+        if !normal_world_from_object.is_finite() || nv == 0 {
             return Vec::new();
         }
-        // Half vectors mapped into object space: N_w ∥ H_w ⇔ N_o ∥ Lᵀ H_w.
+        let (sigma_max, cond) = svd_ratio(lin);
+        let similarity = cond < 1.0 + 1e-4;
         let mut h_obj = vec![Vec3::ZERO; nv];
-        let mut dots = vec![-2f32; nv];
-        let (mut d_light, mut d_eye, mut s_min) = (f32::INFINITY, f32::INFINITY, f32::INFINITY);
+        let mut pass = vec![false; nv];
         match light_eye {
             LightEye::Directions { to_light, to_eye } => {
                 let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
-                let h = (lin_t * s.normalize_or_zero()).normalize_or_zero();
+                // N_w ∥ H_w ⇔ N_o ∥ Lᵀ H_w (normals transform by the inverse transpose).
+                let h = (lin.transpose() * s.normalize_or_zero()).normalize_or_zero();
                 if h == Vec3::ZERO {
                     return Vec::new();
                 }
                 for v in 0..nv {
                     h_obj[v] = h;
-                    dots[v] = self.normals[v].dot(h);
+                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - ANGLE_MARGIN;
                 }
-                s_min = s.length();
             }
             LightEye::Positions { light, eye } => {
+                let object_from_world = world_from_object.inverse();
+                let (light_o, eye_o) = (
+                    object_from_world.transform_point3(light),
+                    object_from_world.transform_point3(eye),
+                );
+                let lin_t = lin.transpose();
+                let half_pi = std::f32::consts::FRAC_PI_2;
                 for v in 0..nv {
-                    let pw = world_from_object.transform_point3(self.positions[v]);
-                    let (l, e) = (light - pw, eye - pw);
+                    let p = self.positions[v];
+                    // Directions to light and eye: in object space for similarity
+                    // transforms (angles are preserved), else in world space.
+                    let (l, e) = if similarity {
+                        (light_o - p, eye_o - p)
+                    } else {
+                        let pw = world_from_object.transform_point3(p);
+                        (light - pw, eye - pw)
+                    };
                     let (ll, le) = (l.length(), e.length());
-                    d_light = d_light.min(ll);
-                    d_eye = d_eye.min(le);
                     let s = l / ll + e / le;
                     let sl = s.length();
-                    s_min = s_min.min(sl);
-                    let h = (lin_t * (s / sl)).normalize_or_zero();
-                    if h.is_finite() && sl > 1e-6 {
-                        h_obj[v] = h;
-                        dots[v] = self.normals[v].dot(h);
+                    let h = if similarity {
+                        s / sl
+                    } else {
+                        (lin_t * (s / sl)).normalize_or_zero()
+                    };
+                    if !(sl > 1e-6) || !h.is_finite() {
+                        continue;
                     }
+                    h_obj[v] = h;
+                    // Turn of L̂ (and V̂) over the faces around v (points within r of
+                    // p_v, at least d − r from the light): ≤ asin(r/(d−r)) ≤ tan(…).
+                    let r = if similarity {
+                        self.reach[v]
+                    } else {
+                        self.reach[v] * sigma_max
+                    };
+                    let turn = |d: f32| {
+                        let x = r / (d - r);
+                        if d > 2.0 * r {
+                            x / (1.0 - x * x).sqrt()
+                        } else {
+                            half_pi
+                        }
+                    };
+                    let (tl, te) = (turn(ll), turn(le));
+                    // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
+                    let b = ((tl + te) / (sl - tl - te).max(1e-3) * cond).min(4.0);
+                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - b - ANGLE_MARGIN;
                 }
             }
         }
-        // Bound on the half vector's angular spread over one face (0 for directions).
-        let spread_h = match light_eye {
-            LightEye::Directions { .. } => 0.0,
-            LightEye::Positions { .. } => {
-                let sv = svd_ratio(lin);
-                let l = self.max_edge * sv.0;
-                let th = |d: f32| {
-                    if l < d {
-                        (l / d).asin()
-                    } else {
-                        std::f32::consts::FRAC_PI_2
-                    }
-                };
-                let dh = 2.0 * (th(d_light) + th(d_eye)) / s_min.max(1e-6);
-                (std::f32::consts::FRAC_PI_2 * dh * sv.1).min(std::f32::consts::PI)
-            }
-        };
-        let max_angle = (self.max_face_spread + spread_h + 1e-3).min(std::f32::consts::PI);
-        let threshold = max_angle.cos();
 
         let mut found: Vec<(HighlightCentre, f32)> = Vec::new();
         for v in 0..nv {
-            if dots[v] < threshold {
+            if !pass[v] {
                 continue;
             }
             let (s, e) = (self.vf_offsets[v] as usize, self.vf_offsets[v + 1] as usize);
             for &f in &self.vf[s..e] {
                 let t = self.triangles[f as usize];
                 // Solve each face once: at its smallest vertex index.
-                if t.iter().copied().min() != Some(v as u32)
-                    || t.iter().any(|&i| dots[i as usize] < threshold)
+                if t.iter().copied().min() != Some(v as u32) || t.iter().any(|&i| !pass[i as usize])
                 {
                     continue;
                 }
-                let n = t.map(|i| self.normals[i as usize].as_dvec3());
-                let h = t.map(|i| h_obj[i as usize].as_dvec3());
-                let Some((a, b)) = solve_normalised(n, h) else {
+                let n = t.map(|i| self.normals[i as usize]);
+                let h = t.map(|i| h_obj[i as usize]);
+                if !in_cone(n, h) {
+                    continue;
+                }
+                let Some((a, b)) = solve_normalised(n.map(Vec3::as_dvec3), h.map(Vec3::as_dvec3))
+                else {
                     continue;
                 };
                 let Some(c) = self.centre(
@@ -394,6 +427,28 @@ impl HighlightSearch {
             kappa_min: kmin * inv_s,
         })
     }
+}
+
+/// Whether the interpolated half vector can lie in the cone spanned by the vertex
+/// normals `n`: tests the averaged half vector `h̄` with a slack of the largest chord
+/// from `h̄` to the vertex half vectors (every normalised interpolation of `h` lies in
+/// that cap), plus [`ANGLE_MARGIN`]. A flat cone (normals nearly coplanar) passes.
+fn in_cone(n: [Vec3; 3], h: [Vec3; 3]) -> bool {
+    let Some(hb) = (h[0] + h[1] + h[2]).try_normalize() else {
+        return true;
+    };
+    let det = n[0].cross(n[1]).dot(n[2]);
+    if det.abs() < 1e-6 {
+        return true;
+    }
+    let min_dot = h.iter().map(|x| x.dot(hb)).fold(1.0, f32::min);
+    // |c·(h̄ − Ĥ)| ≤ |c| |h̄ − Ĥ| ≤ |c| · chord.
+    let slack = (2.0 * (1.0 - min_dot)).max(0.0).sqrt() + ANGLE_MARGIN;
+    let sign = det.signum();
+    (0..3).all(|k| {
+        let c = n[k].cross(n[(k + 1) % 3]);
+        sign * c.dot(hb) >= -c.length() * slack
+    })
 }
 
 /// (largest singular value, condition number) of a 3×3 matrix.
