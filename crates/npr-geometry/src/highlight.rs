@@ -18,6 +18,7 @@
 //! [`try_solve_barycentric_eq6`] is the paper's solve alone.
 
 use glam::{DVec3, Mat3, Mat4, Vec3};
+use rayon::prelude::*;
 
 use crate::{CurvatureField, Topology};
 
@@ -283,7 +284,7 @@ impl HighlightSearch {
                 );
                 let lin_t = lin.transpose();
                 let half_pi = std::f32::consts::FRAC_PI_2;
-                for v in 0..nv {
+                let per_vertex = |v: usize| -> (Vec3, bool) {
                     let p = self.positions[v];
                     // Directions to light and eye: in object space for similarity
                     // transforms (angles are preserved), else in world space.
@@ -302,20 +303,20 @@ impl HighlightSearch {
                         (lin_t * (s / sl)).normalize_or_zero()
                     };
                     if !(sl > 1e-6) || !h.is_finite() {
-                        continue;
+                        return (Vec3::ZERO, false);
                     }
-                    h_obj[v] = h;
                     // Turn of L̂ (and V̂) over the faces around v (points within r of
-                    // p_v, at least d − r from the light): ≤ asin(r/(d−r)) ≤ tan(…).
+                    // p_v, at least d − r from the light): ≤ asin(x) ≤ x(1 + x²) for
+                    // x = r/(d − r) ≤ 1/2.
                     let r = if similarity {
                         self.reach[v]
                     } else {
                         self.reach[v] * sigma_max
                     };
                     let turn = |d: f32| {
-                        let x = r / (d - r);
-                        if d > 2.0 * r {
-                            x / (1.0 - x * x).sqrt()
+                        if d > 3.0 * r {
+                            let x = r / (d - r);
+                            x * (1.0 + x * x)
                         } else {
                             half_pi
                         }
@@ -323,7 +324,21 @@ impl HighlightSearch {
                     let (tl, te) = (turn(ll), turn(le));
                     // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
                     let b = ((tl + te) / (sl - tl - te).max(1e-3) * cond).min(4.0);
-                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - b - ANGLE_MARGIN;
+                    (
+                        h,
+                        self.normals[v].dot(h) >= self.cos_spread[v] - b - ANGLE_MARGIN,
+                    )
+                };
+                if nv >= 8192 {
+                    (h_obj, pass) = (0..nv)
+                        .into_par_iter()
+                        .with_min_len(2048)
+                        .map(per_vertex)
+                        .unzip();
+                } else {
+                    for v in 0..nv {
+                        (h_obj[v], pass[v]) = per_vertex(v);
+                    }
                 }
             }
         }

@@ -14,6 +14,7 @@
 use std::f64::consts::{PI, TAU};
 
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use crate::Welded;
 
@@ -86,34 +87,27 @@ impl Topology {
         let nf = triangles.len();
         let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
 
-        // Face normals and areas (f64 cross products).
-        let mut face_normals = vec![Vec3::ZERO; nf];
-        let mut face_areas = vec![0f32; nf];
-        let mut vn_acc = vec![DVec3::ZERO; nv];
-        for (f, t) in triangles.iter().enumerate() {
-            if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                continue;
-            }
-            let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
-            let cr = (b - a).cross(c - a);
-            let len = cr.length();
-            let scale = (b - a)
-                .length_squared()
-                .max((c - a).length_squared())
-                .max((c - b).length_squared());
-            if !(len > 1e-12 * scale) || !len.is_finite() {
-                continue;
-            }
-            face_normals[f] = (cr / len).as_vec3();
-            face_areas[f] = (0.5 * len) as f32;
-            for &i in t {
-                vn_acc[i as usize] += cr;
-            }
-        }
-        let vertex_normals = vn_acc
-            .into_iter()
-            .map(|n| n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3()))
+        // Face normals and areas (f64 cross products), in parallel.
+        let geo: Vec<(Vec3, f32)> = triangles
+            .par_iter()
+            .map(|t| {
+                if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    return (Vec3::ZERO, 0.0);
+                }
+                let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+                let cr = (b - a).cross(c - a);
+                let len = cr.length();
+                let scale = (b - a)
+                    .length_squared()
+                    .max((c - a).length_squared())
+                    .max((c - b).length_squared());
+                if !(len > 1e-12 * scale) || !len.is_finite() {
+                    return (Vec3::ZERO, 0.0);
+                }
+                ((cr / len).as_vec3(), (0.5 * len) as f32)
+            })
             .collect();
+        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = geo.into_iter().unzip();
 
         // Vertex → faces (CSR).
         let mut vertex_face_offsets = vec![0u32; nv + 1];
@@ -148,6 +142,22 @@ impl Topology {
         vertex_faces.truncate(out);
         let vertex_face_offsets = new_offsets;
 
+        // Area-weighted vertex normals, gathered per vertex in parallel.
+        let vertex_normals: Vec<Vec3> = (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                let fs = &vertex_faces
+                    [vertex_face_offsets[v] as usize..vertex_face_offsets[v + 1] as usize];
+                let n: DVec3 = fs
+                    .iter()
+                    .map(|&f| {
+                        face_normals[f as usize].as_dvec3() * f64::from(face_areas[f as usize])
+                    })
+                    .sum();
+                n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3())
+            })
+            .collect();
+
         // Half-edges bucketed by their smaller vertex (counting sort), then sorted by
         // the larger vertex inside each bucket.
         let mut bucket = vec![0u32; nv + 1];
@@ -177,7 +187,6 @@ impl Topology {
         let mut edge_face_offsets = Vec::with_capacity(nh / 2 + 2);
         let mut edge_faces = Vec::with_capacity(nh);
         let mut face_edges = vec![[NO_EDGE; 3]; nf];
-        let mut dihedral = Vec::with_capacity(nh / 2 + 1);
         let mut edge_len_sum = 0f64;
         edge_face_offsets.push(0u32);
         for lo in 0..nv {
@@ -200,64 +209,75 @@ impl Topology {
                 edge_face_offsets.push(edge_faces.len() as u32);
                 let (pa, pb) = (positions[lo].as_dvec3(), positions[hi as usize].as_dvec3());
                 edge_len_sum += (pb - pa).length();
-                // Signed dihedral angle for a consistently oriented manifold edge.
-                let mut beta = 0f64;
-                if j - i == 2 {
-                    let (h1, h2) = (s[i].1 as usize, s[i + 1].1 as usize);
-                    let (f1, k1, f2, k2) = (h1 / 3, h1 % 3, h2 / 3, h2 % 3);
-                    let t1 = triangles[f1];
-                    let t2 = triangles[f2];
-                    let dir1 = t1[k1] as usize == lo; // f1 goes lo → hi
-                    let dir2 = t2[k2] as usize == lo;
-                    if dir1 != dir2 && face_areas[f1] > 0.0 && face_areas[f2] > 0.0 {
-                        let n1 = face_normals[f1].as_dvec3();
-                        let n2 = face_normals[f2].as_dvec3();
-                        // Edge direction as traversed by f1.
-                        let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
-                        beta = n1.cross(n2).dot(ev).atan2(n1.dot(n2));
-                    }
-                }
-                dihedral.push(beta as f32);
                 i = j;
             }
         }
+        // Signed dihedral angle per consistently oriented manifold edge, in parallel.
+        let dihedral: Vec<f32> = (0..edges.len())
+            .into_par_iter()
+            .map(|e| {
+                let fs =
+                    &edge_faces[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
+                let &[f1, f2] = fs else { return 0.0 };
+                let (f1, f2) = (f1 as usize, f2 as usize);
+                if face_areas[f1] == 0.0 || face_areas[f2] == 0.0 {
+                    return 0.0;
+                }
+                let [lo, hi] = edges[e];
+                let goes_lo_hi = |f: usize| {
+                    let k = face_edges[f]
+                        .iter()
+                        .position(|&x| x == e as u32)
+                        .unwrap_or(0);
+                    triangles[f][k] == lo
+                };
+                let dir1 = goes_lo_hi(f1);
+                if dir1 == goes_lo_hi(f2) {
+                    return 0.0;
+                }
+                let (pa, pb) = (
+                    positions[lo as usize].as_dvec3(),
+                    positions[hi as usize].as_dvec3(),
+                );
+                let n1 = face_normals[f1].as_dvec3();
+                let n2 = face_normals[f2].as_dvec3();
+                // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
+                let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
+                n1.cross(n2).dot(ev).atan2(n1.dot(n2)) as f32
+            })
+            .collect();
         let mean_edge_length = if edges.is_empty() {
             0.0
         } else {
             (edge_len_sum / edges.len() as f64) as f32
         };
 
-        // Face adjacency across edges (CSR): the other faces of each of a face's edges.
-        let mut face_adj_offsets = vec![0u32; nf + 1];
-        for (f, fe) in face_edges.iter().enumerate() {
-            let mut c = 0;
-            for &e in fe.iter().filter(|&&e| e != NO_EDGE) {
-                let (a, b) = (
-                    edge_face_offsets[e as usize],
-                    edge_face_offsets[e as usize + 1],
-                );
-                c += (a..b)
-                    .filter(|&s| edge_faces[s as usize] != f as u32)
-                    .count() as u32;
-            }
-            face_adj_offsets[f + 1] = c;
-        }
-        prefix_sum(&mut face_adj_offsets);
-        let mut face_adj = Vec::with_capacity(*face_adj_offsets.last().unwrap_or(&0) as usize);
-        for (f, fe) in face_edges.iter().enumerate() {
-            for &e in fe.iter().filter(|&&e| e != NO_EDGE) {
-                let (a, b) = (
-                    edge_face_offsets[e as usize],
-                    edge_face_offsets[e as usize + 1],
-                );
-                face_adj.extend(
-                    edge_faces[a as usize..b as usize]
+        // Face adjacency across edges (CSR), in parallel (order preserved).
+        let (efo, efs) = (&edge_face_offsets, &edge_faces);
+        let neighbours = |f: usize| {
+            face_edges[f]
+                .into_iter()
+                .filter(|&e| e != NO_EDGE)
+                .flat_map(move |e| {
+                    let (a, b) = (efo[e as usize], efo[e as usize + 1]);
+                    efs[a as usize..b as usize]
                         .iter()
                         .copied()
-                        .filter(|&g| g != f as u32),
-                );
-            }
+                        .filter(move |&g| g != f as u32)
+                })
+        };
+        let counts: Vec<u32> = (0..nf)
+            .into_par_iter()
+            .map(|f| neighbours(f).count() as u32)
+            .collect();
+        let mut face_adj_offsets = Vec::with_capacity(nf + 1);
+        face_adj_offsets.push(0u32);
+        let mut acc = 0u32;
+        for c in counts {
+            acc += c;
+            face_adj_offsets.push(acc);
         }
+        let face_adj: Vec<u32> = (0..nf).into_par_iter().flat_map_iter(neighbours).collect();
 
         Self {
             positions,
