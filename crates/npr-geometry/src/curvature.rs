@@ -248,11 +248,15 @@ impl CurvatureField {
     /// Computes Eq. (1) and its eigen-analysis at every vertex of `topo`, in parallel.
     ///
     /// The ball is grown over face adjacency from the vertex's own faces (never
-    /// quadratic): a face is visited if its bounding sphere can touch the ball, and only
-    /// visited faces pass their neighbours on. So `B` is the part of the surface inside
+    /// quadratic). Corrected form: a face passes the ball on when its centroid is inside
+    /// (it has weight), or when it is large against the ball (bounding radius > r/2) and
+    /// its bounding sphere reaches in; paper and clipped forms: every face whose bounding
+    /// sphere can touch the ball passes it on. So `B` is the part of the surface inside
     /// the ball that is connected to `v` — another sheet passing through the ball (a
     /// thin wall's far side) is not mixed in. At boundary vertices the ball is one-sided
     /// and boundary edges carry no dihedral angle, so curvature there reads low.
+    /// Vertices with a non-finite position, isolated vertices, and vertices whose ball
+    /// holds no area are marked invalid; non-finite neighbours are skipped.
     pub fn compute(topo: &Topology, options: &CurvatureOptions) -> Self {
         let r = match options.radius {
             CurvatureRadius::World(r) => r,

@@ -11,6 +11,27 @@
 //! Pipeline: [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
 //! [`CurvatureField`] (once per mesh) → per frame [`HighlightSearch::find`].
 //! No GPU code lives here.
+//!
+//! ```
+//! use glam::{Mat4, Vec3};
+//! use npr_geometry::{
+//!     CurvatureField, CurvatureOptions, HighlightSearch, LightEye, Topology, generate, weld,
+//! };
+//!
+//! let (major_segments, minor_segments) = generate::torus_segments_for(2.0, 0.7, 10_000);
+//! let mesh = generate::torus(2.0, 0.7, major_segments, minor_segments);
+//! let topo = Topology::new(&weld(&mesh));
+//! let field = CurvatureField::compute(&topo, &CurvatureOptions::default());
+//! // Outer equator: k_max ≈ 1/r along the meridian, k_min ≈ 1/(R + r) along the parallel.
+//! let v = (0..topo.vertex_count()).max_by(|&a, &b| topo.positions[a].x.total_cmp(&topo.positions[b].x)).unwrap();
+//! assert!((field.kappa_max[v] - 1.0 / 0.7).abs() < 0.01);
+//! assert!((field.kappa_min[v] - 1.0 / 2.7).abs() < 0.01);
+//!
+//! let search = HighlightSearch::new(&topo, &field);
+//! let light_eye = LightEye::Directions { to_light: Vec3::Y, to_eye: Vec3::Z };
+//! let centres = search.find(light_eye, Mat4::IDENTITY);
+//! assert!(!centres.is_empty());
+//! ```
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 // `!(x > 0.0)` is used on purpose throughout: it is also true for NaN, which is how
 // non-finite input is turned into "invalid" instead of leaking.

@@ -65,7 +65,7 @@ pub struct Topology {
     /// Area-weighted unit vertex normals from the faces (`Vec3::Z` for isolated
     /// vertices and fans of degenerate faces).
     pub vertex_normals: Vec<Vec3>,
-    /// Mean length of the edges (0 for a mesh without edges).
+    /// Mean length of the edges with finite length (0 for a mesh without any).
     pub mean_edge_length: f32,
     edge_face_offsets: Vec<u32>,
     edge_faces: Vec<u32>,
@@ -188,6 +188,7 @@ impl Topology {
         let mut edge_faces = Vec::with_capacity(nh);
         let mut face_edges = vec![[NO_EDGE; 3]; nf];
         let mut edge_len_sum = 0f64;
+        let mut finite_edges = 0usize;
         edge_face_offsets.push(0u32);
         for lo in 0..nv {
             let s = &mut he[bucket[lo] as usize..bucket[lo + 1] as usize];
@@ -208,7 +209,11 @@ impl Topology {
                 }
                 edge_face_offsets.push(edge_faces.len() as u32);
                 let (pa, pb) = (positions[lo].as_dvec3(), positions[hi as usize].as_dvec3());
-                edge_len_sum += (pb - pa).length();
+                let len = (pb - pa).length();
+                if len.is_finite() {
+                    edge_len_sum += len;
+                    finite_edges += 1;
+                }
                 i = j;
             }
         }
@@ -246,10 +251,10 @@ impl Topology {
                 n1.cross(n2).dot(ev).atan2(n1.dot(n2)) as f32
             })
             .collect();
-        let mean_edge_length = if edges.is_empty() {
+        let mean_edge_length = if finite_edges == 0 {
             0.0
         } else {
-            (edge_len_sum / edges.len() as f64) as f32
+            (edge_len_sum / finite_edges as f64) as f32
         };
 
         // Face adjacency across edges (CSR), in parallel (order preserved).

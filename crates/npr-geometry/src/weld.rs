@@ -31,9 +31,10 @@ pub(crate) fn position_key(p: Vec3) -> [u32; 3] {
 /// Exact equality is deliberate: exporters write seam duplicates from the same number,
 /// and an epsilon would silently fuse genuinely distinct nearby vertices (thin shells).
 /// Procedural generators in [`crate::generate`] evaluate seam vertices from the same
-/// wrapped parameter, so their seams weld exactly. Out-of-range indices are kept as they
-/// are only if valid; call [`Mesh::validate`] first for untrusted meshes (an invalid
-/// index maps to `u32::MAX`).
+/// wrapped parameter, so their seams weld exactly. An out-of-range render index maps to
+/// `u32::MAX`, which [`crate::Topology`] treats as a degenerate face; call
+/// [`Mesh::validate`] first for untrusted meshes (it also rejects NaN positions, which
+/// here weld only with bit-identical NaNs).
 pub fn weld(mesh: &Mesh) -> Welded {
     let n = mesh.positions.len();
     // Sort render vertices by key: O(n log n), no hashing, deterministic.

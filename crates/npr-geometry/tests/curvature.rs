@@ -358,3 +358,45 @@ fn stanford_bunny_with_holes() {
         assert!(valid as f64 > 0.99 * f.len() as f64);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Random bad meshes (out-of-range indices, repeated indices, NaN/inf coordinates,
+    /// duplicate faces) never panic and never produce NaN in valid entries.
+    #[test]
+    fn random_bad_meshes_do_not_panic(
+        pts in proptest::collection::vec((-2.0f32..2.0, -2.0f32..2.0, -2.0f32..2.0, 0u8..20), 0..40),
+        idx in proptest::collection::vec(0u32..45, 0..120),
+    ) {
+        let positions: Vec<Vec3> = pts
+            .iter()
+            .map(|&(x, y, z, k)| match k {
+                0 => Vec3::new(f32::NAN, y, z),
+                1 => Vec3::new(x, f32::INFINITY, z),
+                _ => Vec3::new(x, y, z),
+            })
+            .collect();
+        let n = positions.len();
+        let mesh = Mesh {
+            positions,
+            normals: vec![Vec3::Z; n],
+            uvs: vec![glam::Vec2::ZERO; n],
+            indices: idx[..idx.len() / 3 * 3].to_vec(),
+        };
+        let _ = mesh.validate();
+        let w = weld(&mesh);
+        let topo = Topology::new(&w);
+        for method in [CurvatureMethod::Corrected, CurvatureMethod::Paper, CurvatureMethod::Clipped] {
+            let f = CurvatureField::compute(&topo, &CurvatureOptions { method, radius: CurvatureRadius::World(1.0) });
+            assert_frames(&f);
+            let s = npr_geometry::HighlightSearch::new(&topo, &f);
+            for c in s.find(
+                npr_geometry::LightEye::Positions { light: Vec3::new(3.0, 2.0, 1.0), eye: Vec3::Z * 4.0 },
+                Mat4::IDENTITY,
+            ) {
+                prop_assert!(c.position_world.is_finite() && c.normal_world.is_finite());
+            }
+        }
+    }
+}
