@@ -152,22 +152,28 @@ struct Packed {
 }
 
 impl Packed {
-    fn new(faces: &[FaceData]) -> Self {
-        Self {
-            sphere: faces
-                .iter()
-                .map(|f| [f.c[0], f.c[1], f.c[2], f.rad])
-                .collect(),
-            weight: faces
-                .iter()
-                .map(|f| {
+    fn build(topo: &Topology) -> Self {
+        topo.triangles
+            .par_iter()
+            .enumerate()
+            .map(|(f, t)| {
+                let d = face_record(topo, f, t, CurvatureMethod::Corrected);
+                (
+                    [d.c[0], d.c[1], d.c[2], d.rad],
                     [
-                        glam::Vec4::new(f.t[0], f.t[1], f.t[2], f.t[3]),
-                        glam::Vec4::new(f.t[4], f.t[5], f.area, 0.0),
-                    ]
-                })
-                .collect(),
-        }
+                        glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
+                        glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
+                    ],
+                )
+            })
+            .unzip()
+            .into()
+    }
+}
+
+impl From<(Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)> for Packed {
+    fn from((sphere, weight): (Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)) -> Self {
+        Self { sphere, weight }
     }
 }
 
@@ -264,17 +270,17 @@ impl CurvatureField {
         };
         let nv = topo.vertex_count();
         let method = options.method;
-        let faces = face_data(topo, method);
+        let faces = if method == CurvatureMethod::Corrected {
+            Vec::new()
+        } else {
+            face_data(topo, method)
+        };
         let edge_t = if method == CurvatureMethod::Corrected {
             Vec::new()
         } else {
             edge_tensors(topo)
         };
-        let packed = if method == CurvatureMethod::Corrected {
-            Some(Packed::new(&faces))
-        } else {
-            None
-        };
+        let packed = (method == CurvatureMethod::Corrected).then(|| Packed::build(topo));
         let ok_radius = r.is_finite() && r > 0.0;
         let frames: Vec<Frame> = (0..nv)
             .into_par_iter()
@@ -395,49 +401,52 @@ fn face_data(topo: &Topology, method: CurvatureMethod) -> Vec<FaceData> {
     topo.triangles
         .par_iter()
         .enumerate()
-        .map(|(f, t)| {
-            if t.iter().any(|&i| i as usize >= topo.positions.len()) {
-                return FaceData {
-                    c: [f32::INFINITY; 3],
-                    ..FaceData::default()
-                };
-            }
-            let p = t.map(|i| topo.positions[i as usize].as_dvec3());
-            let c = (p[0] + p[1] + p[2]) / 3.0;
-            let rad = p.iter().map(|q| (*q - c).length()).fold(0.0, f64::max);
-            let area = f64::from(topo.face_areas[f]);
-            let mut tf = [0f64; 6];
-            if method == CurvatureMethod::Corrected && area > 0.0 {
-                for k in 0..3 {
-                    let e = topo.face_edges[f][k];
-                    if e == NO_EDGE {
-                        continue;
-                    }
-                    let beta = f64::from(topo.dihedral[e as usize]);
-                    if beta == 0.0 {
-                        continue;
-                    }
-                    let fs = topo.edge_faces(e as usize);
-                    let total: f64 = fs
-                        .iter()
-                        .map(|&g| f64::from(topo.face_areas[g as usize]))
-                        .sum();
-                    let share = area / total;
-                    let d = p[(k + 1) % 3] - p[k];
-                    let s = sym6(d, share * beta / d.length());
-                    for (a, b) in tf.iter_mut().zip(s) {
-                        *a += b;
-                    }
-                }
-            }
-            FaceData {
-                c: c.as_vec3().to_array(),
-                rad: rad as f32,
-                area: area as f32,
-                t: tf.map(|x| x as f32),
-            }
-        })
+        .map(|(f, t)| face_record(topo, f, t, method))
         .collect()
+}
+
+/// Centroid, bounding radius, area and (corrected form) `T_f` of one face.
+fn face_record(topo: &Topology, f: usize, t: &[u32; 3], method: CurvatureMethod) -> FaceData {
+    if t.iter().any(|&i| i as usize >= topo.positions.len()) {
+        return FaceData {
+            c: [f32::INFINITY; 3],
+            ..FaceData::default()
+        };
+    }
+    let p = t.map(|i| topo.positions[i as usize].as_dvec3());
+    let c = (p[0] + p[1] + p[2]) / 3.0;
+    let rad = p.iter().map(|q| (*q - c).length()).fold(0.0, f64::max);
+    let area = f64::from(topo.face_areas[f]);
+    let mut tf = [0f64; 6];
+    if method == CurvatureMethod::Corrected && area > 0.0 {
+        for k in 0..3 {
+            let e = topo.face_edges[f][k];
+            if e == NO_EDGE {
+                continue;
+            }
+            let beta = f64::from(topo.dihedral[e as usize]);
+            if beta == 0.0 {
+                continue;
+            }
+            let fs = topo.edge_faces(e as usize);
+            let total: f64 = fs
+                .iter()
+                .map(|&g| f64::from(topo.face_areas[g as usize]))
+                .sum();
+            let share = area / total;
+            let d = p[(k + 1) % 3] - p[k];
+            let s = sym6(d, share * beta / d.length());
+            for (a, b) in tf.iter_mut().zip(s) {
+                *a += b;
+            }
+        }
+    }
+    FaceData {
+        c: c.as_vec3().to_array(),
+        rad: rad as f32,
+        area: area as f32,
+        t: tf.map(|x| x as f32),
+    }
 }
 
 /// Restarts the visit marks for a new vertex; returns the stamp for this vertex.

@@ -183,6 +183,30 @@ impl Topology {
                 }
             }
         }
+        // Sort every bucket by its larger vertex, buckets split into chunks in parallel.
+        {
+            let chunks = 64.min(nv.max(1));
+            let mut rest: &mut [(u32, u32)] = &mut he;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_v, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_v = nv * c / chunks;
+                let end_h = bucket[end_v] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end_h - consumed);
+                pieces.push((start_v, end_v, piece));
+                rest = r;
+                consumed = end_h;
+                start_v = end_v;
+            }
+            let bucket = &bucket;
+            pieces.into_par_iter().for_each(|(sv, ev, piece)| {
+                let base = bucket[sv] as usize;
+                for lo in sv..ev {
+                    piece[bucket[lo] as usize - base..bucket[lo + 1] as usize - base]
+                        .sort_unstable();
+                }
+            });
+        }
         let mut edges = Vec::with_capacity(nh / 2 + 1);
         let mut edge_face_offsets = Vec::with_capacity(nh / 2 + 2);
         let mut edge_faces = Vec::with_capacity(nh);
@@ -191,8 +215,7 @@ impl Topology {
         let mut finite_edges = 0usize;
         edge_face_offsets.push(0u32);
         for lo in 0..nv {
-            let s = &mut he[bucket[lo] as usize..bucket[lo + 1] as usize];
-            s.sort_unstable();
+            let s = &he[bucket[lo] as usize..bucket[lo + 1] as usize];
             let mut i = 0;
             while i < s.len() {
                 let hi = s[i].0;
