@@ -88,7 +88,7 @@ impl Topology {
         let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
 
         // Face normals and areas (f64 cross products), in parallel.
-        let geo: Vec<(Vec3, f32)> = triangles
+        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = triangles
             .par_iter()
             .map(|t| {
                 if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
@@ -106,8 +106,7 @@ impl Topology {
                 }
                 ((cr / len).as_vec3(), (0.5 * len) as f32)
             })
-            .collect();
-        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = geo.into_iter().unzip();
+            .unzip();
 
         // Vertex → faces (CSR).
         let mut vertex_face_offsets = vec![0u32; nv + 1];
@@ -271,7 +270,8 @@ impl Topology {
                 let n2 = face_normals[f2].as_dvec3();
                 // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
                 let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
-                n1.cross(n2).dot(ev).atan2(n1.dot(n2)) as f32
+                // f32 atan2 (about 1e-7 relative) is ample and much cheaper than f64.
+                (n1.cross(n2).dot(ev) as f32).atan2(n1.dot(n2) as f32)
             })
             .collect();
         let mean_edge_length = if finite_edges == 0 {
@@ -305,7 +305,32 @@ impl Topology {
             acc += c;
             face_adj_offsets.push(acc);
         }
-        let face_adj: Vec<u32> = (0..nf).into_par_iter().flat_map_iter(neighbours).collect();
+        let mut face_adj = vec![0u32; acc as usize];
+        {
+            // Fill in parallel: faces split into chunks, each owning its slice.
+            let chunks = 64.min(nf.max(1));
+            let mut rest: &mut [u32] = &mut face_adj;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_f, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_f = nf * c / chunks;
+                let end = face_adj_offsets[end_f] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end - consumed);
+                pieces.push((start_f, end_f, piece));
+                rest = r;
+                consumed = end;
+                start_f = end_f;
+            }
+            pieces.into_par_iter().for_each(|(sf, ef, piece)| {
+                let mut k = 0;
+                for f in sf..ef {
+                    for g in neighbours(f) {
+                        piece[k] = g;
+                        k += 1;
+                    }
+                }
+            });
+        }
 
         Self {
             positions,
