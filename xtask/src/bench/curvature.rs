@@ -161,8 +161,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             truth: Some(Box::new(|p| analytic::ellipsoid(p, 2.0, 1.2, 0.8))),
         },
         torus_case("torus 10k, jittered 0.25 cell along surface", 10_000, 0.25, 0.0),
-        torus_case("torus 10k, normal noise ±0.2% of r", 10_000, 0.0, 0.002),
-        torus_case("torus 100k, normal noise ±0.2% of r", 100_000, 0.0, 0.002),
+        torus_case("torus 10k, normal noise ±0.2% of r (±1.6% of edge)", 10_000, 0.0, 0.002),
+        torus_case("torus 100k, normal noise ±0.2% of r (±5% of edge)", 100_000, 0.0, 0.002),
     ];
     for (name, file) in [("stanford bunny (scan, holes)", "stanford-bunny.obj"), ("spot", "spot.obj")] {
         if let Some(p) = shared_mesh(file) {
