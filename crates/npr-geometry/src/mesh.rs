@@ -53,17 +53,23 @@ impl Mesh {
                 self.uvs.len()
             )));
         }
-        if self.indices.len() % 3 != 0 {
+        if !self.indices.len().is_multiple_of(3) {
             return Err(GeometryError::Inconsistent(format!(
                 "{} indices is not a multiple of 3",
                 self.indices.len()
             )));
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(GeometryError::NonFinite { vertex: i, what: "position" });
+            return Err(GeometryError::NonFinite {
+                vertex: i,
+                what: "position",
+            });
         }
         if let Some(i) = self.normals.iter().position(|p| !p.is_finite()) {
-            return Err(GeometryError::NonFinite { vertex: i, what: "normal" });
+            return Err(GeometryError::NonFinite {
+                vertex: i,
+                what: "normal",
+            });
         }
         if let Some(k) = self.indices.iter().position(|&i| i as usize >= n) {
             return Err(GeometryError::IndexOutOfRange {

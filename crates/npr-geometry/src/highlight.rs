@@ -1,0 +1,479 @@
+//! Highlight centres: the points where `N = H` (maximum specular intensity), Eq. (3)–(6),
+//! §3.1 of Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using Projective
+//! Textures based on Principal Curvature Analysis" (Journal of the Korea Computer
+//! Graphics Society).
+//!
+//! Eq. (4)–(5): inside triangle F, `p = p0 + α Δp1 + β Δp2`, `N = N0 + α ΔN1 + β ΔN2`,
+//! `H = H0 + α ΔH1 + β ΔH2`. Eq. (6): `[ΔN1−ΔH1  ΔN2−ΔH2] [α β]ᵀ = H0 − N0`, solved by
+//! pseudo-inverse, accepted when `−ε ≤ α, β, α+β ≤ 1+ε`.
+//!
+//! Normalisation (our choice): Eq. (6) equates the *unnormalised* interpolants, three
+//! equations in two unknowns, which generally has no exact solution even where the
+//! interpolated normal and half vector *are* parallel (their lengths differ inside the
+//! triangle). What Eq. (3) asks, `N̂ · Ĥ = 1`, is two equations on the unit sphere. So
+//! [`try_solve_barycentric`] takes the Eq. (6) pseudo-inverse solution as its start and
+//! refines it with Gauss–Newton on `N̂(α,β) − Ĥ(α,β) = 0`, accepting only when that
+//! residual is below [`RESIDUAL_TOLERANCE`]. Where the paper's system has an exact
+//! solution (`N = H` exactly), the start is already the answer.
+//! [`try_solve_barycentric_eq6`] is the paper's solve alone.
+
+use glam::{DVec3, Mat3, Mat4, Vec3};
+use rayon::prelude::*;
+
+use crate::{CurvatureField, Topology};
+
+/// ε of the acceptance test `−ε ≤ α, β, α+β ≤ 1+ε` (§3.1).
+pub const BARYCENTRIC_EPSILON: f64 = 1e-3;
+
+/// Largest accepted `|N̂ − Ĥ|` at the solution (about 0.06°).
+pub const RESIDUAL_TOLERANCE: f64 = 1e-3;
+
+/// The paper's Eq. (6) alone: least-squares `(α, β)` by pseudo-inverse, accepted by the
+/// ε test; `None` when the 3×2 system is rank-deficient (e.g. constant N and H over the
+/// triangle) or the point lies outside. No residual test: the result minimises
+/// `|N − H|` but need not make them parallel.
+pub fn try_solve_barycentric_eq6(n: [Vec3; 3], h: [Vec3; 3]) -> Option<(f32, f32)> {
+    let (n, h) = (n.map(Vec3::as_dvec3), h.map(Vec3::as_dvec3));
+    let (a, b) = eq6(n, h)?;
+    inside(a, b).then_some((a as f32, b as f32))
+}
+
+fn eq6(n: [DVec3; 3], h: [DVec3; 3]) -> Option<(f64, f64)> {
+    let c1 = (n[1] - n[0]) - (h[1] - h[0]);
+    let c2 = (n[2] - n[0]) - (h[2] - h[0]);
+    let rhs = h[0] - n[0];
+    let (g11, g12, g22) = (c1.dot(c1), c1.dot(c2), c2.dot(c2));
+    let det = g11 * g22 - g12 * g12;
+    // Rank test relative to the columns' size.
+    if !(det > 1e-12 * g11 * g22) || !(g11 * g22 > 1e-30) {
+        return None;
+    }
+    let (r1, r2) = (c1.dot(rhs), c2.dot(rhs));
+    let a = (g22 * r1 - g12 * r2) / det;
+    let b = (g11 * r2 - g12 * r1) / det;
+    (a.is_finite() && b.is_finite()).then_some((a, b))
+}
+
+fn inside(a: f64, b: f64) -> bool {
+    let e = BARYCENTRIC_EPSILON;
+    a >= -e && b >= -e && a + b <= 1.0 + e && a <= 1.0 + e && b <= 1.0 + e
+}
+
+/// Eq. (6) solve with normalisation (see the module doc): `Some((α, β))` for the point
+/// of the triangle where the interpolated normal `N0 + αΔN1 + βΔN2` and half vector are
+/// parallel (same direction), within ε of the triangle (§3.1); `None` for degenerate
+/// systems, points outside, and triangles without such a point.
+pub fn try_solve_barycentric(n: [Vec3; 3], h: [Vec3; 3]) -> Option<(f32, f32)> {
+    let (n, h) = (n.map(Vec3::as_dvec3), h.map(Vec3::as_dvec3));
+    let (a, b) = solve_normalised(n, h)?;
+    Some((a as f32, b as f32))
+}
+
+fn solve_normalised(n: [DVec3; 3], h: [DVec3; 3]) -> Option<(f64, f64)> {
+    let (mut a, mut b) = eq6(n, h)?;
+    // Far outside: Gauss–Newton would wander; the pseudo-inverse start is good to
+    // first order, so a start well outside means no centre here.
+    if a < -0.5 || b < -0.5 || a + b > 1.5 {
+        return None;
+    }
+    let (dn1, dn2, dh1, dh2) = (n[1] - n[0], n[2] - n[0], h[1] - h[0], h[2] - h[0]);
+    let mut res = f64::INFINITY;
+    for _ in 0..6 {
+        let nv = n[0] + a * dn1 + b * dn2;
+        let hv = h[0] + a * dh1 + b * dh2;
+        let (ln, lh) = (nv.length(), hv.length());
+        if !(ln > 1e-12 && lh > 1e-12) {
+            return None;
+        }
+        let (nn, hn) = (nv / ln, hv / lh);
+        let r = nn - hn;
+        res = r.length();
+        if res < 1e-12 {
+            break;
+        }
+        // d(v/|v|) = (I − v̂v̂ᵀ) dv / |v|
+        let proj = |u: DVec3, d: DVec3, l: f64| (d - u * u.dot(d)) / l;
+        let j1 = proj(nn, dn1, ln) - proj(hn, dh1, lh);
+        let j2 = proj(nn, dn2, ln) - proj(hn, dh2, lh);
+        let (g11, g12, g22) = (j1.dot(j1), j1.dot(j2), j2.dot(j2));
+        let det = g11 * g22 - g12 * g12;
+        if !(det > 1e-14 * g11 * g22) {
+            break;
+        }
+        let (r1, r2) = (j1.dot(r), j2.dot(r));
+        let da = -(g22 * r1 - g12 * r2) / det;
+        let db = -(g11 * r2 - g12 * r1) / det;
+        a += da;
+        b += db;
+        if !(a.is_finite() && b.is_finite()) || a.abs() > 4.0 || b.abs() > 4.0 {
+            return None;
+        }
+        if da.abs() + db.abs() < 1e-13 {
+            let nv = n[0] + a * dn1 + b * dn2;
+            let hv = h[0] + a * dh1 + b * dh2;
+            res = (nv.normalize_or_zero() - hv.normalize_or_zero()).length();
+            break;
+        }
+    }
+    (res < RESIDUAL_TOLERANCE && inside(a, b)).then_some((a, b))
+}
+
+/// Where the light and the eye are, in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightEye {
+    /// Point light and perspective eye: `L` and `V` vary over the surface.
+    Positions {
+        /// Light position.
+        light: Vec3,
+        /// Eye position.
+        eye: Vec3,
+    },
+    /// Directional light and orthographic (infinitely far) eye: `H` is constant.
+    Directions {
+        /// Unit-or-not direction from the surface towards the light.
+        to_light: Vec3,
+        /// Direction from the surface towards the eye.
+        to_eye: Vec3,
+    },
+}
+
+/// One highlight centre (maximum specular intensity point, §3.1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HighlightCentre {
+    /// Triangle holding the point (index into [`Topology::triangles`]).
+    pub face: u32,
+    /// Barycentric α of Eq. (4) (weight of the triangle's vertex 1).
+    pub alpha: f32,
+    /// Barycentric β of Eq. (4) (weight of vertex 2).
+    pub beta: f32,
+    /// Point in object space.
+    pub position_object: Vec3,
+    /// Point in world space.
+    pub position_world: Vec3,
+    /// Interpolated unit normal, object space.
+    pub normal_object: Vec3,
+    /// Unit normal in world space (transformed by the inverse transpose).
+    pub normal_world: Vec3,
+    /// Unit direction of maximum curvature, world space, tangent.
+    pub dir_kappa_max: Vec3,
+    /// Unit direction of minimum curvature, world space: `normal_world × dir_kappa_max`.
+    pub dir_kappa_min: Vec3,
+    /// Maximum principal curvature in 1/world unit (object value divided by the
+    /// transform's mean scale `|det|^(1/3)`; exact for rotations with uniform scale).
+    pub kappa_max: f32,
+    /// Minimum principal curvature in 1/world unit (same scaling).
+    pub kappa_min: f32,
+}
+
+/// Per-mesh data for the per-frame centre search, built once from the topology and the
+/// curvature field.
+#[derive(Clone, Debug)]
+pub struct HighlightSearch {
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    normals: Vec<Vec3>,
+    field: CurvatureField,
+    vf_offsets: Vec<u32>,
+    vf: Vec<u32>,
+    /// Per vertex: cos of the largest angle between two vertex normals of any face
+    /// around it (the normal spread a centre in those faces can be away from N_v).
+    cos_spread: Vec<f32>,
+    /// Per vertex: longest incident edge, object space.
+    reach: Vec<f32>,
+    merge_distance: f32,
+}
+
+/// Margin (rad) added to the rejection bounds for the ε-acceptance and rounding.
+const ANGLE_MARGIN: f32 = 0.01;
+
+impl HighlightSearch {
+    /// Prepares the search. Normals are the field's (`CurvatureField::normal`), so the
+    /// centres, the principal frames and the projectors all agree.
+    pub fn new(topo: &Topology, field: &CurvatureField) -> Self {
+        let nv = topo.vertex_count();
+        let normals: Vec<Vec3> = (0..nv)
+            .map(|v| {
+                field
+                    .normal
+                    .get(v)
+                    .copied()
+                    .unwrap_or(topo.vertex_normals[v])
+            })
+            .collect();
+        let mut vf_offsets = Vec::with_capacity(nv + 1);
+        let mut vf = Vec::new();
+        vf_offsets.push(0);
+        for v in 0..nv {
+            vf.extend_from_slice(topo.vertex_faces(v));
+            vf_offsets.push(vf.len() as u32);
+        }
+        let mut cos_spread = vec![1f32; nv];
+        let mut reach = vec![0f32; nv];
+        for t in &topo.triangles {
+            if t.iter().any(|&i| i as usize >= nv) {
+                continue;
+            }
+            let mut c = 1f32;
+            for k in 0..3 {
+                let (a, b) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                c = c.min(normals[a].dot(normals[b]).clamp(-1.0, 1.0));
+                let l = topo.positions[a].distance(topo.positions[b]);
+                reach[a] = reach[a].max(l);
+                reach[b] = reach[b].max(l);
+            }
+            for &i in t {
+                cos_spread[i as usize] = cos_spread[i as usize].min(c);
+            }
+        }
+        Self {
+            positions: topo.positions.clone(),
+            triangles: topo.triangles.clone(),
+            normals,
+            field: field.clone(),
+            vf_offsets,
+            vf,
+            cos_spread,
+            reach,
+            merge_distance: 1e-2 * topo.mean_edge_length,
+        }
+    }
+
+    /// Every highlight centre on the mesh for this light, eye and object transform
+    /// (`world_from_object`, affine), duplicates from neighbouring faces merged.
+    ///
+    /// Cheap rejection first, both tests conservative (they never drop a centre):
+    /// 1. per vertex: a centre in a face around `v` means `angle(N_v, H_v) ≤ s_v + b_v`,
+    ///    with `s_v` the normal spread of those faces (precomputed) and `b_v` a bound on
+    ///    how far `H` turns across them (0 for directions; from the edge length, the
+    ///    distances to light and eye and `|L̂ + V̂|` for positions). A face is solved only
+    ///    if its three vertices pass.
+    /// 2. per face: the averaged half vector must lie in the cone of the three vertex
+    ///    normals, up to the same bound (`N(α, β)` with non-negative weights spans exactly
+    ///    that cone).
+    ///
+    /// Then Eq. (6) and its normalised refinement ([`try_solve_barycentric`]).
+    pub fn find(&self, light_eye: LightEye, world_from_object: Mat4) -> Vec<HighlightCentre> {
+        let nv = self.positions.len();
+        let lin = Mat3::from_mat4(world_from_object);
+        let normal_world_from_object = lin.inverse().transpose();
+        if !normal_world_from_object.is_finite() || nv == 0 {
+            return Vec::new();
+        }
+        let (sigma_max, cond) = svd_ratio(lin);
+        let similarity = cond < 1.0 + 1e-4;
+        let mut h_obj = vec![Vec3::ZERO; nv];
+        let mut pass = vec![false; nv];
+        match light_eye {
+            LightEye::Directions { to_light, to_eye } => {
+                let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
+                // N_w ∥ H_w ⇔ N_o ∥ Lᵀ H_w (normals transform by the inverse transpose).
+                let h = (lin.transpose() * s.normalize_or_zero()).normalize_or_zero();
+                if h == Vec3::ZERO {
+                    return Vec::new();
+                }
+                for v in 0..nv {
+                    h_obj[v] = h;
+                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - ANGLE_MARGIN;
+                }
+            }
+            LightEye::Positions { light, eye } => {
+                let object_from_world = world_from_object.inverse();
+                let (light_o, eye_o) = (
+                    object_from_world.transform_point3(light),
+                    object_from_world.transform_point3(eye),
+                );
+                let lin_t = lin.transpose();
+                let half_pi = std::f32::consts::FRAC_PI_2;
+                let per_vertex = |v: usize| -> (Vec3, bool) {
+                    let p = self.positions[v];
+                    // Directions to light and eye: in object space for similarity
+                    // transforms (angles are preserved), else in world space.
+                    let (l, e) = if similarity {
+                        (light_o - p, eye_o - p)
+                    } else {
+                        let pw = world_from_object.transform_point3(p);
+                        (light - pw, eye - pw)
+                    };
+                    let (ll, le) = (l.length(), e.length());
+                    let s = l / ll + e / le;
+                    let sl = s.length();
+                    let h = if similarity {
+                        s / sl
+                    } else {
+                        (lin_t * (s / sl)).normalize_or_zero()
+                    };
+                    if !(sl > 1e-6) || !h.is_finite() {
+                        return (Vec3::ZERO, false);
+                    }
+                    // Turn of L̂ (and V̂) over the faces around v (points within r of
+                    // p_v, at least d − r from the light): ≤ asin(x) ≤ x(1 + x²) for
+                    // x = r/(d − r) ≤ 1/2.
+                    let r = if similarity {
+                        self.reach[v]
+                    } else {
+                        self.reach[v] * sigma_max
+                    };
+                    let turn = |d: f32| {
+                        if d > 3.0 * r {
+                            let x = r / (d - r);
+                            x * (1.0 + x * x)
+                        } else {
+                            half_pi
+                        }
+                    };
+                    let (tl, te) = (turn(ll), turn(le));
+                    // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
+                    let b = ((tl + te) / (sl - tl - te).max(1e-3) * cond).min(4.0);
+                    (
+                        h,
+                        self.normals[v].dot(h) >= self.cos_spread[v] - b - ANGLE_MARGIN,
+                    )
+                };
+                if nv >= 8192 {
+                    (h_obj, pass) = (0..nv)
+                        .into_par_iter()
+                        .with_min_len(2048)
+                        .map(per_vertex)
+                        .unzip();
+                } else {
+                    for v in 0..nv {
+                        (h_obj[v], pass[v]) = per_vertex(v);
+                    }
+                }
+            }
+        }
+
+        let mut found: Vec<(HighlightCentre, f32)> = Vec::new();
+        for v in 0..nv {
+            if !pass[v] {
+                continue;
+            }
+            let (s, e) = (self.vf_offsets[v] as usize, self.vf_offsets[v + 1] as usize);
+            for &f in &self.vf[s..e] {
+                let t = self.triangles[f as usize];
+                // Solve each face once: at its smallest vertex index.
+                if t.iter().copied().min() != Some(v as u32) || t.iter().any(|&i| !pass[i as usize])
+                {
+                    continue;
+                }
+                let n = t.map(|i| self.normals[i as usize]);
+                let h = t.map(|i| h_obj[i as usize]);
+                if !in_cone(n, h) {
+                    continue;
+                }
+                let Some((a, b)) = solve_normalised(n.map(Vec3::as_dvec3), h.map(Vec3::as_dvec3))
+                else {
+                    continue;
+                };
+                let Some(c) = self.centre(
+                    f,
+                    t,
+                    a as f32,
+                    b as f32,
+                    world_from_object,
+                    normal_world_from_object,
+                ) else {
+                    continue;
+                };
+                let inner = (a.min(b).min(1.0 - a - b)) as f32;
+                self.merge(&mut found, c, inner);
+            }
+        }
+        found.into_iter().map(|(c, _)| c).collect()
+    }
+
+    fn merge(&self, found: &mut Vec<(HighlightCentre, f32)>, c: HighlightCentre, inner: f32) {
+        for (old, old_inner) in found.iter_mut() {
+            if old.position_object.distance(c.position_object) <= self.merge_distance {
+                if inner > *old_inner {
+                    *old = c;
+                    *old_inner = inner;
+                }
+                return;
+            }
+        }
+        found.push((c, inner));
+    }
+
+    fn centre(
+        &self,
+        face: u32,
+        t: [u32; 3],
+        alpha: f32,
+        beta: f32,
+        world_from_object: Mat4,
+        normal_world_from_object: Mat3,
+    ) -> Option<HighlightCentre> {
+        let p = t.map(|i| self.positions[i as usize]);
+        let pos = p[0] + alpha * (p[1] - p[0]) + beta * (p[2] - p[0]);
+        let frame = self.field.interpolate(t, alpha, beta);
+        let w = [1.0 - alpha - beta, alpha, beta];
+        let n_obj = frame.map(|f| f.normal).or_else(|| {
+            (0..3)
+                .map(|k| w[k] * self.normals[t[k] as usize])
+                .sum::<Vec3>()
+                .try_normalize()
+        })?;
+        let lin = Mat3::from_mat4(world_from_object);
+        let n_w = (normal_world_from_object * n_obj).try_normalize()?;
+        let (dmax, kmax, kmin) = match frame {
+            Some(f) => {
+                let d = lin * f.dir_kappa_max;
+                let d = (d - n_w * n_w.dot(d))
+                    .try_normalize()
+                    .unwrap_or_else(|| n_w.any_orthonormal_vector());
+                (d, f.kappa_max, f.kappa_min)
+            }
+            None => (n_w.any_orthonormal_vector(), 0.0, 0.0),
+        };
+        let scale = lin.determinant().abs().cbrt();
+        let inv_s = if scale > 0.0 { 1.0 / scale } else { 1.0 };
+        Some(HighlightCentre {
+            face,
+            alpha,
+            beta,
+            position_object: pos,
+            position_world: world_from_object.transform_point3(pos),
+            normal_object: n_obj,
+            normal_world: n_w,
+            dir_kappa_max: dmax,
+            dir_kappa_min: n_w.cross(dmax),
+            kappa_max: kmax * inv_s,
+            kappa_min: kmin * inv_s,
+        })
+    }
+}
+
+/// Whether the interpolated half vector can lie in the cone spanned by the vertex
+/// normals `n`: tests the averaged half vector `h̄` with a slack of the largest chord
+/// from `h̄` to the vertex half vectors (every normalised interpolation of `h` lies in
+/// that cap), plus [`ANGLE_MARGIN`]. A flat cone (normals nearly coplanar) passes.
+fn in_cone(n: [Vec3; 3], h: [Vec3; 3]) -> bool {
+    let Some(hb) = (h[0] + h[1] + h[2]).try_normalize() else {
+        return true;
+    };
+    let det = n[0].cross(n[1]).dot(n[2]);
+    if det.abs() < 1e-6 {
+        return true;
+    }
+    let min_dot = h.iter().map(|x| x.dot(hb)).fold(1.0, f32::min);
+    // |c·(h̄ − Ĥ)| ≤ |c| |h̄ − Ĥ| ≤ |c| · chord.
+    let slack = (2.0 * (1.0 - min_dot)).max(0.0).sqrt() + ANGLE_MARGIN;
+    let sign = det.signum();
+    (0..3).all(|k| {
+        let c = n[k].cross(n[(k + 1) % 3]);
+        sign * c.dot(hb) >= -c.length() * slack
+    })
+}
+
+/// (largest singular value, condition number) of a 3×3 matrix.
+fn svd_ratio(m: Mat3) -> (f32, f32) {
+    let a = nalgebra::Matrix3::from_column_slice(&m.to_cols_array().map(f64::from));
+    let s = a.singular_values();
+    let (mx, mn) = (s.max(), s.min());
+    if mn > 0.0 && mx.is_finite() {
+        (mx as f32, (mx / mn) as f32)
+    } else {
+        (f32::MAX, f32::MAX)
+    }
+}

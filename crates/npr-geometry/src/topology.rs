@@ -1,0 +1,519 @@
+//! Mesh topology built once from a welded triangle mesh: vertex → faces, edge → faces
+//! with the signed dihedral angle, face adjacency across edges, and the special cases
+//! (boundary, non-manifold, inconsistently oriented edges, degenerate triangles, isolated
+//! vertices) as values rather than panics.
+//!
+//! Supports the curvature tensor of §2.2, Eq. (1), of Lee & Choi, "Stylized Specular
+//! Reflections Using Projective Textures based on Principal Curvature Analysis" (Journal
+//! of the Korea Computer Graphics Society): β(e) is [`Topology::dihedral`].
+//!
+//! Layout: compressed sparse rows (one offsets array plus one flat array per relation),
+//! edges found by a counting sort of half-edges on their smaller vertex, so building is
+//! linear in the mesh size apart from tiny per-vertex sorts.
+
+use std::f64::consts::{PI, TAU};
+
+use glam::{DVec3, Vec3};
+use rayon::prelude::*;
+
+use crate::Welded;
+
+/// Marker for "no edge" in [`Topology::face_edges`] (a corner pair of a triangle with a
+/// repeated vertex index, which is not an edge).
+pub const NO_EDGE: u32 = u32::MAX;
+
+/// What kind of edge an undirected edge is, by the faces that use it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeKind {
+    /// One face: a hole or open border. Dihedral angle 0 (no bend is measurable).
+    Boundary,
+    /// Two faces traversing it in opposite directions: the normal case. Dihedral angle
+    /// signed, convex positive (0 if one face is degenerate).
+    Interior,
+    /// Two faces traversing it in the same direction (the mesh's orientation flips
+    /// here, e.g. a Möbius strip or a badly exported part). Dihedral angle 0.
+    Inconsistent,
+    /// Three or more faces (a fin, duplicate faces). Dihedral angle 0.
+    NonManifold,
+}
+
+/// Topology and per-element geometry of a welded triangle mesh.
+///
+/// Never panics on bad input: degenerate triangles (zero area or a repeated vertex) get a
+/// zero normal and zero area and contribute nothing to curvature; isolated vertices have
+/// no faces (curvature marks them invalid); triangles with an out-of-range index are
+/// treated as degenerate and left out of every relation.
+#[derive(Clone, Debug, Default)]
+pub struct Topology {
+    /// Welded vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Triangles over `positions`.
+    pub triangles: Vec<[u32; 3]>,
+    /// Unit face normals (right-hand rule); zero for degenerate faces.
+    pub face_normals: Vec<Vec3>,
+    /// Face areas; zero for degenerate faces.
+    pub face_areas: Vec<f32>,
+    /// Undirected edges, `[a, b]` with `a < b`, sorted.
+    pub edges: Vec<[u32; 2]>,
+    /// For each face, its edges: `face_edges[f][k]` joins corners `k` and `(k+1) % 3`;
+    /// [`NO_EDGE`] where those corners are the same vertex.
+    pub face_edges: Vec<[u32; 3]>,
+    /// Signed dihedral angle β(e) per edge in radians: the angle between the two face
+    /// normals, positive where the surface is convex (bends away from its normals), 0
+    /// for every edge kind other than [`EdgeKind::Interior`].
+    pub dihedral: Vec<f32>,
+    /// Area-weighted unit vertex normals from the faces (`Vec3::Z` for isolated
+    /// vertices and fans of degenerate faces).
+    pub vertex_normals: Vec<Vec3>,
+    /// Mean length of the edges with finite length (0 for a mesh without any).
+    pub mean_edge_length: f32,
+    edge_face_offsets: Vec<u32>,
+    edge_faces: Vec<u32>,
+    vertex_face_offsets: Vec<u32>,
+    vertex_faces: Vec<u32>,
+    face_adj_offsets: Vec<u32>,
+    face_adj: Vec<u32>,
+}
+
+impl Topology {
+    /// Builds the topology of a welded mesh.
+    pub fn new(welded: &Welded) -> Self {
+        Self::from_parts(welded.positions.clone(), welded.indices.clone())
+    }
+
+    /// Builds the topology from welded positions and triangles.
+    pub fn from_parts(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Self {
+        let nv = positions.len();
+        let nf = triangles.len();
+        let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
+
+        // Face normals and areas (f64 cross products), in parallel.
+        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = triangles
+            .par_iter()
+            .map(|t| {
+                if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    return (Vec3::ZERO, 0.0);
+                }
+                let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+                let cr = (b - a).cross(c - a);
+                let len = cr.length();
+                let scale = (b - a)
+                    .length_squared()
+                    .max((c - a).length_squared())
+                    .max((c - b).length_squared());
+                if !(len > 1e-12 * scale) || !len.is_finite() {
+                    return (Vec3::ZERO, 0.0);
+                }
+                ((cr / len).as_vec3(), (0.5 * len) as f32)
+            })
+            .unzip();
+
+        // Vertex → faces (CSR).
+        let mut vertex_face_offsets = vec![0u32; nv + 1];
+        for t in triangles.iter().filter(|t| valid(t)) {
+            for &i in t {
+                vertex_face_offsets[i as usize + 1] += 1;
+            }
+        }
+        prefix_sum(&mut vertex_face_offsets);
+        let mut fill = vertex_face_offsets.clone();
+        let mut vertex_faces = vec![0u32; *vertex_face_offsets.last().unwrap_or(&0) as usize];
+        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+            for (k, &i) in t.iter().enumerate() {
+                // A face with a repeated vertex is listed once per vertex.
+                if t[..k].contains(&i) {
+                    continue;
+                }
+                vertex_faces[fill[i as usize] as usize] = f as u32;
+                fill[i as usize] += 1;
+            }
+        }
+        // Compact away the slots left by repeated vertices.
+        let mut out = 0usize;
+        let mut new_offsets = vec![0u32; nv + 1];
+        for v in 0..nv {
+            for s in vertex_face_offsets[v]..fill[v] {
+                vertex_faces[out] = vertex_faces[s as usize];
+                out += 1;
+            }
+            new_offsets[v + 1] = out as u32;
+        }
+        vertex_faces.truncate(out);
+        let vertex_face_offsets = new_offsets;
+
+        // Area-weighted vertex normals, gathered per vertex in parallel.
+        let vertex_normals: Vec<Vec3> = (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                let fs = &vertex_faces
+                    [vertex_face_offsets[v] as usize..vertex_face_offsets[v + 1] as usize];
+                let n: DVec3 = fs
+                    .iter()
+                    .map(|&f| {
+                        face_normals[f as usize].as_dvec3() * f64::from(face_areas[f as usize])
+                    })
+                    .sum();
+                n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3())
+            })
+            .collect();
+
+        // Half-edges bucketed by their smaller vertex (counting sort), then sorted by
+        // the larger vertex inside each bucket.
+        let mut bucket = vec![0u32; nv + 1];
+        for t in triangles.iter().filter(|t| valid(t)) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b {
+                    bucket[a.min(b) as usize + 1] += 1;
+                }
+            }
+        }
+        prefix_sum(&mut bucket);
+        let nh = *bucket.last().unwrap_or(&0) as usize;
+        let mut he: Vec<(u32, u32)> = vec![(0, 0); nh]; // (larger vertex, face*3+corner)
+        let mut fill = bucket.clone();
+        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b {
+                    let lo = a.min(b) as usize;
+                    he[fill[lo] as usize] = (a.max(b), (f * 3 + k) as u32);
+                    fill[lo] += 1;
+                }
+            }
+        }
+        // Sort every bucket by its larger vertex, buckets split into chunks in parallel.
+        {
+            let chunks = 64.min(nv.max(1));
+            let mut rest: &mut [(u32, u32)] = &mut he;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_v, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_v = nv * c / chunks;
+                let end_h = bucket[end_v] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end_h - consumed);
+                pieces.push((start_v, end_v, piece));
+                rest = r;
+                consumed = end_h;
+                start_v = end_v;
+            }
+            let bucket = &bucket;
+            pieces.into_par_iter().for_each(|(sv, ev, piece)| {
+                let base = bucket[sv] as usize;
+                for lo in sv..ev {
+                    piece[bucket[lo] as usize - base..bucket[lo + 1] as usize - base]
+                        .sort_unstable();
+                }
+            });
+        }
+        let mut edges = Vec::with_capacity(nh / 2 + 1);
+        let mut edge_face_offsets = Vec::with_capacity(nh / 2 + 2);
+        let mut edge_faces = Vec::with_capacity(nh);
+        let mut face_edges = vec![[NO_EDGE; 3]; nf];
+        let mut edge_len_sum = 0f64;
+        let mut finite_edges = 0usize;
+        edge_face_offsets.push(0u32);
+        for lo in 0..nv {
+            let s = &he[bucket[lo] as usize..bucket[lo + 1] as usize];
+            let mut i = 0;
+            while i < s.len() {
+                let hi = s[i].0;
+                let mut j = i;
+                while j < s.len() && s[j].0 == hi {
+                    j += 1;
+                }
+                let e = edges.len() as u32;
+                edges.push([lo as u32, hi]);
+                for &(_, h) in &s[i..j] {
+                    let (f, k) = ((h / 3) as usize, (h % 3) as usize);
+                    face_edges[f][k] = e;
+                    edge_faces.push(f as u32);
+                }
+                edge_face_offsets.push(edge_faces.len() as u32);
+                let (pa, pb) = (positions[lo].as_dvec3(), positions[hi as usize].as_dvec3());
+                let len = (pb - pa).length();
+                if len.is_finite() {
+                    edge_len_sum += len;
+                    finite_edges += 1;
+                }
+                i = j;
+            }
+        }
+        // Signed dihedral angle per consistently oriented manifold edge, in parallel.
+        let dihedral: Vec<f32> = (0..edges.len())
+            .into_par_iter()
+            .map(|e| {
+                let fs =
+                    &edge_faces[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
+                let &[f1, f2] = fs else { return 0.0 };
+                let (f1, f2) = (f1 as usize, f2 as usize);
+                if face_areas[f1] == 0.0 || face_areas[f2] == 0.0 {
+                    return 0.0;
+                }
+                let [lo, hi] = edges[e];
+                let goes_lo_hi = |f: usize| {
+                    let k = face_edges[f]
+                        .iter()
+                        .position(|&x| x == e as u32)
+                        .unwrap_or(0);
+                    triangles[f][k] == lo
+                };
+                let dir1 = goes_lo_hi(f1);
+                if dir1 == goes_lo_hi(f2) {
+                    return 0.0;
+                }
+                let (pa, pb) = (
+                    positions[lo as usize].as_dvec3(),
+                    positions[hi as usize].as_dvec3(),
+                );
+                let n1 = face_normals[f1].as_dvec3();
+                let n2 = face_normals[f2].as_dvec3();
+                // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
+                let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
+                // f32 atan2 (about 1e-7 relative) is ample and much cheaper than f64.
+                (n1.cross(n2).dot(ev) as f32).atan2(n1.dot(n2) as f32)
+            })
+            .collect();
+        let mean_edge_length = if finite_edges == 0 {
+            0.0
+        } else {
+            (edge_len_sum / finite_edges as f64) as f32
+        };
+
+        // Face adjacency across edges (CSR), in parallel (order preserved).
+        let (efo, efs) = (&edge_face_offsets, &edge_faces);
+        let neighbours = |f: usize| {
+            face_edges[f]
+                .into_iter()
+                .filter(|&e| e != NO_EDGE)
+                .flat_map(move |e| {
+                    let (a, b) = (efo[e as usize], efo[e as usize + 1]);
+                    efs[a as usize..b as usize]
+                        .iter()
+                        .copied()
+                        .filter(move |&g| g != f as u32)
+                })
+        };
+        let counts: Vec<u32> = (0..nf)
+            .into_par_iter()
+            .map(|f| neighbours(f).count() as u32)
+            .collect();
+        let mut face_adj_offsets = Vec::with_capacity(nf + 1);
+        face_adj_offsets.push(0u32);
+        let mut acc = 0u32;
+        for c in counts {
+            acc += c;
+            face_adj_offsets.push(acc);
+        }
+        let mut face_adj = vec![0u32; acc as usize];
+        {
+            // Fill in parallel: faces split into chunks, each owning its slice.
+            let chunks = 64.min(nf.max(1));
+            let mut rest: &mut [u32] = &mut face_adj;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_f, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_f = nf * c / chunks;
+                let end = face_adj_offsets[end_f] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end - consumed);
+                pieces.push((start_f, end_f, piece));
+                rest = r;
+                consumed = end;
+                start_f = end_f;
+            }
+            pieces.into_par_iter().for_each(|(sf, ef, piece)| {
+                let mut k = 0;
+                for f in sf..ef {
+                    for g in neighbours(f) {
+                        piece[k] = g;
+                        k += 1;
+                    }
+                }
+            });
+        }
+
+        Self {
+            positions,
+            triangles,
+            face_normals,
+            face_areas,
+            edges,
+            face_edges,
+            dihedral,
+            vertex_normals,
+            mean_edge_length,
+            edge_face_offsets,
+            edge_faces,
+            vertex_face_offsets,
+            vertex_faces,
+            face_adj_offsets,
+            face_adj,
+        }
+    }
+
+    /// Number of welded vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of triangles.
+    pub fn face_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The faces using vertex `v` (each once); empty for an isolated vertex.
+    pub fn vertex_faces(&self, v: usize) -> &[u32] {
+        &self.vertex_faces
+            [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize]
+    }
+
+    /// The faces using edge `e` (one per use; a duplicated face appears twice).
+    pub fn edge_faces(&self, e: usize) -> &[u32] {
+        &self.edge_faces[self.edge_face_offsets[e] as usize..self.edge_face_offsets[e + 1] as usize]
+    }
+
+    /// The faces sharing an edge with face `f` (all of them at a non-manifold edge).
+    pub fn face_neighbours(&self, f: usize) -> &[u32] {
+        &self.face_adj[self.face_adj_offsets[f] as usize..self.face_adj_offsets[f + 1] as usize]
+    }
+
+    /// The kind of edge `e`.
+    pub fn edge_kind(&self, e: usize) -> EdgeKind {
+        match self.edge_faces(e).len() {
+            0 | 1 => EdgeKind::Boundary,
+            2 if self.edge_consistent(e) => EdgeKind::Interior,
+            2 => EdgeKind::Inconsistent,
+            _ => EdgeKind::NonManifold,
+        }
+    }
+
+    fn edge_consistent(&self, e: usize) -> bool {
+        let [a, _] = self.edges[e];
+        let dir = |f: u32| {
+            let t = self.triangles[f as usize];
+            let k = self.face_edges[f as usize]
+                .iter()
+                .position(|&x| x == e as u32)
+                .unwrap_or(0);
+            t[k] == a
+        };
+        let fs = self.edge_faces(e);
+        dir(fs[0]) != dir(fs[1])
+    }
+
+    /// The two face normals of an edge with two faces (`None` for other edge kinds).
+    pub fn edge_face_normals(&self, e: usize) -> Option<[Vec3; 2]> {
+        match self.edge_faces(e) {
+            &[f, g] => Some([self.face_normals[f as usize], self.face_normals[g as usize]]),
+            _ => None,
+        }
+    }
+
+    /// Whether face `f` is degenerate (zero area, repeated or out-of-range vertex).
+    pub fn is_degenerate(&self, f: usize) -> bool {
+        self.face_areas[f] == 0.0
+    }
+
+    /// Whether vertex `v` is used by no triangle.
+    pub fn is_isolated(&self, v: usize) -> bool {
+        self.vertex_faces(v).is_empty()
+    }
+
+    /// Per-vertex flag: does a boundary edge touch the vertex?
+    pub fn boundary_vertices(&self) -> Vec<bool> {
+        let mut b = vec![false; self.positions.len()];
+        for (e, &[x, y]) in self.edges.iter().enumerate() {
+            if self.edge_faces(e).len() == 1 {
+                b[x as usize] = true;
+                b[y as usize] = true;
+            }
+        }
+        b
+    }
+
+    /// Euler characteristic `χ = V − E + F` (isolated vertices count in V).
+    pub fn euler_characteristic(&self) -> i64 {
+        self.positions.len() as i64 - self.edges.len() as i64 + self.triangles.len() as i64
+    }
+
+    /// Discrete Gaussian curvature, integrated per vertex (angle defect): `2π − Σ θ` at
+    /// interior vertices, `π − Σ θ` on the boundary, `2π` at isolated vertices. By the
+    /// discrete Gauss–Bonnet theorem the sum over a manifold mesh is exactly `2πχ`.
+    pub fn angle_defects(&self) -> Vec<f64> {
+        let boundary = self.boundary_vertices();
+        let mut d: Vec<f64> = boundary.iter().map(|&b| if b { PI } else { TAU }).collect();
+        for (f, t) in self.triangles.iter().enumerate() {
+            if self.is_degenerate(f) {
+                continue;
+            }
+            let p = t.map(|i| self.positions[i as usize].as_dvec3());
+            for k in 0..3 {
+                let a = p[(k + 1) % 3] - p[k];
+                let b = p[(k + 2) % 3] - p[k];
+                d[t[k] as usize] -= a.cross(b).length().atan2(a.dot(b));
+            }
+        }
+        d
+    }
+}
+
+fn prefix_sum(v: &mut [u32]) {
+    for i in 1..v.len() {
+        v[i] += v[i - 1];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{generate, weld};
+
+    #[test]
+    fn closed_torus_is_manifold_with_chi_zero() {
+        let t = Topology::new(&weld(&generate::torus(2.0, 0.7, 24, 10)));
+        assert_eq!(t.euler_characteristic(), 0);
+        assert!((0..t.edges.len()).all(|e| t.edge_kind(e) == EdgeKind::Interior));
+        assert!(t.dihedral.iter().all(|&b| b.abs() < 1.0));
+        // Outer equator bends convexly, so most dihedral angles are positive.
+        let pos = t.dihedral.iter().filter(|&&b| b > 0.0).count();
+        assert!(pos > t.edges.len() / 2);
+        assert!((0..t.face_count()).all(|f| t.face_neighbours(f).len() == 3));
+    }
+
+    #[test]
+    fn sphere_dihedrals_are_convex() {
+        let t = Topology::new(&weld(&generate::icosphere(2, 1.0)));
+        assert_eq!(t.euler_characteristic(), 2);
+        assert!(t.dihedral.iter().all(|&b| b > 0.0));
+    }
+
+    #[test]
+    fn odd_cases_are_values() {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            Vec3::NEG_Y,
+            Vec3::ONE,
+        ];
+        // Fan of three faces on edge 0-1, a duplicate face, a degenerate face, an
+        // out-of-range face, and an isolated vertex 5.
+        let tris = vec![
+            [0, 1, 2],
+            [1, 0, 3],
+            [0, 1, 4],
+            [0, 1, 2],
+            [2, 2, 3],
+            [0, 1, 99],
+        ];
+        let t = Topology::from_parts(p, tris);
+        let e01 = t.edges.iter().position(|&e| e == [0, 1]).unwrap();
+        assert_eq!(t.edge_kind(e01), EdgeKind::NonManifold);
+        assert_eq!(t.dihedral[e01], 0.0);
+        assert!(t.is_degenerate(4));
+        assert!(t.is_degenerate(5));
+        assert!(t.is_isolated(5));
+        assert!(t.edge_face_normals(e01).is_none());
+    }
+}

@@ -1,0 +1,202 @@
+//! The N = H solve and the highlight-centre search (Eq. (3)–(6), §3.1).
+#![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
+
+use glam::{Mat4, Quat, Vec3};
+use npr_geometry::{
+    CurvatureField, CurvatureOptions, HighlightSearch, LightEye, Mesh, Topology, generate,
+    try_solve_barycentric, try_solve_barycentric_eq6, weld,
+};
+use proptest::prelude::*;
+
+fn vec3() -> impl Strategy<Value = Vec3> {
+    (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(Vec3::from)
+}
+
+/// Vertex fields N_i, H_i that are exactly equal at barycentric (α, β): H_i = N_i + D_i
+/// with Σ w_i D_i = 0.
+fn fields(n: [Vec3; 3], d0: Vec3, d1: Vec3, a: f32, b: f32) -> ([Vec3; 3], [Vec3; 3]) {
+    let w = [1.0 - a - b, a, b];
+    let d2 = -(w[0] * d0 + w[1] * d1) / w[2];
+    (n, [n[0] + d0, n[1] + d1, n[2] + d2])
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    /// Inside points are recovered.
+    #[test]
+    fn solve_recovers_inside_point(
+        n0 in vec3(), n1 in vec3(), n2 in vec3(), d0 in vec3(), d1 in vec3(),
+        a in 0.0f32..0.8, t in 0.0f32..1.0,
+    ) {
+        let b = (1.0 - a) * t * 0.9 + 0.05 * (1.0 - a);
+        let offset = Vec3::new(0.0, 0.0, 3.0); // keep N away from zero
+        let (n, h) = fields([n0 + offset, n1 + offset, n2 + offset], d0, d1, a, b);
+        // Only well-posed systems (columns of Eq. (6) not nearly dependent).
+        let c1 = (n[1] - n[0]) - (h[1] - h[0]);
+        let c2 = (n[2] - n[0]) - (h[2] - h[0]);
+        prop_assume!(c1.cross(c2).length() > 0.05 * c1.length() * c2.length() && c1.length() > 0.05);
+        for solve in [try_solve_barycentric, try_solve_barycentric_eq6] {
+            let (sa, sb) = solve(n, h).expect("inside point must be found");
+            prop_assert!((sa - a).abs() < 1e-3 && (sb - b).abs() < 1e-3, "{sa} {sb} vs {a} {b}");
+        }
+    }
+
+    /// Points clearly outside the triangle are rejected.
+    #[test]
+    fn solve_rejects_outside_point(
+        n0 in vec3(), n1 in vec3(), n2 in vec3(), d0 in vec3(), d1 in vec3(),
+        a in 0.6f32..1.5, b in 0.6f32..1.5,
+    ) {
+        let offset = Vec3::new(0.0, 0.0, 3.0);
+        let (n, h) = fields([n0 + offset, n1 + offset, n2 + offset], d0, d1, a, b);
+        prop_assume!(h.iter().all(|x| x.is_finite()));
+        let c1 = (n[1] - n[0]) - (h[1] - h[0]);
+        let c2 = (n[2] - n[0]) - (h[2] - h[0]);
+        prop_assume!(c1.cross(c2).length() > 0.05 * c1.length() * c2.length() && c1.length() > 0.05);
+        prop_assert!(try_solve_barycentric_eq6(n, h).is_none());
+        prop_assert!(try_solve_barycentric(n, h).is_none());
+    }
+}
+
+#[test]
+fn degenerate_systems_give_none() {
+    let n = [Vec3::Z; 3];
+    assert_eq!(try_solve_barycentric(n, n), None);
+    assert_eq!(try_solve_barycentric(n, [Vec3::X; 3]), None);
+    assert_eq!(
+        try_solve_barycentric([Vec3::ZERO; 3], [Vec3::ZERO; 3]),
+        None
+    );
+    let nan = [Vec3::NAN; 3];
+    assert_eq!(try_solve_barycentric(nan, n), None);
+    // Collinear columns.
+    let n = [Vec3::Z, Vec3::Z + Vec3::X, Vec3::Z + 2.0 * Vec3::X];
+    assert_eq!(try_solve_barycentric(n, [Vec3::Z; 3]), None);
+}
+
+fn search(mesh: &Mesh) -> HighlightSearch {
+    let topo = Topology::new(&weld(mesh));
+    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    HighlightSearch::new(&topo, &f)
+}
+
+#[test]
+fn sphere_centre_is_the_analytic_point() {
+    let s = search(&generate::icosphere(4, 1.0));
+    // Directions: the centre lies along H.
+    let (l, e) = (Vec3::new(1.0, 2.0, 0.5), Vec3::new(-0.3, 0.4, 1.0));
+    let c = s.find(
+        LightEye::Directions {
+            to_light: l,
+            to_eye: e,
+        },
+        Mat4::IDENTITY,
+    );
+    assert_eq!(c.len(), 1, "{c:?}");
+    let h = (l.normalize() + e.normalize()).normalize();
+    assert!(
+        c[0].position_world
+            .normalize()
+            .angle_between(h)
+            .to_degrees()
+            < 0.2
+    );
+    assert!((c[0].kappa_max - 1.0).abs() < 0.02 && (c[0].kappa_min - 1.0).abs() < 0.02);
+    // Positions, with the sphere moved, rotated and scaled by 2: the centre p (relative
+    // to the sphere's centre) satisfies p̂ = normalize(L̂ + V̂) there.
+    let m = Mat4::from_scale_rotation_translation(
+        Vec3::splat(2.0),
+        Quat::from_rotation_y(0.7),
+        Vec3::new(1.0, 0.0, -2.0),
+    );
+    let centre = Vec3::new(1.0, 0.0, -2.0);
+    let (light, eye) = (Vec3::new(6.0, 5.0, 4.0), Vec3::new(0.0, 1.0, 8.0));
+    let mut p = (light - centre).normalize();
+    for _ in 0..100 {
+        let q = centre + 2.0 * p;
+        p = ((light - q).normalize() + (eye - q).normalize()).normalize();
+    }
+    let c = s.find(LightEye::Positions { light, eye }, m);
+    assert_eq!(c.len(), 1, "{c:?}");
+    let got = (c[0].position_world - centre).normalize();
+    assert!(got.angle_between(p).to_degrees() < 0.3, "{got} vs {p}");
+    assert!(c[0].normal_world.angle_between(p).to_degrees() < 0.3);
+    assert!(
+        (c[0].kappa_max - 0.5).abs() < 0.01,
+        "curvature scales by 1/s"
+    );
+    let frame = c[0].dir_kappa_max.cross(c[0].dir_kappa_min);
+    assert!(frame.distance(c[0].normal_world) < 1e-4);
+}
+
+#[test]
+fn knot_count_is_stable_under_tiny_light_moves() {
+    let knot = generate::paper_knot();
+    assert_eq!(knot.triangle_count(), 2880);
+    let s = search(&knot);
+    let eye = Vec3::new(0.0, 0.0, 6.0);
+    for base in [
+        Vec3::new(3.0, 4.0, 5.0),
+        Vec3::new(-4.0, 2.0, 3.0),
+        Vec3::new(0.5, -3.0, 4.0),
+    ] {
+        let count = s
+            .find(LightEye::Positions { light: base, eye }, Mat4::IDENTITY)
+            .len();
+        assert!(
+            count >= 2,
+            "knot should show several highlights, got {count}"
+        );
+        for k in 0..20 {
+            let a = k as f32 * 0.31;
+            let light = base + 1e-4 * Vec3::new(a.cos(), a.sin(), (2.0 * a).cos());
+            let c = s
+                .find(LightEye::Positions { light, eye }, Mat4::IDENTITY)
+                .len();
+            assert_eq!(c, count, "count changed under a 1e-4 light move");
+        }
+    }
+}
+
+#[test]
+fn search_equals_brute_force_on_knot() {
+    // The cheap rejection must not lose centres: compare with solving every face.
+    let knot = generate::paper_knot();
+    let topo = Topology::new(&weld(&knot));
+    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    let s = HighlightSearch::new(&topo, &f);
+    let (light, eye) = (Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.0, 0.0, 6.0));
+    let found = s.find(LightEye::Positions { light, eye }, Mat4::IDENTITY);
+    let mut brute = 0;
+    let mut pts: Vec<Vec3> = vec![];
+    for t in &topo.triangles {
+        let p = t.map(|i| topo.positions[i as usize]);
+        let n = t.map(|i| f.normal[i as usize]);
+        let h = p.map(|q| ((light - q).normalize() + (eye - q).normalize()).normalize());
+        if let Some((a, b)) = try_solve_barycentric(n, h) {
+            let q = p[0] + a * (p[1] - p[0]) + b * (p[2] - p[0]);
+            if pts
+                .iter()
+                .all(|o| o.distance(q) > 0.01 * topo.mean_edge_length)
+            {
+                pts.push(q);
+                brute += 1;
+            }
+        }
+    }
+    assert_eq!(found.len(), brute);
+}
+
+#[test]
+fn empty_mesh_has_no_centres() {
+    let s = search(&Mesh::default());
+    let c = s.find(
+        LightEye::Directions {
+            to_light: Vec3::Y,
+            to_eye: Vec3::Z,
+        },
+        Mat4::IDENTITY,
+    );
+    assert!(c.is_empty());
+}
