@@ -51,7 +51,8 @@ pub mod weld;
 pub use curvature::{CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius};
 pub use error::GeometryError;
 pub use highlight::{
-    HighlightCentre, HighlightSearch, LightEye, try_solve_barycentric, try_solve_barycentric_eq6,
+    HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, try_solve_barycentric,
+    try_solve_barycentric_eq6,
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};

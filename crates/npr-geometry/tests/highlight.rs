@@ -3,8 +3,8 @@
 
 use glam::{Mat4, Quat, Vec3};
 use npr_geometry::{
-    CurvatureField, CurvatureOptions, HighlightSearch, LightEye, Mesh, Topology, generate,
-    try_solve_barycentric, try_solve_barycentric_eq6, weld,
+    CurvatureField, CurvatureOptions, HighlightSearch, LightEye, Mesh, NormalInterpolation,
+    Topology, generate, try_solve_barycentric, try_solve_barycentric_eq6, weld,
 };
 use proptest::prelude::*;
 
@@ -165,8 +165,22 @@ fn search_equals_brute_force_on_knot() {
     let knot = generate::paper_knot();
     let topo = Topology::new(&weld(&knot));
     let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
-    let s = HighlightSearch::new(&topo, &f);
+    let mut s = HighlightSearch::new(&topo, &f);
     let (light, eye) = (Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.0, 0.0, 6.0));
+    // The default curvature-blended field: rejection loses nothing, over many views.
+    for k in 0..24 {
+        let a = k as f32 * 0.26;
+        let le = LightEye::Positions {
+            light: Vec3::new(5.0 * a.cos(), 3.0, 5.0 * a.sin()),
+            eye: Vec3::new(6.0 * (a + 0.7).sin(), -1.0, 6.0 * (a + 0.7).cos()),
+        };
+        let fast = s.find(le, Mat4::IDENTITY);
+        let all = s.find_exhaustive(le, Mat4::IDENTITY);
+        assert_eq!(fast.len(), all.len(), "view {k}");
+        assert!(!all.is_empty());
+    }
+    // The paper's linear field against an independent brute force over the public solve.
+    s.interpolation = NormalInterpolation::Linear;
     let found = s.find(LightEye::Positions { light, eye }, Mat4::IDENTITY);
     let mut brute = 0;
     let mut pts: Vec<Vec3> = vec![];

@@ -9,7 +9,7 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
-use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, Vertex, shaders};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, shaders};
 use wgpu::util::DeviceExt;
 
 /// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
@@ -28,6 +28,21 @@ pub struct ProjectorGpu {
     pub tint: [f32; 4],
     /// x = layer, y = normal-map flag, z = Blinn exponent, w unused.
     pub params: [f32; 4],
+}
+
+/// What [`HighlightPass::prepare`] uploads for one frame.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput<'a> {
+    /// The mesh on the GPU (its vertex buffer is read as storage).
+    pub mesh: &'a GpuMesh,
+    /// The render mesh's triangle indices (faces in the set's topology order).
+    pub indices: &'a [u32],
+    /// The highlight set, updated for this frame.
+    pub set: &'a HighlightSet,
+    /// Camera and light.
+    pub frame: &'a FrameUniforms,
+    /// Object transform (must equal the base pass's, for matching depth).
+    pub object: &'a ObjectUniforms,
 }
 
 /// GPU buffers and bind groups of one mesh's highlights; refreshed per frame by
@@ -334,7 +349,6 @@ impl HighlightPass {
         let frame_group = group(&frame);
         let object_group = group(&object);
         let (draw_list, projectors, storage_group) = self.storage(device, mesh, 1024, 16);
-        let _ = std::mem::size_of::<Vertex>();
         HighlightDraw {
             frame,
             object,
@@ -390,18 +404,21 @@ impl HighlightPass {
     }
 
     /// Uploads this frame's camera/light, object transform, projectors and draw list
-    /// (growing the buffers when needed). `indices` are the render mesh's indices.
+    /// (growing the buffers when needed).
     pub fn prepare(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         draw: &mut HighlightDraw,
-        mesh: &GpuMesh,
-        indices: &[u32],
-        set: &HighlightSet,
-        frame: &FrameUniforms,
-        object: &ObjectUniforms,
+        input: &FrameInput<'_>,
     ) {
+        let FrameInput {
+            mesh,
+            indices,
+            set,
+            frame,
+            object,
+        } = *input;
         queue.write_buffer(&draw.frame, 0, bytemuck::bytes_of(frame));
         queue.write_buffer(&draw.object, 0, bytemuck::bytes_of(object));
         let list = Self::draw_list(set, indices);

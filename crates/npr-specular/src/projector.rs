@@ -142,7 +142,8 @@ impl Projector {
         let centre_world =
             centre.position_world + e_max * controls.translate.x + e_min * controls.translate.y;
         let half_depth = 2.0 * half.max_element();
-        if !(half.min_element() > 0.0) || !centre_world.is_finite() || !half_depth.is_finite() {
+        let positive = half.min_element() > 0.0; // false for NaN too
+        if !positive || !centre_world.is_finite() || !half_depth.is_finite() {
             return None;
         }
         let origin = centre_world + n * half_depth;

@@ -125,6 +125,12 @@ impl HighlightSet {
         })
     }
 
+    /// Chooses the normal field of the `N = H` solve (default: the curvature-blended field,
+    /// which keeps centres gliding at a steady speed; `Linear` is the paper's Eq. (4)).
+    pub fn set_interpolation(&mut self, interpolation: npr_geometry::NormalInterpolation) {
+        self.search.interpolation = interpolation;
+    }
+
     /// The mesh topology (faces in render-triangle order).
     pub fn topology(&self) -> &Topology {
         &self.topology

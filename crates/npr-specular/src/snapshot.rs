@@ -102,11 +102,13 @@ impl Renderer {
                 device,
                 queue,
                 &mut res.draw,
-                scene.mesh,
-                scene.indices,
-                scene.set,
-                &frame,
-                &scene.object,
+                &crate::FrameInput {
+                    mesh: scene.mesh,
+                    indices: scene.indices,
+                    set: scene.set,
+                    frame: &frame,
+                    object: &scene.object,
+                },
             );
         }
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
