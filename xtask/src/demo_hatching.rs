@@ -3,10 +3,9 @@
 //! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, a 2-D flow
 //! field (§5), and the tonal art maps themselves.
 //!
-//! Stroke directions: until `npr_geometry::CurvatureField` lands, the demo uses analytic
-//! or parametric surface directions computed here (around the tube of a torus or knot,
-//! parallels of a sphere or cylinder, and for other meshes the horizontal tangent `y × n`),
-//! which for these surfaces are principal directions or close to them.
+//! Stroke directions: the direction of maximum principal curvature from `npr-geometry`'s
+//! curvature field (`npr_hatching::principal_directions`), falling back to the parallels
+//! `y × n` on umbilic and flat regions (a sphere, the ground plane).
 
 use crate::demo::{demo_meshes, framing_camera, paste};
 use anyhow::Context;
@@ -18,53 +17,6 @@ use npr_hatching::{
     VsmSettings, hatch_cpu, hatch_image_gpu,
 };
 use std::path::{Path, PathBuf};
-
-/// Per-vertex tangents along one texture axis (`dP/du` or `dP/dv`), from each triangle's
-/// uv gradient, accumulated and projected onto the tangent plane. For the parametric
-/// meshes of `npr_geometry::generate` (torus, knot, cylinder) these are the parameter
-/// lines, which are lines of curvature there.
-pub fn uv_tangents(mesh: &Mesh, along_v: bool) -> Vec<Vec3> {
-    let mut acc = vec![Vec3::ZERO; mesh.positions.len()];
-    for t in mesh.indices.chunks_exact(3) {
-        let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize);
-        let (Some(&pa), Some(&pb), Some(&pc)) = (
-            mesh.positions.get(a),
-            mesh.positions.get(b),
-            mesh.positions.get(c),
-        ) else {
-            continue;
-        };
-        let uv = |i: usize| mesh.uvs.get(i).copied().unwrap_or(Vec2::ZERO);
-        let (e1, e2) = (pb - pa, pc - pa);
-        let (d1, d2) = (uv(b) - uv(a), uv(c) - uv(a));
-        let det = d1.x * d2.y - d2.x * d1.y;
-        if det.abs() < 1e-12 {
-            continue;
-        }
-        let dir = if along_v {
-            (e2 * d1.x - e1 * d2.x) / det
-        } else {
-            (e1 * d2.y - e2 * d1.y) / det
-        };
-        for i in [a, b, c] {
-            // Parameter lines may flip sign across a seam: align before summing.
-            let s = if acc[i].dot(dir) < 0.0 { -1.0 } else { 1.0 };
-            acc[i] += dir.normalize_or_zero() * s;
-        }
-    }
-    acc.iter()
-        .zip(&mesh.normals)
-        .map(|(d, n)| (*d - *n * n.dot(*d)).normalize_or_zero())
-        .collect()
-}
-
-/// `axis × n`: the horizontal tangent (parallels of a surface of revolution about `axis`).
-pub fn ring_directions(mesh: &Mesh, axis: Vec3) -> Vec<Vec3> {
-    mesh.normals
-        .iter()
-        .map(|n| axis.cross(*n).normalize_or_zero())
-        .collect()
-}
 
 /// The hatching demo knot: the (2, 3) knot of the specular paper, finer.
 pub fn demo_knot() -> Mesh {
@@ -79,13 +31,14 @@ pub fn demo_knot() -> Mesh {
     })
 }
 
-/// Stroke directions for a named demo mesh (see the module docs).
-pub fn demo_directions(name: &str, mesh: &Mesh) -> Vec<Vec3> {
-    match name {
-        "torus" | "knot" => uv_tangents(mesh, true),
-        "cylinder" => uv_tangents(mesh, false),
-        _ => ring_directions(mesh, Vec3::Y),
-    }
+/// Stroke directions for a demo mesh (see the module docs).
+pub fn demo_directions(_name: &str, mesh: &Mesh) -> Vec<Vec3> {
+    npr_hatching::principal_directions(
+        mesh,
+        npr_hatching::StrokeDirection::KappaMax,
+        &npr_geometry::CurvatureOptions::default(),
+        Vec3::Y,
+    )
 }
 
 /// One object of a demo scene.

@@ -16,6 +16,8 @@
 //!   fields (§5's "flow visualisation").
 //! - [`mod@reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
 //! - [`pass`]: the GPU hatching pass ([`HatchPass`]) and its G-buffer ([`GBuffer`]).
+//! - [`directions`]: per-vertex stroke directions from the principal curvature field
+//!   ([`principal_directions`]).
 //! - [`scene`]: variance shadow maps (Donnelly & Lauritzen 2006) and the G-buffer pass
 //!   for 3-D scenes, with per-vertex stroke directions from the caller.
 //! - [`frame`]: the whole frame (shadow → G-buffer → hatching) and its Phong baseline.
@@ -37,6 +39,7 @@
 //! ```
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
+pub mod directions;
 mod error;
 pub mod frame;
 pub mod inputs;
@@ -46,6 +49,7 @@ pub mod reference;
 pub mod scene;
 pub mod tam;
 
+pub use directions::{StrokeDirection, principal_directions};
 pub use error::HatchError;
 pub use frame::HatchFrame;
 pub use inputs::HatchInputs;
