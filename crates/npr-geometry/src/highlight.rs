@@ -270,9 +270,10 @@ pub struct HighlightSearch {
     /// Per-vertex shape operators `S = κ_max e_max e_maxᵀ + κ_min e_min e_minᵀ` (object
     /// space; zero where the field is invalid), for [`NormalInterpolation::Curvature`].
     shape: Vec<Mat3>,
-    /// Extra slack of the rejection tests for the curvature-blended field, whose normals
-    /// can leave the cone of the three vertex normals by second-order amounts.
-    curvature_margin: f32,
+    /// Per-vertex extra slack of the rejection tests for the curvature-blended field,
+    /// whose normals can leave the cone of the three vertex normals by second-order
+    /// amounts.
+    curvature_margin: Vec<f32>,
     /// Which normal field the solve uses.
     pub interpolation: NormalInterpolation,
 }
@@ -330,32 +331,34 @@ impl HighlightSearch {
             })
             .collect();
         // Second-order departure of the blended normal from the vertex normals' cone:
-        // about (|κ| · edge)² / 2 over a face; capped so a noisy scan does not disable
-        // the rejection entirely.
-        let curvature_margin = topo
+        // about (|κ| · edge)² / 2 over a face, kept per vertex (largest over its faces) so
+        // that rough regions of a scan do not weaken the rejection elsewhere; capped.
+        let mut curvature_margin = vec![0f32; nv];
+        for t in topo
             .triangles
             .iter()
             .filter(|t| t.iter().all(|&i| (i as usize) < nv))
-            .map(|t| {
-                let k = t
-                    .iter()
-                    .map(|&i| {
-                        field.kappa_max[i as usize]
-                            .abs()
-                            .max(field.kappa_min[i as usize].abs())
-                    })
-                    .fold(0f32, f32::max);
-                let e = (0..3)
-                    .map(|j| {
-                        topo.positions[t[j] as usize]
-                            .distance(topo.positions[t[(j + 1) % 3] as usize])
-                    })
-                    .fold(0f32, f32::max);
-                0.5 * (k * e).powi(2)
-            })
-            .filter(|m| m.is_finite())
-            .fold(0f32, f32::max)
-            .min(0.25);
+        {
+            let k = t
+                .iter()
+                .map(|&i| {
+                    field.kappa_max[i as usize]
+                        .abs()
+                        .max(field.kappa_min[i as usize].abs())
+                })
+                .fold(0f32, f32::max);
+            let e = (0..3)
+                .map(|j| {
+                    topo.positions[t[j] as usize].distance(topo.positions[t[(j + 1) % 3] as usize])
+                })
+                .fold(0f32, f32::max);
+            let m = (0.5 * (k * e).powi(2)).min(0.25);
+            if m.is_finite() {
+                for &i in t {
+                    curvature_margin[i as usize] = curvature_margin[i as usize].max(m);
+                }
+            }
+        }
         Self {
             positions: topo.positions.clone(),
             triangles: topo.triangles.clone(),
@@ -412,11 +415,15 @@ impl HighlightSearch {
         if !normal_world_from_object.is_finite() || nv == 0 {
             return Vec::new();
         }
-        let margin = ANGLE_MARGIN
-            + match self.interpolation {
-                NormalInterpolation::Linear => 0.0,
-                NormalInterpolation::Curvature => self.curvature_margin,
-            };
+        let curved = self.interpolation == NormalInterpolation::Curvature;
+        let margin = |v: usize| {
+            ANGLE_MARGIN
+                + if curved {
+                    self.curvature_margin.get(v).copied().unwrap_or(0.0)
+                } else {
+                    0.0
+                }
+        };
         let (sigma_max, cond) = svd_ratio(lin);
         let similarity = cond < 1.0 + 1e-4;
         let mut h_obj = vec![Vec3::ZERO; nv];
@@ -431,7 +438,7 @@ impl HighlightSearch {
                 }
                 for v in 0..nv {
                     h_obj[v] = h;
-                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - margin;
+                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - margin(v);
                 }
             }
             LightEye::Positions { light, eye } => {
@@ -482,7 +489,10 @@ impl HighlightSearch {
                     let (tl, te) = (turn(ll), turn(le));
                     // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
                     let b = ((tl + te) / (sl - tl - te).max(1e-3) * cond).min(4.0);
-                    (h, self.normals[v].dot(h) >= self.cos_spread[v] - b - margin)
+                    (
+                        h,
+                        self.normals[v].dot(h) >= self.cos_spread[v] - b - margin(v),
+                    )
                 };
                 if nv >= 8192 {
                     (h_obj, pass) = (0..nv)
@@ -516,7 +526,8 @@ impl HighlightSearch {
                 }
                 let n = t.map(|i| self.normals[i as usize]);
                 let h = t.map(|i| h_obj[i as usize]);
-                if reject && !in_cone(n, h, margin) {
+                let face_margin = t.iter().map(|&i| margin(i as usize)).fold(0f32, f32::max);
+                if reject && !in_cone(n, h, face_margin) {
                     continue;
                 }
                 let (nd, hd) = (n.map(Vec3::as_dvec3), h.map(Vec3::as_dvec3));

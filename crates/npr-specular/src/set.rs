@@ -50,6 +50,10 @@ pub struct UpdateStats {
     pub receiver_faces: usize,
     /// Projectors merged away because they claimed another's region.
     pub merged: usize,
+    /// Wall time of the N = H search, microseconds.
+    pub search_us: f64,
+    /// Wall time of the §4.2 visibility searches, microseconds.
+    pub visibility_us: f64,
 }
 
 /// Highlights of one mesh. See the module docs.
@@ -176,11 +180,13 @@ impl HighlightSet {
             }
             LightEye::Positions { light, eye } => light.is_finite() && eye.is_finite(),
         };
+        let search_start = std::time::Instant::now();
         let centres = if valid_input && world_from_object.is_finite() {
             self.search.find(light_eye, world_from_object)
         } else {
             Vec::new()
         };
+        let search_us = search_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         let previous = std::mem::take(&mut self.highlights);
@@ -264,6 +270,7 @@ impl HighlightSet {
             }
         }
         // Receivers (§4.2).
+        let visibility_start = std::time::Instant::now();
         self.receiver_faces.clear();
         for h in &mut kept {
             let start = self.receiver_faces.len();
@@ -284,6 +291,8 @@ impl HighlightSet {
             highlights: kept.len(),
             receiver_faces: self.receiver_faces.len(),
             merged,
+            search_us,
+            visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
         };
         self.highlights = kept;
         &self.highlights

@@ -18,17 +18,24 @@ pub struct VisibilityScratch {
     stamp: Vec<u32>,
     generation: u32,
     queue: VecDeque<u32>,
+    /// Per-vertex cache of projector coordinates, valid where `vertex_stamp` equals the
+    /// current generation (a vertex is shared by about six faces).
+    vertex_stamp: Vec<u32>,
+    vertex_ndc: Vec<Vec3>,
 }
 
 impl VisibilityScratch {
-    fn begin(&mut self, faces: usize) -> u32 {
-        if self.stamp.len() != faces {
+    fn begin(&mut self, faces: usize, vertices: usize) -> u32 {
+        if self.stamp.len() != faces || self.vertex_stamp.len() != vertices {
             self.stamp = vec![0; faces];
+            self.vertex_stamp = vec![0; vertices];
+            self.vertex_ndc = vec![Vec3::ZERO; vertices];
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
             self.stamp.fill(0);
+            self.vertex_stamp.fill(0);
             self.generation = 1;
         }
         self.queue.clear();
@@ -72,9 +79,10 @@ pub fn receivers(
     if start_face as usize >= faces {
         return 0;
     }
-    let generation = scratch.begin(faces);
-    let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
-    let n_max = projector.normal;
+    let generation = scratch.begin(faces, topology.vertex_count());
+    // N_world · N_max = (M⁻ᵀ n) · N_max = n · (M⁻¹ N_max): test in object space.
+    let n_max_object = Mat3::from_mat4(world_from_object).inverse() * projector.normal;
+    let ndc_from_object = projector.clip_from_world * world_from_object;
     let before = out.len();
     // A translated projector (§3.4) may not cover the centre's own face: the walk
     // crosses the box spanning both the frustum and the untranslated centre, and only
@@ -83,42 +91,49 @@ pub fn receivers(
     let walk_lo = FRUSTUM_LO.min(anchor.with_z(0.0));
     let walk_hi = FRUSTUM_HI.max(anchor.with_z(1.0));
     // `None`: not crossed; `Some(received)`: crossed, and received or not.
-    let visit = |f: usize| -> Option<bool> {
-        if topology.is_degenerate(f) {
+    let VisibilityScratch {
+        stamp,
+        queue,
+        vertex_stamp,
+        vertex_ndc,
+        ..
+    } = scratch;
+    let mut visit = |f: usize| -> Option<bool> {
+        if topology.is_degenerate(f) || topology.face_normals[f].dot(n_max_object) <= 0.0 {
             return None;
         }
-        let n = normal_from_object * topology.face_normals[f];
-        if n.dot(n_max) <= 0.0 {
-            return None;
-        }
-        let t = topology.triangles[f];
-        let q = t.map(|v| {
-            projector.ndc(world_from_object.transform_point3(topology.positions[v as usize]))
+        let q = topology.triangles[f].map(|v| {
+            let v = v as usize;
+            if vertex_stamp[v] != generation {
+                vertex_stamp[v] = generation;
+                vertex_ndc[v] = ndc_from_object.project_point3(topology.positions[v]);
+            }
+            vertex_ndc[v]
         });
         overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
-    scratch.stamp[start_face as usize] = generation;
+    stamp[start_face as usize] = generation;
     match visit(start_face as usize) {
         None => return 0,
         Some(received) => {
             if received {
                 out.push(start_face);
             }
-            scratch.queue.push_back(start_face);
+            queue.push_back(start_face);
         }
     }
-    while let Some(f) = scratch.queue.pop_front() {
+    while let Some(f) = queue.pop_front() {
         for &g in topology.face_neighbours(f as usize) {
             let gi = g as usize;
-            if scratch.stamp[gi] == generation {
+            if stamp[gi] == generation {
                 continue;
             }
-            scratch.stamp[gi] = generation;
+            stamp[gi] = generation;
             if let Some(received) = visit(gi) {
                 if received {
                     out.push(g);
                 }
-                scratch.queue.push_back(g);
+                queue.push_back(g);
             }
         }
     }

@@ -54,6 +54,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "highlights_max",
             "receiver_faces_median",
             "setup_us_median",
+            "search_us_median",
+            "visibility_us_median",
             "base_ms_median",
             "with_highlights_ms_median",
             "highlight_cost_ratio",
@@ -71,6 +73,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let (mut setup, mut base, mut with, mut receivers) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let (mut hmin, mut hmax) = (usize::MAX, 0);
+        let (mut search, mut visibility) = (Vec::new(), Vec::new());
         for frame in 0..FRAMES + 3 {
             let world_from_object =
                 Mat4::from_rotation_y((frame as f32 * 3.0).to_radians()) * world_from_normalized;
@@ -108,6 +111,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             let w = time(true)?;
             if frame >= 3 {
                 setup.push(setup_us);
+                search.push(set.stats().search_us);
+                visibility.push(set.stats().visibility_us);
                 base.push(b);
                 with.push(w);
                 receivers.push(set.stats().receiver_faces as f64);
@@ -123,6 +128,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             hmax.into(),
             Cell::Num(median(&mut receivers), 0),
             Cell::Num(median(&mut setup), 1),
+            Cell::Num(median(&mut search), 1),
+            Cell::Num(median(&mut visibility), 1),
             Cell::Num(b, 3),
             Cell::Num(w, 3),
             Cell::Num(w / b, 3),
