@@ -55,11 +55,17 @@ pub struct CurvatureArgs {
 pub fn run(args: CurvatureArgs) -> anyhow::Result<()> {
     let radius = match (args.radius, args.radius_edges) {
         (Some(r), _) => {
-            anyhow::ensure!(r.is_finite() && r > 0.0, "--radius must be a positive number");
+            anyhow::ensure!(
+                r.is_finite() && r > 0.0,
+                "--radius must be a positive number"
+            );
             CurvatureRadius::World(r)
         }
         (None, Some(k)) => {
-            anyhow::ensure!(k.is_finite() && k > 0.0, "--radius-edges must be a positive number");
+            anyhow::ensure!(
+                k.is_finite() && k > 0.0,
+                "--radius-edges must be a positive number"
+            );
             CurvatureRadius::EdgeLengths(k)
         }
         (None, None) => CurvatureRadius::default(),
@@ -69,8 +75,13 @@ pub fn run(args: CurvatureArgs) -> anyhow::Result<()> {
 
     let start = Instant::now();
     let topo = Topology::new(&obj.welded);
-    let field =
-        CurvatureField::compute(&topo, &CurvatureOptions { method: args.method.into(), radius });
+    let field = CurvatureField::compute(
+        &topo,
+        &CurvatureOptions {
+            method: args.method.into(),
+            radius,
+        },
+    );
     let compute_s = start.elapsed().as_secs_f64();
 
     let file = std::fs::File::create(&args.output)
@@ -82,7 +93,11 @@ pub fn run(args: CurvatureArgs) -> anyhow::Result<()> {
         match w.map(|w| w as usize).filter(|&w| field.valid[w]) {
             Some(w) => {
                 let d = field.dir_kappa_max[w];
-                writeln!(out, "{},{},{},{},{}", field.kappa_min[w], field.kappa_max[w], d.x, d.y, d.z)?;
+                writeln!(
+                    out,
+                    "{},{},{},{},{}",
+                    field.kappa_min[w], field.kappa_max[w], d.x, d.y, d.z
+                )?;
             }
             None => {
                 undefined += 1;

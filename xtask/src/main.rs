@@ -4,8 +4,8 @@
 mod bench;
 mod curvature;
 mod demo;
-mod demo_specular;
 mod demo_hatching;
+mod demo_specular;
 mod fixtures;
 mod gpu_setup;
 mod test;
@@ -43,9 +43,19 @@ enum Command {
     Curvature(curvature::CurvatureArgs),
 }
 
-fn main() -> anyhow::Result<()> {
+fn main() -> std::process::ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
     gpu_setup::ensure_runtime_dir()?;
-    match Cli::parse().command {
+    match cli.command {
         Command::Test => test::run(),
         Command::Demo => demo::run(),
         Command::Bench { name, json } => bench::run(&name, json.as_deref()),

@@ -45,7 +45,11 @@ fn p95(v: &mut [f64]) -> f64 {
 
 /// Median wall time of `runs` runs of topology + field, the field of the last run, and
 /// the median of the field alone.
-fn timed(mesh: &Mesh, opts: &CurvatureOptions, runs: usize) -> (f64, f64, Topology, CurvatureField) {
+fn timed(
+    mesh: &Mesh,
+    opts: &CurvatureOptions,
+    runs: usize,
+) -> (f64, f64, Topology, CurvatureField) {
     let welded = weld(mesh);
     let (mut total, mut field_only) = (Vec::new(), Vec::new());
     let mut last = None;
@@ -72,7 +76,10 @@ struct Errors {
 
 fn errors(topo: &Topology, f: &CurvatureField, truth: &Truth) -> Errors {
     let t: Vec<Principal> = topo.positions.iter().map(|&p| truth(p)).collect();
-    let kref = t.iter().map(|a| a.kappa_max.abs().max(a.kappa_min.abs())).fold(0.0, f64::max);
+    let kref = t
+        .iter()
+        .map(|a| a.kappa_max.abs().max(a.kappa_min.abs()))
+        .fold(0.0, f64::max);
     let (mut en, mut ex, mut ed) = (Vec::new(), Vec::new(), Vec::new());
     let mut invalid = 0;
     for (v, a) in t.iter().enumerate() {
@@ -83,7 +90,10 @@ fn errors(topo: &Topology, f: &CurvatureField, truth: &Truth) -> Errors {
         en.push((f64::from(f.kappa_min[v]) - a.kappa_min).abs() / kref * 100.0);
         ex.push((f64::from(f.kappa_max[v]) - a.kappa_max).abs() / kref * 100.0);
         if a.kappa_max - a.kappa_min > 0.05 * kref {
-            ed.push(analytic::axis_angle_deg(f.dir_kappa_max[v].as_dvec3(), a.dir_kappa_max));
+            ed.push(analytic::axis_angle_deg(
+                f.dir_kappa_max[v].as_dvec3(),
+                a.dir_kappa_max,
+            ));
         }
     }
     Errors {
@@ -104,12 +114,16 @@ fn torus_case(name: &str, vertices: usize, jitter: f32, noise: f32) -> Case {
     Case {
         name: name.to_string(),
         mesh,
-        truth: Some(Box::new(move |p| analytic::torus(p, f64::from(big_r), f64::from(r)))),
+        truth: Some(Box::new(move |p| {
+            analytic::torus(p, f64::from(big_r), f64::from(r))
+        })),
     }
 }
 
 fn shared_mesh(file: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/meshes").join(file);
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/meshes")
+        .join(file);
     if p.exists() {
         Some(p)
     } else {
@@ -134,7 +148,11 @@ fn error_cells(e: Option<&Errors>, directions: bool) -> Vec<Cell> {
             Cell::Num(e.kmin.1, 3),
             Cell::Num(e.kmax.0, 3),
             Cell::Num(e.kmax.1, 3),
-            if directions { Cell::Num(e.dir, 4) } else { Cell::Empty },
+            if directions {
+                Cell::Num(e.dir, 4)
+            } else {
+                Cell::Empty
+            },
             e.invalid.into(),
         ],
         None => vec![Cell::Empty; 6],
@@ -151,7 +169,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         Case {
             name: "icosphere R=1 (10k)".into(),
             mesh: generate::icosphere(5, 1.0),
-            truth: Some(Box::new(|_| Principal { kappa_max: 1.0, kappa_min: 1.0, dir_kappa_max: glam::DVec3::X })),
+            truth: Some(Box::new(|_| Principal {
+                kappa_max: 1.0,
+                kappa_min: 1.0,
+                dir_kappa_max: glam::DVec3::X,
+            })),
         },
         torus_case("torus R=2 r=0.7 (10k)", 10_000, 0.0, 0.0),
         torus_case("torus R=2 r=0.7 (100k)", 100_000, 0.0, 0.0),
@@ -160,16 +182,42 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             mesh: generate::ellipsoid(2.0, 1.2, 0.8, 45),
             truth: Some(Box::new(|p| analytic::ellipsoid(p, 2.0, 1.2, 0.8))),
         },
-        torus_case("torus 10k, jittered 0.25 cell along surface", 10_000, 0.25, 0.0),
-        torus_case("torus 10k, normal noise ±0.2% of r (±1.6% of edge)", 10_000, 0.0, 0.002),
-        torus_case("torus 100k, normal noise ±0.2% of r (±5% of edge)", 100_000, 0.0, 0.002),
+        torus_case(
+            "torus 10k, jittered 0.25 cell along surface",
+            10_000,
+            0.25,
+            0.0,
+        ),
+        torus_case(
+            "torus 10k, normal noise ±0.2% of r (±1.6% of edge)",
+            10_000,
+            0.0,
+            0.002,
+        ),
+        torus_case(
+            "torus 100k, normal noise ±0.2% of r (±5% of edge)",
+            100_000,
+            0.0,
+            0.002,
+        ),
     ];
-    for (name, file) in [("stanford bunny (scan, holes)", "stanford-bunny.obj"), ("spot", "spot.obj")] {
+    for (name, file) in [
+        ("stanford bunny (scan, holes)", "stanford-bunny.obj"),
+        ("spot", "spot.obj"),
+    ] {
         if let Some(p) = shared_mesh(file) {
-            cases.push(Case { name: name.into(), mesh: npr_geometry::load_obj(&p)?, truth: None });
+            cases.push(Case {
+                name: name.into(),
+                mesh: npr_geometry::load_obj(&p)?,
+                truth: None,
+            });
         }
     }
-    cases.push(Case { name: "torus knot (1.1M triangles)".into(), mesh: generate::benchmark_knot(), truth: None });
+    cases.push(Case {
+        name: "torus knot (1.1M triangles)".into(),
+        mesh: generate::benchmark_knot(),
+        truth: None,
+    });
 
     let mut columns = vec![
         "mesh",
@@ -181,10 +229,17 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         "vertices_per_s",
     ];
     columns.extend(ERROR_COLUMNS);
-    let mut main = Table::new("curvature field (corrected, r = 3 mean edge lengths; time = topology + field)", &columns);
+    let mut main = Table::new(
+        "curvature field (corrected, r = 3 mean edge lengths; time = topology + field)",
+        &columns,
+    );
     let opts = CurvatureOptions::default();
     for c in &cases {
-        let runs = if c.mesh.triangle_count() > 500_000 { 3 } else { 7 };
+        let runs = if c.mesh.triangle_count() > 500_000 {
+            3
+        } else {
+            7
+        };
         let (t, tf, topo, f) = timed(&c.mesh, &opts, runs);
         let e = c.truth.as_ref().map(|tr| errors(&topo, &f, tr));
         let mut row: Vec<Cell> = vec![
@@ -205,10 +260,21 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     columns.extend(ERROR_COLUMNS);
     let mut methods = Table::new("method comparison, torus R=2 r=0.7 (10k)", &columns);
     let torus = torus_case("", 10_000, 0.0, 0.0);
-    for method in [CurvatureMethod::Paper, CurvatureMethod::Clipped, CurvatureMethod::Corrected] {
+    for method in [
+        CurvatureMethod::Paper,
+        CurvatureMethod::Clipped,
+        CurvatureMethod::Corrected,
+    ] {
         for k in [2.0f32, 3.0, 4.0] {
-            let opts = CurvatureOptions { method, radius: CurvatureRadius::EdgeLengths(k) };
-            let runs = if method == CurvatureMethod::Clipped { 3 } else { 7 };
+            let opts = CurvatureOptions {
+                method,
+                radius: CurvatureRadius::EdgeLengths(k),
+            };
+            let runs = if method == CurvatureMethod::Clipped {
+                3
+            } else {
+                7
+            };
             let (t, _, topo, f) = timed(&torus.mesh, &opts, runs);
             let e = torus.truth.as_ref().map(|tr| errors(&topo, &f, tr));
             let mut row: Vec<Cell> = vec![
@@ -225,11 +291,24 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     // Per-frame N = H search (§3.1): a light circling the object.
     let mut search = Table::new(
         "highlight centres (N = H, Eq. (4)-(6)), point light circling, 64 frames",
-        &["mesh", "triangles", "centres_min", "centres_max", "find_us_median", "find_us_max"],
+        &[
+            "mesh",
+            "triangles",
+            "centres_min",
+            "centres_max",
+            "find_us_median",
+            "find_us_max",
+        ],
     );
     let mut search_meshes = vec![
-        ("paper knot (2,880 faces)".to_string(), generate::paper_knot()),
-        ("icosphere (20k faces)".to_string(), generate::icosphere(5, 1.0)),
+        (
+            "paper knot (2,880 faces)".to_string(),
+            generate::paper_knot(),
+        ),
+        (
+            "icosphere (20k faces)".to_string(),
+            generate::icosphere(5, 1.0),
+        ),
     ];
     if let Some(p) = shared_mesh("stanford-bunny.obj") {
         search_meshes.push(("stanford bunny".to_string(), npr_geometry::load_obj(&p)?));
@@ -264,7 +343,10 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
 }
 
 fn bounds(p: &[Vec3]) -> (Vec3, Vec3) {
-    p.iter().fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), &q| (lo.min(q), hi.max(q)))
+    p.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), &q| (lo.min(q), hi.max(q)),
+    )
 }
 
 fn rayon_threads() -> usize {

@@ -1,8 +1,8 @@
 //! Benchmarks: `cargo xtask bench NAME [--json PATH]`.
 
 pub mod curvature;
-pub mod specular;
 pub mod hatching;
+pub mod specular;
 pub mod table;
 
 use std::path::Path;
