@@ -199,6 +199,8 @@ mod tests {
         let rows = t.json_rows();
         assert_eq!(rows[0], r#"{"mesh": "a\"b", "time_ms": 1.5, "count": 3}"#);
         assert_eq!(rows[1], r#"{"mesh": "c", "time_ms": null, "count": null}"#);
-        assert!(t.render().contains("| 1.50 |"));
+        let text = t.render();
+        assert!(text.contains("|    1.50 |"), "{text}");
+        assert!(text.contains("|       - |"), "{text}");
     }
 }
