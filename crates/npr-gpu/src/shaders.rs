@@ -5,12 +5,15 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 /// Base shading passes: Phong, Gouraud, cel.
 pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl");
+/// Post-rendering warping with projective textures (`npr-warp`); standalone.
+pub const WARP: &str = include_str!("../../../shaders/warp.wgsl");
 
 /// Every shader file: `(file name, source, needs common.wgsl prepended)`. A test checks
 /// that this list names every `.wgsl` file in `shaders/` and that each validates.
 pub const ALL: &[(&str, &str, bool)] = &[
     ("common.wgsl", COMMON, false),
     ("base_shading.wgsl", BASE_SHADING, true),
+    ("warp.wgsl", WARP, false),
 ];
 
 /// `common.wgsl` followed by `source`: the text of a shader that uses the shared structs.
