@@ -105,10 +105,12 @@ impl Proxy {
         self.triangles() as f32 / self.source_triangles.max(1) as f32
     }
 
-    /// The inflation this crate uses by default: 1.5 × the achieved error (object units),
-    /// enough on the meshes measured for the proxy's silhouette to cover the full mesh's.
+    /// The inflation this crate uses by default: 0.75 × the achieved error (object units).
+    /// A larger inflation covers more of the full mesh's silhouette but widens the rim the
+    /// depth test must reject; on the benchmark's bunny (2 %) mean PSNR at k = 10 measured
+    /// 27.6 dB at 0.375×, 28.1 dB at 0.75×, 26.6 dB at 1.5× the error.
     pub fn suggested_inflation(&self) -> f32 {
-        1.5 * self.error_object
+        0.75 * self.error_object
     }
 
     /// A depth-test tolerance in object units for a proxy inflated by `inflation_object`:

@@ -283,8 +283,11 @@ impl WarpSequence {
 }
 
 /// A known path (§1: "an object moving along a set path"): objects turning about the
-/// world y axis at `deg_per_frame`, each at its own offset, before a fixed camera. Used by
-/// the tests, the demo and the benchmark.
+/// world y axis at `deg_per_frame`, each at its own offset, before a fixed camera; or, with
+/// `orbit_camera`, the camera circling the fixed objects at the same rate (the same
+/// relative motion, but the world-fixed light then lights the object the same way in every
+/// frame, so only view-dependent shading changes). Used by the tests, the demo and the
+/// benchmark.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Turntable {
     /// The fixed camera.
@@ -295,12 +298,29 @@ pub struct Turntable {
     pub deg_per_frame: f32,
     /// World offset of each object (one entry per object).
     pub offsets: Vec<glam::Vec3>,
+    /// Move the camera around the objects instead of turning the objects.
+    pub orbit_camera: bool,
 }
 
 impl Turntable {
     /// The scene at (possibly fractional) frame `t`.
     pub fn pose(&self, t: f32) -> ScenePose {
-        let spin = Mat4::from_rotation_y((self.deg_per_frame * t).to_radians());
+        let angle = (self.deg_per_frame * t).to_radians();
+        if self.orbit_camera {
+            let orbit = Mat4::from_rotation_y(-angle);
+            let mut camera = self.camera;
+            camera.eye = orbit.transform_point3(camera.eye);
+            camera.target = orbit.transform_point3(camera.target);
+            return ScenePose {
+                camera,
+                objects: self
+                    .offsets
+                    .iter()
+                    .map(|o| Mat4::from_translation(*o) * self.normalize)
+                    .collect(),
+            };
+        }
+        let spin = Mat4::from_rotation_y(angle);
         ScenePose {
             camera: self.camera,
             objects: self

@@ -57,7 +57,9 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
     let mesh = knot();
     let full = GpuMesh::upload(&ctx.device, &mesh).unwrap();
     let proxy = Proxy::simplify(&mesh, ratio).unwrap();
-    let inflation = proxy.suggested_inflation();
+    // Inflated by 1.5 x its error the proxy's silhouette covers the knot's at the reference
+    // poses (the default 0.75 x trades a few silhouette holes for a thinner rim).
+    let inflation = 1.5 * proxy.error_object;
     let pass = WarpPass::new(&ctx.device);
     let object = pass
         .create_object(&ctx.device, &proxy, 8, inflation, false)
@@ -69,6 +71,7 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
         normalize: Mat4::from_scale(Vec3::splat(0.6)),
         deg_per_frame: 1.0,
         offsets: vec![Vec3::ZERO],
+        orbit_camera: false,
     };
     Rig {
         ctx,
@@ -242,20 +245,6 @@ fn quality_falls_smoothly_away_from_the_references() {
                 }
             }
             let mse = se_both / (3 * both) as f64;
-            // Spills farther than 1 px from the full render's object.
-            let near_obj = |x: u32, y: u32| {
-                (x.saturating_sub(1)..=(x + 1).min(SIZE - 1)).any(|xx| {
-                    (y.saturating_sub(1)..=(y + 1).min(SIZE - 1))
-                        .any(|yy| full.get_pixel(xx, yy)[3] > 0)
-                })
-            };
-            let far_spills = (0..SIZE)
-                .flat_map(|y| (0..SIZE).map(move |x| (x, y)))
-                .filter(|&(x, y)| {
-                    warped.get_pixel(x, y)[3] > 0 && full.get_pixel(x, y)[3] == 0 && !near_obj(x, y)
-                })
-                .count();
-            eprintln!("far spills {far_spills}");
             if let Ok(dir) = std::env::var("NPR_WARP_TEST_OUT") {
                 let big = image::imageops::resize(
                     &npr_warp::metrics::difference_image(&full, &warped, 3.0),
@@ -417,7 +406,7 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
         .unwrap();
         let objects = [seq
             .pass()
-            .create_object(d, &rig.proxy, 8, rig.proxy.suggested_inflation(), false)
+            .create_object(d, &rig.proxy, 8, 1.5 * rig.proxy.error_object, false)
             .unwrap()];
         let mut images = Vec::new();
         let mut slices = 0;
