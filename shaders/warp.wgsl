@@ -22,7 +22,8 @@ struct WarpObject {
     // x = depth tolerance (world units), y = reference width, z = height, w = surface slack
     // (the proxy's error plus inflation, world units).
     params: vec4<f32>,
-    // xyz = reference 0's / 1's eye in object space, w unused.
+    // xyz = reference 0's / 1's eye in object space, w = the angle one reference texel
+    // subtends (2 tan(fov_y / 2) / height), so w * pixel_angle is a texel's size there.
     eye0_object: vec4<f32>,
     eye1_object: vec4<f32>,
     // Linear colour of the fill-floor shader (`fs_fill`) and of wireframes.
@@ -46,9 +47,11 @@ struct WarpOut {
     @location(0) tex0: vec4<f32>,
     @location(1) tex1: vec4<f32>,
     @location(2) @interpolate(flat) weight0: f32,
-    // How far behind the proxy point the reference's stored surface may lie and still be
-    // the point's surface: the slack grows as the proxy is seen at a grazing angle.
-    @location(3) front_tolerance: vec2<f32>,
+    // How far (along the reference ray, either way) the reference's stored surface may lie
+    // from the proxy point and still be the point's surface, per reference: the proxy's
+    // slack plus a texel's depth extent, both growing as the surface is seen at a grazing
+    // angle.
+    @location(3) tolerance: vec2<f32>,
 };
 
 // §3.3.1: the proxy at its current pose, with each reference camera's texture matrix
@@ -68,7 +71,9 @@ fn vs_warp(
     let cos0 = dot(normal, normalize(object.eye0_object.xyz - position));
     let cos1 = dot(normal, normalize(object.eye1_object.xyz - position));
     let slack = object.params.w;
-    out.front_tolerance = object.params.x + slack / max(vec2<f32>(cos0, cos1), vec2<f32>(0.05));
+    let texel = vec2<f32>(out.tex0.w * object.eye0_object.w, out.tex1.w * object.eye1_object.w);
+    let grazing = max(vec2<f32>(cos0, cos1), vec2<f32>(0.05));
+    out.tolerance = object.params.x + (slack + 1.5 * texel) / grazing;
     return out;
 }
 
@@ -87,11 +92,12 @@ fn in_frame(uv: vec2<f32>) -> bool {
 // §3.4 leaves surfaces hidden by other polygons open). As with a shadow map, the point's
 // distance from the reference camera (`t.w`, the clip w of a perspective camera) is
 // compared with the distance of the surface the reference stored at its texel:
-// - `see`: the stored surface is at most the tolerance nearer than the point (else the
-//   point is hidden there) and at most `front` farther (else the point floats in empty
-//   space); `front` covers the proxy's error and inflation seen at the proxy's angle;
+// - `see`: the stored surface is within `tolerance` of the point along the reference ray
+//   (nearer by more: the point is hidden there; farther by more: it floats in empty
+//   space); `tolerance` covers the proxy's error and inflation and a texel's depth extent,
+//   seen at the proxy's angle;
 // - `empty`: the texel shows background (cleared depth 1) or the stored surface is more
-//   than `front` behind the point: no surface lies near the point, which is off the
+//   than `tolerance` behind the point: no surface lies near the point, which is off the
 //   object (the proxy bulges past the true surface);
 // - `gap`: how far the stored surface is in front of the point (hidden by that much).
 // Mirrors `npr_warp::pass::reference_sees` and `reference_empty`.
@@ -101,7 +107,7 @@ struct Look {
     gap: f32,
 };
 
-fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, front: f32) -> Look {
+fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32) -> Look {
     var out: Look;
     out.see = false;
     out.empty = false;
@@ -116,19 +122,19 @@ fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, fro
     // WebGPU (0..1) perspective depth back to view distance.
     let seen = near * far / (far - stored_depth * (far - near));
     out.gap = t.w - seen;
-    out.see = out.gap <= object.params.x && -out.gap <= front;
-    out.empty = -out.gap > front;
+    out.see = abs(out.gap) <= tolerance;
+    out.empty = -out.gap > tolerance;
     return out;
 }
 
 fn look0(in: WarpOut, uv0: vec2<f32>) -> Look {
     let d0 = textureLoad(ref0_depth, texel_of(uv0), 0);
-    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.front_tolerance.x);
+    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.tolerance.x);
 }
 
 fn look1(in: WarpOut, uv1: vec2<f32>) -> Look {
     let d1 = textureLoad(ref1_depth, texel_of(uv1), 0);
-    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.front_tolerance.y);
+    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.tolerance.y);
 }
 
 // A bilinear reference lookup. References are cleared to transparent black, so a filtered
@@ -149,9 +155,12 @@ fn color1(uv: vec2<f32>) -> vec4<f32> {
 // Which reference colours a fragment, from what the primary reference p (the one the bin's
 // ramp favours) and the other one q say about the proxy point (ours, beyond §3.4):
 // 0 = p's colour, 1 = q's colour, -1 = discard. A reference that sees the point gives its
-// colour, p first. A primary that finds the point in empty space drops the fragment; one
-// that has it hidden (the open problem of §3.4) defers to q. Hidden in both, the reference
-// whose stored surface is nearer the point is the better guess.
+// colour, p first. A primary that finds the point in empty space drops the fragment (the
+// proxy bulges past the true surface there); one that has it hidden (the open problem of
+// §3.4) defers to q. Hidden in both, the reference whose stored surface is nearer the
+// point is the better guess. (Trusting either reference's "seen" before the primary's
+// "empty" measured 38.4 against 33.0 dB with the exact mesh as proxy but 26.5 against
+// 28.1 dB with the bunny's 2 % proxy: the rim spills; the benchmark's proxies decide.)
 fn choose(p: Look, q: Look) -> i32 {
     if p.see {
         return 0;

@@ -29,9 +29,9 @@ pub struct WarpObjectUniforms {
     /// x = depth tolerance (world units), y, z = reference width and height, w = surface
     /// slack (world units).
     pub params: [f32; 4],
-    /// Reference 0's eye in object space (w unused).
+    /// Reference 0's eye in object space; w = the angle one of its texels subtends.
     pub eye0_object: [f32; 4],
-    /// Reference 1's eye in object space (w unused).
+    /// Reference 1's eye in object space; w = the angle one of its texels subtends.
     pub eye1_object: [f32; 4],
     /// Linear colour of the fill shader and of wireframes.
     pub fill_color: [f32; 4],
@@ -54,13 +54,14 @@ pub enum WarpMode {
 pub struct WarpSettings {
     /// §3.3.2–§3.3.3 decisions.
     pub plan: PlanSettings,
-    /// Depth-test tolerance in world units: how far behind the reference's stored surface
-    /// a proxy point may lie and still take its colour (farther, it is hidden there).
+    /// Depth-test tolerance in world units: the constant part of how far, along the
+    /// reference ray, the stored surface may lie from a proxy point and still be its surface.
     pub depth_tolerance_world: f32,
     /// How far the proxy may lie off the true surface, world units (its error plus its
-    /// inflation): the stored surface may lie up to `depth_tolerance_world +
-    /// surface_slack_world / max(cos, 0.05)` *behind* a proxy point seen at angle `cos`
-    /// before the point counts as floating in empty space.
+    /// inflation). The full tolerance for a point seen by a reference at angle `cos` is
+    /// `depth_tolerance_world + (surface_slack_world + 1.5 texel) / max(cos, 0.05)`, with
+    /// `texel` the reference texel's size at the point: nearer by more, the point is hidden
+    /// in that reference; farther by more, it floats in empty space.
     pub surface_slack_world: f32,
     /// Colour of [`WarpMode::Fill`] and wireframes (linear RGBA).
     pub fill_color: [f32; 4],
@@ -100,11 +101,11 @@ fn in_frame(uv: glam::Vec2) -> bool {
     uv.cmpge(glam::Vec2::ZERO).all() && uv.cmple(glam::Vec2::ONE).all()
 }
 
-/// CPU twin of WGSL `reference_sees` (the reference depth test, beyond the paper's §3.4):
+/// CPU twin of the WGSL `look` (the reference depth test, beyond the paper's §3.4):
 /// reference i sees the proxy point whose reference-camera clip w is `w_ref` when the
-/// surface stored at its texel (`stored_depth`, 0..1) lies at most `tolerance` in front of
-/// it (else the point is hidden) and at most `front` behind it (else it floats in empty
-/// space).
+/// surface stored at its texel (`stored_depth`, 0..1) lies within `tolerance` of it along
+/// the reference ray (nearer by more: the point is hidden; farther by more: it floats in
+/// empty space).
 pub fn reference_sees(
     w_ref: f32,
     uv: glam::Vec2,
@@ -112,29 +113,27 @@ pub fn reference_sees(
     near: f32,
     far: f32,
     tolerance: f32,
-    front: f32,
 ) -> bool {
     if !in_frame(uv) || stored_depth >= 1.0 {
         return false;
     }
-    let seen = distance_of_depth(stored_depth, near, far);
-    w_ref - seen <= tolerance && seen - w_ref <= front
+    (w_ref - distance_of_depth(stored_depth, near, far)).abs() <= tolerance
 }
 
-/// CPU twin of WGSL `reference_empty`: the reference finds no surface near the point (its
-/// texel is background, or the stored surface is more than `front` behind the point).
+/// CPU twin of the WGSL `look`'s `empty`: the reference finds no surface near the point
+/// (its texel is background, or the stored surface is more than `tolerance` behind it).
 pub fn reference_empty(
     w_ref: f32,
     uv: glam::Vec2,
     stored_depth: f32,
     near: f32,
     far: f32,
-    front: f32,
+    tolerance: f32,
 ) -> bool {
     if !in_frame(uv) {
         return false;
     }
-    stored_depth >= 1.0 || distance_of_depth(stored_depth, near, far) - w_ref > front
+    stored_depth >= 1.0 || distance_of_depth(stored_depth, near, far) - w_ref > tolerance
 }
 
 /// Two references bound together for the warp (§3.3: reference images 1 and 2).
@@ -451,8 +450,14 @@ impl WarpPass {
                 pair.size[1] as f32,
                 settings.surface_slack_world,
             ],
-            eye0_object: pair.poses[0].eye_object().extend(0.0).to_array(),
-            eye1_object: pair.poses[1].eye_object().extend(0.0).to_array(),
+            eye0_object: pair.poses[0]
+                .eye_object()
+                .extend(texel_angle(cam(0), pair.size[1]))
+                .to_array(),
+            eye1_object: pair.poses[1]
+                .eye_object()
+                .extend(texel_angle(cam(1), pair.size[1]))
+                .to_array(),
             fill_color: Vec4::from_array(settings.fill_color).to_array(),
         };
         queue.write_buffer(&object.uniforms, 0, bytemuck::bytes_of(&u));
@@ -519,6 +524,12 @@ impl WarpPass {
     }
 }
 
+/// The angle one texel of a `height`-texel image subtends under `camera`:
+/// `2 tan(fov_y / 2) / height` (times a view distance, a texel's size there).
+pub fn texel_angle(camera: &npr_gpu::Camera, height: u32) -> f32 {
+    2.0 * (camera.fov_y_rad * 0.5).tan() / height.max(1) as f32
+}
+
 /// Each undirected edge of a triangle list once, as a line list.
 pub fn edge_lines(indices: &[u32]) -> Vec<u32> {
     let mut edges: Vec<(u32, u32)> = indices
@@ -547,19 +558,16 @@ mod tests {
         // Stored depth of a surface at distance 4.
         let d = far * (4.0 - near) / ((far - near) * 4.0);
         assert!((distance_of_depth(d, near, far) - 4.0).abs() < 1e-5);
-        assert!(reference_sees(3.96, uv, d, near, far, 0.05, 0.05));
-        assert!(reference_sees(4.04, uv, d, near, far, 0.05, 0.05));
-        assert!(!reference_sees(4.2, uv, d, near, far, 0.05, 0.05), "hidden");
+        assert!(reference_sees(3.96, uv, d, near, far, 0.05));
+        assert!(reference_sees(4.04, uv, d, near, far, 0.05));
+        assert!(!reference_sees(4.2, uv, d, near, far, 0.05), "hidden");
         assert!(
-            !reference_sees(3.0, uv, d, near, far, 0.05, 0.05),
+            !reference_sees(3.0, uv, d, near, far, 0.05),
             "in front: empty space"
         );
         assert!(reference_empty(3.0, uv, d, near, far, 0.05));
         assert!(!reference_empty(4.2, uv, d, near, far, 0.05));
-        assert!(
-            !reference_sees(3.0, uv, 1.0, near, far, 0.05, 0.05),
-            "background"
-        );
+        assert!(!reference_sees(3.0, uv, 1.0, near, far, 0.05), "background");
         assert!(reference_empty(3.0, uv, 1.0, near, far, 0.05));
         assert!(!reference_sees(
             3.0,
@@ -567,7 +575,6 @@ mod tests {
             d,
             near,
             far,
-            0.05,
             0.05
         ));
     }

@@ -114,11 +114,12 @@ impl Proxy {
     }
 
     /// A depth-test tolerance in object units for a proxy inflated by `inflation_object`:
-    /// the proxy may lie up to its error plus the inflation off the true surface, and
-    /// neighbouring texels at grazing angles differ by about 1 % of the radius.
+    /// the proxy may lie up to its error plus the inflation off the true surface (twice, for
+    /// margin), plus 0.2 % of the radius for depth precision. (The warp adds each reference
+    /// texel's depth extent at the point's angle on top.)
     pub fn suggested_depth_tolerance(&self, inflation_object: f32) -> f32 {
         let (_, radius) = bounding_sphere(&self.mesh.positions);
-        2.0 * (self.error_object + inflation_object) + 0.01 * radius
+        2.0 * (self.error_object + inflation_object) + 0.002 * radius
     }
 
     /// The proxy moved `distance_object` along its (smooth) vertex normals. With a distance
