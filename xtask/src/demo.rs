@@ -72,7 +72,8 @@ pub fn run() -> anyhow::Result<()> {
     std::fs::create_dir_all(&dir)?;
     let ctx = GpuContext::new()?;
     println!("demo: adapter {}", ctx.adapter_summary());
-    let written = base_shading(&ctx, &dir)?;
+    let mut written = base_shading(&ctx, &dir)?;
+    written.extend(crate::demo_warp::run(&ctx, &dir)?);
     for p in &written {
         println!("demo: wrote {}", p.display());
     }

@@ -4,6 +4,7 @@
 mod bench;
 mod curvature;
 mod demo;
+mod demo_warp;
 mod fixtures;
 mod gpu_setup;
 mod test;
