@@ -8,8 +8,16 @@
 //! depth test, and spreading the reference over the frames between.
 //!
 //! Sizes are kept small so the whole run fits in about ten minutes on a two-core software
-//! adapter: 512 × 512 frames, a handful of sampled frames per k (timings are medians of 3
-//! runs of each sampled frame; quality is measured on the same frames).
+//! adapter (it took about a minute on an idle one): 512 × 512 frames, five sampled frames
+//! per segment of k (timings are medians of 3 runs of each sampled frame, averaged over
+//! the frames; quality is measured on the same frames). The camera circles the object at
+//! 1°/frame under a world-fixed light.
+//!
+//! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
+//! mesh name>`, `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, depth table only),
+//! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_INFLATE` (scales the default inflation),
+//! `NPR_WARP_BAND` (blend band), `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference
+//! images of every measured frame).
 
 use super::table::{Cell, Table, emit};
 use crate::shared_mesh;
@@ -445,7 +453,13 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(simplify_ms, 0),
             ]);
             let inflation = proxy.suggested_inflation() * inflate_factor();
-            let settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
+            let mut settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
+            if let Some(band) = std::env::var("NPR_WARP_BAND")
+                .ok()
+                .and_then(|v| v.parse().ok())
+            {
+                settings.plan.blend_band = band;
+            }
             let object = rig
                 .pass
                 .create_object(&ctx.device, &proxy, BINS, inflation, false)?;
