@@ -105,17 +105,23 @@ struct Look {
     see: bool,
     empty: bool,
     gap: f32,
+    // The bilinear colour sample, premultiplied by coverage (see `unpremultiply`).
+    color: vec4<f32>,
 };
 
-fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32) -> Look {
+// `coverage` is the bilinear alpha of the reference at the point: below 1/2 the point lies
+// outside the object's silhouette in that reference, located to a fraction of a texel
+// (the nearest texel's depth alone would snap the silhouette to the reference's grid).
+fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32, color: vec4<f32>) -> Look {
     var out: Look;
     out.see = false;
     out.empty = false;
     out.gap = 3.4e38;
+    out.color = color;
     if !in_frame(uv) {
         return out;
     }
-    if stored_depth >= 1.0 {
+    if stored_depth >= 1.0 || color.a < 0.5 {
         out.empty = true;
         return out;
     }
@@ -129,12 +135,14 @@ fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tol
 
 fn look0(in: WarpOut, uv0: vec2<f32>) -> Look {
     let d0 = textureLoad(ref0_depth, texel_of(uv0), 0);
-    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.tolerance.x);
+    let c0 = textureSampleLevel(ref0_color, color_sampler, uv0, 0.0);
+    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.tolerance.x, c0);
 }
 
 fn look1(in: WarpOut, uv1: vec2<f32>) -> Look {
     let d1 = textureLoad(ref1_depth, texel_of(uv1), 0);
-    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.tolerance.y);
+    let c1 = textureSampleLevel(ref1_color, color_sampler, uv1, 0.0);
+    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.tolerance.y, c1);
 }
 
 // A bilinear reference lookup. References are cleared to transparent black, so a filtered
@@ -185,17 +193,18 @@ fn fs_single0(in: WarpOut) -> @location(0) vec4<f32> {
     let uv0 = in.tex0.xy / in.tex0.w;
     let l0 = look0(in, uv0);
     if l0.see {
-        return color0(uv0);
+        return unpremultiply(l0.color);
     }
     let uv1 = in.tex1.xy / in.tex1.w;
-    let pick = choose(l0, look1(in, uv1));
+    let l1 = look1(in, uv1);
+    let pick = choose(l0, l1);
     if pick < 0 {
         discard;
     }
     if pick == 1 {
-        return color1(uv1);
+        return unpremultiply(l1.color);
     }
-    return color0(uv0);
+    return unpremultiply(l0.color);
 }
 
 // As `fs_single0` with the references' roles swapped.
@@ -204,17 +213,18 @@ fn fs_single1(in: WarpOut) -> @location(0) vec4<f32> {
     let uv1 = in.tex1.xy / in.tex1.w;
     let l1 = look1(in, uv1);
     if l1.see {
-        return color1(uv1);
+        return unpremultiply(l1.color);
     }
     let uv0 = in.tex0.xy / in.tex0.w;
-    let pick = choose(l1, look0(in, uv0));
+    let l0 = look0(in, uv0);
+    let pick = choose(l1, l0);
     if pick < 0 {
         discard;
     }
     if pick == 1 {
-        return color0(uv0);
+        return unpremultiply(l0.color);
     }
-    return color1(uv1);
+    return unpremultiply(l1.color);
 }
 
 // §3.3.3, bins seen by both references: both drawn and blended with the bin's opacity
@@ -226,27 +236,23 @@ fn fs_blend(in: WarpOut) -> @location(0) vec4<f32> {
     let uv1 = in.tex1.xy / in.tex1.w;
     let l0 = look0(in, uv0);
     let l1 = look1(in, uv1);
+    let c0 = unpremultiply(l0.color);
+    let c1 = unpremultiply(l1.color);
     if l0.see && l1.see {
-        return mix(color1(uv1), color0(uv0), in.weight0);
+        return mix(c1, c0, in.weight0);
     }
     if in.weight0 >= 0.5 {
         let pick = choose(l0, l1);
         if pick < 0 {
             discard;
         }
-        if pick == 1 {
-            return color1(uv1);
-        }
-        return color0(uv0);
+        return select(c0, c1, pick == 1);
     }
     let pick = choose(l1, l0);
     if pick < 0 {
         discard;
     }
-    if pick == 1 {
-        return color0(uv0);
-    }
-    return color1(uv1);
+    return select(c1, c0, pick == 1);
 }
 
 // The paper's pass as published (§3.3.1–§3.3.3, no depth test): reference 0 only.
