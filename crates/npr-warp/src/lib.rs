@@ -6,7 +6,7 @@
 //! `../shared/papers/post-rendering-warping-projective-texture.txt`.
 //!
 //! Two reference images of the full-detail model, rendered at times t1 and t3
-//! ([`reference`]), are projected onto a simplified proxy ([`proxy`], §3.2) posed at an
+//! ([`reference`](mod@reference)), are projected onto a simplified proxy ([`proxy`], §3.2) posed at an
 //! intermediate time t2 ([`pass`], §3.3.1), each from its own reference camera with the
 //! projective texture matrix of `npr_gpu::projective` (§2.2). Proxy faces are binned by
 //! normal so that whole bins are culled per reference and blended with per-bin opacity
