@@ -76,6 +76,7 @@ pub fn run() -> anyhow::Result<()> {
         base_shading(&ctx, &dir)?,
         crate::demo_specular::run(&ctx, &dir)?,
         crate::demo_hatching::run(&ctx, &dir)?,
+        crate::demo_warp::run(&ctx, &dir)?,
     ]
     .concat();
     for p in &written {

@@ -6,6 +6,7 @@ mod curvature;
 mod demo;
 mod demo_hatching;
 mod demo_specular;
+mod demo_warp;
 mod fixtures;
 mod gpu_setup;
 mod test;

@@ -5,6 +5,8 @@
 pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
 /// Base shading passes: Phong, Gouraud, cel.
 pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl");
+/// Post-rendering warping with projective textures (`npr-warp`); standalone.
+pub const WARP: &str = include_str!("../../../shaders/warp.wgsl");
 
 /// The specular highlight pass (npr-specular).
 pub const SPECULAR_HIGHLIGHT: &str = include_str!("../../../shaders/specular_highlight.wgsl");
@@ -24,6 +26,7 @@ pub const ALL: &[(&str, &str, bool)] = &[
     ("hatching.wgsl", HATCHING, false),
     ("hatching_scene.wgsl", HATCHING_SCENE, true),
     ("vsm_blur.wgsl", VSM_BLUR, false),
+    ("warp.wgsl", WARP, false),
 ];
 
 /// `common.wgsl` followed by `source`: the text of a shader that uses the shared structs.

@@ -4,11 +4,12 @@ pub mod curvature;
 pub mod hatching;
 pub mod specular;
 pub mod table;
+pub mod warp;
 
 use std::path::Path;
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature", "specular", "hatching"];
+pub const NAMES: &[&str] = &["curvature", "specular", "hatching", "warp"];
 
 /// Runs benchmark `name`.
 pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
@@ -16,6 +17,7 @@ pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
         "hatching" => hatching::run(json),
+        "warp" => warp::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
     }
 }

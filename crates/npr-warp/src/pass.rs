@@ -1,0 +1,587 @@
+//! The warp pass (§3.3.1–§3.3.3): the proxy drawn at the current pose with both reference
+//! images projected onto it, per normal bin with one reference or two blended, plus the
+//! reference depth test (beyond the paper). WGSL: `shaders/warp.wgsl`.
+//!
+//! Texture matrices: for reference i, `tex_from_object_i = TEX_FROM_CLIP ·
+//! clip_from_world_i · world_from_object_i` ([`npr_gpu::projective::tex_from_world`], the
+//! paper's §2.2 bias/scale × reference view-projection), applied to the proxy's
+//! object-space points; the object may move, the camera may move, or both.
+
+use crate::bins::{BinPlan, DrawKind, NormalBins, PlanSettings};
+use crate::reference::{Pose, ReferenceFrame};
+use crate::{Proxy, WarpError};
+use glam::{Mat4, Vec4};
+use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuMesh, Vertex, projective};
+use wgpu::util::DeviceExt;
+
+/// The `WarpObject` uniform block of `warp.wgsl` (272 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct WarpObjectUniforms {
+    /// Object → clip of the current camera and pose.
+    pub clip_from_object: [[f32; 4]; 4],
+    /// Object → texture space of reference 0 (§2.2).
+    pub tex_from_object0: [[f32; 4]; 4],
+    /// Object → texture space of reference 1.
+    pub tex_from_object1: [[f32; 4]; 4],
+    /// near, far of reference 0, then of reference 1.
+    pub ref_near_far: [f32; 4],
+    /// x = depth tolerance (world units), y, z = reference width and height, w = surface
+    /// slack (world units).
+    pub params: [f32; 4],
+    /// Reference 0's eye in object space; w = the angle one of its texels subtends.
+    pub eye0_object: [f32; 4],
+    /// Reference 1's eye in object space; w = the angle one of its texels subtends.
+    pub eye1_object: [f32; 4],
+    /// Linear colour of the fill shader and of wireframes.
+    pub fill_color: [f32; 4],
+}
+
+/// What the warp pass draws with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WarpMode {
+    /// The warp with the reference depth test (ours): hidden texels fall back to the other
+    /// reference, background texels are discarded.
+    DepthTested,
+    /// The paper's pass as published: projected colours, no depth test.
+    Paper,
+    /// The proxy with a constant colour: the fill floor of any warp pass.
+    Fill,
+}
+
+/// Settings of one warped object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WarpSettings {
+    /// §3.3.2–§3.3.3 decisions.
+    pub plan: PlanSettings,
+    /// Depth-test tolerance in world units: the constant part of how far, along the
+    /// reference ray, the stored surface may lie from a proxy point and still be its surface.
+    pub depth_tolerance_world: f32,
+    /// How far the proxy may lie off the true surface, world units (its error plus its
+    /// inflation). The full tolerance for a point seen by a reference at angle `cos` is
+    /// `depth_tolerance_world + (surface_slack_world + 1.5 texel) / max(cos, 0.05)`, with
+    /// `texel` the reference texel's size at the point: nearer by more, the point is hidden
+    /// in that reference; farther by more, it floats in empty space.
+    pub surface_slack_world: f32,
+    /// Colour of [`WarpMode::Fill`] and wireframes (linear RGBA).
+    pub fill_color: [f32; 4],
+}
+
+impl WarpSettings {
+    /// Settings for `proxy` inflated by `inflation_object`, drawn with a transform that
+    /// scales object units by `world_per_object`: tolerance = 2 × (error + inflation)
+    /// + 1 % of the proxy's radius, slack = error + inflation (all in world units).
+    pub fn for_proxy(proxy: &Proxy, inflation_object: f32, world_per_object: f32) -> Self {
+        Self {
+            depth_tolerance_world: proxy.suggested_depth_tolerance(inflation_object)
+                * world_per_object,
+            surface_slack_world: (proxy.error_object + inflation_object) * world_per_object,
+            ..Default::default()
+        }
+    }
+}
+
+impl Default for WarpSettings {
+    fn default() -> Self {
+        Self {
+            plan: PlanSettings::default(),
+            depth_tolerance_world: 0.02,
+            surface_slack_world: 0.02,
+            fill_color: [0.8, 0.2, 0.1, 1.0],
+        }
+    }
+}
+
+/// View distance of a WebGPU (0..1) perspective depth with planes `near`, `far`.
+pub fn distance_of_depth(depth: f32, near: f32, far: f32) -> f32 {
+    near * far / (far - depth * (far - near))
+}
+
+fn in_frame(uv: glam::Vec2) -> bool {
+    uv.cmpge(glam::Vec2::ZERO).all() && uv.cmple(glam::Vec2::ONE).all()
+}
+
+/// CPU twin of the WGSL `look` (the reference depth test, beyond the paper's §3.4):
+/// reference i sees the proxy point whose reference-camera clip w is `w_ref` when the
+/// surface stored at its texel (`stored_depth`, 0..1) lies within `tolerance` of it along
+/// the reference ray (nearer by more: the point is hidden; farther by more: it floats in
+/// empty space).
+pub fn reference_sees(
+    w_ref: f32,
+    uv: glam::Vec2,
+    stored_depth: f32,
+    near: f32,
+    far: f32,
+    tolerance: f32,
+) -> bool {
+    if !in_frame(uv) || stored_depth >= 1.0 {
+        return false;
+    }
+    (w_ref - distance_of_depth(stored_depth, near, far)).abs() <= tolerance
+}
+
+/// CPU twin of the WGSL `look`'s `empty`: the reference finds no surface near the point
+/// (its texel is background, or the stored surface is more than `tolerance` behind it).
+pub fn reference_empty(
+    w_ref: f32,
+    uv: glam::Vec2,
+    stored_depth: f32,
+    near: f32,
+    far: f32,
+    tolerance: f32,
+) -> bool {
+    if !in_frame(uv) {
+        return false;
+    }
+    stored_depth >= 1.0 || distance_of_depth(stored_depth, near, far) - w_ref > tolerance
+}
+
+/// Two references bound together for the warp (§3.3: reference images 1 and 2).
+#[derive(Debug)]
+pub struct ReferencePair {
+    bind_group: wgpu::BindGroup,
+    /// Poses of reference 0 and 1 (copied when bound; rebind after re-rendering a slot).
+    pub poses: [Pose; 2],
+    /// `clip_from_world` of reference 0 and 1.
+    pub clip_from_world: [Mat4; 2],
+    size: [u32; 2],
+}
+
+/// A proxy on the GPU, binned (§3.3.2), with its per-object uniforms and bin weights.
+#[derive(Debug)]
+pub struct WarpObject {
+    /// The binned proxy (CPU side: ranges and representative normals).
+    pub bins: NormalBins,
+    /// The proxy with its index buffer in bin order.
+    pub mesh: GpuMesh,
+    uniforms: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    edges: Option<(wgpu::Buffer, u32)>,
+}
+
+impl WarpObject {
+    /// The line-list index count of the wireframe (0 when built without one).
+    pub fn edge_index_count(&self) -> u32 {
+        self.edges.as_ref().map_or(0, |e| e.1)
+    }
+}
+
+/// The warp pipelines. Create once per device; record with [`WarpPass::draw`].
+#[derive(Debug)]
+pub struct WarpPass {
+    single: [wgpu::RenderPipeline; 2],
+    blend: wgpu::RenderPipeline,
+    single_paper: [wgpu::RenderPipeline; 2],
+    blend_paper: wgpu::RenderPipeline,
+    fill: wgpu::RenderPipeline,
+    wire: wgpu::RenderPipeline,
+    ref_layout: wgpu::BindGroupLayout,
+    object_layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+}
+
+impl WarpPass {
+    /// Builds the pipelines for [`COLOR_FORMAT`] targets with [`DEPTH_FORMAT`] depth.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("warp.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
+        });
+        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let color = wgpu::TextureSampleType::Float { filterable: true };
+        let depth = wgpu::TextureSampleType::Depth;
+        let ref_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr-warp references"),
+            entries: &[
+                texture(0, color),
+                texture(1, depth),
+                texture(2, color),
+                texture(3, depth),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr-warp object"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::VERTEX,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr-warp"),
+            bind_group_layouts: &[Some(&ref_layout), Some(&object_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |fs: &str, topology: wgpu::PrimitiveTopology| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(fs),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_warp"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(Vertex::layout())],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    cull_mode: (topology == wgpu::PrimitiveTopology::TriangleList)
+                        .then_some(wgpu::Face::Back),
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(COLOR_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let tri = wgpu::PrimitiveTopology::TriangleList;
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("npr-warp reference sampler"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Self {
+            single: [pipeline("fs_single0", tri), pipeline("fs_single1", tri)],
+            blend: pipeline("fs_blend", tri),
+            single_paper: [
+                pipeline("fs_single0_paper", tri),
+                pipeline("fs_single1_paper", tri),
+            ],
+            blend_paper: pipeline("fs_blend_paper", tri),
+            fill: pipeline("fs_fill", tri),
+            wire: pipeline("fs_fill", wgpu::PrimitiveTopology::LineList),
+            ref_layout,
+            object_layout,
+            sampler,
+        }
+    }
+
+    /// Binds two rendered references as the pair a warp interpolates between. Rebind after
+    /// re-rendering either slot (the pair copies their poses).
+    pub fn bind_pair(
+        &self,
+        device: &wgpu::Device,
+        references: [&ReferenceFrame; 2],
+    ) -> ReferencePair {
+        let depth_view = |r: &ReferenceFrame| {
+            r.target.depth.create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            })
+        };
+        let (d0, d1) = (depth_view(references[0]), depth_view(references[1]));
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr-warp references"),
+            layout: &self.ref_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&references[0].target.color_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&d0),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&references[1].target.color_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&d1),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+            ],
+        });
+        ReferencePair {
+            bind_group,
+            poses: [references[0].pose, references[1].pose],
+            clip_from_world: [references[0].clip_from_world, references[1].clip_from_world],
+            size: [references[0].target.width, references[0].target.height],
+        }
+    }
+
+    /// Uploads a proxy binned with `bins_per_axis` (§3.3.2), inflated by
+    /// `inflate_object` along its normals (see [`Proxy::inflated`]); with `wireframe`, also
+    /// a line-list index buffer of its edges (for pictures: lavapipe lacks line polygon mode).
+    ///
+    /// # Errors
+    /// As [`NormalBins::build`]; [`WarpError::Gpu`] when the upload fails.
+    pub fn create_object(
+        &self,
+        device: &wgpu::Device,
+        proxy: &Proxy,
+        bins_per_axis: u32,
+        inflate_object: f32,
+        wireframe: bool,
+    ) -> Result<WarpObject, WarpError> {
+        let mesh = proxy.inflated(inflate_object);
+        let bins = NormalBins::build(&mesh, bins_per_axis)?;
+        let gpu = GpuMesh::upload(device, &bins.sorted_mesh(&mesh))?;
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr-warp object uniforms"),
+            size: std::mem::size_of::<WarpObjectUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let weights = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr-warp bin weights"),
+            contents: bytemuck::cast_slice(&vec![[1.0f32, 0.0, 0.0, 0.0]; bins.len()]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr-warp object"),
+            layout: &self.object_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: weights.as_entire_binding(),
+                },
+            ],
+        });
+        let edges = wireframe.then(|| {
+            let lines = edge_lines(&bins.indices);
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("npr-warp wireframe"),
+                contents: bytemuck::cast_slice(&lines),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+            (buffer, lines.len() as u32)
+        });
+        Ok(WarpObject {
+            bins,
+            mesh: gpu,
+            uniforms,
+            weights,
+            bind_group,
+            edges,
+        })
+    }
+
+    /// Decides the frame for `object` (§3.3.2–§3.3.3) and writes its uniforms and bin
+    /// weights: the object drawn at `now` (its own camera and pose) with the reference
+    /// pair's images, `s ∈ [0, 1]` the frame's position between the two references.
+    /// Returns the plan to pass to [`WarpPass::draw`].
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &WarpObject,
+        pair: &ReferencePair,
+        now: &Pose,
+        s: f32,
+        settings: &WarpSettings,
+    ) -> BinPlan {
+        let plan = crate::bins::plan(
+            &object.bins,
+            now.eye_object(),
+            [pair.poses[0].eye_object(), pair.poses[1].eye_object()],
+            s,
+            &settings.plan,
+        );
+        let tex = |i: usize| {
+            (projective::tex_from_world(pair.clip_from_world[i]) * pair.poses[i].world_from_object)
+                .to_cols_array_2d()
+        };
+        let cam = |i: usize| &pair.poses[i].camera;
+        let u = WarpObjectUniforms {
+            clip_from_object: (now.camera.clip_from_world() * now.world_from_object)
+                .to_cols_array_2d(),
+            tex_from_object0: tex(0),
+            tex_from_object1: tex(1),
+            ref_near_far: [cam(0).near, cam(0).far, cam(1).near, cam(1).far],
+            params: [
+                settings.depth_tolerance_world,
+                pair.size[0] as f32,
+                pair.size[1] as f32,
+                settings.surface_slack_world,
+            ],
+            eye0_object: pair.poses[0]
+                .eye_object()
+                .extend(texel_angle(cam(0), pair.size[1]))
+                .to_array(),
+            eye1_object: pair.poses[1]
+                .eye_object()
+                .extend(texel_angle(cam(1), pair.size[1]))
+                .to_array(),
+            fill_color: Vec4::from_array(settings.fill_color).to_array(),
+        };
+        queue.write_buffer(&object.uniforms, 0, bytemuck::bytes_of(&u));
+        queue.write_buffer(&object.weights, 0, bytemuck::cast_slice(&plan.weights));
+        plan
+    }
+
+    /// Records the draws of `plan` for `object` into the caller's pass (colour target
+    /// [`COLOR_FORMAT`], depth [`DEPTH_FORMAT`]).
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pair: &ReferencePair,
+        object: &WarpObject,
+        plan: &BinPlan,
+        mode: WarpMode,
+    ) {
+        pass.set_bind_group(0, &pair.bind_group, &[]);
+        pass.set_bind_group(1, &object.bind_group, &[]);
+        pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
+        pass.set_index_buffer(
+            object.mesh.index_buffer.slice(..),
+            wgpu::IndexFormat::Uint32,
+        );
+        let pipeline = |kind: DrawKind| match (mode, kind) {
+            (WarpMode::Fill, _) => &self.fill,
+            (WarpMode::DepthTested, DrawKind::Single0) => &self.single[0],
+            (WarpMode::DepthTested, DrawKind::Single1) => &self.single[1],
+            (WarpMode::DepthTested, DrawKind::Blend) => &self.blend,
+            (WarpMode::Paper, DrawKind::Single0) => &self.single_paper[0],
+            (WarpMode::Paper, DrawKind::Single1) => &self.single_paper[1],
+            (WarpMode::Paper, DrawKind::Blend) => &self.blend_paper,
+        };
+        // Group draws by pipeline so each pipeline is set once.
+        for kind in [DrawKind::Single0, DrawKind::Single1, DrawKind::Blend] {
+            let mut set = false;
+            for d in plan.draws.iter().filter(|d| d.kind == kind) {
+                if !set {
+                    pass.set_pipeline(pipeline(kind));
+                    set = true;
+                }
+                pass.draw_indexed(d.indices.clone(), 0, d.instance..d.instance + 1);
+            }
+        }
+    }
+
+    /// Records the proxy's wireframe (line list, [`WarpSettings::fill_color`]) at the pose
+    /// last written by [`WarpPass::prepare`]; nothing when the object has no wireframe.
+    pub fn draw_wireframe(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pair: &ReferencePair,
+        object: &WarpObject,
+    ) {
+        let Some((edges, count)) = &object.edges else {
+            return;
+        };
+        pass.set_pipeline(&self.wire);
+        pass.set_bind_group(0, &pair.bind_group, &[]);
+        pass.set_bind_group(1, &object.bind_group, &[]);
+        pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
+        pass.set_index_buffer(edges.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..*count, 0, 0..1);
+    }
+}
+
+/// The angle one texel of a `height`-texel image subtends under `camera`:
+/// `2 tan(fov_y / 2) / height` (times a view distance, a texel's size there).
+pub fn texel_angle(camera: &npr_gpu::Camera, height: u32) -> f32 {
+    2.0 * (camera.fov_y_rad * 0.5).tan() / height.max(1) as f32
+}
+
+/// Each undirected edge of a triangle list once, as a line list.
+pub fn edge_lines(indices: &[u32]) -> Vec<u32> {
+    let mut edges: Vec<(u32, u32)> = indices
+        .chunks_exact(3)
+        .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+        .map(|(a, b)| (a.min(b), a.max(b)))
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    edges.into_iter().flat_map(|(a, b)| [a, b]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_block_matches_wgsl_size() {
+        assert_eq!(std::mem::size_of::<WarpObjectUniforms>(), 272);
+    }
+
+    #[test]
+    fn reference_sees_like_a_shadow_map() {
+        let uv = glam::Vec2::splat(0.5);
+        let (near, far) = (1.0, 10.0);
+        // Stored depth of a surface at distance 4.
+        let d = far * (4.0 - near) / ((far - near) * 4.0);
+        assert!((distance_of_depth(d, near, far) - 4.0).abs() < 1e-5);
+        assert!(reference_sees(3.96, uv, d, near, far, 0.05));
+        assert!(reference_sees(4.04, uv, d, near, far, 0.05));
+        assert!(!reference_sees(4.2, uv, d, near, far, 0.05), "hidden");
+        assert!(
+            !reference_sees(3.0, uv, d, near, far, 0.05),
+            "in front: empty space"
+        );
+        assert!(reference_empty(3.0, uv, d, near, far, 0.05));
+        assert!(!reference_empty(4.2, uv, d, near, far, 0.05));
+        assert!(!reference_sees(3.0, uv, 1.0, near, far, 0.05), "background");
+        assert!(reference_empty(3.0, uv, 1.0, near, far, 0.05));
+        assert!(!reference_sees(
+            3.0,
+            glam::Vec2::new(1.2, 0.5),
+            d,
+            near,
+            far,
+            0.05
+        ));
+    }
+
+    #[test]
+    fn edges_are_unique() {
+        let lines = edge_lines(&[0, 1, 2, 2, 1, 3]);
+        assert_eq!(lines.len(), 10);
+    }
+}

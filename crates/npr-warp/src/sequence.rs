@@ -1,0 +1,333 @@
+//! The schedule (§1, §3.4, §4): a reference every k frames along a known path (the paper
+//! measures k = 10, 20, 30, 40), warped frames between, and optionally the next reference
+//! rendered in slices spread over the intermediate frames (§3.4, with a third off-screen
+//! buffer as the paper suggests). Several objects may share one reference pair (Table 3).
+
+use crate::WarpError;
+use crate::bins::BinPlan;
+use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
+use crate::reference::{Pose, ReferenceFrame};
+use glam::Mat4;
+use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, OffscreenTarget};
+
+/// Which references a frame interpolates and where it lies between them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameRole {
+    /// Segment j: the frame lies between references j and j + 1.
+    pub segment: u32,
+    /// Frame number of reference j (`j·k`); reference j + 1 is at `(j + 1)·k`.
+    pub first_frame: u32,
+    /// Position between the references, `(frame − j·k) / k ∈ [0, 1)`.
+    pub s: f32,
+    /// Position of the frame inside its segment, `0..k`.
+    pub step: u32,
+}
+
+/// A reference every `k` frames (§4), pure arithmetic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WarpSchedule {
+    /// Frames per reference, k ≥ 1.
+    pub period: u32,
+    /// Spread the rendering of the reference after next over the k frames of a segment
+    /// (§3.4) instead of rendering it whole at the segment's start.
+    pub spread: bool,
+}
+
+impl WarpSchedule {
+    /// A schedule with a reference every `period` frames.
+    ///
+    /// # Errors
+    /// [`WarpError::ZeroPeriod`] for `period == 0`.
+    pub fn new(period: u32, spread: bool) -> Result<Self, WarpError> {
+        if period == 0 {
+            return Err(WarpError::ZeroPeriod);
+        }
+        Ok(Self { period, spread })
+    }
+
+    /// The role of `frame`.
+    pub fn role(&self, frame: u32) -> FrameRole {
+        let k = self.period.max(1);
+        let segment = frame / k;
+        let step = frame % k;
+        FrameRole {
+            segment,
+            first_frame: segment * k,
+            s: step as f32 / k as f32,
+            step,
+        }
+    }
+
+    /// Frame amortized cost of this schedule: the reference cost spread over k frames plus
+    /// one warp per frame (`REF/k + WARP`, ms).
+    pub fn amortized_ms(&self, reference_ms: f64, warp_ms: f64) -> f64 {
+        reference_ms / f64::from(self.period.max(1)) + warp_ms
+    }
+}
+
+/// The scene along a known path at one frame: a camera and the world transform of every
+/// object (object 0 is the one the references show; every object shares them, Table 3).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScenePose {
+    /// The camera.
+    pub camera: Camera,
+    /// Object → world per object (at least one).
+    pub objects: Vec<Mat4>,
+}
+
+impl ScenePose {
+    /// The pose of object `i` (object 0 when `i` is out of range; identity without objects).
+    pub fn object(&self, i: usize) -> Pose {
+        let m = self
+            .objects
+            .get(i)
+            .or(self.objects.first())
+            .copied()
+            .unwrap_or(Mat4::IDENTITY);
+        Pose {
+            camera: self.camera,
+            world_from_object: m,
+        }
+    }
+}
+
+/// What one frame of a [`WarpSequence`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameReport {
+    /// The frame's role.
+    pub s: f32,
+    /// Reference slices rendered in this frame (k per reference when spreading; 1 for a
+    /// whole reference; more at start-up).
+    pub reference_slices: u32,
+    /// The bin plan of each object.
+    pub plans: Vec<BinPlan>,
+}
+
+/// A warped animation over a known path: a reference every k frames, warped frames between
+/// (§3.3, §4). Owns three reference slots (two in use, one being built, §3.4).
+#[derive(Debug)]
+pub struct WarpSequence {
+    /// The schedule.
+    pub schedule: WarpSchedule,
+    /// The warp settings used for every object.
+    pub settings: WarpSettings,
+    /// Draw mode (depth-tested, paper or fill).
+    pub mode: WarpMode,
+    pass: WarpPass,
+    slots: [ReferenceFrame; 3],
+    /// Reference index held by each slot (`None`: empty), and slices done.
+    held: [Option<(u32, u32)>; 3],
+    pair: Option<(u32, ReferencePair)>,
+    light: Light,
+    material: ObjectUniforms,
+    clear: [f64; 4],
+}
+
+impl WarpSequence {
+    /// A sequence rendering references of `width × height`.
+    ///
+    /// # Errors
+    /// [`WarpError::Gpu`] for a bad size.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        schedule: WarpSchedule,
+        settings: WarpSettings,
+        width: u32,
+        height: u32,
+        light: Light,
+        material: ObjectUniforms,
+    ) -> Result<Self, WarpError> {
+        let slot = || ReferenceFrame::new(device, queue, width, height);
+        Ok(Self {
+            schedule,
+            settings,
+            mode: WarpMode::DepthTested,
+            pass: WarpPass::new(device),
+            slots: [slot()?, slot()?, slot()?],
+            held: [None; 3],
+            pair: None,
+            light,
+            material,
+            clear: [0.0; 4],
+        })
+    }
+
+    /// The warp pipelines (to create objects with [`WarpPass::create_object`]).
+    pub fn pass(&self) -> &WarpPass {
+        &self.pass
+    }
+
+    /// The reference slot holding reference `index`, if rendered completely.
+    pub fn reference(&self, index: u32) -> Option<&ReferenceFrame> {
+        let slot = (index % 3) as usize;
+        match self.held[slot] {
+            Some((i, done)) if i == index && done >= self.slices() => Some(&self.slots[slot]),
+            _ => None,
+        }
+    }
+
+    fn slices(&self) -> u32 {
+        if self.schedule.spread {
+            self.schedule.period
+        } else {
+            1
+        }
+    }
+
+    /// Renders reference `index` slice `slice` (or whole when not spreading) into its slot.
+    fn advance_reference(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        full: &GpuMesh,
+        path: &dyn Fn(u32) -> ScenePose,
+        index: u32,
+    ) -> u32 {
+        let slot = (index % 3) as usize;
+        let slices = self.slices();
+        let done = match self.held[slot] {
+            Some((i, done)) if i == index => done,
+            _ => 0,
+        };
+        if done >= slices {
+            return 0;
+        }
+        if done == 0 {
+            let pose = path(index * self.schedule.period).object(0);
+            self.slots[slot].set_pose(queue, &pose, &self.light, &self.material);
+        }
+        self.slots[slot].record_slice(encoder, full, self.clear, done, slices);
+        self.held[slot] = Some((index, done + 1));
+        1
+    }
+
+    /// Finishes reference `index` (all remaining slices), submitting each slice so the
+    /// uniform writes of different slots do not race.
+    fn complete_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        full: &GpuMesh,
+        path: &dyn Fn(u32) -> ScenePose,
+        index: u32,
+    ) -> u32 {
+        let mut n = 0;
+        while self.reference(index).is_none() {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            n += self.advance_reference(queue, &mut encoder, full, path, index);
+            queue.submit(Some(encoder.finish()));
+        }
+        n
+    }
+
+    /// Records and submits frame `frame` into `target` (cleared to alpha 0): the references
+    /// it needs (rendered now if missing; the one after next advanced by one slice when
+    /// spreading), then every object of `path(frame)` warped with `objects[i]`
+    /// (`objects.len()` objects; `path(frame).objects` gives their poses). Does not wait.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_frame(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        full: &GpuMesh,
+        objects: &[WarpObject],
+        path: &dyn Fn(u32) -> ScenePose,
+        frame: u32,
+        target: &OffscreenTarget,
+    ) -> FrameReport {
+        let role = self.schedule.role(frame);
+        let j = role.segment;
+        let mut report = FrameReport {
+            s: role.s,
+            ..Default::default()
+        };
+        report.reference_slices += self.complete_reference(device, queue, full, path, j);
+        report.reference_slices += self.complete_reference(device, queue, full, path, j + 1);
+        if self.pair.as_ref().map(|p| p.0) != Some(j) {
+            let (a, b) = ((j % 3) as usize, ((j + 1) % 3) as usize);
+            let pair = self
+                .pass
+                .bind_pair(device, [&self.slots[a], &self.slots[b]]);
+            self.pair = Some((j, pair));
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr-warp frame"),
+        });
+        if self.schedule.spread {
+            report.reference_slices +=
+                self.advance_reference(queue, &mut encoder, full, path, j + 2);
+        }
+        let scene = path(frame);
+        if let Some((_, pair)) = &self.pair {
+            for (i, object) in objects.iter().enumerate() {
+                let plan = self.pass.prepare(
+                    queue,
+                    object,
+                    pair,
+                    &scene.object(i),
+                    role.s,
+                    &self.settings,
+                );
+                report.plans.push(plan);
+            }
+            let mut rpass = target.begin_clear_pass(&mut encoder, self.clear);
+            for (object, plan) in objects.iter().zip(&report.plans) {
+                self.pass.draw(&mut rpass, pair, object, plan, self.mode);
+            }
+        }
+        queue.submit(Some(encoder.finish()));
+        report
+    }
+}
+
+/// A known path (§1: "an object moving along a set path"): objects turning about the
+/// world y axis at `deg_per_frame`, each at its own offset, before a fixed camera; or, with
+/// `orbit_camera`, the camera circling the fixed objects at the same rate (the same
+/// relative motion, but the world-fixed light then lights the object the same way in every
+/// frame, so only view-dependent shading changes). Used by the tests, the demo and the
+/// benchmark.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Turntable {
+    /// The fixed camera.
+    pub camera: Camera,
+    /// Object → turntable frame applied first (e.g. centring and scaling to a unit sphere).
+    pub normalize: Mat4,
+    /// Rotation per frame, degrees.
+    pub deg_per_frame: f32,
+    /// World offset of each object (one entry per object).
+    pub offsets: Vec<glam::Vec3>,
+    /// Move the camera around the objects instead of turning the objects.
+    pub orbit_camera: bool,
+}
+
+impl Turntable {
+    /// The scene at (possibly fractional) frame `t`.
+    pub fn pose(&self, t: f32) -> ScenePose {
+        let angle = (self.deg_per_frame * t).to_radians();
+        if self.orbit_camera {
+            let orbit = Mat4::from_rotation_y(-angle);
+            let mut camera = self.camera;
+            camera.eye = orbit.transform_point3(camera.eye);
+            camera.target = orbit.transform_point3(camera.target);
+            return ScenePose {
+                camera,
+                objects: self
+                    .offsets
+                    .iter()
+                    .map(|o| Mat4::from_translation(*o) * self.normalize)
+                    .collect(),
+            };
+        }
+        let spin = Mat4::from_rotation_y(angle);
+        ScenePose {
+            camera: self.camera,
+            objects: self
+                .offsets
+                .iter()
+                .map(|o| Mat4::from_translation(*o) * spin * self.normalize)
+                .collect(),
+        }
+    }
+}

@@ -1,0 +1,723 @@
+//! `cargo xtask bench warp`: the warping paper's Tables 1–3 on our meshes and adapter.
+//!
+//! Park & Ihm, "Post-Rendering 3D Warping using Projective Texture" (KIISE 2002): full
+//! render vs warped frames for k = 10, 20, 30, 40 and three proxy ratios per mesh, the
+//! quality of every measured warped frame against the full render at its pose, Table 3
+//! (objects sharing one reference pair), the fill floor and the ceiling
+//! `k·FULL / (FULL + k·FILL)`, the effect of the bin count N, the gain of the reference
+//! depth test, and spreading the reference over the frames between.
+//!
+//! Sizes are kept small so the whole run fits in about ten minutes on a two-core software
+//! adapter (it took about a minute on an idle one): 512 × 512 frames, five sampled frames
+//! per segment of k (timings are medians of 3 runs of each sampled frame, averaged over
+//! the frames; quality is measured on the same frames). The camera circles the object at
+//! 1°/frame under a world-fixed light.
+//!
+//! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
+//! mesh name>`, `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, depth table only),
+//! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_INFLATE` (scales the default inflation),
+//! `NPR_WARP_BAND` (blend band), `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference
+//! images of every measured frame).
+
+use super::table::{Cell, Table, emit};
+use crate::shared_mesh;
+use glam::{Mat4, Vec3};
+use npr_geometry::{Mesh, generate};
+use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, OffscreenTarget, readback_rgba};
+use npr_warp::{
+    FullRenderer, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass,
+    WarpSchedule, WarpSequence, WarpSettings, compare,
+};
+use std::path::Path;
+use std::time::Instant;
+
+const SIZE: u32 = 512;
+const CLEAR: [f64; 4] = [0.0; 4];
+const KS: [u32; 4] = [10, 20, 30, 40];
+/// Bins per axis used unless a table varies it.
+const BINS: u32 = 16;
+/// Rotation of the object per frame (degrees): the known path.
+const DEG_PER_FRAME: f32 = 1.0;
+/// The camera circles the object (light fixed in the world, as post-rendering warping's
+/// camera-motion use); the object-turning variant is measured in its own table.
+const ORBIT: bool = true;
+
+fn light() -> Light {
+    Light::directional(Vec3::new(1.0, 1.5, 2.0))
+}
+
+fn material() -> ObjectUniforms {
+    ObjectUniforms::new(
+        Mat4::IDENTITY,
+        Vec3::new(0.75, 0.6, 0.45),
+        0.3,
+        Vec3::ONE,
+        24.0,
+    )
+}
+
+struct BenchMesh {
+    name: String,
+    mesh: Mesh,
+    ratios: [f32; 3],
+}
+
+fn meshes() -> Vec<BenchMesh> {
+    let mut out = Vec::new();
+    match shared_mesh("stanford-bunny.obj").map(|p| npr_geometry::load_obj(&p)) {
+        Some(Ok(mesh)) => out.push(BenchMesh {
+            name: "bunny".into(),
+            mesh,
+            ratios: [0.05, 0.02, 0.01],
+        }),
+        Some(Err(e)) => println!("note: bunny skipped: {e}"),
+        None => println!("note: ../shared/meshes/stanford-bunny.obj not found, bunny skipped"),
+    }
+    // About the paper's Dragon (871,414) and Buddha (1,085,634): smooth torus-knot tubes.
+    out.push(BenchMesh {
+        name: "knot-3-5 (870k)".into(),
+        mesh: generate::torus_knot(&generate::TorusKnot {
+            p: 3,
+            q: 5,
+            major_radius: 1.0,
+            minor_radius: 0.45,
+            tube_radius: 0.14,
+            segments: 2175,
+            tube_segments: 200,
+        }),
+        ratios: [0.01, 0.004, 0.0009],
+    });
+    out.push(BenchMesh {
+        name: "knot-2-3 (1.1M)".into(),
+        mesh: generate::benchmark_knot(),
+        ratios: [0.006, 0.002, 0.0007],
+    });
+    out
+}
+
+/// Wall time of `f` (which submits) plus waiting for the GPU, in ms.
+fn timed(ctx: &GpuContext, f: impl FnOnce()) -> f64 {
+    let t = Instant::now();
+    f();
+    let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v[v.len() / 2]
+    }
+}
+
+fn mean(v: &[f64]) -> f64 {
+    v.iter().sum::<f64>() / v.len().max(1) as f64
+}
+
+/// The turntable framing `mesh` (unit bounding sphere at the origin) with `offsets`.
+fn path_for(
+    mesh: &Mesh,
+    offsets: Vec<Vec3>,
+    distance: f32,
+    orbit_camera: bool,
+) -> (Turntable, f32) {
+    let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
+    let scale = 1.0 / radius.max(1e-6);
+    let normalize = Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-centre);
+    let eye = Vec3::new(0.0, 0.35, 1.0).normalize() * distance;
+    let mut camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
+    camera.fov_y_rad = 34f32.to_radians();
+    (
+        Turntable {
+            camera,
+            normalize,
+            deg_per_frame: DEG_PER_FRAME,
+            offsets,
+            orbit_camera,
+        },
+        scale,
+    )
+}
+
+/// Frames sampled inside a segment of length k (never the reference frames themselves).
+fn sampled_steps(k: u32) -> Vec<u32> {
+    let mut v: Vec<u32> = [1, k / 4, k / 2, (3 * k) / 4, k - 1]
+        .into_iter()
+        .filter(|&f| f >= 1 && f < k)
+        .collect();
+    v.dedup();
+    v
+}
+
+struct Rig<'a> {
+    ctx: &'a GpuContext,
+    full: GpuMesh,
+    renderer: FullRenderer,
+    target: OffscreenTarget,
+    pass: WarpPass,
+}
+
+impl<'a> Rig<'a> {
+    fn new(ctx: &'a GpuContext, mesh: &Mesh) -> anyhow::Result<Self> {
+        Ok(Self {
+            ctx,
+            full: GpuMesh::upload(&ctx.device, mesh)?,
+            renderer: FullRenderer::new(&ctx.device, &ctx.queue),
+            target: OffscreenTarget::new(&ctx.device, SIZE, SIZE)?,
+            pass: WarpPass::new(&ctx.device),
+        })
+    }
+
+    /// Full render of `scene` into the rig's target; returns ms (submit to idle).
+    fn full_ms(&mut self, scene: &ScenePose) -> f64 {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        self.renderer
+            .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
+        let mut enc = d.create_command_encoder(&Default::default());
+        self.renderer
+            .record(&mut enc, &self.target, &self.full, CLEAR);
+        timed(self.ctx, || {
+            q.submit(Some(enc.finish()));
+        })
+    }
+
+    fn full_image(&mut self, scene: &ScenePose) -> anyhow::Result<image::RgbaImage> {
+        self.full_ms(scene);
+        Ok(readback_rgba(
+            &self.ctx.device,
+            &self.ctx.queue,
+            &self.target.color,
+        )?)
+    }
+
+    fn reference(&self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let mut r = ReferenceFrame::new(d, q, SIZE, SIZE)?;
+        r.set_pose(q, &scene.object(0), &light(), &material());
+        let mut enc = d.create_command_encoder(&Default::default());
+        r.record(&mut enc, &self.full, CLEAR);
+        q.submit(Some(enc.finish()));
+        Ok(r)
+    }
+
+    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
+    #[allow(clippy::too_many_arguments)]
+    fn warp_ms(
+        &self,
+        refs: [&ReferenceFrame; 2],
+        objects: &[WarpObject],
+        scene: &ScenePose,
+        s: f32,
+        settings: &WarpSettings,
+        mode: WarpMode,
+    ) -> (f64, usize, usize) {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let pair = self.pass.bind_pair(d, refs);
+        let mut blended = 0;
+        let mut tris = 0;
+        let ms = timed(self.ctx, || {
+            let plans: Vec<_> = objects
+                .iter()
+                .enumerate()
+                .map(|(i, o)| {
+                    self.pass
+                        .prepare(q, o, &pair, &scene.object(i), s, settings)
+                })
+                .collect();
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let mut rpass = self.target.begin_clear_pass(&mut enc, CLEAR);
+                for (o, p) in objects.iter().zip(&plans) {
+                    self.pass.draw(&mut rpass, &pair, o, p, mode);
+                }
+            }
+            q.submit(Some(enc.finish()));
+            blended = plans.iter().map(|p| p.bins_blended).sum();
+            tris = plans.iter().map(|p| p.triangles_drawn).sum();
+        });
+        (ms, blended, tris)
+    }
+
+    fn image(&self) -> anyhow::Result<image::RgbaImage> {
+        Ok(readback_rgba(
+            &self.ctx.device,
+            &self.ctx.queue,
+            &self.target.color,
+        )?)
+    }
+}
+
+/// Quality and timing of the warped frames of one segment of length k.
+struct SegmentResult {
+    warp_ms: f64,
+    fill_ms: f64,
+    psnr_mean: f64,
+    psnr_worst: f64,
+    ssim_mean: f64,
+    blended_bins: f64,
+    tris_drawn: f64,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn segment(
+    rig: &mut Rig<'_>,
+    path: &Turntable,
+    k: u32,
+    objects: &[WarpObject],
+    settings: &WarpSettings,
+    mode: WarpMode,
+    fulls: &mut std::collections::HashMap<(u32, u32, usize), image::RgbaImage>,
+) -> anyhow::Result<SegmentResult> {
+    let (r0, r1) = (
+        rig.reference(&path.pose(0.0))?,
+        rig.reference(&path.pose(k as f32))?,
+    );
+    let (mut warp, mut fill, mut psnr, mut ssim, mut blended, mut tris) =
+        (vec![], vec![], vec![], vec![], vec![], vec![]);
+    for f in sampled_steps(k) {
+        let scene = path.pose(f as f32);
+        let s = f as f32 / k as f32;
+        let key = (k, f, objects.len());
+        if let std::collections::hash_map::Entry::Vacant(slot) = fulls.entry(key) {
+            slot.insert(rig.full_image(&scene)?);
+        }
+        let mut runs = Vec::new();
+        for _ in 0..3 {
+            let (ms, b, t) = rig.warp_ms([&r0, &r1], objects, &scene, s, settings, mode);
+            runs.push(ms);
+            blended.push(b as f64);
+            tris.push(t as f64);
+        }
+        warp.push(median(runs));
+        let img = rig.image()?;
+        if let Some(full) = fulls.get(&key) {
+            let q = compare(full, &img);
+            if let Ok(dir) = std::env::var("NPR_WARP_BENCH_DUMP") {
+                let stem = format!("{dir}/k{k}-f{f}-n{}-{mode:?}", objects.len());
+                full.save(format!("{stem}-full.png"))?;
+                img.save(format!("{stem}-warp.png"))?;
+                npr_warp::metrics::difference_image(full, &img, 4.0)
+                    .save(format!("{stem}-diff.png"))?;
+            }
+            psnr.push(q.psnr_db);
+            ssim.push(q.ssim);
+        }
+        let fills: Vec<f64> = (0..3)
+            .map(|_| {
+                rig.warp_ms([&r0, &r1], objects, &scene, s, settings, WarpMode::Fill)
+                    .0
+            })
+            .collect();
+        fill.push(median(fills));
+    }
+    Ok(SegmentResult {
+        warp_ms: mean(&warp),
+        fill_ms: mean(&fill),
+        psnr_mean: mean(&psnr),
+        psnr_worst: psnr.iter().copied().fold(f64::INFINITY, f64::min),
+        ssim_mean: mean(&ssim),
+        blended_bins: mean(&blended),
+        tris_drawn: mean(&tris),
+    })
+}
+
+/// Runs the benchmark and prints (and optionally writes) its tables.
+pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let ctx = GpuContext::new()?;
+    let adapter = ctx.adapter.get_info().name;
+    println!("bench warp: adapter {}", ctx.adapter_summary());
+    println!(
+        "bench warp: {SIZE}x{SIZE}, object turning {DEG_PER_FRAME} deg/frame, N = {BINS}, \
+         sampled frames per segment {:?} (k = 10)",
+        sampled_steps(10)
+    );
+    let mut t1 = Table::new(
+        "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio and k",
+        &[
+            "mesh",
+            "triangles",
+            "ratio_pct",
+            "proxy_triangles",
+            "proxy_error_rel",
+            "k",
+            "full_ms",
+            "warp_ms",
+            "amortized_ms",
+            "speedup_x",
+            "fill_ms",
+            "ceiling_x",
+            "speedup_of_ceiling",
+            "psnr_mean_db",
+            "psnr_worst_db",
+            "ssim_mean",
+            "adapter",
+        ],
+    );
+    let mut t_depth = Table::new(
+        "Reference depth test (ours) vs the paper's pass, k = 20, middle ratio",
+        &[
+            "mesh",
+            "mode",
+            "warp_ms",
+            "psnr_mean_db",
+            "psnr_worst_db",
+            "ssim_mean",
+            "adapter",
+        ],
+    );
+    let mut t_bins = Table::new(
+        "Effect of the bin count N (§3.3.2), k = 10, middle ratio",
+        &[
+            "mesh",
+            "bins_per_axis",
+            "warp_ms",
+            "triangles_drawn",
+            "blended_bins",
+            "psnr_mean_db",
+            "adapter",
+        ],
+    );
+    let mut t3 = Table::new(
+        "Table 3: objects sharing one reference pair, k = 10, middle ratio",
+        &[
+            "mesh",
+            "objects",
+            "full_ms",
+            "full_ms_per_object",
+            "warp_ms",
+            "amortized_ms",
+            "amortized_ms_per_object",
+            "speedup_x",
+            "psnr_mean_db",
+            "adapter",
+        ],
+    );
+    let mut t_spread = Table::new(
+        "Spreading the next reference over the k frames (§3.4), k = 10, middle ratio",
+        &[
+            "mesh",
+            "spread",
+            "frames",
+            "frame_ms_mean",
+            "frame_ms_worst",
+            "adapter",
+        ],
+    );
+    let mut t_proxy = Table::new(
+        "Proxy build (meshopt, once per mesh)",
+        &[
+            "mesh",
+            "ratio_pct",
+            "proxy_triangles",
+            "error_rel",
+            "error_object",
+            "simplify_ms",
+        ],
+    );
+    // For iterating: NPR_WARP_BENCH_ONLY=<substring of a mesh name>, NPR_WARP_BENCH_QUICK=1
+    // (k = 10 and 20, middle ratio, Tables 1-2 and the depth test only).
+    let only = std::env::var("NPR_WARP_BENCH_ONLY").ok();
+    let quick = std::env::var("NPR_WARP_BENCH_QUICK").is_ok_and(|v| v == "1");
+    for bm in meshes() {
+        if only.as_ref().is_some_and(|o| !bm.name.contains(o.as_str())) {
+            continue;
+        }
+        let tris = bm.mesh.triangle_count();
+        println!("bench warp: {} ({tris} triangles)", bm.name);
+        let mut rig = Rig::new(&ctx, &bm.mesh)?;
+        let (path, world_per_object) = path_for(&bm.mesh, vec![Vec3::ZERO], 3.3, ORBIT);
+        // FULL: the full render (also the cost of a reference).
+        rig.full_ms(&path.pose(0.0));
+        let full_ms = median((0..5).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
+        let mut fulls = std::collections::HashMap::new();
+        for (ri, &ratio) in bm.ratios.iter().enumerate() {
+            if quick && ri != 1 {
+                continue;
+            }
+            let ratio = std::env::var("NPR_WARP_BENCH_RATIO")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(ratio);
+            let t = Instant::now();
+            let proxy = Proxy::simplify(&bm.mesh, ratio)?;
+            let simplify_ms = t.elapsed().as_secs_f64() * 1e3;
+            t_proxy.push(vec![
+                bm.name.clone().into(),
+                Cell::Num(f64::from(ratio) * 100.0, 2),
+                proxy.triangles().into(),
+                Cell::Num(f64::from(proxy.error_relative), 5),
+                Cell::Num(f64::from(proxy.error_object), 5),
+                Cell::Num(simplify_ms, 0),
+            ]);
+            let inflation = proxy.suggested_inflation() * inflate_factor();
+            let mut settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
+            if let Some(band) = std::env::var("NPR_WARP_BAND")
+                .ok()
+                .and_then(|v| v.parse().ok())
+            {
+                settings.plan.blend_band = band;
+            }
+            let object = rig
+                .pass
+                .create_object(&ctx.device, &proxy, BINS, inflation, false)?;
+            let objects = [object];
+            for k in KS {
+                if quick && k > 20 {
+                    continue;
+                }
+                let r = segment(
+                    &mut rig,
+                    &path,
+                    k,
+                    &objects,
+                    &settings,
+                    WarpMode::DepthTested,
+                    &mut fulls,
+                )?;
+                let schedule = WarpSchedule::new(k, false)?;
+                let amortized = schedule.amortized_ms(full_ms, r.warp_ms);
+                let speedup = full_ms / amortized;
+                let kf = f64::from(k);
+                let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
+                t1.push(vec![
+                    bm.name.clone().into(),
+                    tris.into(),
+                    Cell::Num(f64::from(ratio) * 100.0, 2),
+                    proxy.triangles().into(),
+                    Cell::Num(f64::from(proxy.error_relative), 5),
+                    k.into(),
+                    Cell::Num(full_ms, 2),
+                    Cell::Num(r.warp_ms, 2),
+                    Cell::Num(amortized, 2),
+                    Cell::Num(speedup, 2),
+                    Cell::Num(r.fill_ms, 2),
+                    Cell::Num(ceiling, 2),
+                    Cell::Num(speedup / ceiling, 3),
+                    measured(r.psnr_mean, 2),
+                    measured(r.psnr_worst, 2),
+                    measured(r.ssim_mean, 4),
+                    adapter.clone().into(),
+                ]);
+                println!(
+                    "  ratio {ratio} k {k}: warp {:.2} ms, fill {:.2} ms, speedup {speedup:.2}x \
+                     (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, {:.0} s",
+                    r.warp_ms,
+                    r.fill_ms,
+                    r.psnr_mean,
+                    r.psnr_worst,
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            if ri != 1 {
+                continue;
+            }
+            // The depth test's gain, the bin count, Table 3 and spreading, at the middle ratio.
+            for (mode, name) in [
+                (WarpMode::DepthTested, "depth-tested"),
+                (WarpMode::Paper, "paper"),
+            ] {
+                let r = segment(&mut rig, &path, 20, &objects, &settings, mode, &mut fulls)?;
+                t_depth.push(vec![
+                    bm.name.clone().into(),
+                    name.into(),
+                    Cell::Num(r.warp_ms, 2),
+                    measured(r.psnr_mean, 2),
+                    measured(r.psnr_worst, 2),
+                    measured(r.ssim_mean, 4),
+                    adapter.clone().into(),
+                ]);
+            }
+            if quick {
+                continue;
+            }
+            for n in [2, 4, 8, 16, 32] {
+                let o = [rig
+                    .pass
+                    .create_object(&ctx.device, &proxy, n, inflation, false)?];
+                let r = segment(
+                    &mut rig,
+                    &path,
+                    10,
+                    &o,
+                    &settings,
+                    WarpMode::DepthTested,
+                    &mut fulls,
+                )?;
+                t_bins.push(vec![
+                    bm.name.clone().into(),
+                    n.into(),
+                    Cell::Num(r.warp_ms, 2),
+                    Cell::Num(r.tris_drawn, 0),
+                    Cell::Num(r.blended_bins, 1),
+                    Cell::Num(r.psnr_mean, 2),
+                    adapter.clone().into(),
+                ]);
+            }
+            table3(&ctx, &mut rig, &bm, &proxy, &mut t3, &adapter)?;
+            spreading(
+                &ctx,
+                &rig,
+                &bm,
+                &proxy,
+                &path,
+                world_per_object,
+                &mut t_spread,
+                &adapter,
+            )?;
+        }
+    }
+    println!(
+        "bench warp: done in {:.0} s. Paper (GPU anchor, Table 2, k = 10): Bunny 3.77x, \
+         Dragon 8.14x, Buddha 8.39x.",
+        started.elapsed().as_secs_f64()
+    );
+    emit(&[t1, t_depth, t_bins, t3, t_spread, t_proxy], json)
+}
+
+/// Table 3: 1–4 copies sharing object 0's reference pair (the paper assumes they face
+/// about the same way). Reference cost = one object's full render.
+fn table3(
+    ctx: &GpuContext,
+    rig: &mut Rig<'_>,
+    bm: &BenchMesh,
+    proxy: &Proxy,
+    table: &mut Table,
+    adapter: &str,
+) -> anyhow::Result<()> {
+    let k = 10;
+    let mut fulls = std::collections::HashMap::new();
+    for n in 1..=4usize {
+        let offsets: Vec<Vec3> = (0..n)
+            .map(|i| Vec3::new((i % 2) as f32 * 2.2 - 1.1, 0.0, (i / 2) as f32 * -2.2 + 1.1))
+            .collect();
+        let (path, world_per_object) = path_for(&bm.mesh, offsets, 7.5, ORBIT);
+        let inflation = proxy.suggested_inflation() * inflate_factor();
+        let settings = WarpSettings::for_proxy(proxy, inflation, world_per_object);
+        let objects: Vec<WarpObject> = (0..n)
+            .map(|_| {
+                rig.pass
+                    .create_object(&ctx.device, proxy, BINS, inflation, false)
+            })
+            .collect::<Result<_, _>>()?;
+        rig.full_ms(&path.pose(0.0));
+        let full_ms = median((0..3).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
+        // The shared reference renders object 0 only.
+        let one = ScenePose {
+            camera: path.camera,
+            objects: vec![path.pose(0.0).objects[0]],
+        };
+        let ref_ms = median((0..3).map(|_| rig.full_ms(&one)).collect());
+        let r = segment(
+            rig,
+            &path,
+            k,
+            &objects,
+            &settings,
+            WarpMode::DepthTested,
+            &mut fulls,
+        )?;
+        let amortized = WarpSchedule::new(k, false)?.amortized_ms(ref_ms, r.warp_ms);
+        table.push(vec![
+            bm.name.clone().into(),
+            n.into(),
+            Cell::Num(full_ms, 2),
+            Cell::Num(full_ms / n as f64, 2),
+            Cell::Num(r.warp_ms, 2),
+            Cell::Num(amortized, 2),
+            Cell::Num(amortized / n as f64, 2),
+            Cell::Num(full_ms / amortized, 2),
+            Cell::Num(r.psnr_mean, 2),
+            adapter.to_string().into(),
+        ]);
+    }
+    Ok(())
+}
+
+/// Frame times of a [`WarpSequence`] over two segments with and without spreading.
+#[allow(clippy::too_many_arguments)]
+fn spreading(
+    ctx: &GpuContext,
+    rig: &Rig<'_>,
+    bm: &BenchMesh,
+    proxy: &Proxy,
+    path: &Turntable,
+    world_per_object: f32,
+    table: &mut Table,
+    adapter: &str,
+) -> anyhow::Result<()> {
+    let k = 10;
+    let frames = 3 * k;
+    let inflation = proxy.suggested_inflation() * inflate_factor();
+    let settings = WarpSettings::for_proxy(proxy, inflation, world_per_object);
+    for spread in [false, true] {
+        let mut seq = WarpSequence::new(
+            &ctx.device,
+            &ctx.queue,
+            WarpSchedule::new(k, spread)?,
+            settings,
+            SIZE,
+            SIZE,
+            light(),
+            material(),
+        )?;
+        let objects = [seq
+            .pass()
+            .create_object(&ctx.device, proxy, BINS, inflation, false)?];
+        let scene = |f: u32| path.pose(f as f32);
+        // Start-up (the first two references) is not timed.
+        seq.render_frame(
+            &ctx.device,
+            &ctx.queue,
+            &rig.full,
+            &objects,
+            &scene,
+            0,
+            &rig.target,
+        );
+        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+        let times: Vec<f64> = (1..frames)
+            .map(|f| {
+                timed(ctx, || {
+                    seq.render_frame(
+                        &ctx.device,
+                        &ctx.queue,
+                        &rig.full,
+                        &objects,
+                        &scene,
+                        f,
+                        &rig.target,
+                    );
+                })
+            })
+            .collect();
+        table.push(vec![
+            bm.name.clone().into(),
+            if spread { "yes" } else { "no" }.into(),
+            (frames - 1).into(),
+            Cell::Num(mean(&times), 2),
+            Cell::Num(times.iter().copied().fold(0.0, f64::max), 2),
+            adapter.to_string().into(),
+        ]);
+    }
+    Ok(())
+}
+
+/// Experiment knob: `NPR_WARP_INFLATE` scales the proxy's default inflation.
+fn inflate_factor() -> f32 {
+    std::env::var("NPR_WARP_INFLATE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1.0)
+}
+
+/// A measured value, or an empty cell when nothing was measured (no frame compared).
+fn measured(v: f64, digits: usize) -> Cell {
+    if v.is_finite() {
+        Cell::Num(v, digits)
+    } else {
+        Cell::Empty
+    }
+}
