@@ -20,7 +20,7 @@ pub mod textures;
 pub mod visibility;
 
 pub use error::SpecularError;
-pub use pass::{FrameInput, HighlightDraw, HighlightPass, ProjectorGpu};
-pub use projector::{Projector, ProjectorControls, UpAxis, frustum_size};
+pub use pass::{FrameInput, HighlightDraw, HighlightPass, ProjectorGpu, projector_gpu};
+pub use projector::{HighlightControls, Projector, ProjectorControls, UpAxis, frustum_size};
 pub use set::{Highlight, HighlightSet, UpdateStats};
 pub use textures::HighlightShape;

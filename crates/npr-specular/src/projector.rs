@@ -65,17 +65,56 @@ impl Default for ProjectorControls {
 
 impl ProjectorControls {
     /// Combines these global controls with a highlight's own: translations and rotations
-    /// add, scales and tints multiply; σ, texture, shininess and up stay global.
-    pub fn compose(&self, local: &ProjectorControls) -> ProjectorControls {
+    /// add, scales and tints multiply; σ, texture, shininess and up are the highlight's
+    /// where it sets them, else the global ones.
+    pub fn compose(&self, local: &HighlightControls) -> ProjectorControls {
         ProjectorControls {
             translate: self.translate + local.translate,
             rotate_rad: self.rotate_rad + local.rotate_rad,
             scale: self.scale * local.scale,
-            sigma: self.sigma,
-            texture_layer: self.texture_layer,
+            sigma: local.sigma.unwrap_or(self.sigma),
+            texture_layer: local.texture_layer.unwrap_or(self.texture_layer),
             tint: self.tint * local.tint,
-            shininess: self.shininess,
-            up: self.up,
+            shininess: local.shininess.unwrap_or(self.shininess),
+            up: local.up.unwrap_or(self.up),
+        }
+    }
+}
+
+/// One highlight's own §3.4 controls, composed with the global [`ProjectorControls`] by
+/// [`ProjectorControls::compose`]: offsets add to the global ones, factors multiply, and
+/// the `Option` fields override the global value when set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HighlightControls {
+    /// Added translation along (`e_max`, `e_min`), world units.
+    pub translate: Vec2,
+    /// Added rotation about the normal, radians.
+    pub rotate_rad: f32,
+    /// Scale factor per axis, multiplied with the global scale.
+    pub scale: Vec2,
+    /// Tint factor, multiplied with the global tint.
+    pub tint: Vec3,
+    /// This highlight's σ, if it differs from the global one.
+    pub sigma: Option<f32>,
+    /// This highlight's texture layer, if it differs.
+    pub texture_layer: Option<u32>,
+    /// This highlight's Blinn exponent for normal-map layers, if it differs.
+    pub shininess: Option<f32>,
+    /// This highlight's up axis, if it differs.
+    pub up: Option<UpAxis>,
+}
+
+impl Default for HighlightControls {
+    fn default() -> Self {
+        Self {
+            translate: Vec2::ZERO,
+            rotate_rad: 0.0,
+            scale: Vec2::ONE,
+            tint: Vec3::ONE,
+            sigma: None,
+            texture_layer: None,
+            shininess: None,
+            up: None,
         }
     }
 }

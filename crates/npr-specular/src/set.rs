@@ -12,7 +12,7 @@
 //!   other's frustum) are merged into the older one.
 
 use crate::visibility::{VisibilityScratch, receivers};
-use crate::{Projector, ProjectorControls, SpecularError};
+use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
 use npr_geometry::{
     CurvatureField, CurvatureOptions, HighlightCentre, HighlightSearch, LightEye, Mesh, Topology,
@@ -64,7 +64,7 @@ pub struct HighlightSet {
     radius_object: f32,
     /// Controls applied to every highlight (composed with per-highlight controls).
     pub global: ProjectorControls,
-    per_highlight: HashMap<u64, ProjectorControls>,
+    per_highlight: HashMap<u64, HighlightControls>,
     /// The `r` of Eq. (8)'s cap `s ≤ 2r`, in object units. The paper uses its curvature
     /// ball radius; ours is a few edge lengths (for accuracy), which would cap every
     /// highlight at a few triangles, so `None` (the default) uses the larger of that
@@ -142,7 +142,7 @@ impl HighlightSet {
 
     /// Per-highlight controls of highlight `id` (created from the defaults on first use;
     /// they persist while the highlight is matched from frame to frame).
-    pub fn controls_mut(&mut self, id: u64) -> &mut ProjectorControls {
+    pub fn controls_mut(&mut self, id: u64) -> &mut HighlightControls {
         self.per_highlight.entry(id).or_default()
     }
 
@@ -308,9 +308,14 @@ impl HighlightSet {
     ) -> Highlight {
         let local = self.per_highlight.get(&id).copied().unwrap_or_default();
         let controls = self.global.compose(&local);
+        let safe = if centre.position_world.is_finite() {
+            centre.position_world
+        } else {
+            Vec3::ZERO
+        };
         let projector = Projector::new(&centre, &controls, radius_world).unwrap_or(Projector {
-            centre_world: centre.position_world,
-            anchor_world: centre.position_world,
+            centre_world: safe,
+            anchor_world: safe,
             axis_u: Vec3::X,
             axis_v: Vec3::Y,
             normal: Vec3::Z,

@@ -83,6 +83,9 @@ pub fn receivers(
     // N_world · N_max = (M⁻ᵀ n) · N_max = n · (M⁻¹ N_max): test in object space.
     let n_max_object = Mat3::from_mat4(world_from_object).inverse() * projector.normal;
     let ndc_from_object = projector.clip_from_world * world_from_object;
+    if !n_max_object.is_finite() || !ndc_from_object.is_finite() {
+        return 0;
+    }
     let before = out.len();
     // A translated projector (§3.4) may not cover the centre's own face: the walk
     // crosses the box spanning both the frustum and the untranslated centre, and only
@@ -99,7 +102,8 @@ pub fn receivers(
         ..
     } = scratch;
     let mut visit = |f: usize| -> Option<bool> {
-        if topology.is_degenerate(f) || topology.face_normals[f].dot(n_max_object) <= 0.0 {
+        let facing = topology.face_normals[f].dot(n_max_object) > 0.0; // false for NaN
+        if topology.is_degenerate(f) || !facing {
             return None;
         }
         let q = topology.triangles[f].map(|v| {

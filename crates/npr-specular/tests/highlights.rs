@@ -299,16 +299,23 @@ fn knot_rotation_is_coherent_and_vertex_snapping_is_not() {
     );
 }
 
+/// Every float the GPU would receive for the set's highlights is finite; returns how many
+/// highlights there are.
+fn check_finite(set: &HighlightSet) -> usize {
+    for h in set.highlights() {
+        let p = &h.projector;
+        assert!(p.tex_from_world.is_finite() && p.normal.is_finite() && h.opacity.is_finite());
+        let gpu = npr_specular::projector_gpu(h, h.controls.texture_layer, false);
+        let floats: &[f32] = bytemuck::cast_slice(std::slice::from_ref(&gpu));
+        assert!(floats.iter().all(|x| x.is_finite()), "{gpu:?}");
+    }
+    set.highlights().len()
+}
+
 #[test]
 fn bad_input_gives_no_panic_and_no_nan() {
     let mesh = generate::icosphere(3, 1.0);
     let mut set = set_for(&mesh);
-    let check = |set: &HighlightSet| {
-        for h in set.highlights() {
-            let p = &h.projector;
-            assert!(p.tex_from_world.is_finite() && p.normal.is_finite() && h.opacity.is_finite());
-        }
-    };
     for le in [
         LightEye::Directions {
             to_light: Vec3::ZERO,
@@ -318,18 +325,20 @@ fn bad_input_gives_no_panic_and_no_nan() {
             to_light: Vec3::NAN,
             to_eye: Vec3::Z,
         },
-        LightEye::Directions {
-            to_light: Vec3::Z,
-            to_eye: -Vec3::Z,
-        },
         LightEye::Positions {
             light: Vec3::ZERO,
             eye: Vec3::new(0.0, 0.0, 5.0),
         },
+        LightEye::Positions {
+            light: Vec3::splat(f32::INFINITY),
+            eye: Vec3::new(0.0, 0.0, 5.0),
+        },
     ] {
+        set.reset();
         set.update(le, Mat4::IDENTITY);
-        check(&set);
+        assert_eq!(check_finite(&set), 0, "{le:?} should give no highlight");
     }
+    // A singular object transform: no highlight, no NaN.
     set.update(
         LightEye::Directions {
             to_light: Vec3::Z,
@@ -337,8 +346,8 @@ fn bad_input_gives_no_panic_and_no_nan() {
         },
         Mat4::ZERO,
     );
-    check(&set);
-    // Light exactly behind the surface point that faces the eye: still finite.
+    assert_eq!(check_finite(&set), 0);
+    // Light exactly opposite the eye: H = 0, so there is no N = H point anywhere.
     set.reset();
     set.update(
         LightEye::Directions {
@@ -347,18 +356,25 @@ fn bad_input_gives_no_panic_and_no_nan() {
         },
         Mat4::IDENTITY,
     );
-    check(&set);
-    // Flat mesh: κ = 0, size falls back to 2r.
+    assert_eq!(check_finite(&set), 0);
+    // The light behind the surface point the eye sees: the centre sits where N = H,
+    // on the silhouette side; still one finite highlight.
+    set.reset();
+    let le = LightEye::Directions {
+        to_light: Vec3::new(0.0, 0.3, -1.0),
+        to_eye: Vec3::Z,
+    };
+    set.update(le, Mat4::IDENTITY);
+    assert_eq!(check_finite(&set), 1);
+    // Flat mesh: κ = 0, the size falls back to 2r; exactly one highlight.
     let mut flat = set_for(&generate::plane(2.0, 2.0, 10, 10));
-    flat.update(
-        LightEye::Positions {
-            light: Vec3::new(0.3, 1.0, 0.0),
-            eye: Vec3::new(-0.3, 1.0, 0.0),
-        },
-        Mat4::IDENTITY,
-    );
-    check(&flat);
-    // Degenerate faces and an empty mesh.
+    let le = LightEye::Positions {
+        light: Vec3::new(0.3, 1.0, 0.0),
+        eye: Vec3::new(-0.3, 1.0, 0.0),
+    };
+    flat.update(le, Mat4::IDENTITY);
+    assert_eq!(check_finite(&flat), 1);
+    // Degenerate faces: still a highlight, finite.
     let mut degenerate = generate::icosphere(2, 1.0);
     degenerate.indices[4] = degenerate.indices[3];
     let mut set = set_for(&degenerate);
@@ -369,6 +385,6 @@ fn bad_input_gives_no_panic_and_no_nan() {
         },
         Mat4::IDENTITY,
     );
-    check(&set);
+    assert_eq!(check_finite(&set), 1);
     assert!(HighlightSet::new(&Mesh::default(), &CurvatureOptions::default()).is_err());
 }
