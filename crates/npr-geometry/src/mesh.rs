@@ -91,16 +91,20 @@ impl Mesh {
         self.normals = welded
             .render_to_welded
             .iter()
-            .map(|&w| normals[w as usize])
+            .map(|&w| normals.get(w as usize).copied().unwrap_or(Vec3::Z))
             .collect();
     }
 }
 
 /// Area-weighted vertex normals (sum of unnormalised face cross products, normalised);
-/// `Vec3::Z` where the sum vanishes (isolated vertex, degenerate fan).
+/// `Vec3::Z` where the sum vanishes (isolated vertex, degenerate fan). Triangles with an
+/// index past `positions` are skipped.
 pub fn welded_area_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
     let mut acc = vec![glam::DVec3::ZERO; positions.len()];
     for t in triangles {
+        if t.iter().any(|&i| i as usize >= positions.len()) {
+            continue;
+        }
         let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
         let n = (b - a).cross(c - a);
         for &i in t {
@@ -110,4 +114,21 @@ pub fn welded_area_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Ve
     acc.into_iter()
         .map(|n| n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3()))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recompute_normals_skips_out_of_range_indices() {
+        let mut m = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: vec![Vec3::ZERO; 3],
+            uvs: vec![],
+            indices: vec![0, 1, 2, 0, 1, 99],
+        };
+        m.recompute_normals();
+        assert_eq!(m.normals, vec![Vec3::Z; 3]);
+    }
 }
