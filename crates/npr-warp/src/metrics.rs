@@ -45,11 +45,19 @@ pub fn compare(reference: &image::RgbaImage, test: &image::RgbaImage) -> Quality
     if pixels == 0 {
         return empty;
     }
+    // Transparent pixels count as black (the clear colour), as in `difference_image`.
+    let rgb = |img: &[u8], i: usize, c: usize| {
+        if img[4 * i + 3] > 0 {
+            img[4 * i + c]
+        } else {
+            0
+        }
+    };
     let mut sq = 0.0f64;
     let mut max_abs_diff = 0u8;
     for i in (0..w * h).filter(|&i| mask[i]) {
         for c in 0..3 {
-            let d = a[4 * i + c].abs_diff(b[4 * i + c]);
+            let d = rgb(a, i, c).abs_diff(rgb(b, i, c));
             max_abs_diff = max_abs_diff.max(d);
             sq += f64::from(d) * f64::from(d);
         }
@@ -63,9 +71,9 @@ pub fn compare(reference: &image::RgbaImage, test: &image::RgbaImage) -> Quality
     let luma = |img: &[u8]| -> Vec<f64> {
         (0..w * h)
             .map(|i| {
-                0.299 * f64::from(img[4 * i])
-                    + 0.587 * f64::from(img[4 * i + 1])
-                    + 0.114 * f64::from(img[4 * i + 2])
+                0.299 * f64::from(rgb(img, i, 0))
+                    + 0.587 * f64::from(rgb(img, i, 1))
+                    + 0.114 * f64::from(rgb(img, i, 2))
             })
             .collect()
     };

@@ -92,9 +92,11 @@ impl Default for WarpSettings {
     }
 }
 
-/// View distance of a WebGPU (0..1) perspective depth with planes `near`, `far`.
+/// View distance of a WebGPU (0..1) perspective depth with planes `near`, `far`; `far`
+/// (the background) when the planes coincide or the division is not finite.
 pub fn distance_of_depth(depth: f32, near: f32, far: f32) -> f32 {
-    near * far / (far - depth * (far - near))
+    let d = near * far / (far - depth * (far - near));
+    if d.is_finite() { d } else { far }
 }
 
 fn in_frame(uv: glam::Vec2) -> bool {
