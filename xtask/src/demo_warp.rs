@@ -144,42 +144,13 @@ impl<'a> Rig<'a> {
                 .prepare(q, object, &pair, &scene.object(0), s, &settings);
             let mut enc = d.create_command_encoder(&Default::default());
             {
-                let mut rpass = load_pass(&mut enc, &self.target);
+                let mut rpass = self.target.begin_load_pass(&mut enc);
                 self.pass.draw_wireframe(&mut rpass, &pair, object);
             }
             q.submit(Some(enc.finish()));
         }
         Ok(readback_rgba(d, q, &self.target.color)?)
     }
-}
-
-fn load_pass<'e>(
-    enc: &'e mut wgpu::CommandEncoder,
-    target: &OffscreenTarget,
-) -> wgpu::RenderPass<'e> {
-    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("demo wireframe"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &target.color_view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &target.depth_view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
 }
 
 /// Draws `mesh` with full Phong over what `target` holds (no clear).
@@ -200,7 +171,7 @@ fn draw_over(
     let object = shading.create_object(&ctx.device, uniforms);
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     {
-        let mut pass = load_pass(&mut enc, target);
+        let mut pass = target.begin_load_pass(&mut enc);
         shading.draw(&mut pass, npr_gpu::ShadingModel::Phong, &object, mesh);
     }
     ctx.queue.submit(Some(enc.finish()));

@@ -19,6 +19,7 @@ mod camera;
 mod context;
 mod error;
 pub mod fixtures;
+pub mod layout;
 mod mesh;
 pub mod projective;
 mod readback;

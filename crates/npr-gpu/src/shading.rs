@@ -125,23 +125,6 @@ pub struct BaseShading {
     ramp_bind_group: wgpu::BindGroup,
 }
 
-/// A bind group layout of one uniform buffer at binding 0 visible to both stages.
-pub(crate) fn uniform_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        }],
-    })
-}
-
 impl BaseShading {
     /// Builds the three pipelines for `color_format` with `depth_format` depth testing
     /// (less, write), and the default three-band ramp.
@@ -155,29 +138,13 @@ impl BaseShading {
             label: Some("base_shading.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::BASE_SHADING).into()),
         });
-        let frame_layout = uniform_layout(device, "npr frame");
-        let object_layout = uniform_layout(device, "npr object");
-        let ramp_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("npr ramp"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
+        let frame_layout = crate::layout::uniform_layout(device, "npr frame");
+        let object_layout = crate::layout::uniform_layout(device, "npr object");
+        let ramp_layout = crate::layout::texture_sampler_layout(
+            device,
+            "npr ramp",
+            wgpu::TextureViewDimension::D2,
+        );
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("npr base shading"),
             bind_group_layouts: &[

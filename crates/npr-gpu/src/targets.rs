@@ -94,26 +94,44 @@ impl OffscreenTarget {
         encoder: &'e mut wgpu::CommandEncoder,
         clear: [f64; 4],
     ) -> wgpu::RenderPass<'e> {
+        let [r, g, b, a] = clear;
+        self.begin_pass(
+            encoder,
+            wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+            wgpu::LoadOp::Clear(1.0),
+        )
+    }
+
+    /// Begins a render pass on this target that keeps its colour and depth (to draw over
+    /// an earlier pass, e.g. highlights over base shading).
+    pub fn begin_load_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+    ) -> wgpu::RenderPass<'e> {
+        self.begin_pass(encoder, wgpu::LoadOp::Load, wgpu::LoadOp::Load)
+    }
+
+    fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        color: wgpu::LoadOp<wgpu::Color>,
+        depth: wgpu::LoadOp<f32>,
+    ) -> wgpu::RenderPass<'e> {
         encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr clear pass"),
+            label: Some("npr offscreen pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &self.color_view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: clear[0],
-                        g: clear[1],
-                        b: clear[2],
-                        a: clear[3],
-                    }),
+                    load: color,
                     store: wgpu::StoreOp::Store,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.depth_view,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: depth,
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

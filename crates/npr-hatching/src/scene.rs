@@ -182,19 +182,6 @@ pub struct ScenePasses {
     vsm: VsmSettings,
 }
 
-fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 fn texture_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
@@ -261,11 +248,14 @@ impl ScenePasses {
         });
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching frame"),
-            entries: &[uniform_entry(0), uniform_entry(1)],
+            entries: &[
+                npr_gpu::layout::uniform_entry(0),
+                npr_gpu::layout::uniform_entry(1),
+            ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching object"),
-            entries: &[uniform_entry(0)],
+            entries: &[npr_gpu::layout::uniform_entry(0)],
         });
         let moments_layout = texture_layout(device, "npr vsm moments");
         let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

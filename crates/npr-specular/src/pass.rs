@@ -9,7 +9,7 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
-use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, shaders};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout, shaders};
 use wgpu::util::DeviceExt;
 
 /// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
@@ -45,6 +45,28 @@ pub struct FrameInput<'a> {
     pub object: &'a ObjectUniforms,
 }
 
+/// The GPU record of one highlight (texture `layer`, shaded as a normal map when
+/// `normal_map`). Non-finite values cannot occur for highlights from
+/// [`HighlightSet::update`]; they are zeroed here all the same, so no NaN reaches a
+/// uniform.
+pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> ProjectorGpu {
+    let p = &h.projector;
+    let finite4 = |v: [f32; 4]| v.map(|x| if x.is_finite() { x } else { 0.0 });
+    ProjectorGpu {
+        tex_from_world: p.tex_from_world.to_cols_array_2d().map(finite4),
+        axis_u: finite4(p.axis_u.extend(0.0).to_array()),
+        axis_v: finite4(p.axis_v.extend(0.0).to_array()),
+        normal: finite4(p.normal.extend(0.0).to_array()),
+        tint: finite4(h.controls.tint.extend(h.opacity.clamp(0.0, 1.0)).to_array()),
+        params: finite4([
+            layer as f32,
+            if normal_map { 1.0 } else { 0.0 },
+            h.controls.shininess,
+            0.0,
+        ]),
+    }
+}
+
 /// GPU buffers and bind groups of one mesh's highlights; refreshed per frame by
 /// [`HighlightPass::prepare`].
 #[derive(Debug)]
@@ -68,19 +90,6 @@ pub struct HighlightPass {
     storage_layout: wgpu::BindGroupLayout,
     texture_group: wgpu::BindGroup,
     normal_map_layers: Vec<bool>,
-}
-
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl HighlightPass {
@@ -162,44 +171,20 @@ impl HighlightPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let uniform_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("npr highlight uniform"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
+        let uniform_layout = layout::uniform_layout(device, "npr highlight uniform");
         let storage_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr highlight storage"),
-            entries: &[storage_entry(0), storage_entry(1), storage_entry(2)],
-        });
-        let texture_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("npr highlight textures"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2Array,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
+                layout::storage_entry(0),
+                layout::storage_entry(1),
+                layout::storage_entry(2),
             ],
         });
+        let texture_layout = layout::texture_sampler_layout(
+            device,
+            "npr highlight textures",
+            wgpu::TextureViewDimension::D2Array,
+        );
         let texture_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr highlight textures"),
             layout: &texture_layout,
@@ -275,32 +260,17 @@ impl HighlightPass {
 
     /// The GPU form of the set's current highlights.
     pub fn projectors(&self, set: &HighlightSet) -> Vec<ProjectorGpu> {
+        let last = self.normal_map_layers.len().saturating_sub(1) as u32;
         set.highlights()
             .iter()
             .map(|h| {
-                let layer = h
-                    .controls
-                    .texture_layer
-                    .min(self.normal_map_layers.len().saturating_sub(1) as u32);
+                let layer = h.controls.texture_layer.min(last);
                 let normal_map = self
                     .normal_map_layers
                     .get(layer as usize)
                     .copied()
                     .unwrap_or(false);
-                let p = &h.projector;
-                ProjectorGpu {
-                    tex_from_world: p.tex_from_world.to_cols_array_2d(),
-                    axis_u: p.axis_u.extend(0.0).to_array(),
-                    axis_v: p.axis_v.extend(0.0).to_array(),
-                    normal: p.normal.extend(0.0).to_array(),
-                    tint: h.controls.tint.extend(h.opacity.clamp(0.0, 1.0)).to_array(),
-                    params: [
-                        layer as f32,
-                        if normal_map { 1.0 } else { 0.0 },
-                        h.controls.shininess,
-                        0.0,
-                    ],
-                }
+                projector_gpu(h, layer, normal_map)
             })
             .collect()
     }

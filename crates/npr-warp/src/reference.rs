@@ -119,7 +119,7 @@ impl ReferenceFrame {
         let mut pass = if slice == 0 {
             self.target.begin_clear_pass(encoder, clear)
         } else {
-            load_pass(encoder, &self.target)
+            self.target.begin_load_pass(encoder)
         };
         if slices == 1 {
             self.shading
@@ -138,36 +138,6 @@ impl ReferenceFrame {
             .draw(&mut pass, ShadingModel::Phong, &self.object, &state_only);
         pass.draw_indexed(start..end, 0, 0..1);
     }
-}
-
-/// A render pass on `target` that keeps its colour and depth.
-pub(crate) fn load_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    target: &OffscreenTarget,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("npr-warp load pass"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &target.color_view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &target.depth_view,
-            depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
 }
 
 /// The full render of every object of a scene (full Phong): what each warped frame is
