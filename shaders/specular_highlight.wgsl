@@ -33,11 +33,17 @@ struct Projector {
 @group(3) @binding(0) var highlight_textures: texture_2d_array<f32>;
 @group(3) @binding(1) var highlight_sampler: sampler;
 
+// The projector's per-fragment data travels as flat varyings, read once per vertex from
+// storage, so fragments never index the storage buffer.
 struct VertexOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) tex: vec3<f32>,
     @location(1) world: vec3<f32>,
-    @location(2) @interpolate(flat) projector: u32,
+    @location(2) @interpolate(flat) tint: vec4<f32>,
+    @location(3) @interpolate(flat) params: vec4<f32>,
+    @location(4) @interpolate(flat) axis_u: vec3<f32>,
+    @location(5) @interpolate(flat) axis_v: vec3<f32>,
+    @location(6) @interpolate(flat) normal: vec3<f32>,
 };
 
 @vertex
@@ -50,33 +56,37 @@ fn vs_highlight(@builtin(vertex_index) index: u32) -> VertexOut {
     var out: VertexOut;
     out.clip = frame.clip_from_world * world;
     // Eq. (9): q = M p; orthographic, so w = 1.
-    let q = projectors[entry.y].tex_from_world * world;
+    let p = projectors[entry.y];
+    let q = p.tex_from_world * world;
     out.tex = q.xyz / q.w;
     out.world = world.xyz;
-    out.projector = entry.y;
+    out.tint = p.tint;
+    out.params = p.params;
+    out.axis_u = p.axis_u.xyz;
+    out.axis_v = p.axis_v.xyz;
+    out.normal = p.normal.xyz;
     return out;
 }
 
 @fragment
 fn fs_highlight(in: VertexOut) -> @location(0) vec4<f32> {
-    let p = projectors[in.projector];
     // Outside the projector's frustum nothing is projected.
     if any(in.tex.xy < vec2<f32>(0.0)) || any(in.tex.xy > vec2<f32>(1.0)) || in.tex.z < 0.0 || in.tex.z > 1.0 {
         discard;
     }
-    let texel = textureSampleLevel(highlight_textures, highlight_sampler, in.tex.xy, i32(p.params.x), 0.0);
-    var rgb = p.tint.rgb * texel.rgb;
-    var alpha = texel.a * p.tint.a;
-    if p.params.y > 0.5 {
+    let texel = textureSampleLevel(highlight_textures, highlight_sampler, in.tex.xy, i32(in.params.x), 0.0);
+    var rgb = in.tint.rgb * texel.rgb;
+    var alpha = texel.a * in.tint.a;
+    if in.params.y > 0.5 {
         // Normal-map layer (Fig. 6c): the texel is a normal in the projector frame;
         // shade it with Blinn's (N.H)^n, Eq. (2)-(3).
         let t = texel.rgb * 2.0 - vec3<f32>(1.0);
-        let n = normalize(t.x * p.axis_u.xyz + t.y * p.axis_v.xyz + t.z * p.normal.xyz);
+        let n = normalize(t.x * in.axis_u + t.y * in.axis_v + t.z * in.normal);
         let l = light_dir_world(frame, in.world);
         let v = normalize(frame.eye_world.xyz - in.world);
         let h = normalize(l + v);
-        let intensity = pow(max(dot(n, h), 0.0), p.params.z);
-        rgb = p.tint.rgb * frame.light_color.rgb;
+        let intensity = pow(max(dot(n, h), 0.0), in.params.z);
+        rgb = in.tint.rgb * frame.light_color.rgb;
         alpha = alpha * intensity;
     }
     if alpha <= 0.0 {
