@@ -7,7 +7,10 @@ use crate::project_root;
 pub fn run() -> anyhow::Result<()> {
     let dir = project_root().join("fixtures");
     std::fs::create_dir_all(&dir)?;
-    for (name, image) in npr_gpu::fixtures::all() {
+    let ramps = npr_gpu::fixtures::all()
+        .into_iter()
+        .map(|(n, i)| (n.to_string(), i));
+    for (name, image) in ramps.chain(npr_specular::textures::fixtures()) {
         let path = dir.join(name);
         image.save(&path)?;
         println!("fixtures: wrote {}", path.display());

@@ -210,3 +210,12 @@ mod tests {
         assert!(row > 2 * col, "row {row} col {col}");
     }
 }
+
+/// The built-in highlight textures as fixture files (`highlight-<name>.png`, 128²), written
+/// to `fixtures/` by `cargo xtask fixtures`; a test checks the committed files match.
+pub fn fixtures() -> Vec<(String, image::RgbaImage)> {
+    HighlightShape::ALL
+        .iter()
+        .map(|s| (format!("highlight-{}.png", s.name()), generate(*s, 128)))
+        .collect()
+}
