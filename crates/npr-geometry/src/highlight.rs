@@ -79,16 +79,30 @@ pub fn try_solve_barycentric(n: [Vec3; 3], h: [Vec3; 3]) -> Option<(f32, f32)> {
 }
 
 fn solve_normalised(n: [DVec3; 3], h: [DVec3; 3]) -> Option<(f64, f64)> {
+    let (dn1, dn2) = (n[1] - n[0], n[2] - n[0]);
+    gauss_newton(n, h, 6, |a, b| (n[0] + a * dn1 + b * dn2, dn1, dn2))
+}
+
+/// Gauss–Newton on `N̂(α,β) − Ĥ(α,β) = 0` from the Eq. (6) start, for a normal field
+/// given as `normal(α, β) = (N, ∂N/∂α, ∂N/∂β)` and the linearly interpolated `H`.
+/// Accepts the point when the residual is below [`RESIDUAL_TOLERANCE`] and it lies in
+/// the triangle (ε test).
+fn gauss_newton(
+    n: [DVec3; 3],
+    h: [DVec3; 3],
+    iterations: usize,
+    normal: impl Fn(f64, f64) -> (DVec3, DVec3, DVec3),
+) -> Option<(f64, f64)> {
     let (mut a, mut b) = eq6(n, h)?;
     // Far outside: Gauss–Newton would wander; the pseudo-inverse start is good to
     // first order, so a start well outside means no centre here.
     if a < -0.5 || b < -0.5 || a + b > 1.5 {
         return None;
     }
-    let (dn1, dn2, dh1, dh2) = (n[1] - n[0], n[2] - n[0], h[1] - h[0], h[2] - h[0]);
+    let (dh1, dh2) = (h[1] - h[0], h[2] - h[0]);
     let mut res = f64::INFINITY;
-    for _ in 0..6 {
-        let nv = n[0] + a * dn1 + b * dn2;
+    for _ in 0..iterations {
+        let (nv, dn1, dn2) = normal(a, b);
         let hv = h[0] + a * dh1 + b * dh2;
         let (ln, lh) = (nv.length(), hv.length());
         if !(ln > 1e-12 && lh > 1e-12) {
@@ -118,7 +132,7 @@ fn solve_normalised(n: [DVec3; 3], h: [DVec3; 3]) -> Option<(f64, f64)> {
             return None;
         }
         if da.abs() + db.abs() < 1e-13 {
-            let nv = n[0] + a * dn1 + b * dn2;
+            let (nv, ..) = normal(a, b);
             let hv = h[0] + a * dh1 + b * dh2;
             res = (nv.normalize_or_zero() - hv.normalize_or_zero()).length();
             break;
@@ -155,53 +169,19 @@ fn solve_curvature(
     p: [DVec3; 3],
     shape: [glam::DMat3; 3],
 ) -> Option<(f64, f64)> {
-    let (mut a, mut b) = eq6(n, h)?;
-    if a < -0.5 || b < -0.5 || a + b > 1.5 {
-        return None;
-    }
     let (dp1, dp2) = (p[1] - p[0], p[2] - p[0]);
-    let (dh1, dh2) = (h[1] - h[0], h[2] - h[0]);
-    let mut res = f64::INFINITY;
-    for _ in 0..10 {
+    gauss_newton(n, h, 10, |a, b| {
         let w = [1.0 - a - b, a, b];
         let x = p[0] + a * dp1 + b * dp2;
         let model = [0, 1, 2].map(|i| n[i] + shape[i] * (x - p[i]));
         let nv = w[0] * model[0] + w[1] * model[1] + w[2] * model[2];
         let blended_shape = shape[0] * w[0] + shape[1] * w[1] + shape[2] * w[2];
-        let dn1 = model[1] - model[0] + blended_shape * dp1;
-        let dn2 = model[2] - model[0] + blended_shape * dp2;
-        let hv = h[0] + a * dh1 + b * dh2;
-        let (ln, lh) = (nv.length(), hv.length());
-        if !(ln > 1e-12 && lh > 1e-12) {
-            return None;
-        }
-        let (nn, hn) = (nv / ln, hv / lh);
-        let r = nn - hn;
-        res = r.length();
-        if res < 1e-12 {
-            break;
-        }
-        let proj = |u: DVec3, d: DVec3, l: f64| (d - u * u.dot(d)) / l;
-        let j1 = proj(nn, dn1, ln) - proj(hn, dh1, lh);
-        let j2 = proj(nn, dn2, ln) - proj(hn, dh2, lh);
-        let (g11, g12, g22) = (j1.dot(j1), j1.dot(j2), j2.dot(j2));
-        let det = g11 * g22 - g12 * g12;
-        if !(det > 1e-14 * g11 * g22) {
-            break;
-        }
-        let (r1, r2) = (j1.dot(r), j2.dot(r));
-        let da = -(g22 * r1 - g12 * r2) / det;
-        let db = -(g11 * r2 - g12 * r1) / det;
-        a += da;
-        b += db;
-        if !(a.is_finite() && b.is_finite()) || a.abs() > 4.0 || b.abs() > 4.0 {
-            return None;
-        }
-        if da.abs() + db.abs() < 1e-13 {
-            break;
-        }
-    }
-    (res < RESIDUAL_TOLERANCE && inside(a, b)).then_some((a, b))
+        (
+            nv,
+            model[1] - model[0] + blended_shape * dp1,
+            model[2] - model[0] + blended_shape * dp2,
+        )
+    })
 }
 
 /// Where the light and the eye are, in world space.
