@@ -45,23 +45,8 @@ impl GBuffer {
                 reason: "larger than the device's max_texture_dimension_2d",
             });
         }
-        let size = wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        };
-        let make = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
+        let make =
+            |label, format, usage| npr_gpu::texture_2d(device, label, width, height, format, usage);
         let texture = make(
             "npr hatching g-buffer",
             GBUFFER_FORMAT,

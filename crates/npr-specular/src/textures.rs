@@ -182,6 +182,15 @@ pub fn load_png(path: &Path, size: u32) -> Result<image::RgbaImage, SpecularErro
     Ok(img)
 }
 
+/// The built-in highlight textures as fixture files (`highlight-<name>.png`, 128²), written
+/// to `fixtures/` by `cargo xtask fixtures`; a test checks the committed files match.
+pub fn fixtures() -> Vec<(String, image::RgbaImage)> {
+    HighlightShape::ALL
+        .iter()
+        .map(|s| (format!("highlight-{}.png", s.name()), generate(*s, 128)))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,13 +218,4 @@ mod tests {
         let col = (0..64).filter(|&y| img.get_pixel(32, y).0[3] > 128).count();
         assert!(row > 2 * col, "row {row} col {col}");
     }
-}
-
-/// The built-in highlight textures as fixture files (`highlight-<name>.png`, 128²), written
-/// to `fixtures/` by `cargo xtask fixtures`; a test checks the committed files match.
-pub fn fixtures() -> Vec<(String, image::RgbaImage)> {
-    HighlightShape::ALL
-        .iter()
-        .map(|s| (format!("highlight-{}.png", s.name()), generate(*s, 128)))
-        .collect()
 }
