@@ -26,16 +26,23 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
     }
 }
 
-/// A filterable float texture of `dimension` at `binding`, fragment stage.
+/// Sample type of colour textures read with a filtering sampler.
+pub const FILTERABLE: wgpu::TextureSampleType = wgpu::TextureSampleType::Float { filterable: true };
+/// Sample type of float textures read with `textureLoad` (e.g. `Rg32Float`).
+pub const UNFILTERABLE: wgpu::TextureSampleType =
+    wgpu::TextureSampleType::Float { filterable: false };
+
+/// A texture of `dimension` and `sample_type` at `binding`, fragment stage.
 pub fn texture_entry(
     binding: u32,
     dimension: wgpu::TextureViewDimension,
+    sample_type: wgpu::TextureSampleType,
 ) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::FRAGMENT,
         ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            sample_type,
             view_dimension: dimension,
             multisampled: false,
         },
@@ -61,6 +68,19 @@ pub fn uniform_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayo
     })
 }
 
+/// A layout of one texture of `dimension` and `sample_type` at binding 0.
+pub fn texture_layout(
+    device: &wgpu::Device,
+    label: &str,
+    dimension: wgpu::TextureViewDimension,
+    sample_type: wgpu::TextureSampleType,
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[texture_entry(0, dimension, sample_type)],
+    })
+}
+
 /// A layout of a filterable texture of `dimension` at binding 0 and a filtering sampler
 /// at binding 1.
 pub fn texture_sampler_layout(
@@ -70,6 +90,6 @@ pub fn texture_sampler_layout(
 ) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
-        entries: &[texture_entry(0, dimension), sampler_entry(1)],
+        entries: &[texture_entry(0, dimension, FILTERABLE), sampler_entry(1)],
     })
 }

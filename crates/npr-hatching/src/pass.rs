@@ -173,29 +173,14 @@ impl HatchPass {
             label: Some("hatching.wgsl"),
             source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::HATCHING.into()),
         });
-        let texture_entry = |binding, view_dimension| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension,
-                multisampled: false,
-            },
-            count: None,
+        use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
+        let texture_entry = |binding, view_dimension| {
+            npr_gpu::layout::texture_entry(binding, view_dimension, UNFILTERABLE)
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                uniform_entry(0),
                 texture_entry(1, wgpu::TextureViewDimension::D2Array),
                 texture_entry(2, wgpu::TextureViewDimension::D2),
             ],

@@ -183,19 +183,12 @@ pub struct ScenePasses {
 }
 
 fn texture_layout(device: &wgpu::Device, label: &str) -> wgpu::BindGroupLayout {
-    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        }],
-    })
+    npr_gpu::layout::texture_layout(
+        device,
+        label,
+        wgpu::TextureViewDimension::D2,
+        npr_gpu::layout::UNFILTERABLE,
+    )
 }
 
 fn texture_group(
@@ -400,21 +393,7 @@ impl ScenePasses {
             ],
         });
         let map = |label, format, usage| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width: vsm.size,
-                        height: vsm.size,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
+            npr_gpu::texture_2d(device, label, vsm.size, vsm.size, format, usage)
                 .create_view(&wgpu::TextureViewDescriptor::default())
         };
         let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;

@@ -190,57 +190,26 @@ impl WarpPass {
             label: Some("warp.wgsl"),
             source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
         });
-        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
+        use npr_gpu::layout::{
+            FILTERABLE, sampler_entry, storage_entry, texture_entry, uniform_entry,
         };
-        let color = wgpu::TextureSampleType::Float { filterable: true };
+        let texture = |binding, sample_type| {
+            texture_entry(binding, wgpu::TextureViewDimension::D2, sample_type)
+        };
         let depth = wgpu::TextureSampleType::Depth;
         let ref_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr-warp references"),
             entries: &[
-                texture(0, color),
+                texture(0, FILTERABLE),
                 texture(1, depth),
-                texture(2, color),
+                texture(2, FILTERABLE),
                 texture(3, depth),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 4,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
+                sampler_entry(4),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr-warp object"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-            ],
+            entries: &[uniform_entry(0), storage_entry(1)],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("npr-warp"),
