@@ -9,33 +9,19 @@
 //!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
 
 use crate::shared_mesh;
+use crate::warp_rig::{CLEAR, Rig, light, material};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, OffscreenTarget, readback_rgba};
+use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget, readback_rgba};
 use npr_warp::metrics::difference_image;
 use npr_warp::{
-    FullRenderer, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass,
-    WarpSchedule, WarpSequence, WarpSettings, compare,
+    Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpSchedule, WarpSequence,
+    WarpSettings, compare,
 };
 use std::path::{Path, PathBuf};
 
 const TILE: u32 = 320;
-const CLEAR: [f64; 4] = [0.0; 4];
-
-fn light() -> Light {
-    Light::directional(Vec3::new(1.0, 1.5, 2.0))
-}
-
-fn material() -> ObjectUniforms {
-    ObjectUniforms::new(
-        Mat4::IDENTITY,
-        Vec3::new(0.75, 0.6, 0.45),
-        0.3,
-        Vec3::ONE,
-        24.0,
-    )
-}
 
 fn path_for(mesh: &Mesh, orbit_camera: bool) -> (Turntable, f32) {
     let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
@@ -71,46 +57,7 @@ fn save(img: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyh
     Ok(())
 }
 
-struct Rig<'a> {
-    ctx: &'a GpuContext,
-    full: GpuMesh,
-    renderer: FullRenderer,
-    target: OffscreenTarget,
-    pass: WarpPass,
-}
-
-impl<'a> Rig<'a> {
-    fn new(ctx: &'a GpuContext, mesh: &Mesh) -> anyhow::Result<Self> {
-        Ok(Self {
-            ctx,
-            full: GpuMesh::upload(&ctx.device, mesh)?,
-            renderer: FullRenderer::new(&ctx.device, &ctx.queue),
-            target: OffscreenTarget::new(&ctx.device, TILE, TILE)?,
-            pass: WarpPass::new(&ctx.device),
-        })
-    }
-
-    fn full(&mut self, scene: &ScenePose) -> anyhow::Result<image::RgbaImage> {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        self.renderer
-            .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
-        let mut enc = d.create_command_encoder(&Default::default());
-        self.renderer
-            .record(&mut enc, &self.target, &self.full, CLEAR);
-        q.submit(Some(enc.finish()));
-        Ok(readback_rgba(d, q, &self.target.color)?)
-    }
-
-    fn reference(&self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, q, TILE, TILE)?;
-        r.set_pose(q, &scene.object(0), &light(), &material());
-        let mut enc = d.create_command_encoder(&Default::default());
-        r.record(&mut enc, &self.full, CLEAR);
-        q.submit(Some(enc.finish()));
-        Ok(r)
-    }
-
+impl Rig<'_> {
     /// The warp (or, with `wire`, the proxy filled light grey with its edges over it).
     #[allow(clippy::too_many_arguments)]
     fn warp(
@@ -204,7 +151,7 @@ fn demo_mesh() -> (String, Mesh, [f32; 3]) {
 pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let (name, mesh, ratios) = demo_mesh();
-    let mut rig = Rig::new(ctx, &mesh)?;
+    let mut rig = Rig::new(ctx, &mesh, TILE)?;
     let (path, world_per_object) = path_for(&mesh, true);
     let k = 10;
     let (r0, r1) = (
@@ -335,7 +282,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         segments: 600,
         tube_segments: 48,
     });
-    let mut rig = Rig::new(ctx, &knot)?;
+    let mut rig = Rig::new(ctx, &knot, TILE)?;
     let (path, world_per_object) = path_for(&knot, false);
     let (r0, r1) = (
         rig.reference(&path.pose(0.0))?,

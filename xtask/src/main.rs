@@ -10,6 +10,7 @@ mod demo_warp;
 mod fixtures;
 mod gpu_setup;
 mod test;
+mod warp_rig;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

@@ -21,18 +21,18 @@
 
 use super::table::{Cell, Table, emit};
 use crate::shared_mesh;
+use crate::warp_rig::{CLEAR, Rig, light, material};
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, OffscreenTarget, readback_rgba};
+use npr_gpu::{Camera, GpuContext};
 use npr_warp::{
-    FullRenderer, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass,
-    WarpSchedule, WarpSequence, WarpSettings, compare,
+    Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpSchedule, WarpSequence,
+    WarpSettings, compare,
 };
 use std::path::Path;
 use std::time::Instant;
 
 const SIZE: u32 = 512;
-const CLEAR: [f64; 4] = [0.0; 4];
 const KS: [u32; 4] = [10, 20, 30, 40];
 /// Bins per axis used unless a table varies it.
 const BINS: u32 = 16;
@@ -41,20 +41,6 @@ const DEG_PER_FRAME: f32 = 1.0;
 /// The camera circles the object (light fixed in the world, as post-rendering warping's
 /// camera-motion use); the object-turning variant is measured in its own table.
 const ORBIT: bool = true;
-
-fn light() -> Light {
-    Light::directional(Vec3::new(1.0, 1.5, 2.0))
-}
-
-fn material() -> ObjectUniforms {
-    ObjectUniforms::new(
-        Mat4::IDENTITY,
-        Vec3::new(0.75, 0.6, 0.45),
-        0.3,
-        Vec3::ONE,
-        24.0,
-    )
-}
 
 struct BenchMesh {
     name: String,
@@ -151,58 +137,16 @@ fn sampled_steps(k: u32) -> Vec<u32> {
     v
 }
 
-struct Rig<'a> {
-    ctx: &'a GpuContext,
-    full: GpuMesh,
-    renderer: FullRenderer,
-    target: OffscreenTarget,
-    pass: WarpPass,
-}
-
-impl<'a> Rig<'a> {
-    fn new(ctx: &'a GpuContext, mesh: &Mesh) -> anyhow::Result<Self> {
-        Ok(Self {
-            ctx,
-            full: GpuMesh::upload(&ctx.device, mesh)?,
-            renderer: FullRenderer::new(&ctx.device, &ctx.queue),
-            target: OffscreenTarget::new(&ctx.device, SIZE, SIZE)?,
-            pass: WarpPass::new(&ctx.device),
-        })
-    }
-
+impl Rig<'_> {
+    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
     /// Full render of `scene` into the rig's target; returns ms (submit to idle).
     fn full_ms(&mut self, scene: &ScenePose) -> f64 {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        self.renderer
-            .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
-        let mut enc = d.create_command_encoder(&Default::default());
-        self.renderer
-            .record(&mut enc, &self.target, &self.full, CLEAR);
+        let enc = self.record_full(scene);
         timed(self.ctx, || {
-            q.submit(Some(enc.finish()));
+            self.ctx.queue.submit(Some(enc.finish()));
         })
     }
 
-    fn full_image(&mut self, scene: &ScenePose) -> anyhow::Result<image::RgbaImage> {
-        self.full_ms(scene);
-        Ok(readback_rgba(
-            &self.ctx.device,
-            &self.ctx.queue,
-            &self.target.color,
-        )?)
-    }
-
-    fn reference(&self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, q, SIZE, SIZE)?;
-        r.set_pose(q, &scene.object(0), &light(), &material());
-        let mut enc = d.create_command_encoder(&Default::default());
-        r.record(&mut enc, &self.full, CLEAR);
-        q.submit(Some(enc.finish()));
-        Ok(r)
-    }
-
-    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
     #[allow(clippy::too_many_arguments)]
     fn warp_ms(
         &self,
@@ -239,14 +183,6 @@ impl<'a> Rig<'a> {
         });
         (ms, blended, tris)
     }
-
-    fn image(&self) -> anyhow::Result<image::RgbaImage> {
-        Ok(readback_rgba(
-            &self.ctx.device,
-            &self.ctx.queue,
-            &self.target.color,
-        )?)
-    }
 }
 
 /// Quality and timing of the warped frames of one segment of length k.
@@ -281,7 +217,7 @@ fn segment(
         let s = f as f32 / k as f32;
         let key = (k, f, objects.len());
         if let std::collections::hash_map::Entry::Vacant(slot) = fulls.entry(key) {
-            slot.insert(rig.full_image(&scene)?);
+            slot.insert(rig.full(&scene)?);
         }
         let mut runs = Vec::new();
         for _ in 0..3 {
@@ -427,7 +363,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         }
         let tris = bm.mesh.triangle_count();
         println!("bench warp: {} ({tris} triangles)", bm.name);
-        let mut rig = Rig::new(&ctx, &bm.mesh)?;
+        let mut rig = Rig::new(&ctx, &bm.mesh, SIZE)?;
         let (path, world_per_object) = path_for(&bm.mesh, vec![Vec3::ZERO], 3.3, ORBIT);
         // FULL: the full render (also the cost of a reference).
         rig.full_ms(&path.pose(0.0));
