@@ -58,6 +58,29 @@ fn save(img: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyh
 }
 
 impl Rig<'_> {
+    /// The paper's warp and ours (with the reference depth test) of the same frame.
+    fn paper_and_ours(
+        &self,
+        refs: [&ReferenceFrame; 2],
+        object: &WarpObject,
+        scene: &ScenePose,
+        s: f32,
+        settings: &WarpSettings,
+    ) -> anyhow::Result<(image::RgbaImage, image::RgbaImage)> {
+        Ok((
+            self.warp(refs, object, scene, s, settings, WarpMode::Paper, false)?,
+            self.warp(
+                refs,
+                object,
+                scene,
+                s,
+                settings,
+                WarpMode::DepthTested,
+                false,
+            )?,
+        ))
+    }
+
     /// The warp (or, with `wire`, the proxy filled light grey with its edges over it).
     #[allow(clippy::too_many_arguments)]
     fn warp(
@@ -296,24 +319,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let object = rig
         .pass
         .create_object(&ctx.device, &proxy, 16, inflation, false)?;
-    let paper = rig.warp(
-        [&r0, &r1],
-        &object,
-        &mid,
-        0.5,
-        &settings,
-        WarpMode::Paper,
-        false,
-    )?;
-    let ours = rig.warp(
-        [&r0, &r1],
-        &object,
-        &mid,
-        0.5,
-        &settings,
-        WarpMode::DepthTested,
-        false,
-    )?;
+    let (paper, ours) = rig.paper_and_ours([&r0, &r1], &object, &mid, 0.5, &settings)?;
     let (qp, qo) = (compare(&full, &paper), compare(&full, &ours));
     println!(
         "demo warp: occlusion, knot 20 degrees between references: paper PSNR {:.2} dB, with the reference depth test {:.2} dB",
@@ -350,24 +356,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.target.color)?;
     let at = path.pose(6.0);
     let full6 = rig.full(&at)?;
-    let paper6 = rig.warp(
-        [&r0, &r1],
-        &object,
-        &at,
-        0.3,
-        &settings,
-        WarpMode::Paper,
-        false,
-    )?;
-    let ours6 = rig.warp(
-        [&r0, &r1],
-        &object,
-        &at,
-        0.3,
-        &settings,
-        WarpMode::DepthTested,
-        false,
-    )?;
+    let (paper6, ours6) = rig.paper_and_ours([&r0, &r1], &object, &at, 0.3, &settings)?;
     let (qp6, qo6) = (compare(&full6, &paper6), compare(&full6, &ours6));
     println!(
         "demo warp: synthetic occluder in reference 0: paper PSNR {:.2} dB, with the reference depth test {:.2} dB",
