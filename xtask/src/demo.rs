@@ -1,8 +1,8 @@
 //! `cargo xtask demo`: renders the demo images into `target/demo/` and prints where.
-//! Base shadings of the procedural fixtures (and the shared real meshes when present);
+//! Base shadings of the procedural fixtures and the real meshes in `fixtures/meshes/`;
 //! each technique adds its figures here.
 
-use crate::{project_root, shared_mesh};
+use crate::{fixture_mesh, project_root};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
@@ -15,8 +15,8 @@ pub fn demo_dir() -> PathBuf {
     project_root().join("target/demo")
 }
 
-/// The procedural demo meshes, plus the shared real meshes when present.
-pub fn demo_meshes() -> Vec<(String, Mesh)> {
+/// The procedural demo meshes, plus the real meshes from `fixtures/meshes/`.
+pub fn demo_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
     let mut meshes = vec![
         ("sphere".to_string(), generate::icosphere(4, 1.0)),
         ("torus".to_string(), generate::torus(1.0, 0.4, 96, 48)),
@@ -31,13 +31,11 @@ pub fn demo_meshes() -> Vec<(String, Mesh)> {
         ("knot".to_string(), generate::paper_knot()),
     ];
     for name in ["spot.obj", "stanford-bunny.obj"] {
-        match shared_mesh(name).map(|p| npr_geometry::load_obj(&p)) {
-            Some(Ok(mesh)) => meshes.push((name.trim_end_matches(".obj").to_string(), mesh)),
-            Some(Err(e)) => eprintln!("demo: skipping {name}: {e}"),
-            None => eprintln!("demo: ../shared/meshes/{name} not found, skipping it"),
-        }
+        let mesh = npr_geometry::load_obj(fixture_mesh(name))
+            .with_context(|| format!("loading fixtures/meshes/{name}"))?;
+        meshes.push((name.trim_end_matches(".obj").to_string(), mesh));
     }
-    meshes
+    Ok(meshes)
 }
 
 /// A camera framing `mesh` (bounding sphere) from a three-quarter view.
@@ -89,7 +87,7 @@ pub fn run() -> anyhow::Result<()> {
 /// Base shadings (Phong, Gouraud, cel) of every demo mesh, one PNG each and a sheet.
 fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     const TILE: u32 = 320;
-    let meshes = demo_meshes();
+    let meshes = demo_meshes()?;
     let models = ShadingModel::ALL;
     let mut sheet = image::RgbaImage::new(TILE * models.len() as u32, TILE * meshes.len() as u32);
     let mut written = Vec::new();

@@ -192,7 +192,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     // Fig. 2: pen and pencil on single objects, 640×480 as in the paper.
     let mut singles: Vec<(String, Mesh)> = vec![("knot".to_string(), demo_knot())];
     singles.extend(
-        demo_meshes()
+        demo_meshes()?
             .into_iter()
             .filter(|(n, _)| matches!(n.as_str(), "torus" | "sphere" | "spot" | "stanford-bunny")),
     );

@@ -103,10 +103,9 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         )?,
     ];
     for name in ["spot.obj", "stanford-bunny.obj"] {
-        if let Some(path) = crate::shared_mesh(name) {
-            let mesh = npr_geometry::load_obj(&path).with_context(|| format!("loading {name}"))?;
-            subjects.push(subject(ctx, name.trim_end_matches(".obj"), mesh, 3.0)?);
-        }
+        let mesh = npr_geometry::load_obj(crate::fixture_mesh(name))
+            .with_context(|| format!("loading fixtures/meshes/{name}"))?;
+        subjects.push(subject(ctx, name.trim_end_matches(".obj"), mesh, 3.0)?);
     }
     let mut written = Vec::new();
     let mut save = |img: &image::RgbaImage, name: &str| -> anyhow::Result<()> {

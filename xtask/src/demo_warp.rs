@@ -8,7 +8,6 @@
 //!   with their differences from the full render (the §3.4 problem and its fix): top row a
 //!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
 
-use crate::shared_mesh;
 use crate::warp_rig::{CLEAR, Rig, light, material};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
@@ -147,33 +146,16 @@ fn draw_over(
     ctx.queue.submit(Some(enc.finish()));
 }
 
-/// The demo mesh: the shared bunny when present, else a torus knot.
-fn demo_mesh() -> (String, Mesh, [f32; 3]) {
-    match shared_mesh("stanford-bunny.obj").map(npr_geometry::load_obj) {
-        Some(Ok(mesh)) => ("bunny".into(), mesh, [0.05, 0.02, 0.01]),
-        _ => {
-            eprintln!("demo warp: bunny not found, using a torus knot");
-            (
-                "knot".into(),
-                generate::torus_knot(&generate::TorusKnot {
-                    p: 2,
-                    q: 3,
-                    major_radius: 1.0,
-                    minor_radius: 0.4,
-                    tube_radius: 0.2,
-                    segments: 600,
-                    tube_segments: 48,
-                }),
-                [0.05, 0.02, 0.01],
-            )
-        }
-    }
+/// The demo mesh: the bunny from `fixtures/meshes/`.
+fn demo_mesh() -> anyhow::Result<(String, Mesh, [f32; 3])> {
+    let mesh = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
+    Ok(("bunny".into(), mesh, [0.05, 0.02, 0.01]))
 }
 
 /// Writes the warping figures into `dir`.
 pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    let (name, mesh, ratios) = demo_mesh();
+    let (name, mesh, ratios) = demo_mesh()?;
     let mut rig = Rig::new(ctx, &mesh, TILE)?;
     let (path, world_per_object) = path_for(&mesh, true);
     let k = 10;

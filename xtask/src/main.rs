@@ -76,8 +76,7 @@ pub fn project_root() -> PathBuf {
     dir.parent().map(PathBuf::from).unwrap_or(dir)
 }
 
-/// `../shared/meshes/NAME` beside the checkout, if present.
-pub fn shared_mesh(name: &str) -> Option<PathBuf> {
-    let p = project_root().join("../shared/meshes").join(name);
-    p.exists().then_some(p)
+/// `fixtures/meshes/NAME`: the real meshes the project ships (see its README).
+pub fn fixture_mesh(name: &str) -> PathBuf {
+    project_root().join("fixtures/meshes").join(name)
 }

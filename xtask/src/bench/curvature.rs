@@ -1,13 +1,13 @@
 //! `cargo xtask bench curvature`: speed and accuracy of the curvature field (issue 3)
 //! on analytic meshes, irregular and noisy variants, and the real meshes in
-//! `../shared/meshes`; a method comparison (paper / clipped / corrected) on the 10k
+//! `fixtures/meshes`; a method comparison (paper / clipped / corrected) on the 10k
 //! torus; and the per-frame N = H highlight-centre search.
 //!
 //! Errors are relative to the mesh's largest true |k| (percent); the direction error is
 //! the angle between the computed and true k_max directions (degrees), left out at
 //! (near-)umbilic vertices where the true direction is undefined.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use glam::{Mat4, Vec3};
@@ -120,18 +120,6 @@ fn torus_case(name: &str, vertices: usize, jitter: f32, noise: f32) -> Case {
     }
 }
 
-fn shared_mesh(file: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../shared/meshes")
-        .join(file);
-    if p.exists() {
-        Some(p)
-    } else {
-        println!("note: {} not found, skipping it", p.display());
-        None
-    }
-}
-
 const ERROR_COLUMNS: [&str; 6] = [
     "kmin_err_pct_median",
     "kmin_err_pct_p95",
@@ -205,13 +193,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ("stanford bunny (scan, holes)", "stanford-bunny.obj"),
         ("spot", "spot.obj"),
     ] {
-        if let Some(p) = shared_mesh(file) {
-            cases.push(Case {
-                name: name.into(),
-                mesh: npr_geometry::load_obj(&p)?,
-                truth: None,
-            });
-        }
+        cases.push(Case {
+            name: name.into(),
+            mesh: npr_geometry::load_obj(crate::fixture_mesh(file))?,
+            truth: None,
+        });
     }
     cases.push(Case {
         name: "torus knot (1.1M triangles)".into(),
@@ -310,9 +296,10 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             generate::icosphere(5, 1.0),
         ),
     ];
-    if let Some(p) = shared_mesh("stanford-bunny.obj") {
-        search_meshes.push(("stanford bunny".to_string(), npr_geometry::load_obj(&p)?));
-    }
+    search_meshes.push((
+        "stanford bunny".to_string(),
+        npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?,
+    ));
     for (name, mesh) in &search_meshes {
         let topo = Topology::new(&weld(mesh));
         let f = CurvatureField::compute(&topo, &CurvatureOptions::default());

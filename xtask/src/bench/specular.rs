@@ -34,13 +34,10 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ),
     ];
     for name in ["spot.obj", "stanford-bunny.obj"] {
-        match crate::shared_mesh(name) {
-            Some(p) => meshes.push((
-                name.trim_end_matches(".obj").into(),
-                npr_geometry::load_obj(&p)?,
-            )),
-            None => println!("bench specular: ../shared/meshes/{name} not found, skipped"),
-        }
+        meshes.push((
+            name.trim_end_matches(".obj").into(),
+            npr_geometry::load_obj(crate::fixture_mesh(name))?,
+        ));
     }
     let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
     let mut table = Table::new(

@@ -20,7 +20,6 @@
 //! images of every measured frame).
 
 use super::table::{Cell, Table, emit};
-use crate::shared_mesh;
 use crate::warp_rig::{CLEAR, Rig, light, material};
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
@@ -48,17 +47,12 @@ struct BenchMesh {
     ratios: [f32; 3],
 }
 
-fn meshes() -> Vec<BenchMesh> {
-    let mut out = Vec::new();
-    match shared_mesh("stanford-bunny.obj").map(|p| npr_geometry::load_obj(&p)) {
-        Some(Ok(mesh)) => out.push(BenchMesh {
-            name: "bunny".into(),
-            mesh,
-            ratios: [0.05, 0.02, 0.01],
-        }),
-        Some(Err(e)) => println!("note: bunny skipped: {e}"),
-        None => println!("note: ../shared/meshes/stanford-bunny.obj not found, bunny skipped"),
-    }
+fn meshes() -> anyhow::Result<Vec<BenchMesh>> {
+    let mut out = vec![BenchMesh {
+        name: "bunny".into(),
+        mesh: npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?,
+        ratios: [0.05, 0.02, 0.01],
+    }];
     // About the paper's Dragon (871,414) and Buddha (1,085,634): smooth torus-knot tubes.
     out.push(BenchMesh {
         name: "knot-3-5 (870k)".into(),
@@ -78,7 +72,7 @@ fn meshes() -> Vec<BenchMesh> {
         mesh: generate::benchmark_knot(),
         ratios: [0.006, 0.002, 0.0007],
     });
-    out
+    Ok(out)
 }
 
 /// Wall time of `f` (which submits) plus waiting for the GPU, in ms.
@@ -357,7 +351,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     // (k = 10 and 20, middle ratio, Tables 1-2 and the depth test only).
     let only = std::env::var("NPR_WARP_BENCH_ONLY").ok();
     let quick = std::env::var("NPR_WARP_BENCH_QUICK").is_ok_and(|v| v == "1");
-    for bm in meshes() {
+    for bm in meshes()? {
         if only.as_ref().is_some_and(|o| !bm.name.contains(o.as_str())) {
             continue;
         }
