@@ -7,26 +7,9 @@ use std::process::Command;
 /// The exact command that installs the software Vulkan driver.
 pub const INSTALL_HINT: &str = "apt-get install -y mesa-vulkan-drivers libvulkan1";
 
-/// Sets `XDG_RUNTIME_DIR` to a private temp dir when unset (lavapipe complains otherwise).
-/// Called first thing in `main`, before any thread exists.
+/// See [`npr_app::ensure_runtime_dir`] (shared with the `npr` binary).
 pub fn ensure_runtime_dir() -> anyhow::Result<()> {
-    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
-        return Ok(());
-    }
-    let dir = std::env::temp_dir().join(format!("npr-xdg-{}", std::process::id()));
-    std::fs::create_dir_all(&dir)?;
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700))?;
-    }
-    // SAFETY: called at the start of `main`, before xtask starts any thread, so no other
-    // thread can read the environment concurrently. Children (cargo test) inherit it.
-    #[allow(unsafe_code)]
-    unsafe {
-        std::env::set_var("XDG_RUNTIME_DIR", &dir);
-    }
-    Ok(())
+    Ok(npr_app::ensure_runtime_dir()?)
 }
 
 fn probe() -> Result<String, String> {

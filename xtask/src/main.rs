@@ -2,7 +2,6 @@
 //! fixtures | curvature`. One module per subcommand.
 
 mod bench;
-mod curvature;
 mod demo;
 mod demo_hatching;
 mod demo_specular;
@@ -41,8 +40,8 @@ enum Command {
     Fixtures,
     /// Find (and on Debian/Ubuntu as root, install) a GPU adapter and print it.
     Doctor,
-    /// Per-vertex principal curvatures of an OBJ file, as CSV.
-    Curvature(curvature::CurvatureArgs),
+    /// Per-vertex principal curvatures of a model, as CSV (an alias of `npr curvature`).
+    Curvature(npr_app::curvature::CurvatureArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -66,7 +65,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);
             Ok(())
         }
-        Command::Curvature(args) => curvature::run(args),
+        Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
     }
 }
 

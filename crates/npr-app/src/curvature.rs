@@ -1,12 +1,13 @@
-//! `cargo xtask curvature IN.obj OUT.csv`: principal curvatures and the direction of
-//! maximum curvature for every `v` line of a user's OBJ file (Eq. (1), §2.2 of the
-//! specular paper; see `npr_geometry::curvature`).
+//! `npr curvature IN OUT.csv` (and its alias `cargo xtask curvature`): principal
+//! curvatures and the direction of maximum curvature for every vertex of a user's model
+//! (Eq. (1), §2.2 of the specular paper; see `npr_geometry::curvature`). The CSV is
+//! written all-or-nothing.
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::Context as _;
+use crate::AppError;
 use npr_geometry::{CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius, Topology};
 
 /// Which form of Eq. (1) to use.
@@ -31,10 +32,10 @@ impl From<Method> for CurvatureMethod {
     }
 }
 
-/// Arguments of `cargo xtask curvature`.
+/// Arguments of `npr curvature`.
 #[derive(clap::Args, Debug)]
 pub struct CurvatureArgs {
-    /// Input Wavefront OBJ file.
+    /// Input model (Wavefront OBJ; rows follow its `v` lines).
     pub input: PathBuf,
     /// Output CSV: header `k_min,k_max,dmax_x,dmax_y,dmax_z`, one row per `v` line of
     /// the input in input order; empty fields where curvature is undefined.
@@ -52,26 +53,29 @@ pub struct CurvatureArgs {
 
 /// Runs the command: loads, computes (timed: topology and field, printed as
 /// `compute_s=<seconds>` on stdout), writes the CSV.
-pub fn run(args: CurvatureArgs) -> anyhow::Result<()> {
+///
+/// # Errors
+/// [`AppError::Usage`] for a bad radius, [`AppError::Load`] for a bad model,
+/// [`AppError::Io`] when the CSV cannot be written (no partial file is left).
+pub fn run(args: CurvatureArgs) -> Result<(), AppError> {
     let radius = match (args.radius, args.radius_edges) {
-        (Some(r), _) => {
-            anyhow::ensure!(
-                r.is_finite() && r > 0.0,
-                "--radius must be a positive number"
-            );
-            CurvatureRadius::World(r)
+        (Some(r), _) if !(r.is_finite() && r > 0.0) => {
+            return Err(AppError::Usage("--radius must be a positive number".into()));
         }
-        (None, Some(k)) => {
-            anyhow::ensure!(
-                k.is_finite() && k > 0.0,
-                "--radius-edges must be a positive number"
-            );
-            CurvatureRadius::EdgeLengths(k)
+        (Some(r), _) => CurvatureRadius::World(r),
+        (None, Some(k)) if !(k.is_finite() && k > 0.0) => {
+            return Err(AppError::Usage(
+                "--radius-edges must be a positive number".into(),
+            ));
         }
+        (None, Some(k)) => CurvatureRadius::EdgeLengths(k),
         (None, None) => CurvatureRadius::default(),
     };
-    let obj = npr_geometry::load_obj_with_vertex_map(&args.input)
-        .with_context(|| format!("loading {}", args.input.display()))?;
+    let obj =
+        npr_geometry::load_obj_with_vertex_map(&args.input).map_err(|source| AppError::Load {
+            path: args.input.clone(),
+            source,
+        })?;
 
     let start = Instant::now();
     let topo = Topology::new(&obj.welded);
@@ -84,28 +88,30 @@ pub fn run(args: CurvatureArgs) -> anyhow::Result<()> {
     );
     let compute_s = start.elapsed().as_secs_f64();
 
-    let file = std::fs::File::create(&args.output)
-        .with_context(|| format!("creating {}", args.output.display()))?;
-    let mut out = std::io::BufWriter::new(file);
-    writeln!(out, "k_min,k_max,dmax_x,dmax_y,dmax_z")?;
     let mut undefined = 0usize;
-    for w in &obj.obj_to_welded {
-        match w.map(|w| w as usize).filter(|&w| field.valid[w]) {
-            Some(w) => {
-                let d = field.dir_kappa_max[w];
-                writeln!(
-                    out,
-                    "{},{},{},{},{}",
-                    field.kappa_min[w], field.kappa_max[w], d.x, d.y, d.z
-                )?;
-            }
-            None => {
-                undefined += 1;
-                writeln!(out, ",,,,")?;
+    let output = args.output.clone();
+    crate::output::write_with(&args.output, |out| {
+        let io = |e| AppError::io(&output, e);
+        writeln!(out, "k_min,k_max,dmax_x,dmax_y,dmax_z").map_err(io)?;
+        for w in &obj.obj_to_welded {
+            match w.map(|w| w as usize).filter(|&w| field.valid[w]) {
+                Some(w) => {
+                    let d = field.dir_kappa_max[w];
+                    writeln!(
+                        out,
+                        "{},{},{},{},{}",
+                        field.kappa_min[w], field.kappa_max[w], d.x, d.y, d.z
+                    )
+                    .map_err(io)?;
+                }
+                None => {
+                    undefined += 1;
+                    writeln!(out, ",,,,").map_err(io)?;
+                }
             }
         }
-    }
-    out.flush()?;
+        Ok(())
+    })?;
     println!("compute_s={compute_s:.6}");
     eprintln!(
         "{} rows ({} undefined), method {}, radius {} world units -> {}",

@@ -1,0 +1,529 @@
+//! The renderer behind `npr render` and `npr view`: one model, one offscreen target, and
+//! the GPU state of every effect, built lazily from the public API of the technique
+//! crates and rebuilt only when a preset change needs it (a new curvature smoothing, a
+//! new highlight texture, shadows toggled, a new size).
+
+use crate::AppError;
+use crate::model::Model;
+use crate::preset::{DirectionPreset, Effect, Preset};
+use crate::view::View;
+use glam::{Mat4, Vec2, Vec3};
+use npr_geometry::{CurvatureOptions, CurvatureRadius};
+use npr_gpu::{
+    BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuMesh, ObjectBinding, ObjectUniforms,
+    OffscreenTarget, ShadingModel,
+};
+use npr_hatching::{HatchFrame, HatchObject, HatchParams, ShadowLight, TamParams, TonalArtMap};
+use npr_specular::{
+    HighlightControls, HighlightDraw, HighlightPass, HighlightSet, HighlightShape,
+    ProjectorControls,
+};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// Statistics of one rendered frame (`npr render --json`, the viewer's heads-up line).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FrameStats {
+    /// Frame index in its sequence.
+    pub frame: usize,
+    /// The effect drawn.
+    pub effect: String,
+    /// CPU setup the frame waited on (N = H search, matching, BFS; warp: none), µs.
+    pub setup_us: f64,
+    /// Highlights drawn (specular).
+    pub highlights: usize,
+    /// Receiver faces of all highlights (specular).
+    pub receiver_faces: usize,
+    /// Triangles drawn (the proxy's for a warped frame).
+    pub triangles: usize,
+    /// Whether the frame was warped from references rather than rendered in full.
+    pub warped: bool,
+    /// Warp: PSNR of this frame against a full render of the same view, dB.
+    pub psnr_db: Option<f64>,
+}
+
+/// Highlight state: the set (per model and curvature smoothing) and its pass.
+struct SpecularState {
+    smoothing_edges: f32,
+    shape: String,
+    set: HighlightSet,
+    pass: HighlightPass,
+    draw: HighlightDraw,
+    /// Texture layer and normal-map flag of the preset's shape.
+    layer: u32,
+}
+
+/// Hatching state for one size and shadow setting.
+struct HatchState {
+    size: (u32, u32),
+    shadows: bool,
+    pencil: bool,
+    frame: HatchFrame,
+    object: HatchObject,
+    direction: DirectionPreset,
+}
+
+/// One model's renderer (see the module docs).
+pub struct Renderer {
+    model: Model,
+    gpu_mesh: GpuMesh,
+    target: OffscreenTarget,
+    base: BaseShading,
+    object: ObjectBinding,
+    cel_bands: Vec<u8>,
+    specular: Option<SpecularState>,
+    hatching: Option<HatchState>,
+    tams: HashMap<bool, TonalArtMap>,
+    directions: HashMap<DirectionPreset, Vec<Vec3>>,
+    frame_index: usize,
+}
+
+impl std::fmt::Debug for Renderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Renderer")
+            .field("model", &self.model.name)
+            .field("size", &(self.target.width, self.target.height))
+            .finish_non_exhaustive()
+    }
+}
+
+/// The base material of a preset for `effect`.
+pub fn object_uniforms(preset: &Preset, world_from_object: Mat4) -> ObjectUniforms {
+    let ks = if preset.effect == Effect::Specular {
+        preset.specular.base_ks
+    } else {
+        preset.base.ks
+    };
+    ObjectUniforms::new(
+        world_from_object,
+        Vec3::from(preset.base.diffuse),
+        ks,
+        Vec3::ONE,
+        preset.base.shininess,
+    )
+}
+
+/// The base shading model drawn for a preset.
+pub fn shading_model(preset: &Preset) -> ShadingModel {
+    match preset.effect {
+        Effect::Phong => ShadingModel::Phong,
+        Effect::Gouraud => ShadingModel::Gouraud,
+        Effect::Cel => ShadingModel::Cel,
+        _ => preset.base.model.into(),
+    }
+}
+
+/// The clear colour of a preset (linear RGBA).
+pub fn clear_color(preset: &Preset) -> [f64; 4] {
+    let [r, g, b] = preset.base.background;
+    [f64::from(r), f64::from(g), f64::from(b), 1.0]
+}
+
+/// The highlight texture layer of a built-in shape name, if it is one.
+pub fn builtin_shape(name: &str) -> Option<HighlightShape> {
+    HighlightShape::ALL.into_iter().find(|s| s.name() == name)
+}
+
+/// The global projector controls of a preset (SPEC §2, §3.4).
+pub fn global_controls(preset: &Preset, layer: u32) -> ProjectorControls {
+    ProjectorControls {
+        sigma: preset.specular.sigma,
+        texture_layer: layer,
+        up: preset.specular.up.into(),
+        ..ProjectorControls::default()
+    }
+}
+
+/// Applies the preset's global controls and per-highlight edits to a set.
+pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32) {
+    set.global = global_controls(preset, layer);
+    for e in &preset.specular.edits {
+        *set.controls_mut(e.id) = HighlightControls {
+            translate: Vec2::from(e.translate),
+            rotate_rad: e.rotate_deg.to_radians(),
+            scale: Vec2::from(e.scale),
+            ..HighlightControls::default()
+        };
+    }
+}
+
+impl Renderer {
+    /// Uploads `model` and creates a `width × height` target.
+    ///
+    /// # Errors
+    /// [`AppError::Gpu`] for a size or mesh past the device's limits.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        model: Model,
+        size: (u32, u32),
+    ) -> Result<Self, AppError> {
+        let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
+        let target = OffscreenTarget::new(device, size.0, size.1)?;
+        let base = BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT);
+        let object = base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
+        Ok(Self {
+            model,
+            gpu_mesh,
+            target,
+            base,
+            object,
+            cel_bands: Vec::new(),
+            specular: None,
+            hatching: None,
+            tams: HashMap::new(),
+            directions: HashMap::new(),
+            frame_index: 0,
+        })
+    }
+
+    /// The model.
+    pub fn model(&self) -> &Model {
+        &self.model
+    }
+
+    /// The model on the GPU.
+    pub fn gpu_mesh(&self) -> &GpuMesh {
+        &self.gpu_mesh
+    }
+
+    /// The target the last frame was drawn into.
+    pub fn target(&self) -> &OffscreenTarget {
+        &self.target
+    }
+
+    /// Target size.
+    pub fn size(&self) -> (u32, u32) {
+        (self.target.width, self.target.height)
+    }
+
+    /// Replaces the model; the current one stays if the upload fails.
+    ///
+    /// # Errors
+    /// As [`GpuMesh::upload`].
+    pub fn set_model(&mut self, device: &wgpu::Device, model: Model) -> Result<(), AppError> {
+        let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
+        self.model = model;
+        self.gpu_mesh = gpu_mesh;
+        self.specular = None;
+        self.hatching = None;
+        self.directions.clear();
+        self.frame_index = 0;
+        Ok(())
+    }
+
+    /// Resizes the target (a zero side is refused with a typed error; the old target
+    /// stays).
+    ///
+    /// # Errors
+    /// [`AppError::Gpu`] for an invalid size.
+    pub fn resize(&mut self, device: &wgpu::Device, size: (u32, u32)) -> Result<(), AppError> {
+        if size != self.size() {
+            self.target = OffscreenTarget::new(device, size.0, size.1)?;
+        }
+        Ok(())
+    }
+
+    /// The highlight set, once a specular frame has been drawn.
+    pub fn highlight_set(&self) -> Option<&HighlightSet> {
+        self.specular.as_ref().map(|s| &s.set)
+    }
+
+    /// Forgets highlight tracking (the next frame starts a new sequence).
+    pub fn reset_sequence(&mut self) {
+        if let Some(s) = &mut self.specular {
+            s.set.reset();
+        }
+        self.frame_index = 0;
+    }
+
+    fn ensure_specular(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+    ) -> Result<(), AppError> {
+        let sp = &preset.specular;
+        let rebuild_set = self
+            .specular
+            .as_ref()
+            .is_none_or(|s| s.smoothing_edges != sp.smoothing_edges);
+        let rebuild_pass = self.specular.as_ref().is_none_or(|s| s.shape != sp.shape);
+        if !rebuild_set && !rebuild_pass {
+            return Ok(());
+        }
+        let (pass, layer) = if let Some(shape) = builtin_shape(&sp.shape) {
+            (
+                HighlightPass::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT)?,
+                shape.layer(),
+            )
+        } else {
+            let size = 128;
+            let mut layers = npr_specular::textures::builtin_set(size);
+            let mut normal: Vec<bool> = HighlightShape::ALL
+                .iter()
+                .map(|s| s.is_normal_map())
+                .collect();
+            layers.push(npr_specular::textures::load_png(
+                std::path::Path::new(&sp.shape),
+                size,
+            )?);
+            normal.push(false);
+            let layer = (layers.len() - 1) as u32;
+            (
+                HighlightPass::with_textures(
+                    device,
+                    queue,
+                    COLOR_FORMAT,
+                    DEPTH_FORMAT,
+                    &layers,
+                    &normal,
+                )?,
+                layer,
+            )
+        };
+        let set = match self.specular.take() {
+            Some(s) if !rebuild_set => s.set,
+            _ => HighlightSet::new(
+                &self.model.mesh,
+                &CurvatureOptions {
+                    radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
+                    ..CurvatureOptions::default()
+                },
+            )?,
+        };
+        let draw = pass.create_draw(device, &self.gpu_mesh);
+        self.specular = Some(SpecularState {
+            smoothing_edges: sp.smoothing_edges,
+            shape: sp.shape.clone(),
+            set,
+            pass,
+            draw,
+            layer,
+        });
+        Ok(())
+    }
+
+    fn directions(&mut self, which: DirectionPreset) -> &[Vec3] {
+        let mesh = &self.model.mesh;
+        self.directions.entry(which).or_insert_with(|| {
+            let dir = match which {
+                DirectionPreset::KMax => npr_hatching::StrokeDirection::KappaMax,
+                DirectionPreset::KMin => npr_hatching::StrokeDirection::KappaMin,
+            };
+            npr_hatching::principal_directions(mesh, dir, &CurvatureOptions::default(), Vec3::Y)
+        })
+    }
+
+    fn ensure_hatching(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+    ) -> Result<(), AppError> {
+        let pencil = preset.effect == Effect::HatchingPencil;
+        let h = &preset.hatching;
+        let params = HatchParams {
+            bins: h.bins,
+            stroke_scale: h.stroke_scale,
+            mode: h.blend.into(),
+            ink: h.ink,
+            paper: h.paper,
+        };
+        for style in [pencil] {
+            if let std::collections::hash_map::Entry::Vacant(e) = self.tams.entry(style) {
+                let p = if style {
+                    TamParams::pencil()
+                } else {
+                    TamParams::pen()
+                };
+                e.insert(TonalArtMap::generate(&p)?);
+            }
+        }
+        let size = self.size();
+        let rebuild = self
+            .hatching
+            .as_ref()
+            .is_none_or(|s| s.size != size || s.shadows != h.shadows || s.direction != h.direction);
+        let Some(tam) = self.tams.get(&pencil) else {
+            return Ok(());
+        };
+        if rebuild {
+            let vsm = npr_hatching::VsmSettings {
+                enabled: h.shadows,
+                ..Default::default()
+            };
+            let frame = HatchFrame::new(
+                device,
+                queue,
+                tam,
+                &params,
+                vsm,
+                COLOR_FORMAT,
+                size.0,
+                size.1,
+            )?;
+            let uniforms = object_uniforms(preset, Mat4::IDENTITY);
+            let direction = h.direction;
+            let tam_pencil = pencil;
+            let dirs = self.directions(direction).to_vec();
+            let object = frame
+                .scene
+                .create_object(device, &self.gpu_mesh, &uniforms, &dirs)?;
+            self.hatching = Some(HatchState {
+                size,
+                shadows: preset.hatching.shadows,
+                pencil: tam_pencil,
+                frame,
+                object,
+                direction,
+            });
+            return Ok(());
+        }
+        if let Some(state) = &mut self.hatching {
+            if state.pencil != pencil {
+                state.frame.set_tam(device, queue, tam)?;
+                state.pencil = pencil;
+            }
+            if state.frame.hatch.params() != &params {
+                state.frame.hatch.set_params(queue, &params)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Renders one frame of `preset` seen from `view` into the target and submits it.
+    ///
+    /// # Errors
+    /// A technique's typed error (bad texture, bad parameters, ...).
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+        view: &View,
+    ) -> Result<FrameStats, AppError> {
+        let mut stats = FrameStats {
+            frame: self.frame_index,
+            effect: preset.effect.name().to_string(),
+            triangles: self.model.mesh.triangle_count(),
+            ..FrameStats::default()
+        };
+        self.frame_index += 1;
+        let object = object_uniforms(preset, view.world_from_object);
+        let frame = FrameUniforms::new(&view.camera, &view.light);
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr app frame"),
+        });
+        match preset.effect {
+            Effect::HatchingPen | Effect::HatchingPencil => {
+                self.ensure_hatching(device, queue, preset)?;
+                if let Some(h) = &self.hatching {
+                    h.object.update(queue, &object);
+                    let light = ShadowLight::Directional {
+                        towards_light: view.light.position_or_direction,
+                        center: Vec3::ZERO,
+                        radius: 1.05,
+                    };
+                    h.frame.set_view(queue, &view.camera, &light);
+                    h.frame.record(
+                        &mut encoder,
+                        &self.target.color_view,
+                        &[(&self.gpu_mesh, &h.object)],
+                    );
+                }
+            }
+            effect => {
+                self.set_ramp(device, queue, &preset.base.cel_bands);
+                self.base.set_frame(queue, &frame);
+                self.object.update(queue, &object);
+                if effect == Effect::Specular {
+                    self.ensure_specular(device, queue, preset)?;
+                }
+                if let Some(s) = self
+                    .specular
+                    .as_mut()
+                    .filter(|_| effect == Effect::Specular)
+                {
+                    apply_controls(&mut s.set, preset, s.layer);
+                    let started = Instant::now();
+                    s.set.update(view.light_eye(), view.world_from_object);
+                    stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
+                    let st = s.set.stats();
+                    stats.highlights = st.highlights;
+                    stats.receiver_faces = st.receiver_faces;
+                    s.pass.prepare(
+                        device,
+                        queue,
+                        &mut s.draw,
+                        &npr_specular::FrameInput {
+                            mesh: &self.gpu_mesh,
+                            indices: &self.model.mesh.indices,
+                            set: &s.set,
+                            frame: &frame,
+                            object: &object,
+                        },
+                    );
+                }
+                let mut pass = self
+                    .target
+                    .begin_clear_pass(&mut encoder, clear_color(preset));
+                self.base.draw(
+                    &mut pass,
+                    shading_model(preset),
+                    &self.object,
+                    &self.gpu_mesh,
+                );
+                if let Some(s) = self
+                    .specular
+                    .as_ref()
+                    .filter(|_| effect == Effect::Specular)
+                {
+                    s.pass.draw(&mut pass, &s.draw);
+                }
+            }
+        }
+        queue.submit(Some(encoder.finish()));
+        Ok(stats)
+    }
+
+    fn set_ramp(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bands: &[u8]) {
+        if self.cel_bands == bands {
+            return;
+        }
+        let shades: Vec<[u8; 4]> = bands.iter().map(|&g| [g, g, g, 255]).collect();
+        let view = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
+        self.base.set_ramp(device, &view);
+        self.cel_bands = bands.to_vec();
+    }
+
+    /// Reads the target back as an sRGB image (waits for the GPU).
+    ///
+    /// # Errors
+    /// [`AppError::Gpu`] when readback fails.
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<image::RgbaImage, AppError> {
+        Ok(npr_gpu::readback_rgba(device, queue, &self.target.color)?)
+    }
+}
+
+/// Renders `frames` warped turntable frames (references every `k` frames, the frames
+/// between warped from them) and hands each to `sink`.
+///
+/// # Errors
+/// GPU or technique errors, or what `sink` returns.
+pub fn render_warp_frames(
+    _ctx: &npr_gpu::GpuContext,
+    _model: Model,
+    _preset: &Preset,
+    _frames: u32,
+    _sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    Err(AppError::Usage(
+        "--effect warp is not wired into npr render yet".into(),
+    ))
+}

@@ -1,0 +1,83 @@
+//! The application's typed errors: one line each, naming what is wrong and where.
+
+use std::path::{Path, PathBuf};
+
+/// Everything `npr` can fail with. Each message is one line that names the file or the
+/// setting at fault; nothing here panics and no command leaves a partial output file.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// The model could not be loaded.
+    #[error("{path}: {source}")]
+    Load {
+        /// The model file.
+        path: PathBuf,
+        /// The loader's error.
+        #[source]
+        source: npr_geometry::GeometryError,
+    },
+    /// A preset file is malformed or holds an invalid value.
+    #[error("preset {path}: {reason}")]
+    Preset {
+        /// The preset file.
+        path: PathBuf,
+        /// What is wrong (with the TOML line and column where known).
+        reason: String,
+    },
+    /// A command-line value is invalid.
+    #[error("{0}")]
+    Usage(String),
+    /// Reading or writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Encoding an image failed.
+    #[error("{path}: cannot encode image: {reason}")]
+    Encode {
+        /// The output file.
+        path: PathBuf,
+        /// The encoder's message.
+        reason: String,
+    },
+    /// The GPU layer failed (no adapter, a size past the device's limits, readback).
+    #[error(transparent)]
+    Gpu(#[from] npr_gpu::GpuError),
+    /// The specular technique failed.
+    #[error("specular: {0}")]
+    Specular(#[from] npr_specular::SpecularError),
+    /// The hatching technique failed.
+    #[error("hatching: {0}")]
+    Hatching(#[from] npr_hatching::HatchError),
+    /// The warping technique failed.
+    #[error("warp: {0}")]
+    Warp(#[from] npr_warp::WarpError),
+}
+
+impl AppError {
+    /// An I/O error on `path`.
+    pub fn io(path: &Path, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// A short stable name of the error's kind (for tests and scripts).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Self::Load { .. } => "load",
+            Self::Preset { .. } => "preset",
+            Self::Usage(_) => "usage",
+            Self::Io { .. } => "io",
+            Self::Encode { .. } => "encode",
+            Self::Gpu(_) => "gpu",
+            Self::Specular(_) => "specular",
+            Self::Hatching(_) => "hatching",
+            Self::Warp(_) => "warp",
+        }
+    }
+}

@@ -1,0 +1,50 @@
+//! `npr`: the workspace's techniques on your own model.
+//!
+//! ```text
+//! npr render MODEL [--effect E] [--preset FILE] [--size WxH] [--out PATH]
+//!                  [--turntable N [--gif]] [--json PATH]
+//! npr curvature IN OUT.csv [--radius R | --radius-edges K] [--method M]
+//! ```
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "npr", version, about = "Real-time NPR on your own model")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a model with an effect to PNG, numbered PNG frames or a GIF.
+    Render(npr_app::render::RenderArgs),
+    /// Per-vertex principal curvatures of a model, as CSV.
+    Curvature(npr_app::curvature::CurvatureArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Err(e) = npr_app::ensure_runtime_dir() {
+        eprintln!("npr: warning: {e}");
+    }
+    let result = match cli.command {
+        Command::Render(args) => npr_app::render::run(&args).map(|summary| {
+            for note in &summary.notes {
+                eprintln!("npr: note: {note}");
+            }
+            for path in &summary.written {
+                println!("{}", path.display());
+            }
+        }),
+        Command::Curvature(args) => npr_app::curvature::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("npr: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,98 @@
+//! A user's model: loaded with `npr-geometry`'s loaders, framed, with what the loader
+//! changed or dropped kept for display.
+
+use crate::AppError;
+use crate::view::Framing;
+use npr_geometry::Mesh;
+use std::path::{Path, PathBuf};
+
+/// The built-in model of `npr view` with no argument: the Stanford bunny shipped in
+/// `fixtures/meshes/` (compiled in, so the binary works from any directory).
+const BUNNY_OBJ: &str = include_str!("../../../fixtures/meshes/stanford-bunny.obj");
+
+/// A loaded model.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Display name (the file name).
+    pub name: String,
+    /// The file it came from (`None` for built-ins).
+    pub path: Option<PathBuf>,
+    /// The mesh, in the file's own units.
+    pub mesh: Mesh,
+    /// What the loader dropped or changed, one line each.
+    pub notes: Vec<String>,
+    /// Its bounding sphere.
+    pub framing: Framing,
+}
+
+impl Model {
+    /// A model from a mesh in memory.
+    pub fn from_mesh(name: &str, mesh: Mesh) -> Self {
+        let framing = Framing::of(&mesh);
+        Self {
+            name: name.to_string(),
+            path: None,
+            mesh,
+            notes: Vec::new(),
+            framing,
+        }
+    }
+
+    /// Loads an OBJ, PLY or glTF file.
+    ///
+    /// # Errors
+    /// [`AppError::Load`] with the loader's one-line reason.
+    pub fn load(path: &Path) -> Result<Self, AppError> {
+        let loaded = load_file(path)?;
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| path.display().to_string());
+        let mut model = Self::from_mesh(&name, loaded.mesh);
+        model.path = Some(path.to_path_buf());
+        model.notes = loaded.report.iter().map(ToString::to_string).collect();
+        Ok(model)
+    }
+
+    /// The built-in bunny.
+    ///
+    /// # Errors
+    /// [`AppError::Load`] if the embedded file does not parse (it always does).
+    pub fn bunny() -> Result<Self, AppError> {
+        let path = Path::new("stanford-bunny.obj");
+        let loaded = load_obj_text(BUNNY_OBJ, path)?;
+        Ok(Self::from_mesh("stanford-bunny.obj", loaded.mesh))
+    }
+}
+
+/// What a loader returns: the mesh and its notes.
+struct Loaded {
+    mesh: Mesh,
+    report: Vec<String>,
+}
+
+// TEMPORARY until npr_geometry::io lands: OBJ only.
+fn load_file(path: &Path) -> Result<Loaded, AppError> {
+    let mesh = npr_geometry::load_obj(path).map_err(|source| AppError::Load {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(Loaded {
+        mesh,
+        report: Vec::new(),
+    })
+}
+
+fn load_obj_text(text: &str, name: &Path) -> Result<Loaded, AppError> {
+    let tmp = std::env::temp_dir().join(format!("npr-bunny-{}.obj", std::process::id()));
+    std::fs::write(&tmp, text).map_err(|e| AppError::io(&tmp, e))?;
+    let r = load_file(&tmp);
+    let _ = std::fs::remove_file(&tmp);
+    r.map_err(|e| match e {
+        AppError::Load { source, .. } => AppError::Load {
+            path: name.to_path_buf(),
+            source,
+        },
+        e => e,
+    })
+}

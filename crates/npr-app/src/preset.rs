@@ -1,0 +1,557 @@
+//! Presets: every parameter the crates expose, as one TOML file shared by `npr render` and
+//! `npr view` (a preset saved by the viewer renders the same image in batch).
+//!
+//! Every section and field is optional; what a file leaves out keeps its default, so a
+//! preset can be as short as `effect = "hatching-pen"`. Unknown keys are errors (a typo must
+//! not be silently ignored). See `fixtures/presets/example.toml` for a full file.
+
+use crate::AppError;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// What `npr render` draws.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Effect {
+    /// Per-pixel Blinn-Phong.
+    #[default]
+    Phong,
+    /// Per-vertex Blinn-Phong.
+    Gouraud,
+    /// Cel shading with a 1-D ramp.
+    Cel,
+    /// Stylized specular highlights (Lee & Choi) over the base shading.
+    Specular,
+    /// Image-space hatching (Kim & Lee), pen tonal art map.
+    HatchingPen,
+    /// Image-space hatching, pencil tonal art map.
+    HatchingPencil,
+    /// Post-rendering 3-D warping (Park & Ihm) of the base shading.
+    Warp,
+}
+
+impl Effect {
+    /// Every effect, in CLI order.
+    pub const ALL: [Effect; 7] = [
+        Self::Phong,
+        Self::Gouraud,
+        Self::Cel,
+        Self::Specular,
+        Self::HatchingPen,
+        Self::HatchingPencil,
+        Self::Warp,
+    ];
+
+    /// The CLI / preset name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Phong => "phong",
+            Self::Gouraud => "gouraud",
+            Self::Cel => "cel",
+            Self::Specular => "specular",
+            Self::HatchingPen => "hatching-pen",
+            Self::HatchingPencil => "hatching-pencil",
+            Self::Warp => "warp",
+        }
+    }
+
+    /// Parses a CLI / preset name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|e| e.name() == name)
+    }
+
+    /// Whether the effect hatches.
+    pub fn is_hatching(self) -> bool {
+        matches!(self, Self::HatchingPen | Self::HatchingPencil)
+    }
+}
+
+/// The base shading model under every technique.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BaseModel {
+    /// Per-pixel Blinn-Phong.
+    #[default]
+    Phong,
+    /// Per-vertex Blinn-Phong.
+    Gouraud,
+    /// Cel shading.
+    Cel,
+}
+
+impl From<BaseModel> for npr_gpu::ShadingModel {
+    fn from(m: BaseModel) -> Self {
+        match m {
+            BaseModel::Phong => Self::Phong,
+            BaseModel::Gouraud => Self::Gouraud,
+            BaseModel::Cel => Self::Cel,
+        }
+    }
+}
+
+/// Orbit camera around the framed model. Distances are in bounding radii, so a preset
+/// works for a model at any scale.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraPreset {
+    /// Rotation about the vertical axis, degrees (0 looks from +z).
+    pub yaw_deg: f32,
+    /// Elevation, degrees (positive looks down on the model).
+    pub pitch_deg: f32,
+    /// Eye distance from the model's centre, in bounding radii.
+    pub distance: f32,
+    /// Vertical field of view, degrees.
+    pub fov_deg: f32,
+    /// Pan of the look-at point, in bounding radii (camera right, camera up).
+    pub pan: [f32; 2],
+}
+
+impl Default for CameraPreset {
+    fn default() -> Self {
+        Self {
+            yaw_deg: 25.0,
+            pitch_deg: 15.0,
+            distance: 3.0,
+            fov_deg: 40.0,
+            pan: [0.0, 0.0],
+        }
+    }
+}
+
+/// A directional light, fixed in the world (the model turns under it).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LightPreset {
+    /// Direction towards the light, world space (normalised on use).
+    pub direction: [f32; 3],
+    /// Linear light colour.
+    pub color: [f32; 3],
+    /// Linear ambient colour.
+    pub ambient: [f32; 3],
+}
+
+impl Default for LightPreset {
+    fn default() -> Self {
+        Self {
+            direction: [-0.5, 0.8, 1.0],
+            color: [1.0, 1.0, 1.0],
+            ambient: [0.08, 0.08, 0.08],
+        }
+    }
+}
+
+/// Base shading and material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct BasePreset {
+    /// Shading model under `specular` and `warp` (the `phong`/`gouraud`/`cel` effects
+    /// choose their own).
+    pub model: BaseModel,
+    /// Linear diffuse albedo.
+    pub diffuse: [f32; 3],
+    /// Specular weight k_s of the base shading.
+    pub ks: f32,
+    /// Blinn exponent.
+    pub shininess: f32,
+    /// Cel ramp: sRGB grey levels 0..255 of its bands, darkest first.
+    pub cel_bands: Vec<u8>,
+    /// Linear background colour.
+    pub background: [f32; 3],
+}
+
+impl Default for BasePreset {
+    fn default() -> Self {
+        Self {
+            model: BaseModel::Phong,
+            diffuse: [0.8, 0.8, 0.8],
+            ks: 0.5,
+            shininess: 32.0,
+            cel_bands: vec![89, 166, 255],
+            background: [1.0, 1.0, 1.0],
+        }
+    }
+}
+
+/// Up axis of the highlight projectors (SPEC §2, Eq. (7)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum UpPreset {
+    /// Up = e_min (the paper's choice).
+    #[default]
+    EMin,
+    /// Up = e_max.
+    EMax,
+}
+
+impl From<UpPreset> for npr_specular::UpAxis {
+    fn from(u: UpPreset) -> Self {
+        match u {
+            UpPreset::EMin => Self::KappaMin,
+            UpPreset::EMax => Self::KappaMax,
+        }
+    }
+}
+
+/// One highlight's own §3.4 edit, keyed by its id (stable while it is tracked).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HighlightEdit {
+    /// The highlight's id.
+    pub id: u64,
+    /// Translation along (e_max, e_min), in bounding radii.
+    pub translate: [f32; 2],
+    /// Rotation about N, degrees.
+    pub rotate_deg: f32,
+    /// Scale along (e_max, e_min).
+    pub scale: [f32; 2],
+}
+
+impl Default for HighlightEdit {
+    fn default() -> Self {
+        Self {
+            id: 0,
+            translate: [0.0, 0.0],
+            rotate_deg: 0.0,
+            scale: [1.0, 1.0],
+        }
+    }
+}
+
+/// Stylized specular highlights (npr-specular).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SpecularPreset {
+    /// Highlight threshold σ of Eq. (8), in (−1, 1).
+    pub sigma: f32,
+    /// A built-in shape (`disc`, `soft-disc`, `star`, `sparkle`, `ring`, `normal-map`,
+    /// `streak`) or the path of a PNG.
+    pub shape: String,
+    /// Projector up axis.
+    pub up: UpPreset,
+    /// Curvature ball radius in mean edge lengths (the curvature smoothing).
+    pub smoothing_edges: f32,
+    /// k_s of the base shading under the highlights (0: the stylized highlight replaces
+    /// the base's own).
+    pub base_ks: f32,
+    /// Per-highlight edits.
+    pub edits: Vec<HighlightEdit>,
+}
+
+impl Default for SpecularPreset {
+    fn default() -> Self {
+        Self {
+            sigma: 0.9,
+            shape: "disc".into(),
+            up: UpPreset::EMin,
+            smoothing_edges: 3.0,
+            base_ks: 0.0,
+            edits: Vec::new(),
+        }
+    }
+}
+
+/// Where hatching strokes take their direction from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DirectionPreset {
+    /// Along the direction of maximum curvature.
+    #[default]
+    KMax,
+    /// Along the direction of minimum curvature.
+    KMin,
+}
+
+/// Blend of direction bins (SPEC §3.2–3.3).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BlendPreset {
+    /// One bin per pixel.
+    CutAndPaste,
+    /// Neighbouring bins blended (Eq. (2)–(3)).
+    Blended,
+    /// Blended plus a half-bin offset partition (§3.3).
+    #[default]
+    Offset,
+}
+
+impl From<BlendPreset> for npr_hatching::BlendMode {
+    fn from(b: BlendPreset) -> Self {
+        match b {
+            BlendPreset::CutAndPaste => Self::CutAndPaste,
+            BlendPreset::Blended => Self::Blended,
+            BlendPreset::Offset => Self::OffsetPartition,
+        }
+    }
+}
+
+/// Image-space hatching (npr-hatching).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct HatchingPreset {
+    /// Direction bins (Eq. (1)).
+    pub bins: u32,
+    /// Stroke scale (1 = the tonal art map's own).
+    pub stroke_scale: f32,
+    /// Bin blending.
+    pub blend: BlendPreset,
+    /// Variance shadow maps.
+    pub shadows: bool,
+    /// Stroke direction source.
+    pub direction: DirectionPreset,
+    /// Linear ink colour.
+    pub ink: [f32; 3],
+    /// Linear paper colour.
+    pub paper: [f32; 3],
+}
+
+impl Default for HatchingPreset {
+    fn default() -> Self {
+        let p = npr_hatching::HatchParams::default();
+        Self {
+            bins: p.bins,
+            stroke_scale: p.stroke_scale,
+            blend: BlendPreset::Offset,
+            shadows: true,
+            direction: DirectionPreset::KMax,
+            ink: p.ink,
+            paper: p.paper,
+        }
+    }
+}
+
+/// Post-rendering warping (npr-warp).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WarpPreset {
+    /// A reference every k frames.
+    pub k: u32,
+    /// Proxy triangles as a share of the model's.
+    pub proxy_ratio: f32,
+    /// Depth-test the references against each other.
+    pub depth_test: bool,
+}
+
+impl Default for WarpPreset {
+    fn default() -> Self {
+        Self {
+            k: 10,
+            proxy_ratio: 0.05,
+            depth_test: true,
+        }
+    }
+}
+
+/// Output settings of `npr render`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutputPreset {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+impl Default for OutputPreset {
+    fn default() -> Self {
+        Self {
+            width: 800,
+            height: 600,
+        }
+    }
+}
+
+/// Every parameter of every effect.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Preset {
+    /// The effect.
+    pub effect: Effect,
+    /// Model turn about the vertical axis, degrees (the turntable's start).
+    pub turn_deg: f32,
+    /// Camera.
+    pub camera: CameraPreset,
+    /// Light.
+    pub light: LightPreset,
+    /// Base shading.
+    pub base: BasePreset,
+    /// Highlights.
+    pub specular: SpecularPreset,
+    /// Hatching.
+    pub hatching: HatchingPreset,
+    /// Warping.
+    pub warp: WarpPreset,
+    /// Output size.
+    pub output: OutputPreset,
+}
+
+impl Preset {
+    /// Parses a preset from TOML text; `origin` names it in errors.
+    ///
+    /// # Errors
+    /// [`AppError::Preset`] with the TOML error (line and column) or the invalid value.
+    pub fn from_toml(text: &str, origin: &Path) -> Result<Self, AppError> {
+        let preset: Preset = toml::from_str(text).map_err(|e| AppError::Preset {
+            path: origin.to_path_buf(),
+            reason: e.to_string().trim().replace('\n', " "),
+        })?;
+        preset.validate().map_err(|reason| AppError::Preset {
+            path: origin.to_path_buf(),
+            reason,
+        })?;
+        Ok(preset)
+    }
+
+    /// Reads a preset file.
+    ///
+    /// # Errors
+    /// [`AppError::Io`] when unreadable, else as [`Preset::from_toml`].
+    pub fn load(path: &Path) -> Result<Self, AppError> {
+        let text = std::fs::read_to_string(path).map_err(|e| AppError::io(path, e))?;
+        Self::from_toml(&text, path)
+    }
+
+    /// The preset as TOML text.
+    ///
+    /// # Errors
+    /// [`AppError::Preset`] if serialisation fails (it does not for valid presets).
+    pub fn to_toml(&self) -> Result<String, AppError> {
+        toml::to_string_pretty(self).map_err(|e| AppError::Preset {
+            path: PathBuf::from("<memory>"),
+            reason: e.to_string(),
+        })
+    }
+
+    /// Writes the preset atomically (a temporary file renamed over `path`).
+    ///
+    /// # Errors
+    /// [`AppError::Io`] or as [`Preset::to_toml`].
+    pub fn save(&self, path: &Path) -> Result<(), AppError> {
+        crate::output::write_atomic(path, self.to_toml()?.as_bytes())
+    }
+
+    /// Checks value ranges; returns the first problem as a sentence.
+    pub fn validate(&self) -> Result<(), String> {
+        let finite = |name: &str, v: &[f32]| {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(format!("{name} must be finite"))
+            }
+        };
+        finite("turn_deg", &[self.turn_deg])?;
+        let c = &self.camera;
+        finite(
+            "camera",
+            &[
+                c.yaw_deg,
+                c.pitch_deg,
+                c.distance,
+                c.fov_deg,
+                c.pan[0],
+                c.pan[1],
+            ],
+        )?;
+        if c.distance <= 0.0 {
+            return Err(format!("camera.distance must be > 0, got {}", c.distance));
+        }
+        if !(1.0..=170.0).contains(&c.fov_deg) {
+            return Err(format!(
+                "camera.fov_deg must be in 1..=170, got {}",
+                c.fov_deg
+            ));
+        }
+        finite("light.direction", &self.light.direction)?;
+        if glam::Vec3::from(self.light.direction).length_squared() == 0.0 {
+            return Err("light.direction must not be zero".into());
+        }
+        if !(-1.0 < self.specular.sigma && self.specular.sigma < 1.0) {
+            return Err(format!(
+                "specular.sigma must be in (-1, 1), got {}",
+                self.specular.sigma
+            ));
+        }
+        if !(self.specular.smoothing_edges > 0.0 && self.specular.smoothing_edges.is_finite()) {
+            return Err("specular.smoothing_edges must be > 0".into());
+        }
+        if self.base.cel_bands.is_empty() {
+            return Err("base.cel_bands needs at least one band".into());
+        }
+        let h = &self.hatching;
+        if !(npr_hatching::MIN_BINS..=npr_hatching::MAX_BINS).contains(&h.bins) {
+            return Err(format!(
+                "hatching.bins must be in {}..={}, got {}",
+                npr_hatching::MIN_BINS,
+                npr_hatching::MAX_BINS,
+                h.bins
+            ));
+        }
+        if !(h.stroke_scale > 0.0 && h.stroke_scale.is_finite()) {
+            return Err("hatching.stroke_scale must be > 0".into());
+        }
+        if self.warp.k == 0 {
+            return Err("warp.k must be at least 1".into());
+        }
+        if !(self.warp.proxy_ratio > 0.0 && self.warp.proxy_ratio <= 1.0) {
+            return Err(format!(
+                "warp.proxy_ratio must be in (0, 1], got {}",
+                self.warp.proxy_ratio
+            ));
+        }
+        let o = &self.output;
+        if o.width == 0 || o.height == 0 || o.width > 16384 || o.height > 16384 {
+            return Err(format!(
+                "output size must be in 1..=16384 on each side, got {}x{}",
+                o.width, o.height
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trips_through_toml() {
+        let mut p = Preset {
+            effect: Effect::HatchingPencil,
+            turn_deg: 12.5,
+            ..Preset::default()
+        };
+        p.specular.edits.push(HighlightEdit {
+            id: 3,
+            translate: [0.1, -0.2],
+            rotate_deg: 30.0,
+            scale: [1.5, 0.5],
+        });
+        p.hatching.bins = 20;
+        p.base.model = BaseModel::Cel;
+        let text = p.to_toml().unwrap();
+        let back = Preset::from_toml(&text, Path::new("t.toml")).unwrap();
+        assert_eq!(back, p);
+    }
+
+    #[test]
+    fn partial_files_keep_defaults_and_typos_are_errors() {
+        let p =
+            Preset::from_toml("effect = \"cel\"\n[hatching]\nbins = 14\n", Path::new("a")).unwrap();
+        assert_eq!(p.effect, Effect::Cel);
+        assert_eq!(p.hatching.bins, 14);
+        assert_eq!(p.camera, CameraPreset::default());
+        let e = Preset::from_toml("[camera]\ndistanse = 2\n", Path::new("b.toml")).unwrap_err();
+        assert!(e.to_string().contains("distanse"), "{e}");
+        assert!(e.to_string().contains("b.toml"), "{e}");
+        let e = Preset::from_toml("[specular]\nsigma = 1.5\n", Path::new("c")).unwrap_err();
+        assert!(e.to_string().contains("sigma"), "{e}");
+    }
+
+    #[test]
+    fn effect_names_round_trip() {
+        for e in Effect::ALL {
+            assert_eq!(Effect::from_name(e.name()), Some(e));
+        }
+    }
+}

@@ -1,0 +1,223 @@
+//! `npr render MODEL`: one image, a turntable of frames, or a GIF of any effect on a
+//! user's model, with per-frame statistics as JSON. Outputs are written all-or-nothing:
+//! a failure at frame 57 of 60 leaves no frame files and no GIF behind.
+
+use crate::engine::{FrameStats, Renderer};
+use crate::model::Model;
+use crate::preset::{Effect, Preset};
+use crate::view::View;
+use crate::{AppError, output, progress};
+use std::path::{Path, PathBuf};
+
+/// Arguments of `npr render`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RenderArgs {
+    /// The model: OBJ, PLY (ASCII or binary) or glTF (.gltf/.glb).
+    pub model: PathBuf,
+    /// The effect (overrides the preset's).
+    #[arg(long, value_enum)]
+    pub effect: Option<Effect>,
+    /// A preset TOML with every parameter (see fixtures/presets/example.toml).
+    #[arg(long)]
+    pub preset: Option<PathBuf>,
+    /// Image size WxH (overrides the preset's).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Output image (PNG), or GIF with --gif. Turntable frames without --gif are written
+    /// beside it as STEM_0000.png, STEM_0001.png, ...
+    #[arg(long, default_value = "out.png")]
+    pub out: PathBuf,
+    /// Render N frames of the model turning 360° about the vertical axis.
+    #[arg(long, value_name = "N")]
+    pub turntable: Option<u32>,
+    /// Write the turntable as one looping GIF at --out.
+    #[arg(long)]
+    pub gif: bool,
+    /// Write per-frame statistics (setup time, highlight and receiver counts, warp PSNR)
+    /// as a JSON array.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+}
+
+/// Parses `WxH`.
+///
+/// # Errors
+/// A sentence saying what is wrong.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH (e.g. 800x600), got '{s}'"))?;
+    let parse = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=16384).contains(&n))
+            .ok_or_else(|| format!("each side must be an integer in 1..=16384, got '{s}'"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// What `npr render` did.
+#[derive(Debug)]
+pub struct RenderSummary {
+    /// Files written.
+    pub written: Vec<PathBuf>,
+    /// Per-frame statistics.
+    pub stats: Vec<FrameStats>,
+    /// The loader's notes on the model.
+    pub notes: Vec<String>,
+}
+
+/// The preset a render uses: the file's (or the default), with the command line's
+/// overrides.
+///
+/// # Errors
+/// As [`Preset::load`], or [`AppError::Usage`] for inconsistent flags.
+pub fn resolve_preset(args: &RenderArgs) -> Result<Preset, AppError> {
+    let mut preset = match &args.preset {
+        Some(p) => Preset::load(p)?,
+        None => Preset::default(),
+    };
+    if let Some(e) = args.effect {
+        preset.effect = e;
+    }
+    if let Some((w, h)) = args.size {
+        preset.output.width = w;
+        preset.output.height = h;
+    }
+    if args.turntable == Some(0) {
+        return Err(AppError::Usage("--turntable needs at least 1 frame".into()));
+    }
+    if args.gif && args.turntable.is_none() {
+        return Err(AppError::Usage("--gif needs --turntable N".into()));
+    }
+    Ok(preset)
+}
+
+/// Renders `frames` turntable frames of `model` with `preset` and hands each image to
+/// `sink` (frame index, image, stats).
+///
+/// # Errors
+/// GPU or technique errors, or what `sink` returns.
+pub fn render_frames(
+    ctx: &npr_gpu::GpuContext,
+    model: Model,
+    preset: &Preset,
+    frames: u32,
+    mut sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    let size = (preset.output.width, preset.output.height);
+    let framing = model.framing;
+    if preset.effect == Effect::Warp {
+        return crate::engine::render_warp_frames(ctx, model, preset, frames, sink);
+    }
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let bar = progress::bar(u64::from(frames), preset.effect.name());
+    let mut stats = Vec::new();
+    for i in 0..frames {
+        let turn = 360.0 * i as f32 / frames as f32;
+        let view = View::new(preset, &framing, size, turn);
+        let s = renderer.render(&ctx.device, &ctx.queue, preset, &view)?;
+        let image = renderer.read(&ctx.device, &ctx.queue)?;
+        sink(i as usize, image, &s)?;
+        stats.push(s);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
+}
+
+/// Runs `npr render`.
+///
+/// # Errors
+/// Any [`AppError`]; nothing is written then.
+pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
+    let preset = resolve_preset(args)?;
+    let spin = progress::spinner(&format!("loading {}", args.model.display()));
+    let model = Model::load(&args.model)?;
+    spin.finish_and_clear();
+    let notes = model.notes.clone();
+    let ctx = npr_gpu::GpuContext::new()?;
+    let frames = args.turntable.unwrap_or(1);
+    let mut written = Vec::new();
+    let stats = if args.gif {
+        let mut images = Vec::new();
+        let stats = render_frames(&ctx, model, &preset, frames, |_, img, _| {
+            images.push(img);
+            Ok(())
+        })?;
+        output::save_gif(&args.out, &images, 40)?;
+        written.push(args.out.clone());
+        stats
+    } else if args.turntable.is_some() {
+        // Frames go to temporary names and are renamed only once all exist.
+        let mut temps: Vec<(PathBuf, PathBuf)> = Vec::new();
+        let result = render_frames(&ctx, model, &preset, frames, |i, img, _| {
+            let path = output::frame_path(&args.out, i);
+            let tmp = output::temp_path(&path);
+            output::save_png(&tmp, &img)?;
+            temps.push((tmp, path));
+            Ok(())
+        });
+        let finish = result.and_then(|stats| {
+            for (tmp, path) in &temps {
+                std::fs::rename(tmp, path).map_err(|e| AppError::io(path, e))?;
+            }
+            Ok(stats)
+        });
+        if finish.is_err() {
+            for (tmp, _) in &temps {
+                let _ = std::fs::remove_file(tmp);
+            }
+        }
+        written.extend(temps.into_iter().map(|(_, p)| p));
+        finish?
+    } else {
+        let mut image = None;
+        let stats = render_frames(&ctx, model, &preset, 1, |_, img, _| {
+            image = Some(img);
+            Ok(())
+        })?;
+        if let Some(img) = image {
+            output::save_png(&args.out, &img)?;
+            written.push(args.out.clone());
+        }
+        stats
+    };
+    if let Some(json) = &args.json {
+        write_stats(json, &stats)?;
+        written.push(json.clone());
+    }
+    Ok(RenderSummary {
+        written,
+        stats,
+        notes,
+    })
+}
+
+/// Writes per-frame statistics as a JSON array, atomically.
+///
+/// # Errors
+/// [`AppError::Io`] or [`AppError::Encode`].
+pub fn write_stats(path: &Path, stats: &[FrameStats]) -> Result<(), AppError> {
+    let text = serde_json::to_string_pretty(stats).map_err(|e| AppError::Encode {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    output::write_atomic(path, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_and_bad_ones_say_why() {
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert_eq!(parse_size("64X48"), Ok((64, 48)));
+        for bad in ["800", "0x600", "axb", "800x99999", "-1x5"] {
+            let e = parse_size(bad).unwrap_err();
+            assert!(e.contains(bad), "{e}");
+        }
+    }
+}

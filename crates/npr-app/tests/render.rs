@@ -1,0 +1,318 @@
+//! `npr render` end to end: every effect on real models in every format shows the object,
+//! the specular image equals the library's own snapshot helper, turntables and GIFs have
+//! their frames, and bad input gets one line and no output file.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use npr_app::engine::{self, Renderer};
+use npr_app::model::Model;
+use npr_app::preset::{Effect, Preset};
+use npr_app::view::View;
+use npr_gpu::testing::context_or_skip;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("npr-app-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn npr(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_npr"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Share of pixels that differ from the background (the top-left pixel), and the centre
+/// of their bounding box in [0, 1]².
+fn object_coverage(img: &image::RgbaImage) -> (f64, [f64; 2]) {
+    let bg = *img.get_pixel(0, 0);
+    let (mut n, mut lo, mut hi) = (0usize, [u32::MAX; 2], [0u32; 2]);
+    for (x, y, p) in img.enumerate_pixels() {
+        let d =
+            p.0.iter()
+                .zip(bg.0)
+                .map(|(a, b)| a.abs_diff(b))
+                .max()
+                .unwrap_or(0);
+        if d > 24 {
+            n += 1;
+            lo = [lo[0].min(x), lo[1].min(y)];
+            hi = [hi[0].max(x), hi[1].max(y)];
+        }
+    }
+    let (w, h) = img.dimensions();
+    let share = n as f64 / f64::from(w * h);
+    let centre = [
+        f64::from(lo[0] + hi[0]) / 2.0 / f64::from(w),
+        f64::from(lo[1] + hi[1]) / 2.0 / f64::from(h),
+    ];
+    (share, centre)
+}
+
+fn models() -> Vec<PathBuf> {
+    vec![
+        root().join("fixtures/meshes/spot.obj"),
+        root().join("fixtures/meshes/stanford-bunny.obj"),
+    ]
+}
+
+#[test]
+fn every_effect_shows_the_object_on_every_model() {
+    let Some(_) = context_or_skip("every_effect_shows_the_object_on_every_model") else {
+        return;
+    };
+    let dir = out_dir("effects");
+    for model in models() {
+        for effect in Effect::ALL.into_iter().filter(|e| *e != Effect::Warp) {
+            let out = dir.join(format!(
+                "{}-{}.png",
+                model.file_stem().unwrap().to_string_lossy(),
+                effect.name()
+            ));
+            let o = npr(&[
+                "render",
+                model.to_str().unwrap(),
+                "--effect",
+                effect.name(),
+                "--size",
+                "160x120",
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(
+                o.status.success(),
+                "{} {}: {}",
+                model.display(),
+                effect.name(),
+                String::from_utf8_lossy(&o.stderr)
+            );
+            let img = image::open(&out).unwrap().to_rgba8();
+            assert_eq!(img.dimensions(), (160, 120));
+            let (share, centre) = object_coverage(&img);
+            // A framed model fills a good part of the image, around its centre.
+            assert!(
+                (0.05..0.9).contains(&share),
+                "{} {}: object covers {share}",
+                model.display(),
+                effect.name()
+            );
+            assert!(
+                (centre[0] - 0.5).abs() < 0.2 && (centre[1] - 0.5).abs() < 0.2,
+                "{} {}: object centred at {centre:?}",
+                model.display(),
+                effect.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn specular_equals_the_library_snapshot_helper() {
+    let Some(ctx) = context_or_skip("specular_equals_the_library_snapshot_helper") else {
+        return;
+    };
+    let model = Model::load(&root().join("fixtures/meshes/spot.obj")).unwrap();
+    let mut preset = Preset {
+        effect: Effect::Specular,
+        turn_deg: 40.0,
+        ..Preset::default()
+    };
+    preset.specular.shape = "star".into();
+    preset.specular.sigma = 0.85;
+    let size = (200, 150);
+    let view = View::new(&preset, &model.framing, size, 0.0);
+
+    // The library's own path: a set, its controls, one snapshot render.
+    let mut set = npr_specular::HighlightSet::new(
+        &model.mesh,
+        &npr_geometry::CurvatureOptions {
+            radius: npr_geometry::CurvatureRadius::EdgeLengths(preset.specular.smoothing_edges),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let layer = engine::builtin_shape("star").unwrap().layer();
+    engine::apply_controls(&mut set, &preset, layer);
+    set.update(view.light_eye(), view.world_from_object);
+    assert!(
+        !set.highlights().is_empty(),
+        "the view must show highlights"
+    );
+    let gpu_mesh = npr_gpu::GpuMesh::upload(&ctx.device, &model.mesh).unwrap();
+    let expected = npr_specular::snapshot::render(
+        &ctx.device,
+        &ctx.queue,
+        &npr_specular::snapshot::HighlightScene {
+            mesh: &gpu_mesh,
+            indices: &model.mesh.indices,
+            set: &set,
+            object: engine::object_uniforms(&preset, view.world_from_object),
+            camera: view.camera,
+            light: view.light,
+            base: engine::shading_model(&preset),
+            highlights: true,
+            clear: engine::clear_color(&preset),
+        },
+        size.0,
+        size.1,
+    )
+    .unwrap();
+
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size).unwrap();
+    let stats = renderer
+        .render(&ctx.device, &ctx.queue, &preset, &view)
+        .unwrap();
+    let got = renderer.read(&ctx.device, &ctx.queue).unwrap();
+    assert_eq!(stats.highlights, set.highlights().len());
+    let worst = got
+        .as_raw()
+        .iter()
+        .zip(expected.as_raw())
+        .map(|(a, b)| a.abs_diff(*b))
+        .max()
+        .unwrap();
+    assert!(worst <= 1, "app and snapshot differ by {worst}/255");
+    // And the highlights are really there: without them the image differs.
+    let mut base_only = preset.clone();
+    base_only.effect = Effect::Phong;
+    base_only.base.ks = preset.specular.base_ks;
+    renderer
+        .render(&ctx.device, &ctx.queue, &base_only, &view)
+        .unwrap();
+    let plain = renderer.read(&ctx.device, &ctx.queue).unwrap();
+    let changed = got
+        .pixels()
+        .zip(plain.pixels())
+        .filter(|(a, b)| a.0 != b.0)
+        .count();
+    assert!(changed > 20, "highlights changed only {changed} pixels");
+}
+
+#[test]
+fn a_turntable_gif_has_its_frames_and_json_its_rows() {
+    let Some(_) = context_or_skip("a_turntable_gif_has_its_frames_and_json_its_rows") else {
+        return;
+    };
+    let dir = out_dir("gif");
+    let gif = dir.join("spot.gif");
+    let json = dir.join("spot.json");
+    let model = root().join("fixtures/meshes/spot.obj");
+    let o = npr(&[
+        "render",
+        model.to_str().unwrap(),
+        "--effect",
+        "specular",
+        "--size",
+        "96x72",
+        "--turntable",
+        "6",
+        "--gif",
+        "--out",
+        gif.to_str().unwrap(),
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    use image::AnimationDecoder as _;
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(&gif).unwrap(),
+    ))
+    .unwrap();
+    let frames = decoder.into_frames().collect_frames().unwrap();
+    assert_eq!(frames.len(), 6);
+    // The model turns: consecutive frames differ.
+    assert_ne!(frames[0].buffer().as_raw(), frames[1].buffer().as_raw());
+    let rows: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r["frame"], i);
+        assert!(r["setup_us"].as_f64().unwrap() > 0.0);
+        assert!(r["triangles"].as_u64().unwrap() > 20_000);
+        assert!(r["highlights"].is_u64() && r["receiver_faces"].is_u64());
+    }
+
+    // Without --gif: numbered frames beside --out.
+    let out = dir.join("frames/spot.png");
+    let o = npr(&[
+        "render",
+        model.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--turntable",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for i in 0..3 {
+        assert!(dir.join(format!("frames/spot_{i:04}.png")).exists());
+    }
+    assert!(!dir.join("frames/spot_0003.png").exists());
+}
+
+#[test]
+fn bad_input_gets_one_line_and_no_output() {
+    let dir = out_dir("bad");
+    let garbage = dir.join("garbage.obj");
+    std::fs::write(&garbage, b"\x00\x01\x02 not an obj at all f 1 2 99\n").unwrap();
+    let bad_preset = dir.join("bad.toml");
+    std::fs::write(&bad_preset, "[camera]\ndistance = -1\n").unwrap();
+    let spot = root().join("fixtures/meshes/spot.obj");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "render".into(),
+                dir.join("missing.obj").display().to_string(),
+            ],
+            "missing.obj",
+        ),
+        (
+            vec!["render".into(), garbage.display().to_string()],
+            "garbage.obj",
+        ),
+        (
+            vec![
+                "render".into(),
+                spot.display().to_string(),
+                "--preset".into(),
+                bad_preset.display().to_string(),
+            ],
+            "distance",
+        ),
+        (
+            vec!["render".into(), spot.display().to_string(), "--gif".into()],
+            "--turntable",
+        ),
+    ];
+    for (args, names) in cases {
+        let out = dir.join("out.png");
+        let mut args = args.clone();
+        args.extend(["--out".into(), out.display().to_string()]);
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = npr(&refs);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let lines: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.starts_with("npr: error:"))
+            .collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
+        assert!(lines[0].contains(names), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} left {}", out.display());
+        let leftovers: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(Result::ok)
+            .filter(|e| e.file_name().to_string_lossy().ends_with(".partial"))
+            .collect();
+        assert!(leftovers.is_empty(), "{args:?} left partial files");
+    }
+}
