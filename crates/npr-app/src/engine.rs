@@ -135,11 +135,44 @@ pub fn global_controls(preset: &Preset, layer: u32) -> ProjectorControls {
     }
 }
 
-/// Applies the preset's global controls and per-highlight edits to a set.
+/// The id each of the preset's edits applies to: an edit with an anchor goes to the
+/// highlight whose found centre (object space) is nearest the anchor, within 15 % of the
+/// model's bounding radius; otherwise (or when none is that near) to its own id.
+pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset) -> Vec<u64> {
+    let positions = &set.topology().positions;
+    let framing_radius = {
+        let c = positions.iter().fold(Vec3::ZERO, |a, p| a + *p) / positions.len().max(1) as f32;
+        positions
+            .iter()
+            .map(|p| p.distance(c))
+            .fold(0.0f32, f32::max)
+    };
+    preset
+        .specular
+        .edits
+        .iter()
+        .map(|e| {
+            let Some(anchor) = e.anchor.map(Vec3::from) else {
+                return e.id;
+            };
+            set.highlights()
+                .iter()
+                .map(|h| (h.id, h.centre.position_object.distance(anchor)))
+                .filter(|(_, d)| *d <= 0.15 * framing_radius)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map_or(e.id, |(id, _)| id)
+        })
+        .collect()
+}
+
+/// Applies the preset's global controls and per-highlight edits to a set (edits with an
+/// anchor go to the highlight nearest it among the set's current highlights, see
+/// [`resolve_edit_ids`]).
 pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32) {
     set.global = global_controls(preset, layer);
-    for e in &preset.specular.edits {
-        *set.controls_mut(e.id) = HighlightControls {
+    let ids = resolve_edit_ids(set, preset);
+    for (e, id) in preset.specular.edits.iter().zip(ids) {
+        *set.controls_mut(id) = HighlightControls {
             translate: Vec2::from(e.translate),
             rotate_rad: e.rotate_deg.to_radians(),
             scale: Vec2::from(e.scale),
@@ -305,7 +338,14 @@ impl Renderer {
         Ok(())
     }
 
-    fn directions(&mut self, which: DirectionPreset) -> &[Vec3] {
+    /// The per-vertex stroke directions of `which`, if computed already (see
+    /// [`Renderer::directions`]).
+    pub fn cached_directions(&self, which: DirectionPreset) -> Option<&[Vec3]> {
+        self.directions.get(&which).map(Vec::as_slice)
+    }
+
+    /// The per-vertex stroke directions of `which` (computed once per model).
+    pub fn directions(&mut self, which: DirectionPreset) -> &[Vec3] {
         let mesh = &self.model.mesh;
         self.directions.entry(which).or_insert_with(|| {
             let dir = match which {
@@ -446,8 +486,17 @@ impl Renderer {
                     .as_mut()
                     .filter(|_| effect == Effect::Specular)
                 {
-                    apply_controls(&mut s.set, preset, s.layer);
                     let started = Instant::now();
+                    if s.set.highlights().is_empty()
+                        && preset.specular.edits.iter().any(|e| e.anchor.is_some())
+                    {
+                        // A fresh sequence: find the highlights once so that anchored
+                        // edits can be matched to their ids. Updating again with the same
+                        // light and eye matches every highlight to itself (same ids, full
+                        // opacity), now with the edits applied.
+                        s.set.update(view.light_eye(), view.world_from_object);
+                    }
+                    apply_controls(&mut s.set, preset, s.layer);
                     s.set.update(view.light_eye(), view.world_from_object);
                     stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
                     let st = s.set.stats();

@@ -23,6 +23,9 @@ pub enum AppError {
         /// What is wrong (with the TOML line and column where known).
         reason: String,
     },
+    /// `npr view` found no display to open a window on.
+    #[error("npr view: {0}")]
+    NoDisplay(String),
     /// A command-line value is invalid.
     #[error("{0}")]
     Usage(String),
@@ -72,6 +75,7 @@ impl AppError {
             Self::Load { .. } => "load",
             Self::Preset { .. } => "preset",
             Self::Usage(_) => "usage",
+            Self::NoDisplay(_) => "no-display",
             Self::Io { .. } => "io",
             Self::Encode { .. } => "encode",
             Self::Gpu(_) => "gpu",

@@ -2,6 +2,7 @@
 //! model, through the technique crates' public API only (as any outside user would).
 //!
 //! - `npr render MODEL --effect E`: batch images, turntables and GIFs ([`render`]).
+//! - `npr view [MODEL]`: the live window ([`viewer`]).
 //! - `npr curvature IN OUT.csv`: per-vertex principal curvatures ([`curvature`]).
 //!
 //! The pieces are a library so that tests (and the viewer) drive the same code paths:
@@ -18,6 +19,7 @@ pub mod preset;
 pub mod progress;
 pub mod render;
 pub mod view;
+pub mod viewer;
 
 pub use error::AppError;
 

@@ -3,6 +3,7 @@
 //! ```text
 //! npr render MODEL [--effect E] [--preset FILE] [--size WxH] [--out PATH]
 //!                  [--turntable N [--gif]] [--json PATH]
+//! npr view [MODEL] [--preset FILE] [--script FILE] [--screenshot PNG] [--exit-after-frames N]
 //! npr curvature IN OUT.csv [--radius R | --radius-edges K] [--method M]
 //! ```
 
@@ -20,6 +21,8 @@ struct Cli {
 enum Command {
     /// Render a model with an effect to PNG, numbered PNG frames or a GIF.
     Render(npr_app::render::RenderArgs),
+    /// Open a live window on a model (the built-in bunny when none is given).
+    View(npr_app::viewer::ViewArgs),
     /// Per-vertex principal curvatures of a model, as CSV.
     Curvature(npr_app::curvature::CurvatureArgs),
 }
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
                 println!("{}", path.display());
             }
         }),
+        Command::View(args) => npr_app::viewer::run(args),
         Command::Curvature(args) => npr_app::curvature::run(args),
     };
     match result {

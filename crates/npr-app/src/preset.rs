@@ -200,6 +200,12 @@ impl From<UpPreset> for npr_specular::UpAxis {
 pub struct HighlightEdit {
     /// The highlight's id.
     pub id: u64,
+    /// The found centre of the highlight when it was edited, object space (the model's own
+    /// units). When set, the edit applies to the highlight found nearest to it, so a preset
+    /// saved after orbiting (when ids have moved on) edits the same highlight in a fresh
+    /// `npr render`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<[f32; 3]>,
     /// Translation along (e_max, e_min), in bounding radii.
     pub translate: [f32; 2],
     /// Rotation about N, degrees.
@@ -212,6 +218,7 @@ impl Default for HighlightEdit {
     fn default() -> Self {
         Self {
             id: 0,
+            anchor: None,
             translate: [0.0, 0.0],
             rotate_deg: 0.0,
             scale: [1.0, 1.0],
@@ -523,6 +530,7 @@ mod tests {
         };
         p.specular.edits.push(HighlightEdit {
             id: 3,
+            anchor: Some([0.5, -1.0, 2.0]),
             translate: [0.1, -0.2],
             rotate_deg: 30.0,
             scale: [1.5, 0.5],

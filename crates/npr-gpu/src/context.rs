@@ -36,14 +36,41 @@ impl GpuContext {
     pub async fn new_async() -> Result<Self, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = match wgpu::util::initialize_adapter_from_env(&instance, None).await {
+        Self::with_instance(instance, None).await
+    }
+
+    /// A context for a window: `descriptor` should carry the windowing system's display
+    /// handle (with winit, `InstanceDescriptor::new_with_display_handle_from_env` of the
+    /// event loop's `owned_display_handle()`), `make_surface` creates the window's surface
+    /// from the instance, and the adapter is chosen to present to it.
+    ///
+    /// # Errors
+    /// [`GpuError::Surface`] when the surface cannot be created, else as
+    /// [`GpuContext::new`].
+    pub fn for_surface(
+        descriptor: wgpu::InstanceDescriptor,
+        make_surface: impl FnOnce(
+            &wgpu::Instance,
+        ) -> Result<wgpu::Surface<'static>, wgpu::CreateSurfaceError>,
+    ) -> Result<(Self, wgpu::Surface<'static>), GpuError> {
+        let instance = wgpu::Instance::new(descriptor);
+        let surface = make_surface(&instance).map_err(|e| GpuError::Surface(e.to_string()))?;
+        let ctx = pollster::block_on(Self::with_instance(instance, Some(&surface)))?;
+        Ok((ctx, surface))
+    }
+
+    async fn with_instance(
+        instance: wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self, GpuError> {
+        let adapter = match wgpu::util::initialize_adapter_from_env(&instance, surface).await {
             Ok(a) => a,
             Err(_) => instance
                 .request_adapter(&wgpu::RequestAdapterOptions {
                     power_preference: wgpu::PowerPreference::from_env()
                         .unwrap_or(wgpu::PowerPreference::HighPerformance),
                     force_fallback_adapter: false,
-                    compatible_surface: None,
+                    compatible_surface: surface,
                     ..Default::default()
                 })
                 .await

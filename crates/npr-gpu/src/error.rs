@@ -41,6 +41,11 @@ pub enum GpuError {
     /// index past the vertex count. Fix: validate the mesh with `npr_geometry`.
     #[error("mesh cannot be uploaded: {0}")]
     InvalidMesh(String),
+    /// A window surface could not be created. Cause: the windowing system refused it (no
+    /// display, or a backend without presentation support). Fix: check `DISPLAY` /
+    /// `WAYLAND_DISPLAY`, or render offscreen instead.
+    #[error("cannot create a window surface: {0}")]
+    Surface(String),
     /// A wgpu validation error caught in an error scope.
     #[error("wgpu validation error: {0}")]
     Validation(String),

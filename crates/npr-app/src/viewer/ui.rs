@@ -1,0 +1,433 @@
+//! The viewer's egui side: the panel (every preset field, files, heads-up line) and the
+//! central 3-D view (mouse and keys turned into [`Input`], debug overlays).
+
+use super::state::{Button, HighlightInfo, Input, Key, ViewerState};
+use crate::engine::{FrameStats, Renderer};
+use crate::model::Model;
+use crate::preset::{BaseModel, BlendPreset, DirectionPreset, Effect, UpPreset};
+use egui::{Color32, Pos2, Sense, Stroke};
+use glam::{Vec2, Vec3};
+use std::path::PathBuf;
+
+/// Debug overlays of the 3-D view.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Debug {
+    /// The highlight frusta (projector footprints and axes).
+    pub frusta: bool,
+    /// Principal directions (e_max) as a line field.
+    pub directions: bool,
+}
+
+/// File actions asked for in the panel this frame.
+#[derive(Clone, Debug, Default)]
+pub struct Actions {
+    /// Open this model.
+    pub open_model: Option<PathBuf>,
+    /// Save the preset here.
+    pub save_preset: Option<PathBuf>,
+    /// Load a preset from here.
+    pub load_preset: Option<PathBuf>,
+    /// Write a screenshot here.
+    pub screenshot: Option<PathBuf>,
+    /// Restart highlight tracking.
+    pub reset_sequence: bool,
+}
+
+fn path_field(ui: &mut egui::Ui, id: &str, label: &str) -> Option<PathBuf> {
+    let key = egui::Id::unique(("npr-path", id));
+    let mut text: String = ui.data_mut(|d| d.get_temp::<String>(key).unwrap_or_default());
+    let mut go = false;
+    ui.horizontal(|ui| {
+        let r = ui.add(egui::TextEdit::singleline(&mut text).desired_width(170.0));
+        go = ui.button(label).clicked()
+            || (r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)));
+    });
+    ui.data_mut(|d| d.insert_temp(key, text.clone()));
+    (go && !text.trim().is_empty()).then(|| PathBuf::from(text.trim()))
+}
+
+fn rgb(ui: &mut egui::Ui, label: &str, c: &mut [f32; 3]) {
+    ui.horizontal(|ui| {
+        ui.label(label);
+        ui.color_edit_button_rgb(c);
+    });
+}
+
+/// The side panel. Returns the file actions asked for.
+#[allow(clippy::too_many_arguments)]
+pub fn panel(
+    ui: &mut egui::Ui,
+    state: &mut ViewerState,
+    debug: &mut Debug,
+    stats: &FrameStats,
+    frame_ms: f64,
+    model: &Model,
+    status: Option<&str>,
+) -> Actions {
+    let mut actions = Actions::default();
+    egui::Panel::right("npr-panel")
+        .resizable(true)
+        .default_size(300.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                ui.heading(&model.name);
+                ui.label(format!(
+                    "{} triangles, {} vertices",
+                    model.mesh.triangle_count(),
+                    model.mesh.vertex_count()
+                ));
+                for note in &model.notes {
+                    ui.small(note);
+                }
+                if let Some(s) = status {
+                    let color = if s.starts_with("error") {
+                        Color32::from_rgb(220, 60, 60)
+                    } else {
+                        Color32::GRAY
+                    };
+                    ui.colored_label(color, s);
+                }
+                ui.separator();
+                let p = &mut state.preset;
+                egui::ComboBox::from_label("effect")
+                    .selected_text(p.effect.name())
+                    .show_ui(ui, |ui| {
+                        for e in Effect::ALL {
+                            ui.selectable_value(&mut p.effect, e, e.name());
+                        }
+                    });
+                ui.horizontal(|ui| {
+                    ui.checkbox(&mut state.turntable, "turntable (T)");
+                    if ui.button("reset view (R)").clicked() {
+                        p.camera = state.initial.camera;
+                        p.light = state.initial.light;
+                        p.turn_deg = state.initial.turn_deg;
+                        state.turntable_deg = 0.0;
+                    }
+                });
+                egui::CollapsingHeader::new("camera and light").show(ui, |ui| {
+                    ui.add(egui::Slider::new(&mut p.camera.yaw_deg, -180.0..=180.0).text("yaw"));
+                    ui.add(egui::Slider::new(&mut p.camera.pitch_deg, -85.0..=85.0).text("pitch"));
+                    ui.add(
+                        egui::Slider::new(&mut p.camera.distance, 1.05..=20.0)
+                            .logarithmic(true)
+                            .text("distance"),
+                    );
+                    ui.add(egui::Slider::new(&mut p.camera.fov_deg, 10.0..=90.0).text("fov"));
+                    let d = Vec3::from(p.light.direction).normalize_or(Vec3::Y);
+                    let (mut yaw, mut pitch) = (d.x.atan2(d.z).to_degrees(), d.y.asin().to_degrees());
+                    let a = ui.add(egui::Slider::new(&mut yaw, -180.0..=180.0).text("light yaw"));
+                    let b = ui.add(egui::Slider::new(&mut pitch, -89.0..=89.0).text("light pitch"));
+                    if a.changed() || b.changed() {
+                        let (y, q) = (yaw.to_radians(), pitch.to_radians());
+                        p.light.direction = [y.sin() * q.cos(), q.sin(), y.cos() * q.cos()];
+                    }
+                    ui.small("Ctrl-drag in the view also moves the light.");
+                });
+                egui::CollapsingHeader::new("base shading")
+                    .default_open(true)
+                    .show(ui, |ui| {
+                        ui.horizontal(|ui| {
+                            for (m, n) in [
+                                (BaseModel::Phong, "Phong"),
+                                (BaseModel::Gouraud, "Gouraud"),
+                                (BaseModel::Cel, "cel"),
+                            ] {
+                                ui.radio_value(&mut p.base.model, m, n);
+                            }
+                        });
+                        rgb(ui, "diffuse", &mut p.base.diffuse);
+                        rgb(ui, "background", &mut p.base.background);
+                        ui.add(egui::Slider::new(&mut p.base.ks, 0.0..=1.0).text("k_s"));
+                        ui.add(
+                            egui::Slider::new(&mut p.base.shininess, 1.0..=256.0)
+                                .logarithmic(true)
+                                .text("shininess"),
+                        );
+                        let mut bands = p.base.cel_bands.len();
+                        if ui
+                            .add(egui::Slider::new(&mut bands, 2..=6).text("cel bands"))
+                            .changed()
+                        {
+                            p.base.cel_bands = (0..bands)
+                                .map(|i| (70 + 185 * i / (bands - 1).max(1)) as u8)
+                                .collect();
+                        }
+                    });
+                egui::CollapsingHeader::new("specular (Lee & Choi)")
+                    .default_open(p.effect == Effect::Specular)
+                    .show(ui, |ui| {
+                        ui.add(egui::Slider::new(&mut p.specular.sigma, 0.5..=0.99).text("σ"));
+                        egui::ComboBox::from_label("shape")
+                            .selected_text(p.specular.shape.clone())
+                            .show_ui(ui, |ui| {
+                                for s in npr_specular::HighlightShape::ALL {
+                                    ui.selectable_value(&mut p.specular.shape, s.name().to_string(), s.name());
+                                }
+                            });
+                        if let Some(png) = path_field(ui, "shape", "use PNG") {
+                            p.specular.shape = png.display().to_string();
+                        }
+                        ui.horizontal(|ui| {
+                            ui.label("up");
+                            ui.radio_value(&mut p.specular.up, UpPreset::EMin, "e_min");
+                            ui.radio_value(&mut p.specular.up, UpPreset::EMax, "e_max");
+                        });
+                        ui.add(
+                            egui::Slider::new(&mut p.specular.smoothing_edges, 1.0..=12.0)
+                                .text("curvature smoothing (edges)"),
+                        );
+                        ui.add(egui::Slider::new(&mut p.specular.base_ks, 0.0..=1.0).text("base k_s"));
+                        if let Some(id) = state.selected {
+                            ui.label(format!("selected highlight #{id}"));
+                            if let Some(e) = p.specular.edits.iter_mut().find(|e| e.id == id) {
+                                ui.add(egui::Slider::new(&mut e.rotate_deg, -180.0..=180.0).text("rotate"));
+                                ui.add(egui::Slider::new(&mut e.scale[0], 0.05..=10.0).logarithmic(true).text("scale e_max"));
+                                ui.add(egui::Slider::new(&mut e.scale[1], 0.05..=10.0).logarithmic(true).text("scale e_min"));
+                            }
+                        } else {
+                            ui.small("Click a highlight to pick it; drag moves it, Shift-drag turns it, the wheel scales it.");
+                        }
+                        if !p.specular.edits.is_empty() && ui.button("clear edits").clicked() {
+                            p.specular.edits.clear();
+                        }
+                        if ui.button("restart tracking").clicked() {
+                            actions.reset_sequence = true;
+                        }
+                    });
+                egui::CollapsingHeader::new("hatching (Kim & Lee)")
+                    .default_open(p.effect.is_hatching())
+                    .show(ui, |ui| {
+                        ui.horizontal(|ui| {
+                            ui.radio_value(&mut p.effect, Effect::HatchingPen, "pen");
+                            ui.radio_value(&mut p.effect, Effect::HatchingPencil, "pencil");
+                        });
+                        ui.add(
+                            egui::Slider::new(
+                                &mut p.hatching.bins,
+                                npr_hatching::MIN_BINS..=npr_hatching::MAX_BINS,
+                            )
+                            .text("bins"),
+                        );
+                        ui.add(
+                            egui::Slider::new(&mut p.hatching.stroke_scale, 0.25..=4.0)
+                                .logarithmic(true)
+                                .text("stroke scale"),
+                        );
+                        ui.horizontal(|ui| {
+                            ui.radio_value(&mut p.hatching.blend, BlendPreset::CutAndPaste, "cut");
+                            ui.radio_value(&mut p.hatching.blend, BlendPreset::Blended, "blended");
+                            ui.radio_value(&mut p.hatching.blend, BlendPreset::Offset, "offset");
+                        });
+                        ui.checkbox(&mut p.hatching.shadows, "shadows");
+                        ui.horizontal(|ui| {
+                            ui.label("direction");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "k_max");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMin, "k_min");
+                        });
+                    });
+                egui::CollapsingHeader::new("warp (Park & Ihm)")
+                    .default_open(p.effect == Effect::Warp)
+                    .show(ui, |ui| {
+                        ui.add(egui::Slider::new(&mut p.warp.k, 1..=30).text("k"));
+                        ui.add(
+                            egui::Slider::new(&mut p.warp.proxy_ratio, 0.001..=1.0)
+                                .logarithmic(true)
+                                .text("proxy ratio"),
+                        );
+                        ui.checkbox(&mut p.warp.depth_test, "reference depth test");
+                    });
+                egui::CollapsingHeader::new("debug views").show(ui, |ui| {
+                    ui.checkbox(&mut debug.frusta, "highlight frusta");
+                    ui.checkbox(&mut debug.directions, "principal directions");
+                });
+                ui.separator();
+                if let Some(p) = path_field(ui, "open", "open model") {
+                    actions.open_model = Some(p);
+                }
+                if let Some(p) = path_field(ui, "save", "save preset") {
+                    actions.save_preset = Some(p);
+                }
+                if let Some(p) = path_field(ui, "load", "load preset") {
+                    actions.load_preset = Some(p);
+                }
+                if let Some(p) = path_field(ui, "shot", "screenshot") {
+                    actions.screenshot = Some(p);
+                }
+                ui.separator();
+                ui.small(format!(
+                    "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} triangles",
+                    stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
+                ));
+                if let Some(psnr) = stats.psnr_db {
+                    ui.small(format!("warped frame PSNR {psnr:.1} dB"));
+                }
+            });
+        });
+    actions
+}
+
+fn to_pos(rect: egui::Rect, ppp: f32, px: Vec2) -> Pos2 {
+    rect.min + egui::vec2(px.x, px.y) / ppp
+}
+
+/// The central 3-D view. Appends the view's mouse and key input to `inputs` and returns
+/// the size the view wants, in physical pixels.
+#[allow(clippy::too_many_arguments)]
+pub fn central(
+    ui: &mut egui::Ui,
+    texture: egui::TextureId,
+    size: (u32, u32),
+    inputs: &mut Vec<Input>,
+    debug: &Debug,
+    state: &ViewerState,
+    highlights: &[HighlightInfo],
+    renderer: &Renderer,
+) -> (u32, u32) {
+    let mut want = size;
+    egui::CentralPanel::no_frame().show(ui, |ui| {
+        let ppp = ui.ctx().pixels_per_point();
+        let avail = ui.available_size();
+        want = (
+            (avail.x * ppp).round().max(1.0) as u32,
+            (avail.y * ppp).round().max(1.0) as u32,
+        );
+        let shown = egui::vec2(size.0 as f32, size.1 as f32) / ppp;
+        let resp = ui.add(
+            egui::Image::new(egui::load::SizedTexture::new(texture, shown))
+                .sense(Sense::click_and_drag()),
+        );
+        let rect = resp.rect;
+        let to_px = |p: Pos2| Vec2::new((p.x - rect.min.x) * ppp, (p.y - rect.min.y) * ppp);
+        let keyboard_free = !ui.ctx().egui_wants_keyboard_input();
+        let events = ui.input(|i| i.events.clone());
+        for ev in events {
+            match ev {
+                egui::Event::PointerButton {
+                    pos,
+                    button,
+                    pressed,
+                    modifiers,
+                } => {
+                    if pressed && rect.contains(pos) {
+                        let button = match button {
+                            egui::PointerButton::Primary if modifiers.shift => Button::ShiftLeft,
+                            egui::PointerButton::Primary if modifiers.ctrl || modifiers.command => {
+                                Button::CtrlLeft
+                            }
+                            egui::PointerButton::Primary => Button::Left,
+                            _ => Button::Right,
+                        };
+                        inputs.push(Input::Press {
+                            at: to_px(pos),
+                            button,
+                        });
+                    } else if !pressed {
+                        inputs.push(Input::Release { at: to_px(pos) });
+                    }
+                }
+                egui::Event::PointerMoved(pos) => inputs.push(Input::Move { at: to_px(pos) }),
+                egui::Event::MouseWheel { delta, unit, .. } if resp.hovered() => {
+                    let notches = match unit {
+                        egui::MouseWheelUnit::Point => delta.y / 50.0,
+                        _ => delta.y,
+                    };
+                    if let Some(p) = ui.input(|i| i.pointer.hover_pos()) {
+                        inputs.push(Input::Scroll {
+                            at: to_px(p),
+                            notches,
+                        });
+                    }
+                }
+                egui::Event::Key {
+                    key, pressed: true, ..
+                } if keyboard_free => {
+                    let name = match key {
+                        egui::Key::T => "t",
+                        egui::Key::R => "r",
+                        egui::Key::Escape => "escape",
+                        egui::Key::Num1 => "1",
+                        egui::Key::Num2 => "2",
+                        egui::Key::Num3 => "3",
+                        egui::Key::Num4 => "4",
+                        egui::Key::Num5 => "5",
+                        egui::Key::Num6 => "6",
+                        egui::Key::Num7 => "7",
+                        _ => "",
+                    };
+                    if let Some(k) = Key::from_name(name) {
+                        inputs.push(Input::Key(k));
+                    }
+                }
+                _ => {}
+            }
+        }
+        // Overlays.
+        let painter = ui.painter_at(rect);
+        let view = state.view(&renderer.model().framing, size);
+        let proj = |p: Vec3| view.to_pixel(p, size).map(|px| to_pos(rect, ppp, px));
+        for h in highlights {
+            let selected = state.selected == Some(h.id);
+            if !(debug.frusta || selected) {
+                continue;
+            }
+            let v = h.normal.cross(h.axis_u);
+            let pts: Vec<Pos2> = (0..=32)
+                .filter_map(|i| {
+                    let a = i as f32 / 32.0 * std::f32::consts::TAU;
+                    proj(
+                        h.centre_world
+                            + h.axis_u * h.half_extent.x * a.cos()
+                            + v * h.half_extent.y * a.sin(),
+                    )
+                })
+                .collect();
+            let color = if selected {
+                Color32::from_rgb(255, 160, 0)
+            } else {
+                Color32::from_rgb(0, 160, 255)
+            };
+            painter.add(egui::Shape::line(pts, Stroke::new(1.5, color)));
+            if let (Some(c), Some(u)) = (
+                proj(h.centre_world),
+                proj(h.centre_world + h.axis_u * h.half_extent.x),
+            ) {
+                painter.line_segment([c, u], Stroke::new(1.5, color));
+            }
+        }
+        if debug.directions {
+            let mesh = &renderer.model().mesh;
+            let step = (mesh.vertex_count() / 3000).max(1);
+            let len = 0.03;
+            let dirs = renderer
+                .cached_directions(DirectionPreset::KMax)
+                .unwrap_or(&[]);
+            for (i, (p, d)) in mesh.positions.iter().zip(dirs).enumerate().step_by(step) {
+                let n = view
+                    .world_from_object
+                    .transform_vector3(mesh.normals[i])
+                    .normalize_or_zero();
+                let pw = view.world_from_object.transform_point3(*p);
+                if n.dot(view.camera.eye - pw) <= 0.0 {
+                    continue;
+                }
+                let dw = view
+                    .world_from_object
+                    .transform_vector3(*d)
+                    .normalize_or_zero()
+                    * len;
+                if let (Some(a), Some(b)) = (proj(pw - dw), proj(pw + dw)) {
+                    painter.line_segment([a, b], Stroke::new(1.0, Color32::from_rgb(200, 40, 40)));
+                }
+            }
+        }
+        painter.text(
+            rect.left_top() + egui::vec2(6.0, 4.0),
+            egui::Align2::LEFT_TOP,
+            format!("{} · {}", state.preset.effect.name(), renderer.model().name),
+            egui::FontId::monospace(12.0),
+            Color32::DARK_GRAY,
+        );
+    });
+    want
+}

@@ -1,0 +1,191 @@
+//! `npr view` in a real window: under Xvfb (installed by `cargo xtask test`), a script picks
+//! a highlight, drags, rotates and scales it, switches to hatching and warping, resizes the
+//! window to 0×0 and back, saves the preset and takes a screenshot; the screenshot must equal
+//! `npr render` of the saved preset, and the picked highlight must have moved, turned and
+//! grown. Without a display and without `xvfb-run` the test fails (it must not pass without
+//! running) unless `NPR_SKIP_GPU=1` asks to skip GPU and window tests.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("npr-view-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// How to reach a display: `xvfb-run` if installed, else an existing `DISPLAY`.
+fn display_runner() -> Option<Vec<String>> {
+    let has_xvfb = Command::new("xvfb-run")
+        .arg("--help")
+        .output()
+        .is_ok_and(|o| o.status.success() || !o.stdout.is_empty() || !o.stderr.is_empty());
+    if has_xvfb {
+        return Some(vec![
+            "xvfb-run".into(),
+            "-a".into(),
+            "-s".into(),
+            "-screen 0 1280x900x24".into(),
+        ]);
+    }
+    std::env::var_os("DISPLAY").map(|_| Vec::new())
+}
+
+fn skip_allowed(test: &str) -> bool {
+    if std::env::var("NPR_SKIP_GPU").is_ok_and(|v| v == "1") {
+        eprintln!("SKIPPED {test}: NPR_SKIP_GPU=1");
+        return true;
+    }
+    false
+}
+
+fn psnr(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    assert_eq!(a.dimensions(), b.dimensions());
+    let mse = a
+        .as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(x, y)| (f64::from(*x) - f64::from(*y)).powi(2))
+        .sum::<f64>()
+        / a.as_raw().len() as f64;
+    if mse == 0.0 {
+        f64::INFINITY
+    } else {
+        10.0 * (255.0f64 * 255.0 / mse).log10()
+    }
+}
+
+#[test]
+fn without_a_display_view_exits_at_once_naming_npr_render() {
+    let o = Command::new(env!("CARGO_BIN_EXE_npr"))
+        .arg("view")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    let lines: Vec<_> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(lines[0].contains("npr render"), "{stderr}");
+    assert!(!stderr.contains("panicked"));
+}
+
+#[test]
+fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
+    let test = "scripted_window_picks_moves_turns_and_scales_a_highlight";
+    let Some(runner) = display_runner() else {
+        if skip_allowed(test) {
+            return;
+        }
+        panic!(
+            "{test}: no display and no xvfb-run; `cargo xtask test` installs Xvfb \
+             (apt-get install -y xvfb xauth), or set NPR_SKIP_GPU=1 to skip"
+        );
+    };
+    let dir = out_dir("script");
+    let p = |n: &str| dir.join(n).display().to_string();
+    let script = format!(
+        "@3 effect specular\n\
+         @6 click-highlight\n\
+         @7 report {before}\n\
+         @8 drag-selected 30 0\n\
+         @10 rotate-selected 40\n\
+         @12 scroll-selected 3\n\
+         @14 report {after}\n\
+         @16 effect hatching-pen\n\
+         @20 key 7\n\
+         @24 resize 0 0\n\
+         @28 resize 900 640\n\
+         @34 effect specular\n\
+         @40 save-preset {preset}\n\
+         @41 screenshot {shot}\n\
+         @42 exit\n",
+        before = p("before.json"),
+        after = p("after.json"),
+        preset = p("preset.toml"),
+        shot = p("view.png"),
+    );
+    std::fs::write(dir.join("script.txt"), script).unwrap();
+    let spot = root().join("fixtures/meshes/spot.obj");
+    let mut cmd = Command::new(
+        runner
+            .first()
+            .map_or(env!("CARGO_BIN_EXE_npr"), String::as_str),
+    );
+    cmd.args(runner.iter().skip(1));
+    if !runner.is_empty() {
+        cmd.arg(env!("CARGO_BIN_EXE_npr"));
+    }
+    let o = cmd
+        .args([
+            "view",
+            spot.to_str().unwrap(),
+            "--size",
+            "1000x700",
+            "--script",
+        ])
+        .arg(dir.join("script.txt"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "npr view failed: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    // The highlight moved along the drag, turned and grew.
+    let read = |n: &str| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(dir.join(n)).unwrap()).unwrap()
+    };
+    let (b, a) = (read("before.json"), read("after.json"));
+    let (b, a) = (&b["selected"], &a["selected"]);
+    assert_eq!(b["id"], a["id"], "the same highlight stays selected");
+    let px =
+        |v: &serde_json::Value, k: &str| [v[k][0].as_f64().unwrap(), v[k][1].as_f64().unwrap()];
+    let (c0, c1) = (px(b, "centre_px"), px(a, "centre_px"));
+    let moved = [c1[0] - c0[0], c1[1] - c0[1]];
+    assert!(
+        moved[0] > 15.0 && moved[1].abs() < 10.0,
+        "moved by {moved:?}"
+    );
+    let angle = |v: [f64; 2]| v[1].atan2(v[0]).to_degrees();
+    let (u0, u1) = (px(b, "u_axis_px"), px(a, "u_axis_px"));
+    let mut turned = angle(u1) - angle(u0);
+    if turned > 180.0 {
+        turned -= 360.0;
+    } else if turned < -180.0 {
+        turned += 360.0;
+    }
+    assert!(turned.abs() > 15.0, "turned by {turned}°");
+    assert!(
+        (a["rotate_deg"].as_f64().unwrap() - 40.0).abs() < 10.0,
+        "{a}"
+    );
+    let (h0, h1) = (px(b, "half_extent"), px(a, "half_extent"));
+    assert!(
+        h1[0] > 1.25 * h0[0] && h1[1] > 1.25 * h0[1],
+        "{h0:?} -> {h1:?}"
+    );
+
+    // The screenshot equals `npr render` of the saved preset.
+    let rendered = dir.join("render.png");
+    let o = Command::new(env!("CARGO_BIN_EXE_npr"))
+        .args(["render", spot.to_str().unwrap(), "--preset"])
+        .arg(dir.join("preset.toml"))
+        .arg("--out")
+        .arg(&rendered)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let shot = image::open(dir.join("view.png")).unwrap().to_rgba8();
+    let render = image::open(&rendered).unwrap().to_rgba8();
+    let db = psnr(&shot, &render);
+    assert!(db >= 35.0, "screenshot vs npr render: {db:.1} dB");
+    let preset = std::fs::read_to_string(dir.join("preset.toml")).unwrap();
+    assert!(preset.contains("[[specular.edits]]"), "{preset}");
+}
