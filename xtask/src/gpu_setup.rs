@@ -7,6 +7,9 @@ use std::process::Command;
 /// The exact command that installs the software Vulkan driver.
 pub const INSTALL_HINT: &str = "apt-get install -y mesa-vulkan-drivers libvulkan1";
 
+/// The exact command that installs the virtual X server the windowed `npr view` test uses.
+pub const XVFB_HINT: &str = "apt-get install -y xvfb xauth";
+
 /// See [`npr_app::ensure_runtime_dir`] (shared with the `npr` binary).
 pub fn ensure_runtime_dir() -> anyhow::Result<()> {
     Ok(npr_app::ensure_runtime_dir()?)
@@ -70,4 +73,34 @@ pub fn ensure_adapter() -> anyhow::Result<String> {
             "still no GPU adapter after installing the driver: {e}\nTry: {INSTALL_HINT}"
         )
     })
+}
+
+fn has_xvfb() -> bool {
+    Command::new("xvfb-run").arg("--help").output().is_ok()
+}
+
+/// Makes sure `xvfb-run` exists for the windowed `npr view` test, installing Xvfb on
+/// Debian/Ubuntu as root (and saying so).
+///
+/// # Errors
+/// When it is missing and cannot be installed here; the message gives the command.
+pub fn ensure_xvfb() -> anyhow::Result<()> {
+    if has_xvfb() {
+        return Ok(());
+    }
+    if !(is_debian_like() && is_root()) {
+        bail!(
+            "xvfb-run not found: the windowed `npr view` test needs a virtual X server. On \
+             Debian/Ubuntu run as root:\n    {XVFB_HINT}\nthen run `cargo xtask test` again."
+        );
+    }
+    eprintln!("xtask: installing Xvfb so the windowed `npr view` test can run: {XVFB_HINT}");
+    if apt(&["install", "-y", "-qq", "xvfb", "xauth"]).is_err() {
+        apt(&["update", "-qq"])?;
+        apt(&["install", "-y", "-qq", "xvfb", "xauth"])?;
+    }
+    if !has_xvfb() {
+        bail!("still no xvfb-run after installing it; try: {XVFB_HINT}");
+    }
+    Ok(())
 }

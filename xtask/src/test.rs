@@ -44,6 +44,7 @@ pub fn run() -> anyhow::Result<()> {
     )?;
     let adapter = gpu_setup::ensure_adapter()?;
     println!("xtask: GPU adapter: {adapter}");
+    gpu_setup::ensure_xvfb()?;
     cargo(
         &["test", "--workspace", "--release", "--no-fail-fast"],
         &[(npr_gpu::testing::REQUIRE_GPU_ENV, "1")],

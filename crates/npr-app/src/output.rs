@@ -35,6 +35,17 @@ pub fn write_with(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<(), AppError>,
 ) -> Result<(), AppError> {
+    // A destination that exists but is not a regular file (`/dev/null`, `/dev/stdout`, a
+    // FIFO) is written in place: renaming over it would replace the device.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .map_err(|e| AppError::io(path, e))?;
+        let mut out = std::io::BufWriter::new(file);
+        write(&mut out)?;
+        return out.flush().map_err(|e| AppError::io(path, e));
+    }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| AppError::io(dir, e))?;
     }
@@ -127,6 +138,15 @@ mod tests {
         write_atomic(&path, b"new").unwrap();
         assert_eq!(std::fs::read(&path).unwrap(), b"new");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn devices_are_written_in_place_not_replaced() {
+        let null = Path::new("/dev/null");
+        write_atomic(null, b"discarded").unwrap();
+        let meta = std::fs::metadata(null).unwrap();
+        assert!(!meta.is_file(), "/dev/null was replaced by a regular file");
     }
 
     #[test]

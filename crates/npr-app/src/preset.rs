@@ -557,6 +557,46 @@ mod tests {
     }
 
     #[test]
+    fn the_example_preset_parses_and_names_every_field() {
+        let path = Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/presets/example.toml"
+        ));
+        let text = std::fs::read_to_string(path).unwrap();
+        let p = Preset::from_toml(&text, path).unwrap();
+        assert_eq!(p.effect, Effect::Specular);
+        assert_eq!(p.specular.edits.len(), 1);
+        // Every key the preset format has appears in the example (so it documents all).
+        let full = Preset::default();
+        let mut with_edit = full.clone();
+        with_edit.specular.edits.push(HighlightEdit {
+            anchor: Some([0.0; 3]),
+            ..HighlightEdit::default()
+        });
+        let reference: toml::Table = toml::from_str(&with_edit.to_toml().unwrap()).unwrap();
+        let example: toml::Table = toml::from_str(&text).unwrap();
+        fn keys(t: &toml::Table, prefix: &str, out: &mut Vec<String>) {
+            for (k, v) in t {
+                let name = format!("{prefix}{k}");
+                match v {
+                    toml::Value::Table(t) => keys(t, &format!("{name}."), out),
+                    toml::Value::Array(a) => match a.first() {
+                        Some(toml::Value::Table(t)) => keys(t, &format!("{name}[]."), out),
+                        _ => out.push(name),
+                    },
+                    _ => out.push(name),
+                }
+            }
+        }
+        let (mut want, mut have) = (Vec::new(), Vec::new());
+        keys(&reference, "", &mut want);
+        keys(&example, "", &mut have);
+        for k in &want {
+            assert!(have.contains(k), "example.toml lacks {k}");
+        }
+    }
+
+    #[test]
     fn effect_names_round_trip() {
         for e in Effect::ALL {
             assert_eq!(Effect::from_name(e.name()), Some(e));
