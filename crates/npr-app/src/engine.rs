@@ -76,6 +76,7 @@ pub struct Renderer {
     hatching: Option<HatchState>,
     tams: HashMap<bool, TonalArtMap>,
     directions: HashMap<DirectionPreset, Vec<Vec3>>,
+    curvature: Option<Vec<f32>>,
     frame_index: usize,
 }
 
@@ -207,6 +208,7 @@ impl Renderer {
             hatching: None,
             tams: HashMap::new(),
             directions: HashMap::new(),
+            curvature: None,
             frame_index: 0,
         })
     }
@@ -242,6 +244,7 @@ impl Renderer {
         self.specular = None;
         self.hatching = None;
         self.directions.clear();
+        self.curvature = None;
         self.frame_index = 0;
         Ok(())
     }
@@ -336,6 +339,48 @@ impl Renderer {
             layer,
         });
         Ok(())
+    }
+
+    /// Signed mean curvature `(κ_max + κ_min) / 2` per render vertex, times the bounding
+    /// radius (so a sphere reads 1 at any scale); 0 where undefined. Computed once per
+    /// model.
+    pub fn mean_curvature(&mut self) -> &[f32] {
+        let (mesh, r) = (&self.model.mesh, self.model.framing.radius);
+        self.curvature.get_or_insert_with(|| {
+            let (welded, _, field) =
+                npr_geometry::CurvatureField::for_mesh(mesh, &CurvatureOptions::default());
+            let field = field.to_render(&welded.render_to_welded);
+            (0..mesh.vertex_count())
+                .map(|v| {
+                    if field.valid.get(v).copied().unwrap_or(false) {
+                        0.5 * (field.kappa_max[v] + field.kappa_min[v]) * r
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+    }
+
+    /// The mean curvature of [`Renderer::mean_curvature`], if computed already.
+    pub fn cached_mean_curvature(&self) -> Option<&[f32]> {
+        self.curvature.as_deref()
+    }
+
+    /// The hatching G-buffer of the last hatched frame (tone and stroke angle per pixel),
+    /// read back (submits and waits).
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when readback fails.
+    pub fn hatch_inputs(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<npr_hatching::HatchInputs>, AppError> {
+        match &self.hatching {
+            Some(h) => Ok(Some(h.frame.gbuffer.read(device, queue)?)),
+            None => Ok(None),
+        }
     }
 
     /// The per-vertex stroke directions of `which`, if computed already (see

@@ -104,6 +104,7 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
         last_frame: Instant::now(),
         pending_resize: None,
         debug: ui::Debug::default(),
+        debug_texture: None,
     };
     event_loop
         .run_app(&mut app)
@@ -142,6 +143,7 @@ struct App {
     last_frame: Instant,
     pending_resize: Option<(u32, u32)>,
     debug: ui::Debug,
+    debug_texture: Option<egui::TextureHandle>,
 }
 
 impl App {
@@ -484,6 +486,10 @@ impl App {
             gfx.renderer
                 .directions(crate::preset::DirectionPreset::KMax);
         }
+        if self.debug.image == ui::DebugImage::Curvature {
+            gfx.renderer.mean_curvature();
+        }
+        let debug_texture = self.debug_texture.as_ref().map(egui::TextureHandle::id);
         let full = gfx.egui_ctx.run_ui(raw, |ui| {
             ui_actions = ui::panel(
                 ui,
@@ -503,6 +509,7 @@ impl App {
                 &self.state,
                 &gfx.highlights,
                 &gfx.renderer,
+                debug_texture,
             );
         });
         gfx.egui_state
@@ -536,6 +543,28 @@ impl App {
         {
             Ok(stats) => self.stats = stats,
             Err(e) => self.status = Some(format!("error: {e}")),
+        }
+        if matches!(
+            self.debug.image,
+            ui::DebugImage::Tone | ui::DebugImage::Bins
+        ) && self.state.preset.effect.is_hatching()
+            && let Ok(Some(inputs)) = gfx.renderer.hatch_inputs(&gfx.ctx.device, &gfx.ctx.queue)
+        {
+            let image = ui::gbuffer_image(
+                &inputs,
+                self.state.preset.hatching.bins,
+                self.debug.image == ui::DebugImage::Bins,
+            );
+            match &mut self.debug_texture {
+                Some(t) => t.set(image, egui::TextureOptions::NEAREST),
+                None => {
+                    self.debug_texture = Some(gfx.egui_ctx.load_texture(
+                        "npr-debug",
+                        image,
+                        egui::TextureOptions::NEAREST,
+                    ));
+                }
+            }
         }
         gfx.highlights = gfx
             .renderer

@@ -9,13 +9,91 @@ use egui::{Color32, Pos2, Sense, Stroke};
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;
 
-/// Debug overlays of the 3-D view.
+/// What the 3-D view shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DebugImage {
+    /// The effect.
+    #[default]
+    Shaded,
+    /// Mean curvature as colour (blue concave, white flat, red convex).
+    Curvature,
+    /// The hatching G-buffer's tone.
+    Tone,
+    /// The hatching G-buffer's stroke direction, one colour per direction bin (Eq. (1)).
+    Bins,
+}
+
+/// Debug views of the 3-D view.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Debug {
+    /// What the view shows.
+    pub image: DebugImage,
     /// The highlight frusta (projector footprints and axes).
     pub frusta: bool,
     /// Principal directions (e_max) as a line field.
     pub directions: bool,
+}
+
+/// A colour per direction bin (`bins` of them), for the bins debug view.
+pub fn bin_colour(bin: usize, bins: usize) -> [u8; 3] {
+    let h = bin as f32 / bins.max(1) as f32 * 6.0;
+    let x = 1.0 - ((h % 2.0) - 1.0).abs();
+    let (r, g, b) = match h as u32 {
+        0 => (1.0, x, 0.0),
+        1 => (x, 1.0, 0.0),
+        2 => (0.0, 1.0, x),
+        3 => (0.0, x, 1.0),
+        4 => (x, 0.0, 1.0),
+        _ => (1.0, 0.0, x),
+    };
+    [
+        (r * 230.0) as u8 + 20,
+        (g * 230.0) as u8 + 20,
+        (b * 230.0) as u8 + 20,
+    ]
+}
+
+/// The G-buffer as a debug image: tone as grey, or the direction bin as colour
+/// (background pixels, tone ≥ 1 with no stroke, stay white).
+pub fn gbuffer_image(
+    inputs: &npr_hatching::HatchInputs,
+    bins: u32,
+    show_bins: bool,
+) -> egui::ColorImage {
+    let (w, h) = (inputs.width() as usize, inputs.height() as usize);
+    let pixels = inputs
+        .tone()
+        .iter()
+        .zip(inputs.theta())
+        .map(|(&t, &theta)| {
+            if show_bins {
+                let n = bins.max(1) as usize;
+                let b = ((theta / std::f32::consts::PI * n as f32).floor().max(0.0) as usize) % n;
+                let [r, g, bl] = bin_colour(b, n);
+                let k = t.clamp(0.0, 1.0) * 0.5 + 0.5;
+                Color32::from_rgb(
+                    (f32::from(r) * k) as u8,
+                    (f32::from(g) * k) as u8,
+                    (f32::from(bl) * k) as u8,
+                )
+            } else {
+                let g = (t.clamp(0.0, 1.0) * 255.0) as u8;
+                Color32::from_gray(g)
+            }
+        })
+        .collect();
+    egui::ColorImage::new([w, h], pixels)
+}
+
+/// Mean curvature → colour: blue (concave) through white to red (convex).
+fn curvature_colour(h: f32) -> Color32 {
+    let t = (h / 3.0).clamp(-1.0, 1.0);
+    let c = |a: f32| (a.clamp(0.0, 1.0) * 255.0) as u8;
+    if t >= 0.0 {
+        Color32::from_rgb(255, c(1.0 - t), c(1.0 - t))
+    } else {
+        Color32::from_rgb(c(1.0 + t), c(1.0 + t), 255)
+    }
 }
 
 /// File actions asked for in the panel this frame.
@@ -238,6 +316,13 @@ pub fn panel(
                         ui.checkbox(&mut p.warp.depth_test, "reference depth test");
                     });
                 egui::CollapsingHeader::new("debug views").show(ui, |ui| {
+                    ui.radio_value(&mut debug.image, DebugImage::Shaded, "the effect");
+                    ui.radio_value(&mut debug.image, DebugImage::Curvature, "mean curvature as colour");
+                    let hatching = p.effect.is_hatching();
+                    ui.add_enabled_ui(hatching, |ui| {
+                        ui.radio_value(&mut debug.image, DebugImage::Tone, "tone (hatching)");
+                        ui.radio_value(&mut debug.image, DebugImage::Bins, "direction bins (hatching)");
+                    });
                     ui.checkbox(&mut debug.frusta, "highlight frusta");
                     ui.checkbox(&mut debug.directions, "principal directions");
                 });
@@ -283,6 +368,7 @@ pub fn central(
     state: &ViewerState,
     highlights: &[HighlightInfo],
     renderer: &Renderer,
+    debug_texture: Option<egui::TextureId>,
 ) -> (u32, u32) {
     let mut want = size;
     egui::CentralPanel::no_frame().show(ui, |ui| {
@@ -293,6 +379,10 @@ pub fn central(
             (avail.y * ppp).round().max(1.0) as u32,
         );
         let shown = egui::vec2(size.0 as f32, size.1 as f32) / ppp;
+        let texture = match (debug.image, debug_texture) {
+            (DebugImage::Tone | DebugImage::Bins, Some(t)) => t,
+            _ => texture,
+        };
         let resp = ui.add(
             egui::Image::new(egui::load::SizedTexture::new(texture, shown))
                 .sense(Sense::click_and_drag()),
@@ -366,6 +456,10 @@ pub fn central(
         let painter = ui.painter_at(rect);
         let view = state.view(&renderer.model().framing, size);
         let proj = |p: Vec3| view.to_pixel(p, size).map(|px| to_pos(rect, ppp, px));
+        if let (DebugImage::Curvature, Some(h)) = (debug.image, renderer.cached_mean_curvature()) {
+            painter.rect_filled(rect, 0.0, Color32::from_gray(40));
+            painter.add(curvature_mesh(renderer.model(), h, &view, size, rect, ppp));
+        }
         for h in highlights {
             let selected = state.selected == Some(h.id);
             if !(debug.frusta || selected) {
@@ -430,4 +524,55 @@ pub fn central(
         );
     });
     want
+}
+
+/// The model as an egui mesh coloured by mean curvature: front faces only, sorted back to
+/// front (egui has no depth buffer).
+fn curvature_mesh(
+    model: &Model,
+    mean_curvature: &[f32],
+    view: &crate::view::View,
+    size: (u32, u32),
+    rect: egui::Rect,
+    ppp: f32,
+) -> egui::Shape {
+    let m = &model.mesh;
+    let world: Vec<Vec3> = m
+        .positions
+        .iter()
+        .map(|p| view.world_from_object.transform_point3(*p))
+        .collect();
+    let view_from_world = view.camera.view_from_world();
+    let mut tris: Vec<(f32, [u32; 3])> = m
+        .triangles()
+        .filter(|t| t.iter().all(|&i| (i as usize) < world.len()))
+        .filter_map(|t| {
+            let [a, b, c] = t.map(|i| world[i as usize]);
+            let n = (b - a).cross(c - a);
+            (n.dot(view.camera.eye - a) > 0.0)
+                .then(|| (view_from_world.transform_point3((a + b + c) / 3.0).z, t))
+        })
+        .collect();
+    tris.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut mesh = egui::Mesh::default();
+    for (_, t) in tris {
+        for i in t {
+            let Some(px) = view.to_pixel(world[i as usize], size) else {
+                continue;
+            };
+            let h = mean_curvature.get(i as usize).copied().unwrap_or(0.0);
+            mesh.vertices.push(egui::epaint::Vertex {
+                pos: to_pos(rect, ppp, px),
+                uv: egui::epaint::WHITE_UV,
+                color: curvature_colour(h),
+            });
+        }
+        let n = mesh.vertices.len() as u32;
+        if n % 3 == 0 {
+            mesh.indices.extend([n - 3, n - 2, n - 1]);
+        } else {
+            mesh.vertices.truncate(n as usize - (n as usize % 3));
+        }
+    }
+    egui::Shape::mesh(mesh)
 }
