@@ -41,7 +41,4 @@ pub enum GpuError {
     /// index past the vertex count. Fix: validate the mesh with `npr_geometry`.
     #[error("mesh cannot be uploaded: {0}")]
     InvalidMesh(String),
-    /// A wgpu validation error caught in an error scope.
-    #[error("wgpu validation error: {0}")]
-    Validation(String),
 }
