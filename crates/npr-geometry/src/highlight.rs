@@ -315,14 +315,8 @@ impl HighlightSearch {
     /// on the mesh's own normals ([`NormalSource::Mesh`], see [`welded_mesh_normals`])
     /// when it has them, else on the field's. Principal directions and curvatures still
     /// come from `field`, projected onto the tangent plane of the normal used.
-    pub fn for_mesh(
-        mesh: &Mesh,
-        welded: &Welded,
-        topo: &Topology,
-        field: &CurvatureField,
-    ) -> Self {
-        let normals =
-            welded_mesh_normals(mesh, welded).filter(|n| n.len() == topo.vertex_count());
+    pub fn for_mesh(mesh: &Mesh, welded: &Welded, topo: &Topology, field: &CurvatureField) -> Self {
+        let normals = welded_mesh_normals(mesh, welded).filter(|n| n.len() == topo.vertex_count());
         Self::with_normals(topo, field, normals.as_deref())
     }
 
@@ -345,7 +339,14 @@ impl HighlightSearch {
         if !normal_world_from_object.is_finite() {
             return None;
         }
-        self.centre(face, t, alpha, beta, world_from_object, normal_world_from_object)
+        self.centre(
+            face,
+            t,
+            alpha,
+            beta,
+            world_from_object,
+            normal_world_from_object,
+        )
     }
 
     /// Which normals the search solves on.

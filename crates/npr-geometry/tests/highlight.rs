@@ -167,7 +167,11 @@ fn search_equals_brute_force_on_knot() {
     let topo = Topology::new(&weld(&knot));
     let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
     let mut s = HighlightSearch::new(&topo, &f);
-    let radius = topo.positions.iter().map(|p| p.length()).fold(0f32, f32::max);
+    let radius = topo
+        .positions
+        .iter()
+        .map(|p| p.length())
+        .fold(0f32, f32::max);
     let tol = 1e-4 * radius;
     let unmatched = |a: &[Vec3], b: &[Vec3]| -> Vec<Vec3> {
         a.iter()
@@ -194,8 +198,16 @@ fn search_equals_brute_force_on_knot() {
             .map(|c| c.position_object)
             .collect();
         assert!(!all.is_empty());
-        assert_eq!(unmatched(&all, &fast), vec![], "view {k}: lost by the rejection");
-        assert_eq!(unmatched(&fast, &all), vec![], "view {k}: not in the exhaustive set");
+        assert_eq!(
+            unmatched(&all, &fast),
+            vec![],
+            "view {k}: lost by the rejection"
+        );
+        assert_eq!(
+            unmatched(&fast, &all),
+            vec![],
+            "view {k}: not in the exhaustive set"
+        );
     }
     // The paper's linear field against an independent brute force over the public solve.
     s.interpolation = NormalInterpolation::Linear;
@@ -220,8 +232,16 @@ fn search_equals_brute_force_on_knot() {
         }
     }
     assert!(!brute.is_empty());
-    assert_eq!(unmatched(&brute, &found), vec![], "brute-force centres not found");
-    assert_eq!(unmatched(&found, &brute), vec![], "found centres brute force lacks");
+    assert_eq!(
+        unmatched(&brute, &found),
+        vec![],
+        "brute-force centres not found"
+    );
+    assert_eq!(
+        unmatched(&found, &brute),
+        vec![],
+        "found centres brute force lacks"
+    );
 }
 
 #[test]

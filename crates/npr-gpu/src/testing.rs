@@ -49,7 +49,9 @@ pub fn no_adapter_action(skip_gpu: Option<&str>, require_gpu: Option<&str>) -> N
 /// The line a skip writes to stderr, `count` being the skips so far in this binary.
 pub fn skip_line(count: usize, test: &str) -> String {
     let tests = if count == 1 { "test" } else { "tests" };
-    format!("npr: {count} GPU {tests} skipped ({SKIP_GPU_ENV}=1) so far in this test binary; last: {test}")
+    format!(
+        "npr: {count} GPU {tests} skipped ({SKIP_GPU_ENV}=1) so far in this test binary; last: {test}"
+    )
 }
 
 static CONTEXT: OnceLock<Result<GpuContext, String>> = OnceLock::new();
@@ -209,12 +211,17 @@ pub mod wgsl_layout {
             checked += 1;
             let at = format!("{wgsl_struct} ({} in {})", b.variable, b.shader);
             if b.size as usize != rust_size {
-                problems.push(format!("{at}: WGSL size {} != Rust size {rust_size}", b.size));
+                problems.push(format!(
+                    "{at}: WGSL size {} != Rust size {rust_size}",
+                    b.size
+                ));
             }
             let wgsl: Vec<&str> = b.members.iter().map(|m| m.name.as_str()).collect();
             let rust: Vec<&str> = rust_fields.iter().map(|f| f.0).collect();
             if wgsl != rust {
-                problems.push(format!("{at}: WGSL members {wgsl:?} != Rust fields {rust:?}"));
+                problems.push(format!(
+                    "{at}: WGSL members {wgsl:?} != Rust fields {rust:?}"
+                ));
                 continue;
             }
             for (m, (_, offset)) in b.members.iter().zip(rust_fields) {
@@ -288,9 +295,18 @@ mod tests {
         let covered = [
             ("Frame", "npr-gpu uniforms::tests::layouts_match_wgsl"),
             ("Object", "npr-gpu uniforms::tests::layouts_match_wgsl"),
-            ("Hatch", "npr-hatching params::tests::uniform_layout_matches_wgsl"),
-            ("Scene", "npr-hatching scene::tests::scene_uniforms_match_wgsl"),
-            ("Projector", "npr-specular pass::tests::projector_layout_matches_wgsl"),
+            (
+                "Hatch",
+                "npr-hatching params::tests::uniform_layout_matches_wgsl",
+            ),
+            (
+                "Scene",
+                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
+            ),
+            (
+                "Projector",
+                "npr-specular pass::tests::projector_layout_matches_wgsl",
+            ),
             ("WarpObject", "npr-warp pass::tests (assert_wgsl_layout!)"),
         ];
         let blocks = wgsl_layout::blocks().unwrap();
@@ -300,7 +316,10 @@ mod tests {
             .map(|b| format!("{} ({} in {})", b.struct_name, b.variable, b.shader))
             .collect();
         missing.dedup();
-        assert!(missing.is_empty(), "bound structs without a layout test: {missing:?}");
+        assert!(
+            missing.is_empty(),
+            "bound structs without a layout test: {missing:?}"
+        );
         for (name, _) in covered {
             assert!(
                 blocks.iter().any(|b| b.struct_name == name),
@@ -324,7 +343,10 @@ mod tests {
             ("ambient", 112),
         ];
         let e = wgsl_layout::check("Frame", 128, &fields).unwrap_err();
-        assert!(e.contains("light_world: WGSL offset 80 != Rust offset 96"), "{e}");
+        assert!(
+            e.contains("light_world: WGSL offset 80 != Rust offset 96"),
+            "{e}"
+        );
         assert!(wgsl_layout::check("NoSuchStruct", 16, &[]).is_err());
     }
 

@@ -84,7 +84,13 @@ mod tests {
         let frames = crate::assert_wgsl_layout!(
             FrameUniforms,
             "Frame",
-            [clip_from_world, eye_world, light_world, light_color, ambient]
+            [
+                clip_from_world,
+                eye_world,
+                light_world,
+                light_color,
+                ambient
+            ]
         );
         let objects = crate::assert_wgsl_layout!(
             ObjectUniforms,

@@ -23,7 +23,9 @@ fn every_shader_file_is_embedded_and_validates() {
     for entry in npr_gpu::shaders::ALL {
         let name = entry.0;
         if !on_disk.iter().any(|f| f == name) {
-            failures.push(format!("{name}: listed in npr_gpu::shaders::ALL but not in shaders/"));
+            failures.push(format!(
+                "{name}: listed in npr_gpu::shaders::ALL but not in shaders/"
+            ));
         }
         let source = npr_gpu::shaders::full_source(entry);
         let module = match naga::front::wgsl::parse_str(&source) {

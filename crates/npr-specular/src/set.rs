@@ -342,8 +342,7 @@ impl HighlightSet {
 
 /// The set needs a usable face and one curvature entry per vertex.
 fn check(topology: &Topology, field: &CurvatureField) -> Result<(), SpecularError> {
-    if topology.face_count() == 0 || (0..topology.face_count()).all(|f| topology.is_degenerate(f))
-    {
+    if topology.face_count() == 0 || (0..topology.face_count()).all(|f| topology.is_degenerate(f)) {
         return Err(SpecularError::EmptyMesh);
     }
     if field.len() != topology.vertex_count() {

@@ -410,7 +410,11 @@ fn a_fading_highlight_follows_object_motion() {
     };
     for frame in 1..4 {
         let fading = set.update(lost, world_from_object).to_vec();
-        assert_eq!(fading.len(), first.len(), "frame {frame}: all fade, none vanish");
+        assert_eq!(
+            fading.len(),
+            first.len(),
+            "frame {frame}: all fade, none vanish"
+        );
         for h in &fading {
             assert!(!h.found && h.opacity < 1.0);
             let on_object = world_from_object.transform_point3(h.centre.position_object);
