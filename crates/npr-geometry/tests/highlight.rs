@@ -173,11 +173,22 @@ fn search_equals_brute_force_on_knot() {
         .map(|p| p.length())
         .fold(0f32, f32::max);
     let tol = 1e-4 * radius;
-    let unmatched = |a: &[Vec3], b: &[Vec3]| -> Vec<Vec3> {
-        a.iter()
-            .filter(|p| !b.iter().any(|q| p.distance(*q) <= tol))
-            .copied()
-            .collect()
+    // Every point of `a` has one of `b` within `tol`, and the other way round.
+    let same = |a: &[Vec3], b: &[Vec3], what: &str| {
+        let unmatched = |a: &[Vec3], b: &[Vec3]| -> Vec<Vec3> {
+            a.iter()
+                .filter(|p| !b.iter().any(|q| p.distance(*q) <= tol))
+                .copied()
+                .collect()
+        };
+        let (lost, extra) = (unmatched(a, b), unmatched(b, a));
+        assert!(
+            lost.is_empty() && extra.is_empty(),
+            "{what}: {lost:?} / {extra:?}"
+        );
+    };
+    let positions = |c: Vec<npr_geometry::HighlightCentre>| -> Vec<Vec3> {
+        c.iter().map(|c| c.position_object).collect()
     };
     let (light, eye) = (Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.0, 0.0, 6.0));
     // The default curvature-blended field: rejection loses nothing, over many views.
@@ -187,35 +198,14 @@ fn search_equals_brute_force_on_knot() {
             light: Vec3::new(5.0 * a.cos(), 3.0, 5.0 * a.sin()),
             eye: Vec3::new(6.0 * (a + 0.7).sin(), -1.0, 6.0 * (a + 0.7).cos()),
         };
-        let fast: Vec<Vec3> = s
-            .find(le, Mat4::IDENTITY)
-            .iter()
-            .map(|c| c.position_object)
-            .collect();
-        let all: Vec<Vec3> = s
-            .find_exhaustive(le, Mat4::IDENTITY)
-            .iter()
-            .map(|c| c.position_object)
-            .collect();
+        let fast = positions(s.find(le, Mat4::IDENTITY));
+        let all = positions(s.find_exhaustive(le, Mat4::IDENTITY));
         assert!(!all.is_empty());
-        assert_eq!(
-            unmatched(&all, &fast),
-            vec![],
-            "view {k}: lost by the rejection"
-        );
-        assert_eq!(
-            unmatched(&fast, &all),
-            vec![],
-            "view {k}: not in the exhaustive set"
-        );
+        same(&all, &fast, &format!("view {k}: exhaustive vs rejection"));
     }
     // The paper's linear field against an independent brute force over the public solve.
     s.interpolation = NormalInterpolation::Linear;
-    let found: Vec<Vec3> = s
-        .find(LightEye::Positions { light, eye }, Mat4::IDENTITY)
-        .iter()
-        .map(|c| c.position_object)
-        .collect();
+    let found = positions(s.find(LightEye::Positions { light, eye }, Mat4::IDENTITY));
     let mut brute: Vec<Vec3> = vec![];
     for t in &topo.triangles {
         let p = t.map(|i| topo.positions[i as usize]);
@@ -232,16 +222,7 @@ fn search_equals_brute_force_on_knot() {
         }
     }
     assert!(!brute.is_empty());
-    assert_eq!(
-        unmatched(&brute, &found),
-        vec![],
-        "brute-force centres not found"
-    );
-    assert_eq!(
-        unmatched(&found, &brute),
-        vec![],
-        "found centres brute force lacks"
-    );
+    same(&brute, &found, "brute force vs search");
 }
 
 #[test]

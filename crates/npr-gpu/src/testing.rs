@@ -110,7 +110,7 @@ pub fn skipped_count() -> usize {
 /// `[dev-dependencies] npr-gpu = { workspace = true, features = ["wgsl-layout"] }`, then
 /// in a unit test next to its (private) uniform struct:
 ///
-/// ```ignore
+/// ```text
 /// npr_gpu::assert_wgsl_layout!(WarpObjectUniforms, "WarpObject", [world_from_object, ...]);
 /// ```
 #[cfg(any(test, feature = "wgsl-layout"))]
@@ -253,7 +253,7 @@ pub mod wgsl_layout {
 /// that binds it: same size, the listed fields are the WGSL members in order (same names)
 /// at the same offsets. Needs the `wgsl-layout` feature of `npr-gpu` (a test-only helper).
 ///
-/// ```ignore
+/// ```text
 /// npr_gpu::assert_wgsl_layout!(FrameUniforms, "Frame", [clip_from_world, eye_world]);
 /// ```
 #[cfg(any(test, feature = "wgsl-layout"))]
