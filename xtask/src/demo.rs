@@ -58,10 +58,30 @@ pub fn paste(sheet: &mut image::RgbaImage, tile: &image::RgbaImage, x: u32, y: u
     image::imageops::replace(sheet, tile, i64::from(x), i64::from(y));
 }
 
-fn save(image: &image::RgbaImage, path: &Path) -> anyhow::Result<()> {
+/// Writes `image` to `path` and records the path in `written`.
+pub fn save(
+    image: &image::RgbaImage,
+    path: &Path,
+    written: &mut Vec<PathBuf>,
+) -> anyhow::Result<()> {
     image
         .save(path)
-        .with_context(|| format!("writing {}", path.display()))
+        .with_context(|| format!("writing {}", path.display()))?;
+    written.push(path.to_path_buf());
+    Ok(())
+}
+
+/// `tiles` in a grid `columns` wide on white, each cell the size of the first tile.
+pub fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
+    let columns = columns.max(1);
+    let (tw, th) = tiles.first().map_or((1, 1), |t| t.dimensions());
+    let rows = (tiles.len() as u32).div_ceil(columns);
+    let mut s = image::RgbaImage::from_pixel(tw * columns, th * rows, image::Rgba([255; 4]));
+    for (i, t) in tiles.iter().enumerate() {
+        let i = i as u32;
+        paste(&mut s, t, (i % columns) * tw, (i / columns) * th);
+    }
+    s
 }
 
 /// Runs every demo.
@@ -70,13 +90,21 @@ pub fn run() -> anyhow::Result<()> {
     std::fs::create_dir_all(&dir)?;
     let ctx = GpuContext::new()?;
     println!("demo: adapter {}", ctx.adapter_summary());
-    let written = [
-        base_shading(&ctx, &dir)?,
-        crate::demo_specular::run(&ctx, &dir)?,
-        crate::demo_hatching::run(&ctx, &dir)?,
-        crate::demo_warp::run(&ctx, &dir)?,
-    ]
-    .concat();
+    type Demo = fn(&GpuContext, &Path) -> anyhow::Result<Vec<PathBuf>>;
+    let demos: [(&str, Demo); 4] = [
+        ("base shading", base_shading),
+        ("specular", crate::demo_specular::run),
+        ("hatching", crate::demo_hatching::run),
+        ("warp", crate::demo_warp::run),
+    ];
+    let bar = crate::bench::progress(demos.len() as u64, "demo");
+    let mut written = Vec::new();
+    for (name, demo) in demos {
+        bar.set_message(name);
+        written.extend(demo(&ctx, &dir)?);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
     for p in &written {
         println!("demo: wrote {}", p.display());
     }
@@ -111,13 +139,10 @@ fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         for (col, model) in models.iter().enumerate() {
             let image = render_base(&ctx.device, &ctx.queue, &scene, *model, TILE, TILE)?;
             let path = dir.join(format!("base-{name}-{}.png", model.name()));
-            save(&image, &path)?;
+            save(&image, &path, &mut written)?;
             paste(&mut sheet, &image, col as u32 * TILE, row as u32 * TILE);
-            written.push(path);
         }
     }
-    let path = dir.join("base-shading-sheet.png");
-    save(&sheet, &path)?;
-    written.push(path);
+    save(&sheet, &dir.join("base-shading-sheet.png"), &mut written)?;
     Ok(written)
 }

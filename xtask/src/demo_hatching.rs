@@ -7,8 +7,7 @@
 //! curvature field (`npr_hatching::principal_directions`), falling back to the parallels
 //! `y × n` on umbilic and flat regions (a sphere, the ground plane).
 
-use crate::demo::{demo_meshes, framing_camera, paste};
-use anyhow::Context;
+use crate::demo::{demo_meshes, framing_camera, save, sheet};
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
@@ -46,14 +45,6 @@ struct Item {
     mesh: Mesh,
     world_from_object: Mat4,
     directions: Vec<Vec3>,
-}
-
-fn save(image: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyhow::Result<()> {
-    image
-        .save(path)
-        .with_context(|| format!("writing {}", path.display()))?;
-    written.push(path.to_path_buf());
-    Ok(())
 }
 
 /// Renders `items` hatched with each `params` (and optionally the Phong + VSM baseline).
@@ -124,17 +115,6 @@ fn single(name: &str, mesh: Mesh) -> (Item, Camera, ShadowLight) {
         camera,
         light,
     )
-}
-
-fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
-    let (tw, th) = tiles.first().map_or((1, 1), |t| t.dimensions());
-    let rows = (tiles.len() as u32).div_ceil(columns.max(1));
-    let mut s = image::RgbaImage::from_pixel(tw * columns, th * rows, image::Rgba([255; 4]));
-    for (i, t) in tiles.iter().enumerate() {
-        let i = i as u32;
-        paste(&mut s, t, (i % columns) * tw, (i / columns) * th);
-    }
-    s
 }
 
 /// Writes the hatching figures into `dir` and returns their paths.

@@ -1,6 +1,6 @@
 //! Specular demo figures (the specular paper's Fig. 4, 6, 7, 8) into `target/demo/`.
 
-use crate::demo::{framing_camera, paste};
+use crate::demo::framing_camera;
 use anyhow::Context;
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
@@ -82,12 +82,9 @@ fn tile(
     Ok(renderer.render(&ctx.device, &ctx.queue, &scene)?)
 }
 
+/// The tiles in one row.
 fn sheet(tiles: &[image::RgbaImage]) -> image::RgbaImage {
-    let mut out = image::RgbaImage::new(TILE * tiles.len() as u32, TILE);
-    for (i, t) in tiles.iter().enumerate() {
-        paste(&mut out, t, i as u32 * TILE, 0);
-    }
-    out
+    crate::demo::sheet(tiles, tiles.len() as u32)
 }
 
 /// Writes the specular figures; returns the files written.
@@ -108,13 +105,8 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         subjects.push(subject(ctx, name.trim_end_matches(".obj"), mesh, 3.0)?);
     }
     let mut written = Vec::new();
-    let mut save = |img: &image::RgbaImage, name: &str| -> anyhow::Result<()> {
-        let p = dir.join(name);
-        img.save(&p)
-            .with_context(|| format!("writing {}", p.display()))?;
-        written.push(p);
-        Ok(())
-    };
+    let mut save =
+        |img: &image::RgbaImage, name: &str| crate::demo::save(img, &dir.join(name), &mut written);
     let star = ProjectorControls {
         texture_layer: HighlightShape::Star.layer(),
         sigma: 0.92,

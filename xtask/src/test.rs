@@ -1,5 +1,6 @@
 //! `cargo xtask test`: rustfmt check, clippy with warnings denied, then every workspace
-//! test with `NPR_REQUIRE_GPU=1` (a GPU test without an adapter fails instead of skipping).
+//! test with `NPR_REQUIRE_GPU=1`: a GPU test without an adapter fails, even when the
+//! caller's environment has `NPR_SKIP_GPU=1` (see `npr_gpu::testing`).
 
 use crate::{gpu_setup, project_root};
 use anyhow::bail;

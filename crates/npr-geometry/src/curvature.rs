@@ -522,6 +522,9 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
     tangent_frame(&m, mesh_n.as_dvec3()).unwrap_or_else(|| invalid(mesh_n))
 }
 
+/// The paper's and the clipped-edge forms of Eq. (1) at vertex `v` (the corrected form,
+/// the default, has its own loop: [`corrected_frame`]; `compute` never sends it here, and
+/// a `Corrected` that did arrive is treated as the clipped form).
 fn vertex_frame(
     topo: &Topology,
     faces: &[FaceData],
@@ -546,29 +549,12 @@ fn vertex_frame(
         let fd = &faces[f as usize];
         let d = Vec3::from_array(fd.c) - pv;
         let d2 = d.length_squared();
-        // Corrected: pass the ball on through faces whose centroid is inside (their
-        // weight is non-zero), or whose bounding sphere reaches in when the face is large
-        // against the ball. Paper / clipped: through every face that can touch the ball.
-        let slack = if method != CurvatureMethod::Corrected || fd.rad > 0.5 * r {
-            fd.rad
-        } else {
-            0.0
-        };
-        let reach = r + slack;
+        // Paper / clipped: pass the ball on through every face that can touch it.
+        let reach = r + fd.rad;
         if !(d2 < reach * reach) {
             continue;
         }
         match method {
-            CurvatureMethod::Corrected => {
-                if d2 < r2 {
-                    let q = 1.0 - d2 / r2;
-                    let w = f64::from(q * q);
-                    area += w * f64::from(fd.area);
-                    for (a, t) in acc.iter_mut().zip(fd.t) {
-                        *a += w * f64::from(t);
-                    }
-                }
-            }
             CurvatureMethod::Paper => {
                 let t = topo.triangles[f as usize];
                 let inside = t
@@ -586,7 +572,7 @@ fn vertex_frame(
                     }
                 }
             }
-            CurvatureMethod::Clipped => {
+            CurvatureMethod::Clipped | CurvatureMethod::Corrected => {
                 let t = topo.triangles[f as usize];
                 let p = t.map(|i| topo.positions[i as usize].as_dvec3());
                 area += clipped_area(p, pv.as_dvec3(), f64::from(r), 3);
@@ -619,11 +605,7 @@ fn vertex_frame(
     }
     let t = acc.map(|x| x / area);
     let m = Matrix3::new(t[0], t[1], t[2], t[1], t[3], t[4], t[2], t[4], t[5]);
-    let frame = match method {
-        CurvatureMethod::Corrected => tangent_frame(&m, mesh_n.as_dvec3()),
-        _ => full_frame(&m, mesh_n.as_dvec3()),
-    };
-    frame.unwrap_or_else(|| invalid(mesh_n))
+    full_frame(&m, mesh_n.as_dvec3()).unwrap_or_else(|| invalid(mesh_n))
 }
 
 /// Projects T onto the tangent plane of `n` and eigen-decomposes the 2×2 restriction.

@@ -25,11 +25,19 @@
 //! `N_i + S_i (p − p_i)` (shape operator from the curvature field) brings that to 1.9×
 //! (`npr-specular`'s coherence test). [`NormalInterpolation::Linear`] keeps the paper's
 //! form.
+//!
+//! Normal source: Eq. (4) interpolates the vertex normals the mesh is *shaded* with, so
+//! [`HighlightSearch::for_mesh`] takes the render mesh's own normals (averaged over render
+//! vertices that weld together) whenever the mesh has them ([`NormalSource::Mesh`]);
+//! [`HighlightSearch::new`] uses the curvature field's normals ([`NormalSource::Field`],
+//! area-weighted normals of the welded mesh for the default method). The two differ where
+//! an exporter or artist set normals that are not the area-weighted ones, and the centre
+//! must land on the shaded peak.
 
 use glam::{DVec3, Mat3, Mat4, Vec3};
 use rayon::prelude::*;
 
-use crate::{CurvatureField, Topology};
+use crate::{CurvatureField, Mesh, Topology, Welded};
 
 /// ε of the acceptance test `−ε ≤ α, β, α+β ≤ 1+ε` (§3.1).
 pub const BARYCENTRIC_EPSILON: f64 = 1e-3;
@@ -256,22 +264,111 @@ pub struct HighlightSearch {
     curvature_margin: Vec<f32>,
     /// Which normal field the solve uses.
     pub interpolation: NormalInterpolation,
+    normal_source: NormalSource,
+}
+
+/// Where [`HighlightSearch`] takes its vertex normals from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum NormalSource {
+    /// The curvature field's normals ([`CurvatureField::normal`]).
+    #[default]
+    Field,
+    /// The render mesh's own normals, the ones shading interpolates (a welded vertex takes
+    /// the normalised sum of its render vertices' normals).
+    Mesh,
+}
+
+/// The render mesh's normals per welded vertex: the normalised sum over the render
+/// vertices that weld into it. `None` when the mesh has no usable normals (count differs
+/// from the positions', or the weld map does not fit the mesh); a welded vertex whose
+/// normals sum to zero or are not finite gets `Vec3::ZERO` (callers fall back there).
+pub fn welded_mesh_normals(mesh: &Mesh, welded: &Welded) -> Option<Vec<Vec3>> {
+    let n = mesh.positions.len();
+    if n == 0 || mesh.normals.len() != n || welded.render_to_welded.len() != n {
+        return None;
+    }
+    let mut sum = vec![Vec3::ZERO; welded.positions.len()];
+    for (&w, &normal) in welded.render_to_welded.iter().zip(&mesh.normals) {
+        if let Some(s) = sum.get_mut(w as usize) {
+            *s += normal;
+        }
+    }
+    let out: Vec<Vec3> = sum
+        .into_iter()
+        .map(|s| s.try_normalize().unwrap_or(Vec3::ZERO))
+        .collect();
+    out.iter().any(|v| *v != Vec3::ZERO).then_some(out)
 }
 
 /// Margin (rad) added to the rejection bounds for the ε-acceptance and rounding.
 const ANGLE_MARGIN: f32 = 0.01;
 
 impl HighlightSearch {
-    /// Prepares the search. Normals are the field's (`CurvatureField::normal`), so the
-    /// centres, the principal frames and the projectors all agree.
+    /// Prepares the search on the curvature field's normals ([`NormalSource::Field`]).
+    /// For a render mesh prefer [`HighlightSearch::for_mesh`], which solves on the normals
+    /// the mesh is shaded with.
     pub fn new(topo: &Topology, field: &CurvatureField) -> Self {
+        Self::with_normals(topo, field, None)
+    }
+
+    /// Prepares the search for a render mesh and its weld (`topo` built from `welded`):
+    /// on the mesh's own normals ([`NormalSource::Mesh`], see [`welded_mesh_normals`])
+    /// when it has them, else on the field's. Principal directions and curvatures still
+    /// come from `field`, projected onto the tangent plane of the normal used.
+    pub fn for_mesh(mesh: &Mesh, welded: &Welded, topo: &Topology, field: &CurvatureField) -> Self {
+        let normals = welded_mesh_normals(mesh, welded).filter(|n| n.len() == topo.vertex_count());
+        Self::with_normals(topo, field, normals.as_deref())
+    }
+
+    /// The point at barycentric (`alpha`, `beta`) of `face` under `world_from_object`,
+    /// with its frame: how a highlight that is no longer found (fading out) is re-placed
+    /// when the object moves. `None` for an unknown face, a singular transform or a point
+    /// without a normal.
+    pub fn centre_at(
+        &self,
+        face: u32,
+        alpha: f32,
+        beta: f32,
+        world_from_object: Mat4,
+    ) -> Option<HighlightCentre> {
+        let t = *self.triangles.get(face as usize)?;
+        if t.iter().any(|&i| i as usize >= self.positions.len()) {
+            return None;
+        }
+        let normal_world_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
+        if !normal_world_from_object.is_finite() {
+            return None;
+        }
+        self.centre(
+            face,
+            t,
+            alpha,
+            beta,
+            world_from_object,
+            normal_world_from_object,
+        )
+    }
+
+    /// Which normals the search solves on.
+    pub fn normal_source(&self) -> NormalSource {
+        self.normal_source
+    }
+
+    /// `normals`: one per welded vertex (zero entries fall back to the field's), or
+    /// `None` for the field's.
+    fn with_normals(topo: &Topology, field: &CurvatureField, given: Option<&[Vec3]>) -> Self {
         let nv = topo.vertex_count();
+        let normal_source = if given.is_some() {
+            NormalSource::Mesh
+        } else {
+            NormalSource::Field
+        };
         let normals: Vec<Vec3> = (0..nv)
             .map(|v| {
-                field
-                    .normal
-                    .get(v)
-                    .copied()
+                given
+                    .and_then(|n| n.get(v).copied())
+                    .filter(|n| *n != Vec3::ZERO && n.is_finite())
+                    .or_else(|| field.normal.get(v).copied())
                     .unwrap_or(topo.vertex_normals[v])
             })
             .collect();
@@ -352,6 +449,7 @@ impl HighlightSearch {
             shape,
             curvature_margin,
             interpolation: NormalInterpolation::default(),
+            normal_source,
         }
     }
 
@@ -566,12 +664,16 @@ impl HighlightSearch {
         let pos = p[0] + alpha * (p[1] - p[0]) + beta * (p[2] - p[0]);
         let frame = self.field.interpolate(t, alpha, beta);
         let w = [1.0 - alpha - beta, alpha, beta];
-        let n_obj = frame.map(|f| f.normal).or_else(|| {
-            (0..3)
-                .map(|k| w[k] * self.normals[t[k] as usize])
-                .sum::<Vec3>()
-                .try_normalize()
-        })?;
+        let solved = (0..3)
+            .map(|k| w[k] * self.normals[t[k] as usize])
+            .sum::<Vec3>()
+            .try_normalize();
+        // The normal of the field the solve used (the field's frame normal equals it for
+        // `NormalSource::Field`).
+        let n_obj = match self.normal_source {
+            NormalSource::Mesh => solved.or_else(|| frame.map(|f| f.normal)),
+            NormalSource::Field => frame.map(|f| f.normal).or(solved),
+        }?;
         let lin = Mat3::from_mat4(world_from_object);
         let n_w = (normal_world_from_object * n_obj).try_normalize()?;
         let (dmax, kmax, kmin) = match frame {

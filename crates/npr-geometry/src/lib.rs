@@ -45,14 +45,15 @@ pub mod highlight;
 pub mod mesh;
 pub mod obj;
 pub mod rng;
+pub mod stats;
 pub mod topology;
 pub mod weld;
 
 pub use curvature::{CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius};
 pub use error::GeometryError;
 pub use highlight::{
-    HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, try_solve_barycentric,
-    try_solve_barycentric_eq6,
+    HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
+    try_solve_barycentric, try_solve_barycentric_eq6, welded_mesh_normals,
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};

@@ -161,11 +161,35 @@ fn knot_count_is_stable_under_tiny_light_moves() {
 
 #[test]
 fn search_equals_brute_force_on_knot() {
-    // The cheap rejection must not lose centres: compare with solving every face.
+    // The cheap rejection must not lose centres: compare positions with solving every
+    // face. "Matched" = within 1e-4 of the bounding radius, both ways.
     let knot = generate::paper_knot();
     let topo = Topology::new(&weld(&knot));
     let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
     let mut s = HighlightSearch::new(&topo, &f);
+    let radius = topo
+        .positions
+        .iter()
+        .map(|p| p.length())
+        .fold(0f32, f32::max);
+    let tol = 1e-4 * radius;
+    // Every point of `a` has one of `b` within `tol`, and the other way round.
+    let same = |a: &[Vec3], b: &[Vec3], what: &str| {
+        let unmatched = |a: &[Vec3], b: &[Vec3]| -> Vec<Vec3> {
+            a.iter()
+                .filter(|p| !b.iter().any(|q| p.distance(*q) <= tol))
+                .copied()
+                .collect()
+        };
+        let (lost, extra) = (unmatched(a, b), unmatched(b, a));
+        assert!(
+            lost.is_empty() && extra.is_empty(),
+            "{what}: {lost:?} / {extra:?}"
+        );
+    };
+    let positions = |c: Vec<npr_geometry::HighlightCentre>| -> Vec<Vec3> {
+        c.iter().map(|c| c.position_object).collect()
+    };
     let (light, eye) = (Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.0, 0.0, 6.0));
     // The default curvature-blended field: rejection loses nothing, over many views.
     for k in 0..24 {
@@ -174,32 +198,31 @@ fn search_equals_brute_force_on_knot() {
             light: Vec3::new(5.0 * a.cos(), 3.0, 5.0 * a.sin()),
             eye: Vec3::new(6.0 * (a + 0.7).sin(), -1.0, 6.0 * (a + 0.7).cos()),
         };
-        let fast = s.find(le, Mat4::IDENTITY);
-        let all = s.find_exhaustive(le, Mat4::IDENTITY);
-        assert_eq!(fast.len(), all.len(), "view {k}");
+        let fast = positions(s.find(le, Mat4::IDENTITY));
+        let all = positions(s.find_exhaustive(le, Mat4::IDENTITY));
         assert!(!all.is_empty());
+        same(&all, &fast, &format!("view {k}: exhaustive vs rejection"));
     }
     // The paper's linear field against an independent brute force over the public solve.
     s.interpolation = NormalInterpolation::Linear;
-    let found = s.find(LightEye::Positions { light, eye }, Mat4::IDENTITY);
-    let mut brute = 0;
-    let mut pts: Vec<Vec3> = vec![];
+    let found = positions(s.find(LightEye::Positions { light, eye }, Mat4::IDENTITY));
+    let mut brute: Vec<Vec3> = vec![];
     for t in &topo.triangles {
         let p = t.map(|i| topo.positions[i as usize]);
         let n = t.map(|i| f.normal[i as usize]);
         let h = p.map(|q| ((light - q).normalize() + (eye - q).normalize()).normalize());
         if let Some((a, b)) = try_solve_barycentric(n, h) {
             let q = p[0] + a * (p[1] - p[0]) + b * (p[2] - p[0]);
-            if pts
+            if brute
                 .iter()
                 .all(|o| o.distance(q) > 0.01 * topo.mean_edge_length)
             {
-                pts.push(q);
-                brute += 1;
+                brute.push(q);
             }
         }
     }
-    assert_eq!(found.len(), brute);
+    assert!(!brute.is_empty());
+    same(&brute, &found, "brute force vs search");
 }
 
 #[test]
@@ -213,4 +236,38 @@ fn empty_mesh_has_no_centres() {
         Mat4::IDENTITY,
     );
     assert!(c.is_empty());
+}
+
+#[test]
+fn for_mesh_solves_on_the_mesh_normals() {
+    // Normals tilted 25° about z (not the area-weighted ones): the centre must land where
+    // the tilted normal equals H (the shaded peak), and `new` (field normals) must not.
+    let mut mesh = generate::icosphere(4, 1.0);
+    let tilt = glam::Mat3::from_rotation_z(25f32.to_radians());
+    for n in &mut mesh.normals {
+        *n = tilt * *n;
+    }
+    let welded = weld(&mesh);
+    let topo = Topology::new(&welded);
+    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    let le = LightEye::Directions {
+        to_light: Vec3::Y,
+        to_eye: Vec3::Y,
+    };
+    let shaded_peak = tilt.transpose() * Vec3::Y;
+    let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
+    assert_eq!(s.normal_source(), npr_geometry::NormalSource::Mesh);
+    let c = s.find(le, Mat4::IDENTITY);
+    assert_eq!(c.len(), 1, "{c:?}");
+    assert!(c[0].position_object.distance(shaded_peak) < 0.01, "{c:?}");
+    let field = HighlightSearch::new(&topo, &f);
+    assert_eq!(field.normal_source(), npr_geometry::NormalSource::Field);
+    let g = field.find(le, Mat4::IDENTITY);
+    assert_eq!(g.len(), 1);
+    assert!(g[0].position_object.distance(Vec3::Y) < 0.01, "{g:?}");
+    // No normals: the field's.
+    let mut bare = mesh.clone();
+    bare.normals.clear();
+    let s = HighlightSearch::for_mesh(&bare, &welded, &topo, &f);
+    assert_eq!(s.normal_source(), npr_geometry::NormalSource::Field);
 }

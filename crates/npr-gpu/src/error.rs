@@ -46,7 +46,4 @@ pub enum GpuError {
     /// `WAYLAND_DISPLAY`, or render offscreen instead.
     #[error("cannot create a window surface: {0}")]
     Surface(String),
-    /// A wgpu validation error caught in an error scope.
-    #[error("wgpu validation error: {0}")]
-    Validation(String),
 }

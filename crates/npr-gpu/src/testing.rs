@@ -1,16 +1,61 @@
 //! A process-wide GPU context for tests, and the rule for what a test does without one.
 //!
-//! Under `cargo xtask test` (which sets `NPR_REQUIRE_GPU=1` after making sure a driver is
-//! installed) a GPU test that finds no adapter FAILS. Elsewhere (plain `cargo test`) it
-//! prints why and returns early (a skip).
+//! A GPU test that finds no adapter FAILS, with the hint to run `cargo xtask doctor`
+//! (which finds or installs a driver). It is skipped only when the user asks for that
+//! explicitly with `NPR_SKIP_GPU=1`; each skip then writes
+//! `npr: N GPU tests skipped (NPR_SKIP_GPU=1) ...` straight to the process's stderr handle,
+//! which libtest's output capture does not intercept (it captures only the `print!`
+//! family), so the count shows under plain `cargo test`. The last such line of a test
+//! binary holds its total. `NPR_REQUIRE_GPU=1` (set by `cargo xtask test`) overrides
+//! `NPR_SKIP_GPU`: there a missing adapter always fails. The rule itself is the pure
+//! function [`no_adapter_action`].
 
 use crate::GpuContext;
+use std::io::Write as _;
 use std::sync::OnceLock;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Environment variable that makes a missing adapter a test failure.
+/// Environment variable that makes a missing adapter a test failure even when
+/// [`SKIP_GPU_ENV`] is set (`cargo xtask test` sets it after making sure of a driver).
 pub const REQUIRE_GPU_ENV: &str = "NPR_REQUIRE_GPU";
 
+/// Environment variable that, set to `1`, turns a missing adapter into a counted skip.
+pub const SKIP_GPU_ENV: &str = "NPR_SKIP_GPU";
+
+/// The hint a failing GPU test prints.
+pub const DOCTOR_HINT: &str = "run `cargo xtask doctor` to find or install a GPU driver \
+     (Mesa lavapipe on Debian/Ubuntu), or set NPR_SKIP_GPU=1 to skip GPU tests";
+
+/// What a GPU test does when no adapter exists.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoAdapter {
+    /// Fail (panic) with [`DOCTOR_HINT`]: the default.
+    Fail,
+    /// Return early and count the skip: only with `NPR_SKIP_GPU=1` and without
+    /// `NPR_REQUIRE_GPU=1`.
+    Skip,
+}
+
+/// The rule, from the values of [`SKIP_GPU_ENV`] and [`REQUIRE_GPU_ENV`] (`None` when
+/// unset): skip only when `NPR_SKIP_GPU` is exactly `1` and `NPR_REQUIRE_GPU` is not `1`.
+pub fn no_adapter_action(skip_gpu: Option<&str>, require_gpu: Option<&str>) -> NoAdapter {
+    if require_gpu != Some("1") && skip_gpu == Some("1") {
+        NoAdapter::Skip
+    } else {
+        NoAdapter::Fail
+    }
+}
+
+/// The line a skip writes to stderr, `count` being the skips so far in this binary.
+pub fn skip_line(count: usize, test: &str) -> String {
+    let tests = if count == 1 { "test" } else { "tests" };
+    format!(
+        "npr: {count} GPU {tests} skipped ({SKIP_GPU_ENV}=1) so far in this test binary; last: {test}"
+    )
+}
+
 static CONTEXT: OnceLock<Result<GpuContext, String>> = OnceLock::new();
+static SKIPPED: AtomicUsize = AtomicUsize::new(0);
 
 /// The shared context, created on first use (one device per test process).
 ///
@@ -27,22 +72,290 @@ pub fn shared_context() -> Result<&'static GpuContext, &'static str> {
         .map_err(String::as_str)
 }
 
-/// The shared context for a GPU test, or `None` after printing why the test is skipped.
+/// The shared context for a GPU test, or `None` when the test is skipped (only with
+/// `NPR_SKIP_GPU=1`; see the module docs).
 ///
 /// # Panics
-/// When no adapter exists and [`REQUIRE_GPU_ENV`] is set to `1` (as `cargo xtask test`
-/// does): there a missing GPU is a failure, not a skip.
+/// When no adapter exists and [`no_adapter_action`] says [`NoAdapter::Fail`] (the
+/// default): the message carries the adapter error and [`DOCTOR_HINT`].
 pub fn context_or_skip(test: &str) -> Option<&'static GpuContext> {
     match shared_context() {
         Ok(ctx) => Some(ctx),
         Err(e) => {
-            if std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| v == "1") {
-                panic!("{test}: {REQUIRE_GPU_ENV}=1 but no GPU adapter: {e}");
+            let skip = std::env::var(SKIP_GPU_ENV).ok();
+            let require = std::env::var(REQUIRE_GPU_ENV).ok();
+            match no_adapter_action(skip.as_deref(), require.as_deref()) {
+                NoAdapter::Fail => panic!("{test}: no GPU adapter ({e}); {DOCTOR_HINT}"),
+                NoAdapter::Skip => {
+                    let count = SKIPPED.fetch_add(1, Ordering::SeqCst) + 1;
+                    // The raw handle, not eprintln!: libtest captures the macros only.
+                    let _ = writeln!(std::io::stderr().lock(), "{}", skip_line(count, test));
+                    None
+                }
             }
-            eprintln!(
-                "SKIPPED {test}: no GPU adapter ({e}); run `cargo xtask test` to install one"
-            );
-            None
         }
+    }
+}
+
+/// How many GPU tests of this binary have been skipped so far.
+pub fn skipped_count() -> usize {
+    SKIPPED.load(Ordering::SeqCst)
+}
+
+/// WGSL struct layouts read with naga's reflection, for tests that compare them with the
+/// `#[repr(C)]` Rust structs that fill the buffers (feature `wgsl-layout`, always on in
+/// this crate's own tests).
+///
+/// A technique crate enables it for its tests only:
+/// `[dev-dependencies] npr-gpu = { workspace = true, features = ["wgsl-layout"] }`, then
+/// in a unit test next to its (private) uniform struct:
+///
+/// ```text
+/// npr_gpu::assert_wgsl_layout!(WarpObjectUniforms, "WarpObject", [world_from_object, ...]);
+/// ```
+#[cfg(any(test, feature = "wgsl-layout"))]
+pub mod wgsl_layout {
+    use crate::shaders;
+
+    /// One member of a WGSL struct: name, byte offset, byte size.
+    #[derive(Clone, Debug, PartialEq, Eq)]
+    pub struct Member {
+        /// Member name.
+        pub name: String,
+        /// Byte offset in the struct (naga's `StructMember::offset`).
+        pub offset: u32,
+        /// Byte size of the member's type (naga's `Layouter`).
+        pub size: u32,
+    }
+
+    /// A `var<uniform>` (or `var<storage>`) of a shader whose type is a struct.
+    #[derive(Clone, Debug, PartialEq, Eq)]
+    pub struct Block {
+        /// Shader file name (an entry of [`shaders::ALL`]).
+        pub shader: &'static str,
+        /// Variable name.
+        pub variable: String,
+        /// Whether it is in the uniform address space (else storage).
+        pub uniform: bool,
+        /// Name of the struct type (for an array of structs, the element's struct).
+        pub struct_name: String,
+        /// Size of the struct in bytes (the struct's `span`).
+        pub size: u32,
+        /// Its members in declaration order.
+        pub members: Vec<Member>,
+    }
+
+    /// Every struct-typed uniform and storage variable (storage arrays of structs count
+    /// by their element) of every shader in [`shaders::ALL`], as naga lays them out.
+    ///
+    /// # Errors
+    /// A parse or layout error, naming the shader.
+    pub fn blocks() -> Result<Vec<Block>, String> {
+        let mut out = Vec::new();
+        for entry in shaders::ALL {
+            let source = shaders::full_source(entry);
+            let module = naga::front::wgsl::parse_str(&source)
+                .map_err(|e| format!("{}: {}", entry.0, e.emit_to_string(&source)))?;
+            let mut layouter = naga::proc::Layouter::default();
+            layouter
+                .update(module.to_ctx())
+                .map_err(|e| format!("{}: layout: {e}", entry.0))?;
+            for (_, var) in module.global_variables.iter() {
+                let uniform = match var.space {
+                    naga::AddressSpace::Uniform => true,
+                    naga::AddressSpace::Storage { .. } => false,
+                    _ => continue,
+                };
+                let mut ty = var.ty;
+                if let naga::TypeInner::Array { base, .. } = module.types[ty].inner {
+                    ty = base;
+                }
+                let naga::TypeInner::Struct { members, span } = &module.types[ty].inner else {
+                    continue;
+                };
+                out.push(Block {
+                    shader: entry.0,
+                    variable: var.name.clone().unwrap_or_default(),
+                    uniform,
+                    struct_name: module.types[ty].name.clone().unwrap_or_default(),
+                    size: *span,
+                    members: members
+                        .iter()
+                        .map(|m| Member {
+                            name: m.name.clone().unwrap_or_default(),
+                            offset: m.offset,
+                            size: layouter[m.ty].size,
+                        })
+                        .collect(),
+                })
+            }
+        }
+        Ok(out)
+    }
+
+    /// Compares WGSL struct `wgsl_struct`, in every shader that binds it, with a Rust
+    /// struct of `rust_size` bytes whose fields, in order, are `rust_fields`
+    /// (`(WGSL member name, offset_of!)`). Returns how many blocks were compared.
+    ///
+    /// # Errors
+    /// Every difference (size, member names, offsets, a member running past the next),
+    /// or no shader binding the struct at all.
+    pub fn check(
+        wgsl_struct: &str,
+        rust_size: usize,
+        rust_fields: &[(&str, usize)],
+    ) -> Result<usize, String> {
+        let mut problems = Vec::new();
+        let mut checked = 0;
+        for b in blocks()?.iter().filter(|b| b.struct_name == wgsl_struct) {
+            checked += 1;
+            let at = format!("{wgsl_struct} ({} in {})", b.variable, b.shader);
+            if b.size as usize != rust_size {
+                problems.push(format!(
+                    "{at}: WGSL size {} != Rust size {rust_size}",
+                    b.size
+                ));
+            }
+            let wgsl: Vec<&str> = b.members.iter().map(|m| m.name.as_str()).collect();
+            let rust: Vec<&str> = rust_fields.iter().map(|f| f.0).collect();
+            if wgsl != rust {
+                problems.push(format!(
+                    "{at}: WGSL members {wgsl:?} != Rust fields {rust:?}"
+                ));
+                continue;
+            }
+            for (m, (_, offset)) in b.members.iter().zip(rust_fields) {
+                if m.offset as usize != *offset {
+                    problems.push(format!(
+                        "{at}.{}: WGSL offset {} != Rust offset {offset}",
+                        m.name, m.offset
+                    ));
+                }
+            }
+            for pair in b.members.windows(2) {
+                if pair[0].offset + pair[0].size > pair[1].offset {
+                    problems.push(format!("{at}.{}: overlaps the next member", pair[0].name));
+                }
+            }
+        }
+        if checked == 0 {
+            problems.push(format!("no shader binds a struct named {wgsl_struct}"));
+        }
+        if problems.is_empty() {
+            Ok(checked)
+        } else {
+            Err(problems.join("\n"))
+        }
+    }
+}
+
+/// Asserts that Rust struct `$ty` has the layout of WGSL struct `$wgsl` in every shader
+/// that binds it: same size, the listed fields are the WGSL members in order (same names)
+/// at the same offsets. Needs the `wgsl-layout` feature of `npr-gpu` (a test-only helper).
+///
+/// ```text
+/// npr_gpu::assert_wgsl_layout!(FrameUniforms, "Frame", [clip_from_world, eye_world]);
+/// ```
+#[cfg(any(test, feature = "wgsl-layout"))]
+#[macro_export]
+macro_rules! assert_wgsl_layout {
+    ($ty:ty, $wgsl:expr, [$($field:ident),* $(,)?]) => {
+        match $crate::testing::wgsl_layout::check(
+            $wgsl,
+            ::std::mem::size_of::<$ty>(),
+            &[$((stringify!($field), ::std::mem::offset_of!($ty, $field))),*],
+        ) {
+            Ok(blocks) => blocks,
+            Err(e) => panic!("{} does not match WGSL {}:\n{e}", stringify!($ty), $wgsl),
+        }
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_adapter_fails_unless_skipping_is_asked_for() {
+        assert_eq!(no_adapter_action(None, None), NoAdapter::Fail);
+        assert_eq!(no_adapter_action(Some("0"), None), NoAdapter::Fail);
+        assert_eq!(no_adapter_action(Some("yes"), None), NoAdapter::Fail);
+        assert_eq!(no_adapter_action(Some(""), None), NoAdapter::Fail);
+        assert_eq!(no_adapter_action(Some("1"), None), NoAdapter::Skip);
+        assert_eq!(no_adapter_action(Some("1"), Some("0")), NoAdapter::Skip);
+        // `cargo xtask test` requires the GPU: its NPR_REQUIRE_GPU=1 wins.
+        assert_eq!(no_adapter_action(Some("1"), Some("1")), NoAdapter::Fail);
+        assert_eq!(no_adapter_action(None, Some("1")), NoAdapter::Fail);
+    }
+
+    /// Every struct bound as `var<uniform>` or `var<storage>` in any shader, and the test
+    /// that compares it with its Rust twin: a new block fails here until it has one.
+    #[test]
+    fn every_bound_struct_has_a_layout_test() {
+        let covered = [
+            ("Frame", "npr-gpu uniforms::tests::layouts_match_wgsl"),
+            ("Object", "npr-gpu uniforms::tests::layouts_match_wgsl"),
+            (
+                "Hatch",
+                "npr-hatching params::tests::uniform_layout_matches_wgsl",
+            ),
+            (
+                "Scene",
+                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
+            ),
+            (
+                "Projector",
+                "npr-specular pass::tests::projector_layout_matches_wgsl",
+            ),
+            ("WarpObject", "npr-warp pass::tests (assert_wgsl_layout!)"),
+        ];
+        let blocks = wgsl_layout::blocks().unwrap();
+        let mut missing: Vec<String> = blocks
+            .iter()
+            .filter(|b| !covered.iter().any(|c| c.0 == b.struct_name))
+            .map(|b| format!("{} ({} in {})", b.struct_name, b.variable, b.shader))
+            .collect();
+        missing.dedup();
+        assert!(
+            missing.is_empty(),
+            "bound structs without a layout test: {missing:?}"
+        );
+        for (name, _) in covered {
+            assert!(
+                blocks.iter().any(|b| b.struct_name == name),
+                "{name} is no longer bound by any shader"
+            );
+        }
+        assert!(blocks.iter().filter(|b| b.uniform).count() >= 8);
+    }
+
+    #[test]
+    fn a_wrong_layout_is_reported() {
+        // Same size, members swapped: must fail, naming the offsets.
+        let e = wgsl_layout::check("Frame", 128, &[("clip_from_world", 0), ("eye_world", 80)])
+            .unwrap_err();
+        assert!(e.contains("members"), "{e}");
+        let fields = [
+            ("clip_from_world", 0),
+            ("eye_world", 64),
+            ("light_world", 96),
+            ("light_color", 80),
+            ("ambient", 112),
+        ];
+        let e = wgsl_layout::check("Frame", 128, &fields).unwrap_err();
+        assert!(
+            e.contains("light_world: WGSL offset 80 != Rust offset 96"),
+            "{e}"
+        );
+        assert!(wgsl_layout::check("NoSuchStruct", 16, &[]).is_err());
+    }
+
+    #[test]
+    fn the_skip_line_carries_the_count() {
+        assert_eq!(
+            skip_line(3, "t"),
+            "npr: 3 GPU tests skipped (NPR_SKIP_GPU=1) so far in this test binary; last: t"
+        );
+        assert!(skip_line(1, "t").starts_with("npr: 1 GPU test skipped"));
     }
 }

@@ -79,9 +79,25 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sizes_match_wgsl_layouts() {
-        assert_eq!(std::mem::size_of::<FrameUniforms>(), 128);
-        assert_eq!(std::mem::size_of::<ObjectUniforms>(), 144);
+    fn layouts_match_wgsl() {
+        // Sizes and member offsets read from every shader that binds the structs.
+        let frames = crate::assert_wgsl_layout!(
+            FrameUniforms,
+            "Frame",
+            [
+                clip_from_world,
+                eye_world,
+                light_world,
+                light_color,
+                ambient
+            ]
+        );
+        let objects = crate::assert_wgsl_layout!(
+            ObjectUniforms,
+            "Object",
+            [world_from_object, normal_from_object, diffuse, specular]
+        );
+        assert!(frames >= 3 && objects >= 3, "{frames} / {objects} blocks");
     }
 
     #[test]

@@ -165,8 +165,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn uniform_size_matches_wgsl() {
-        assert_eq!(std::mem::size_of::<HatchUniforms>(), 448);
+    fn uniform_layout_matches_wgsl() {
+        // Size and member offsets read from `hatching.wgsl` by naga.
+        npr_gpu::assert_wgsl_layout!(HatchUniforms, "Hatch", [bins, ink, paper, tone, config]);
     }
 
     #[test]

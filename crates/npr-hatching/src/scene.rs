@@ -696,8 +696,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn scene_uniforms_match_wgsl_size() {
-        assert_eq!(std::mem::size_of::<SceneUniforms>(), 128);
+    fn scene_uniforms_match_wgsl() {
+        // Size and member offsets read from `hatching_scene.wgsl` by naga.
+        npr_gpu::assert_wgsl_layout!(
+            SceneUniforms,
+            "Scene",
+            [light_clip_from_world, light_pos, spot, vsm, viewport]
+        );
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! GPU tests of the hatching pass and its inputs against the CPU reference and analytic
-//! expectations. Each test skips with a printed reason when no adapter exists, except
-//! under `cargo xtask test` (`NPR_REQUIRE_GPU=1`), where that is a failure.
+//! expectations. Each test fails when no adapter exists, unless `NPR_SKIP_GPU=1` asks to
+//! skip (see `npr_gpu::testing`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};

@@ -424,3 +424,18 @@ impl HighlightPass {
         pass.draw(0..draw.vertex_count, 0..1);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn projector_layout_matches_wgsl() {
+        // Size and member offsets of the storage array's element, read by naga.
+        npr_gpu::assert_wgsl_layout!(
+            ProjectorGpu,
+            "Projector",
+            [tex_from_world, axis_u, axis_v, normal, tint, params]
+        );
+    }
+}

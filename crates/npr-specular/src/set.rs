@@ -83,36 +83,33 @@ pub struct HighlightSet {
 
 impl HighlightSet {
     /// Builds the set for a render mesh: welds it, builds the topology and the curvature
-    /// field with `options`.
+    /// field with `options`. The N = H search solves on the mesh's own normals (the ones
+    /// it is shaded with) when it has them ([`npr_geometry::NormalSource::Mesh`]).
     ///
     /// # Errors
     /// [`SpecularError::EmptyMesh`] when the mesh has no usable triangle.
     pub fn new(mesh: &Mesh, options: &CurvatureOptions) -> Result<Self, SpecularError> {
-        let (_, topology, field) = CurvatureField::for_mesh(mesh, options);
-        Self::from_parts(topology, &field)
+        let (welded, topology, field) = CurvatureField::for_mesh(mesh, options);
+        check(&topology, &field)?;
+        let search = HighlightSearch::for_mesh(mesh, &welded, &topology, &field);
+        Ok(Self::with_search(topology, &field, search))
     }
 
     /// Builds the set from a topology and its curvature field (one entry per welded
-    /// vertex). Faces keep the render mesh's triangle order.
+    /// vertex), searching on the field's normals. Faces keep the render mesh's triangle
+    /// order.
     ///
     /// # Errors
     /// [`SpecularError::EmptyMesh`] when no face is usable;
     /// [`SpecularError::Mismatch`] when the field and topology differ in vertex count.
     pub fn from_parts(topology: Topology, field: &CurvatureField) -> Result<Self, SpecularError> {
-        if topology.face_count() == 0
-            || (0..topology.face_count()).all(|f| topology.is_degenerate(f))
-        {
-            return Err(SpecularError::EmptyMesh);
-        }
-        if field.len() != topology.vertex_count() {
-            return Err(SpecularError::Mismatch(format!(
-                "{} curvature entries for {} vertices",
-                field.len(),
-                topology.vertex_count()
-            )));
-        }
+        check(&topology, field)?;
         let search = HighlightSearch::new(&topology, field);
-        Ok(Self {
+        Ok(Self::with_search(topology, field, search))
+    }
+
+    fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
+        Self {
             radius_object: field.radius_world.max(0.15 * bounding_radius(&topology)),
             size_cap_radius: None,
             topology,
@@ -126,7 +123,7 @@ impl HighlightSet {
             scratch: VisibilityScratch::default(),
             next_id: 0,
             stats: UpdateStats::default(),
-        })
+        }
     }
 
     /// Chooses the normal field of the `N = H` solve (default: the curvature-blended field,
@@ -231,10 +228,17 @@ impl HighlightSet {
                 radius_world,
             ));
         }
-        // Lost highlights fade out with their last projector.
+        // Lost highlights fade out at their last point on the object, re-placed with the
+        // object's current transform (the projector and the receiver search both follow
+        // an object that moves while the highlight fades).
         for (i, h) in previous.iter().enumerate() {
             if !prev_taken[i] && h.opacity - step > 0.0 {
-                next.push(self.make(h.id, h.centre, h.opacity - step, false, radius_world));
+                let c = &h.centre;
+                let centre = self
+                    .search
+                    .centre_at(c.face, c.alpha, c.beta, world_from_object)
+                    .unwrap_or(h.centre);
+                next.push(self.make(h.id, centre, h.opacity - step, false, radius_world));
             }
         }
         // New highlights fade in (appear at full opacity on the first frame).
@@ -334,6 +338,21 @@ impl HighlightSet {
             receivers: 0..0,
         }
     }
+}
+
+/// The set needs a usable face and one curvature entry per vertex.
+fn check(topology: &Topology, field: &CurvatureField) -> Result<(), SpecularError> {
+    if topology.face_count() == 0 || (0..topology.face_count()).all(|f| topology.is_degenerate(f)) {
+        return Err(SpecularError::EmptyMesh);
+    }
+    if field.len() != topology.vertex_count() {
+        return Err(SpecularError::Mismatch(format!(
+            "{} curvature entries for {} vertices",
+            field.len(),
+            topology.vertex_count()
+        )));
+    }
+    Ok(())
 }
 
 /// The mean scale `|det|^(1/3)` of a transform's linear part (1 when singular).

@@ -388,3 +388,77 @@ fn bad_input_gives_no_panic_and_no_nan() {
     assert_eq!(check_finite(&set), 1);
     assert!(HighlightSet::new(&Mesh::default(), &CurvatureOptions::default()).is_err());
 }
+
+/// A highlight that is lost while the OBJECT moves (not only the light) fades out where it
+/// was on the object: its projector and its receivers follow the model matrix.
+#[test]
+fn a_fading_highlight_follows_object_motion() {
+    let mut set = set_for(&generate::torus(1.0, 0.4, 64, 32));
+    set.fade_frames = 4;
+    let (to_light, to_eye) = (Vec3::new(0.3, 0.9, 0.4).normalize(), Vec3::Z);
+    let first = set
+        .update(LightEye::Directions { to_light, to_eye }, Mat4::IDENTITY)
+        .to_vec();
+    assert!(!first.is_empty());
+    // The object moves and turns, and the light goes where no centre exists (L = -V):
+    // every highlight is lost and fades.
+    let world_from_object =
+        Mat4::from_translation(Vec3::new(3.0, -1.0, 0.5)) * Mat4::from_rotation_y(0.7);
+    let lost = LightEye::Directions {
+        to_light: -to_eye,
+        to_eye,
+    };
+    for frame in 1..4 {
+        let fading = set.update(lost, world_from_object).to_vec();
+        assert_eq!(
+            fading.len(),
+            first.len(),
+            "frame {frame}: all fade, none vanish"
+        );
+        for h in &fading {
+            assert!(!h.found && h.opacity < 1.0);
+            let on_object = world_from_object.transform_point3(h.centre.position_object);
+            let moved = h.centre.position_world.distance(on_object);
+            assert!(moved < 1e-4, "frame {frame}: centre left behind by {moved}");
+            let p = h.projector.centre_world.distance(on_object);
+            assert!(p < 1e-3, "frame {frame}: projector left behind by {p}");
+            let n = world_from_object.transform_vector3(h.centre.normal_object);
+            assert!(h.centre.normal_world.dot(n.normalize()) > 0.9999);
+            assert!(!h.receivers.is_empty(), "frame {frame}: no receivers");
+        }
+    }
+}
+
+/// The N = H search solves on the normals the mesh is shaded with: a sphere whose normals
+/// are all tilted by 25° about z has its highlight where the TILTED normal faces H, not
+/// where the geometric (area-weighted) normal does.
+#[test]
+fn the_centre_lands_on_the_peak_of_the_mesh_normals() {
+    let mut mesh = generate::icosphere(4, 1.0);
+    let tilt = Mat3::from_rotation_z(25f32.to_radians());
+    for n in &mut mesh.normals {
+        *n = tilt * *n;
+    }
+    let mut set = set_for(&mesh);
+    let h = Vec3::Y;
+    let hs = set
+        .update(
+            LightEye::Directions {
+                to_light: h,
+                to_eye: h,
+            },
+            Mat4::IDENTITY,
+        )
+        .to_vec();
+    assert_eq!(hs.len(), 1, "{hs:?}");
+    // Shaded peak: tilt · p = H, p = tiltᵀ H; the geometric peak would be H itself.
+    let shaded_peak = tilt.transpose() * h;
+    let c = hs[0].centre.position_object;
+    assert!(
+        c.distance(shaded_peak) < 0.01,
+        "centre {c} is {} from the shaded peak {shaded_peak} ({} from the geometric one)",
+        c.distance(shaded_peak),
+        c.distance(h)
+    );
+    assert!(hs[0].centre.normal_object.dot(h) > 0.9999);
+}

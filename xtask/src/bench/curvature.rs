@@ -18,6 +18,7 @@ use npr_geometry::{
 };
 
 use super::table::{Cell, Table, emit};
+use npr_geometry::stats::{median, quantile};
 
 type Truth = Box<dyn Fn(Vec3) -> Principal>;
 
@@ -27,20 +28,8 @@ struct Case {
     truth: Option<Truth>,
 }
 
-fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-fn p95(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() * 95) / 100).min(v.len() - 1)]
+fn p95(v: &[f64]) -> f64 {
+    quantile(v.iter().copied(), 0.95)
 }
 
 /// Median wall time of `runs` runs of topology + field, the field of the last run, and
@@ -64,7 +53,7 @@ fn timed(
         last = Some((topo, f));
     }
     let (topo, f) = last.unwrap_or_default();
-    (median(&mut total), median(&mut field_only), topo, f)
+    (median(total), median(field_only), topo, f)
 }
 
 struct Errors {
@@ -97,9 +86,9 @@ fn errors(topo: &Topology, f: &CurvatureField, truth: &Truth) -> Errors {
         }
     }
     Errors {
-        kmin: (median(&mut en), p95(&mut en)),
-        kmax: (median(&mut ex), p95(&mut ex)),
-        dir: median(&mut ed),
+        kmin: (median(en.iter().copied()), p95(&en)),
+        kmax: (median(ex.iter().copied()), p95(&ex)),
+        dir: median(ed),
         invalid,
     }
 }
@@ -220,7 +209,9 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         &columns,
     );
     let opts = CurvatureOptions::default();
+    let bar = super::progress(cases.len() as u64 + 9 + 3, "curvature");
     for c in &cases {
+        bar.set_message(c.name.clone());
         let runs = if c.mesh.triangle_count() > 500_000 {
             3
         } else {
@@ -239,6 +230,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ];
         row.extend(error_cells(e.as_ref(), !c.name.starts_with("icosphere")));
         main.push(row);
+        bar.inc(1);
     }
 
     // Method comparison on the 10k torus.
@@ -271,6 +263,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             ];
             row.extend(error_cells(e.as_ref(), true));
             methods.push(row);
+            bar.inc(1);
         }
     }
 
@@ -321,10 +314,12 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             topo.face_count().into(),
             counts.iter().copied().min().unwrap_or(0).into(),
             counts.iter().copied().max().unwrap_or(0).into(),
-            Cell::Num(median(&mut times), 1),
+            Cell::Num(median(times.iter().copied()), 1),
             Cell::Num(times.iter().copied().fold(0.0, f64::max), 1),
         ]);
+        bar.inc(1);
     }
+    bar.finish_and_clear();
 
     emit(&[main, methods, search], json)
 }

@@ -8,10 +8,18 @@
 //! (`cpu_mpix_per_s_all_inked`, the worst case; median and best of 15), with the machine's
 //! load average beside them, since other processes take cores from rayon.
 //! Targets (issue 5): ratio ≤ 1.5, CPU ≥ 20 megapixels per second on 2 cores.
+//!
+//! Both frames share the 1024² variance shadow map and its two blur passes, which
+//! dominate on a software adapter. So each pass is also timed alone: the VSM (the shadow
+//! pass and its blur), the G-buffer pass, the hatching pass and the Phong pass, each
+//! recorded in its own command buffer, submitted and waited for (wall time; no timestamp
+//! queries, which the shared device does not request). `ratio_without_vsm` is
+//! (G-buffer + hatching pass) divided by the Phong pass.
 
 use super::table::{Cell, Table, emit};
 use crate::demo_hatching::demo_directions;
 use glam::{Mat4, Vec3};
+use npr_geometry::stats::median;
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
 use npr_hatching::{
@@ -122,10 +130,9 @@ fn load_average() -> Option<f64> {
         .ok()
 }
 
-fn median(mut v: Vec<Duration>) -> f64 {
-    v.sort();
-    v.get(v.len() / 2)
-        .map_or(f64::NAN, |d| d.as_secs_f64() * 1e3)
+/// Median of durations, in milliseconds.
+fn median_ms(v: &[Duration]) -> f64 {
+    median(v.iter().map(|d| d.as_secs_f64() * 1e3))
 }
 
 /// Runs the benchmark and prints (and optionally writes) its table.
@@ -138,7 +145,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     let cpu = CpuHatcher::new(&tam, &params)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut table = Table::new(
-        "image-space hatching: whole frame vs Phong + VSM frame (median, GPU waited each frame)",
+        "image-space hatching: whole frame vs Phong + VSM frame (median, GPU waited each frame); \
+         passes alone: one submit each, waited (wall time, no timestamp queries)",
         &[
             "scene",
             "triangles",
@@ -149,6 +157,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "hatch_ms_median",
             "phong_vsm_ms_median",
             "ratio",
+            "vsm_ms_median",
+            "gbuffer_ms_median",
+            "hatching_pass_ms_median",
+            "phong_pass_ms_median",
+            "ratio_without_vsm",
             "hatch_fps",
             "paper_fps",
             "cpu_mpix_per_s",
@@ -194,26 +207,48 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 .map_err(|e| anyhow::anyhow!("poll: {e}"))
         };
         let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
+        let mut passes_t: [Vec<Duration>; 4] = Default::default();
+        let hatch_group = frame.hatch.bind(&ctx.device, &frame.gbuffer.view);
+        // Records with `record`, submits, waits: the wall time of that work alone.
+        let timed = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> anyhow::Result<Duration> {
+            let t = Instant::now();
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            record(&mut enc);
+            ctx.queue.submit(Some(enc.finish()));
+            wait()?;
+            Ok(t.elapsed())
+        };
+        let bar = super::progress(w.frames as u64 + 2, w.name);
         // Two warm-up frames of each, then alternate.
         for i in 0..w.frames + 2 {
-            let t0 = Instant::now();
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            frame.record(&mut enc, &target.color_view, &objects);
-            ctx.queue.submit(Some(enc.finish()));
-            wait()?;
-            let hatch = t0.elapsed();
-            let t1 = Instant::now();
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            frame.record_phong(&mut enc, &target, &objects);
-            ctx.queue.submit(Some(enc.finish()));
-            wait()?;
-            let phong = t1.elapsed();
+            let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects))?;
+            let phong = timed(&|enc| frame.record_phong(enc, &target, &objects))?;
+            let passes = [
+                timed(&|enc| frame.scene.record_shadow(enc, &objects))?,
+                timed(&|enc| frame.scene.record_gbuffer(enc, &frame.gbuffer, &objects))?,
+                timed(&|enc| frame.hatch.record(enc, &target.color_view, &hatch_group))?,
+                timed(&|enc| {
+                    frame.scene.record_phong(
+                        enc,
+                        &target.color_view,
+                        &target.depth_view,
+                        [1.0; 4],
+                        &objects,
+                    );
+                })?,
+            ];
             if i >= 2 {
                 hatch_t.push(hatch);
                 phong_t.push(phong);
+                for (all, t) in passes_t.iter_mut().zip(passes) {
+                    all.push(t);
+                }
             }
+            bar.inc(1);
         }
-        let (h_ms, p_ms) = (median(hatch_t), median(phong_t));
+        bar.finish_and_clear();
+        let (h_ms, p_ms) = (median_ms(&hatch_t), median_ms(&phong_t));
+        let [vsm_ms, gbuffer_ms, hatching_ms, phong_pass_ms] = passes_t.map(|t| median_ms(&t));
         // CPU reference on this scene's G-buffer (left by the last hatching frame).
         let mut enc = ctx.device.create_command_encoder(&Default::default());
         frame.record(&mut enc, &target.color_view, &objects);
@@ -226,7 +261,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             cpu_t.push(t.elapsed());
             std::hint::black_box(img);
         }
-        let mpix = f64::from(width * height) / 1e6 / (median(cpu_t) / 1e3);
+        let mpix = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
         // Worst case: every pixel inked (no paper background), θ varying.
         let inked = npr_hatching::HatchInputs::from_fn(width, height, |x, y| {
             (0.5 + 0.4 * (0.01 * x).sin(), 0.003 * x + 0.002 * y)
@@ -240,7 +275,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         }
         let best = cpu_t.iter().min().map_or(f64::NAN, |d| d.as_secs_f64());
         let mpix_inked_best = f64::from(width * height) / 1e6 / best;
-        let mpix_inked = f64::from(width * height) / 1e6 / (median(cpu_t) / 1e3);
+        let mpix_inked = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
         table.push(vec![
             w.name.into(),
             triangles.into(),
@@ -251,6 +286,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             Cell::Num(h_ms, 2),
             Cell::Num(p_ms, 2),
             Cell::Num(h_ms / p_ms, 3),
+            Cell::Num(vsm_ms, 2),
+            Cell::Num(gbuffer_ms, 2),
+            Cell::Num(hatching_ms, 2),
+            Cell::Num(phong_pass_ms, 2),
+            Cell::Num((gbuffer_ms + hatching_ms) / phong_pass_ms, 3),
             Cell::Num(1e3 / h_ms, 1),
             Cell::Num(w.paper_fps, 0),
             Cell::Num(mpix, 1),

@@ -8,6 +8,19 @@ pub mod warp;
 
 use std::path::Path;
 
+/// A progress bar of `len` steps labelled `what`, on stderr; indicatif draws nothing when
+/// stderr is not a terminal, so piped output and `--json` runs stay clean.
+pub fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{msg:>28} [{bar:32}] {pos}/{len} {elapsed}")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_message(what.to_string());
+    bar
+}
+
 /// The benchmarks by name.
 pub const NAMES: &[&str] = &["curvature", "specular", "hatching", "warp"];
 

@@ -568,7 +568,7 @@ fn curvature_mesh(
             });
         }
         let n = mesh.vertices.len() as u32;
-        if n % 3 == 0 {
+        if n.is_multiple_of(3) {
             mesh.indices.extend([n - 3, n - 2, n - 1]);
         } else {
             mesh.vertices.truncate(n as usize - (n as usize % 3));
