@@ -37,9 +37,18 @@ fn display_runner() -> Option<Vec<String>> {
     std::env::var_os("DISPLAY").map(|_| Vec::new())
 }
 
+/// The GPU tests' rule (`npr_gpu::testing`): skip only with `NPR_SKIP_GPU=1` and without
+/// `NPR_REQUIRE_GPU=1`, saying so on the raw stderr handle (which output capture keeps).
 fn skip_allowed(test: &str) -> bool {
-    if std::env::var("NPR_SKIP_GPU").is_ok_and(|v| v == "1") {
-        eprintln!("SKIPPED {test}: NPR_SKIP_GPU=1");
+    use npr_gpu::testing::{NoAdapter, REQUIRE_GPU_ENV, SKIP_GPU_ENV, no_adapter_action};
+    let skip = std::env::var(SKIP_GPU_ENV).ok();
+    let require = std::env::var(REQUIRE_GPU_ENV).ok();
+    if no_adapter_action(skip.as_deref(), require.as_deref()) == NoAdapter::Skip {
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr().lock(),
+            "npr: window test skipped ({SKIP_GPU_ENV}=1): {test}"
+        );
         return true;
     }
     false
