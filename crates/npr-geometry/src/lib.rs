@@ -45,6 +45,7 @@ pub mod highlight;
 pub mod mesh;
 pub mod obj;
 pub mod rng;
+pub mod stroke_field;
 pub mod topology;
 pub mod weld;
 
@@ -56,5 +57,6 @@ pub use highlight::{
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
+pub use stroke_field::{LineFieldStats, StrokeField, StrokeFieldOptions, line_angle_deg};
 pub use topology::{EdgeKind, Topology};
 pub use weld::{Welded, weld};
