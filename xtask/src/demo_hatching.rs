@@ -3,9 +3,10 @@
 //! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, a 2-D flow
 //! field (§5), and the tonal art maps themselves.
 //!
-//! Stroke directions: the direction of maximum principal curvature from `npr-geometry`'s
-//! curvature field (`npr_hatching::principal_directions`), falling back to the parallels
-//! `y × n` on umbilic and flat regions (a sphere, the ground plane).
+//! Stroke directions: the smooth line field fitted to the direction of maximum principal
+//! curvature (`npr_hatching::stroke_directions` with the default
+//! `DirectionSource::Smooth`), falling back to the parallels `y × n` on umbilic and flat
+//! objects (a sphere, the ground plane).
 
 use crate::demo::{demo_meshes, framing_camera, paste};
 use anyhow::Context;
@@ -32,9 +33,19 @@ pub fn demo_knot() -> Mesh {
 }
 
 /// Stroke directions for a demo mesh (see the module docs).
-pub fn demo_directions(_name: &str, mesh: &Mesh) -> Vec<Vec3> {
-    npr_hatching::principal_directions(
+pub fn demo_directions(name: &str, mesh: &Mesh) -> Vec<Vec3> {
+    directions_from(name, mesh, &npr_hatching::DirectionSource::default())
+}
+
+/// Stroke directions for a demo mesh from a chosen source.
+pub fn directions_from(
+    _name: &str,
+    mesh: &Mesh,
+    source: &npr_hatching::DirectionSource,
+) -> Vec<Vec3> {
+    npr_hatching::stroke_directions(
         mesh,
+        source,
         npr_hatching::StrokeDirection::KappaMax,
         &npr_geometry::CurvatureOptions::default(),
         Vec3::Y,
