@@ -1,19 +1,36 @@
-//! Benchmarks: `cargo xtask bench NAME [--json PATH]`.
+//! Benchmarks: `cargo xtask bench NAME [--mesh PATH]... [--json PATH]`.
 
 pub mod curvature;
 pub mod hatching;
+pub mod hatching_directions;
 pub mod specular;
 pub mod table;
 pub mod warp;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature", "specular", "hatching", "warp"];
+pub const NAMES: &[&str] = &[
+    "curvature",
+    "specular",
+    "hatching",
+    "hatching-directions",
+    "warp",
+];
 
-/// Runs benchmark `name`.
-pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
+/// The benchmarks that take `--mesh`.
+const TAKE_MESHES: &[&str] = &["hatching-directions"];
+
+/// Runs benchmark `name` (on `meshes` instead of its defaults, where it takes them).
+pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
+    if !meshes.is_empty() && !TAKE_MESHES.contains(&name) {
+        anyhow::bail!(
+            "benchmark `{name}` has fixed meshes; --mesh applies to: {}",
+            TAKE_MESHES.join(", ")
+        );
+    }
     match name {
+        "hatching-directions" => hatching_directions::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
         "hatching" => hatching::run(json),
