@@ -78,7 +78,7 @@ fn is_edge(p: vec2<i32>, size: vec2<i32>) -> bool {
         return false;
     }
     let c = textureLoad(gbuffer, p, 0);
-    if c.a <= 0.0 {
+    if !(c.a > 0.0) {
         return false;
     }
     let offsets = array<vec2<i32>, 4>(vec2<i32>(1, 0), vec2<i32>(-1, 0), vec2<i32>(0, 1), vec2<i32>(0, -1));
@@ -88,7 +88,7 @@ fn is_edge(p: vec2<i32>, size: vec2<i32>) -> bool {
             continue;
         }
         let q = textureLoad(gbuffer, pq, 0);
-        if q.a <= 0.0 {
+        if !(q.a > 0.0) {
             return true;
         }
         let step = q.a - c.a;

@@ -489,7 +489,7 @@ fn is_edge(
         return false;
     }
     let c = at(x, y);
-    if !(c[3] > 0.0) {
+    if c[3].is_nan() || c[3] <= 0.0 {
         return false;
     }
     [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dx, dy)| {
@@ -497,7 +497,7 @@ fn is_edge(
             return false;
         }
         let q = at(x + dx, y + dy);
-        if !(q[3] > 0.0) {
+        if q[3].is_nan() || q[3] <= 0.0 {
             return true;
         }
         let step = q[3] - c[3];

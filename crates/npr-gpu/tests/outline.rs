@@ -71,7 +71,7 @@ fn sphere_silhouette_is_the_analytic_circle() {
         width_px: 1.0,
         ..Default::default()
     };
-    let (g, gpu) = render(&ctx, &[(&mesh, Mat4::IDENTITY)], &camera, &settings, (w, h));
+    let (g, gpu) = render(ctx, &[(&mesh, Mat4::IDENTITY)], &camera, &settings, (w, h));
     let cpu = outline_mask_cpu(w, h, &g, &settings).unwrap();
     assert_masks_agree(&gpu, &cpu);
 
@@ -124,7 +124,7 @@ fn gpu_outlines_match_the_cpu_rule_on_a_scene() {
             ..Default::default()
         },
     ] {
-        let (g, gpu) = render(&ctx, &objects, &camera, &settings, (w, h));
+        let (g, gpu) = render(ctx, &objects, &camera, &settings, (w, h));
         let cpu = outline_mask_cpu(w, h, &g, &settings).unwrap();
         assert_masks_agree(&gpu, &cpu);
     }
