@@ -141,14 +141,7 @@ impl NormalDepthTarget {
     /// # Errors
     /// [`GpuError::InvalidSize`] for a zero size or one past the device's 2-D limit.
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Self, GpuError> {
-        let max = device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(GpuError::InvalidSize {
-                width,
-                height,
-                reason: format!("each side must be in 1..={max}"),
-            });
-        }
+        crate::targets::check_size(device, width, height)?;
         let texture = texture_2d(
             device,
             "npr normal+depth",
@@ -619,50 +612,38 @@ mod tests {
         assert_eq!(s.depth_ratio, 1e-4);
     }
 
-    #[test]
-    fn cpu_mask_marks_the_near_side_of_a_step() {
-        // Left half at depth 1 facing the camera, right half at depth 2.
-        let (w, h) = (8u32, 4u32);
+    /// A `w × h` G-buffer whose left half is `left` and right half `right`, and its
+    /// 1-pixel outline mask.
+    fn halves(w: u32, h: u32, left: [f32; 4], right: [f32; 4]) -> (Vec<[f32; 4]>, Vec<bool>) {
         let g: Vec<[f32; 4]> = (0..w * h)
-            .map(|i| {
-                if i % w < 4 {
-                    [0.0, 0.0, 1.0, 1.0]
-                } else {
-                    [0.0, 0.0, 1.0, 2.0]
-                }
-            })
+            .map(|i| if i % w < w / 2 { left } else { right })
             .collect();
         let s = OutlineSettings {
             width_px: 1.0,
             ..Default::default()
         };
         let m = outline_mask_cpu(w, h, &g, &s).unwrap();
+        (g, m)
+    }
+
+    #[test]
+    fn cpu_mask_marks_the_near_side_of_a_step() {
+        // Left half at depth 1 facing the camera, right half at depth 2.
+        let (w, h) = (8u32, 4u32);
+        let (g, m) = halves(w, h, [0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 1.0, 2.0]);
         for y in 0..h {
             for x in 0..w {
                 assert_eq!(m[(y * w + x) as usize], x == 3, "({x}, {y})");
             }
         }
-        assert!(outline_mask_cpu(w, h, &g[1..], &s).is_none());
+        assert!(outline_mask_cpu(w, h, &g[1..], &OutlineSettings::default()).is_none());
     }
 
     #[test]
     fn cpu_mask_marks_creases_once() {
         // Two planes at equal depth meeting at x = 4 with normals 90° apart.
         let (w, h) = (8u32, 3u32);
-        let g: Vec<[f32; 4]> = (0..w * h)
-            .map(|i| {
-                if i % w < 4 {
-                    [0.0, 0.0, 1.0, 1.0]
-                } else {
-                    [1.0, 0.0, 0.0, 1.0]
-                }
-            })
-            .collect();
-        let s = OutlineSettings {
-            width_px: 1.0,
-            ..Default::default()
-        };
-        let m = outline_mask_cpu(w, h, &g, &s).unwrap();
+        let (_, m) = halves(w, h, [0.0, 0.0, 1.0, 1.0], [1.0, 0.0, 0.0, 1.0]);
         // Equal depth: both sides count as "no nearer", so both sides of the crease.
         let row: Vec<bool> = (0..w).map(|x| m[(w + x) as usize]).collect();
         assert_eq!(row, [false, false, false, true, true, false, false, false]);
