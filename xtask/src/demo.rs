@@ -112,7 +112,8 @@ pub fn run() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Base shadings (Phong, Gouraud, cel) of every demo mesh, one PNG each and a sheet.
+/// Base shadings (Phong, Gouraud, cel with outlines) of every demo mesh, one PNG each
+/// and a sheet.
 fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     const TILE: u32 = 320;
     let meshes = demo_meshes()?;
@@ -137,7 +138,20 @@ fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             clear: [1.0, 1.0, 1.0, 1.0],
         };
         for (col, model) in models.iter().enumerate() {
-            let image = render_base(&ctx.device, &ctx.queue, &scene, *model, TILE, TILE)?;
+            let mut image = render_base(&ctx.device, &ctx.queue, &scene, *model, TILE, TILE)?;
+            if *model == ShadingModel::Cel {
+                // Cel shading with ink outlines (npr_gpu::outline), as cartoons are drawn.
+                let objects = [(&gpu, world_from_object)];
+                let settings = npr_gpu::outline::OutlineSettings::default();
+                image = npr_gpu::outline::outline_image(
+                    &ctx.device,
+                    &ctx.queue,
+                    &image,
+                    &camera,
+                    &objects,
+                    &settings,
+                )?;
+            }
             let path = dir.join(format!("base-{name}-{}.png", model.name()));
             save(&image, &path, &mut written)?;
             paste(&mut sheet, &image, col as u32 * TILE, row as u32 * TILE);

@@ -1,11 +1,14 @@
 //! Demo figures of the image-space hatching paper (Kim & Lee 2008, `npr-hatching`):
 //! Fig. 1 (cut-and-paste, blended, offset partition), Fig. 2 (pen and pencil on single
 //! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, a 2-D flow
-//! field (§5), and the tonal art maps themselves.
+//! field (§5), and the tonal art maps themselves. Our own figures (the scene under a spot
+//! light, raw against smooth stroke directions on the bunny) add ink outlines
+//! (`npr_gpu::outline`); those that reproduce the paper's figures do not.
 //!
-//! Stroke directions: the direction of maximum principal curvature from `npr-geometry`'s
-//! curvature field (`npr_hatching::principal_directions`), falling back to the parallels
-//! `y × n` on umbilic and flat regions (a sphere, the ground plane).
+//! Stroke directions: the smooth line field fitted to the direction of maximum principal
+//! curvature (`npr_hatching::stroke_directions` with the default
+//! `DirectionSource::Smooth`), falling back to the parallels `y × n` on umbilic and flat
+//! objects (a sphere, the ground plane).
 
 use crate::demo::{demo_meshes, framing_camera, save, sheet};
 use glam::{Mat4, Vec2, Vec3};
@@ -31,9 +34,19 @@ pub fn demo_knot() -> Mesh {
 }
 
 /// Stroke directions for a demo mesh (see the module docs).
-pub fn demo_directions(_name: &str, mesh: &Mesh) -> Vec<Vec3> {
-    npr_hatching::principal_directions(
+pub fn demo_directions(name: &str, mesh: &Mesh) -> Vec<Vec3> {
+    directions_from(name, mesh, &npr_hatching::DirectionSource::default())
+}
+
+/// Stroke directions for a demo mesh from a chosen source.
+pub fn directions_from(
+    _name: &str,
+    mesh: &Mesh,
+    source: &npr_hatching::DirectionSource,
+) -> Vec<Vec3> {
+    npr_hatching::stroke_directions(
         mesh,
+        source,
         npr_hatching::StrokeDirection::KappaMax,
         &npr_geometry::CurvatureOptions::default(),
         Vec3::Y,
@@ -47,7 +60,16 @@ struct Item {
     directions: Vec<Vec3>,
 }
 
-/// Renders `items` hatched with each `params` (and optionally the Phong + VSM baseline).
+/// Whether a figure gets ink outlines (`npr_gpu::outline`): on for our own figures, off
+/// for those that reproduce the paper's.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Outlines {
+    Paper,
+    On,
+}
+
+/// Renders `items` hatched with each `params` (and optionally the Phong + VSM baseline),
+/// with outlines over the hatched images when asked.
 #[allow(clippy::too_many_arguments)]
 fn render(
     ctx: &GpuContext,
@@ -57,6 +79,7 @@ fn render(
     tam: &TonalArtMap,
     params: &[HatchParams],
     with_phong: bool,
+    outlines: Outlines,
     (w, h): (u32, u32),
 ) -> anyhow::Result<Vec<image::RgbaImage>> {
     let first = params.first().copied().unwrap_or_default();
@@ -88,9 +111,25 @@ fn render(
     let objects: Vec<_> = gpu.iter().map(|(m, o)| (m, o)).collect();
     frame.set_view(&ctx.queue, camera, light);
     let mut out = Vec::new();
+    let outlined: Vec<(&GpuMesh, Mat4)> = gpu
+        .iter()
+        .zip(items)
+        .map(|((m, _), item)| (m, item.world_from_object))
+        .collect();
     for p in params {
         frame.hatch.set_params(&ctx.queue, p)?;
-        out.push(frame.render_hatched(&ctx.device, &ctx.queue, &objects)?);
+        let mut image = frame.render_hatched(&ctx.device, &ctx.queue, &objects)?;
+        if outlines == Outlines::On {
+            image = npr_gpu::outline::outline_image(
+                &ctx.device,
+                &ctx.queue,
+                &image,
+                camera,
+                &outlined,
+                &npr_gpu::outline::OutlineSettings::default(),
+            )?;
+        }
+        out.push(image);
     }
     if with_phong {
         out.push(frame.render_phong(&ctx.device, &ctx.queue, &objects)?);
@@ -154,6 +193,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         &pen,
         &params,
         false,
+        Outlines::Paper,
         (480, 360),
     )?;
     for (img, mode) in images.iter().zip(BlendMode::ALL) {
@@ -198,6 +238,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
                 tam,
                 &params,
                 false,
+                Outlines::Paper,
                 (640, 480),
             )?;
             for img in imgs {
@@ -227,6 +268,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             tam,
             &[HatchParams::default()],
             style == TamStyle::Pen,
+            Outlines::Paper,
             (960, 600),
         )?;
         save(
@@ -259,11 +301,46 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         &pen,
         &[HatchParams::default()],
         false,
+        Outlines::On,
         (960, 600),
     )?;
     save(
         &imgs[0],
         &dir.join("hatching-fig3-scene-spot-pen.png"),
+        &mut written,
+    )?;
+
+    // Stroke directions before/after: the raw principal field against the smooth line
+    // field (issue 11), on the bunny, with outlines.
+    let bunny = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
+    let mut tiles = Vec::new();
+    for source in [
+        npr_hatching::DirectionSource::Principal,
+        npr_hatching::DirectionSource::default(),
+    ] {
+        let (mut item, camera, light) = single("stanford-bunny", bunny.clone());
+        item.directions = directions_from("stanford-bunny", &item.mesh, &source);
+        let imgs = render(
+            ctx,
+            &[item],
+            &camera,
+            &light,
+            &pen,
+            &[HatchParams::default()],
+            false,
+            Outlines::On,
+            (640, 480),
+        )?;
+        save(
+            &imgs[0],
+            &dir.join(format!("hatching-directions-bunny-{}.png", source.name())),
+            &mut written,
+        )?;
+        tiles.extend(imgs);
+    }
+    save(
+        &sheet(&tiles, 2),
+        &dir.join("hatching-directions-bunny.png"),
         &mut written,
     )?;
 

@@ -35,6 +35,10 @@ enum Command {
         /// Also write the rows as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// A mesh (OBJ) to run on instead of the defaults; repeatable. Only for
+        /// benchmarks that take meshes (`hatching-directions`).
+        #[arg(long)]
+        mesh: Vec<PathBuf>,
     },
     /// Regenerate fixtures/ from the code that defines them.
     Fixtures,
@@ -59,7 +63,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Test => test::run(),
         Command::Demo => demo::run(),
-        Command::Bench { name, json } => bench::run(&name, json.as_deref()),
+        Command::Bench { name, json, mesh } => bench::run(&name, &mesh, json.as_deref()),
         Command::Fixtures => fixtures::run(),
         Command::Doctor => {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);

@@ -46,6 +46,7 @@ pub mod mesh;
 pub mod obj;
 pub mod rng;
 pub mod stats;
+pub mod stroke_field;
 pub mod topology;
 pub mod weld;
 
@@ -57,5 +58,6 @@ pub use highlight::{
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
+pub use stroke_field::{LineFieldStats, StrokeField, StrokeFieldOptions, line_angle_deg};
 pub use topology::{EdgeKind, Topology};
 pub use weld::{Welded, weld};

@@ -11,6 +11,8 @@
 //! - [`projective`]: the projective-texture matrix `tex_from_world` shared by the specular
 //!   and warping crates.
 //! - [`BaseShading`]: Phong, Gouraud and cel shading passes over which techniques draw.
+//! - [`outline`]: silhouette and crease lines from a normal + depth prepass, over any
+//!   style.
 //!
 //! Every pass takes `&wgpu::Device`, `&wgpu::Queue` and target views from the caller, so
 //! it can be recorded into someone else's renderer; [`GpuContext`] is a convenience.
@@ -21,6 +23,7 @@ mod error;
 pub mod fixtures;
 pub mod layout;
 mod mesh;
+pub mod outline;
 pub mod projective;
 mod readback;
 pub mod reference;

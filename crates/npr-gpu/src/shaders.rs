@@ -8,6 +8,9 @@ pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl"
 /// Post-rendering warping with projective textures (`npr-warp`); standalone.
 pub const WARP: &str = include_str!("../../../shaders/warp.wgsl");
 
+/// Outlines (silhouettes, creases) from a normal + depth prepass; shared by every style.
+pub const OUTLINE: &str = include_str!("../../../shaders/outline.wgsl");
+
 /// The specular highlight pass (npr-specular).
 pub const SPECULAR_HIGHLIGHT: &str = include_str!("../../../shaders/specular_highlight.wgsl");
 /// Image-space hatching pass (npr-hatching): Eq. (1)-(3), §3.1-§3.3.
@@ -22,6 +25,7 @@ pub const VSM_BLUR: &str = include_str!("../../../shaders/vsm_blur.wgsl");
 pub const ALL: &[(&str, &str, bool)] = &[
     ("common.wgsl", COMMON, false),
     ("base_shading.wgsl", BASE_SHADING, true),
+    ("outline.wgsl", OUTLINE, true),
     ("specular_highlight.wgsl", SPECULAR_HIGHLIGHT, true),
     ("hatching.wgsl", HATCHING, false),
     ("hatching_scene.wgsl", HATCHING_SCENE, true),

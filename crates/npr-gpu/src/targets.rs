@@ -33,6 +33,23 @@ pub fn texture_2d(
     })
 }
 
+/// `Ok` when a `width × height` 2-D target fits the device: each side in
+/// `1..=max_texture_dimension_2d`.
+///
+/// # Errors
+/// [`GpuError::InvalidSize`] otherwise.
+pub(crate) fn check_size(device: &wgpu::Device, width: u32, height: u32) -> Result<(), GpuError> {
+    let max = device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > max || height > max {
+        return Err(GpuError::InvalidSize {
+            width,
+            height,
+            reason: format!("each side must be in 1..={max}"),
+        });
+    }
+    Ok(())
+}
+
 /// A headless colour + depth target pair of one size.
 #[derive(Debug)]
 pub struct OffscreenTarget {
@@ -56,14 +73,7 @@ impl OffscreenTarget {
     /// # Errors
     /// [`GpuError::InvalidSize`] for a zero size or one past the device's 2-D limit.
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Self, GpuError> {
-        let max = device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(GpuError::InvalidSize {
-                width,
-                height,
-                reason: format!("each side must be in 1..={max}"),
-            });
-        }
+        check_size(device, width, height)?;
         let make = |label, format, usage| texture_2d(device, label, width, height, format, usage);
         let color = make(
             "npr offscreen color",

@@ -16,8 +16,12 @@
 //!   fields (§5's "flow visualisation").
 //! - [`mod@reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
 //! - [`pass`]: the GPU hatching pass ([`HatchPass`]) and its G-buffer ([`GBuffer`]).
-//! - [`directions`]: per-vertex stroke directions from the principal curvature field
-//!   ([`principal_directions`]).
+//! - [`directions`]: per-vertex stroke directions ([`stroke_directions`]): by default a
+//!   smooth line field fitted to the principal curvature directions
+//!   ([`DirectionSource::Smooth`]), or the raw principal field ([`principal_directions`]).
+//!   On the Stanford bunny the stroke line turns by more than 30° across 1.7 % of the
+//!   edges with the smooth field against 9.8 % with the raw one (`cargo xtask bench
+//!   hatching-directions`).
 //! - [`scene`]: variance shadow maps (Donnelly & Lauritzen 2006) and the G-buffer pass
 //!   for 3-D scenes, with per-vertex stroke directions from the caller.
 //! - [`frame`]: the whole frame (shadow → G-buffer → hatching) and its Phong baseline.
@@ -49,7 +53,7 @@ pub mod reference;
 pub mod scene;
 pub mod tam;
 
-pub use directions::{StrokeDirection, principal_directions};
+pub use directions::{DirectionSource, StrokeDirection, principal_directions, stroke_directions};
 pub use error::HatchError;
 pub use frame::HatchFrame;
 pub use inputs::HatchInputs;

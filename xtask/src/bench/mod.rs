@@ -1,12 +1,13 @@
-//! Benchmarks: `cargo xtask bench NAME [--json PATH]`.
+//! Benchmarks: `cargo xtask bench NAME [--mesh PATH]... [--json PATH]`.
 
 pub mod curvature;
 pub mod hatching;
+pub mod hatching_directions;
 pub mod specular;
 pub mod table;
 pub mod warp;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A progress bar of `len` steps labelled `what`, on stderr; indicatif draws nothing when
 /// stderr is not a terminal, so piped output and `--json` runs stay clean.
@@ -22,11 +23,27 @@ pub fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 }
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature", "specular", "hatching", "warp"];
+pub const NAMES: &[&str] = &[
+    "curvature",
+    "specular",
+    "hatching",
+    "hatching-directions",
+    "warp",
+];
 
-/// Runs benchmark `name`.
-pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
+/// The benchmarks that take `--mesh`.
+const TAKE_MESHES: &[&str] = &["hatching-directions"];
+
+/// Runs benchmark `name` (on `meshes` instead of its defaults, where it takes them).
+pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
+    if !meshes.is_empty() && !TAKE_MESHES.contains(&name) {
+        anyhow::bail!(
+            "benchmark `{name}` has fixed meshes; --mesh applies to: {}",
+            TAKE_MESHES.join(", ")
+        );
+    }
     match name {
+        "hatching-directions" => hatching_directions::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
         "hatching" => hatching::run(json),

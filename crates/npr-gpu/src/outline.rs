@@ -1,0 +1,651 @@
+//! Outlines for every style: silhouettes and creases found from depth and normal
+//! discontinuities in a G-buffer, drawn as lines over the caller's colour target.
+//!
+//! Image-space edge detection on a normal + depth buffer after T. Saito and T. Takahashi,
+//! "Comprehensible Rendering of 3-D Shapes", SIGGRAPH 1990, and P. Decaudin,
+//! "Cartoon-looking rendering of 3D scenes", INRIA research report 2919, 1996. Not part of
+//! the three papers (SPEC §2–§4); the figures that reproduce them are drawn without it.
+//!
+//! Two passes, both recorded into the caller's encoder:
+//! 1. [`NormalDepthPass`] draws meshes into a [`NormalDepthTarget`]
+//!    ([`NORMAL_DEPTH_FORMAT`]: view-space unit normal in rgb, linear view depth in a,
+//!    a = 0 for background), with its own depth buffer.
+//! 2. [`OutlinePass`] draws one full-screen triangle over the caller's colour view,
+//!    reading the G-buffer with `textureLoad`, blending the line colour over what is
+//!    there and leaving other pixels untouched.
+//!
+//! The edge rule ([`outline_mask_cpu`] is its CPU twin): a foreground pixel `p` is an
+//! edge pixel if one of its four neighbours `q` is background, or is farther by more than
+//! `depth_ratio × min(d_p, d_q)` (silhouette / occlusion edge, drawn on the near side), or
+//! is at a similar depth but no nearer and its normal differs by more than the crease
+//! angle (crease); neighbours outside the image are ignored. A pixel is drawn when an edge pixel lies within `(width_px − 1) / 2`
+//! pixels (Euclidean) of it, so widths 1, 3, 5 … draw lines that many pixels across.
+
+use crate::{Camera, GpuError, GpuMesh, ObjectUniforms, Vertex, texture_2d};
+use glam::Mat4;
+use wgpu::util::DeviceExt;
+
+/// Format of the normal + depth G-buffer: rgb = view-space unit normal, a = linear view
+/// depth (distance along the view direction, > 0), a = 0 where nothing was drawn.
+pub const NORMAL_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// The outline parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlineSettings {
+    /// Line width in pixels, clamped to [1, 15]. Default 3.
+    pub width_px: f32,
+    /// Linear RGB line colour. Default black.
+    pub color: [f32; 3],
+    /// Opacity in [0, 1]. Default 1.
+    pub opacity: f32,
+    /// Neighbouring normals turned by more than this (degrees, clamped to [1, 179]) make
+    /// a crease line. Default 50°.
+    pub crease_angle_deg: f32,
+    /// A depth step larger than this fraction of the nearer depth makes a silhouette
+    /// line (clamped to [1e-4, 10]). Default 0.1: a smooth surface seen edge-on changes
+    /// depth by less than that between pixels at the usual framings.
+    pub depth_ratio: f32,
+}
+
+impl Default for OutlineSettings {
+    fn default() -> Self {
+        Self {
+            width_px: 3.0,
+            color: [0.0; 3],
+            opacity: 1.0,
+            crease_angle_deg: 50.0,
+            depth_ratio: 0.1,
+        }
+    }
+}
+
+/// `x` clamped to `[lo, hi]`, `default` when not finite.
+fn clamp_or(x: f32, lo: f32, hi: f32, default: f32) -> f32 {
+    if x.is_finite() {
+        x.clamp(lo, hi)
+    } else {
+        default
+    }
+}
+
+impl OutlineSettings {
+    /// The settings with every value clamped to its documented range (non-finite values
+    /// take the default).
+    pub fn sanitized(&self) -> Self {
+        let d = Self::default();
+        Self {
+            width_px: clamp_or(self.width_px, 1.0, 15.0, d.width_px),
+            color: self.color.map(|c| clamp_or(c, 0.0, 1.0, 0.0)),
+            opacity: clamp_or(self.opacity, 0.0, 1.0, d.opacity),
+            crease_angle_deg: clamp_or(self.crease_angle_deg, 1.0, 179.0, d.crease_angle_deg),
+            depth_ratio: clamp_or(self.depth_ratio, 1e-4, 10.0, d.depth_ratio),
+        }
+    }
+
+    /// Dilation radius `(width_px − 1) / 2` of the sanitized settings.
+    pub fn radius_px(&self) -> f32 {
+        (self.sanitized().width_px - 1.0) * 0.5
+    }
+
+    fn uniforms(&self) -> OutlineUniforms {
+        let s = self.sanitized();
+        OutlineUniforms {
+            color: [s.color[0], s.color[1], s.color[2], s.opacity],
+            radius_px: self.radius_px(),
+            cos_crease: s.crease_angle_deg.to_radians().cos(),
+            depth_ratio: s.depth_ratio,
+            _pad: 0.0,
+        }
+    }
+}
+
+/// `OutlineParams` of `outline.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct OutlineUniforms {
+    color: [f32; 4],
+    radius_px: f32,
+    cos_crease: f32,
+    depth_ratio: f32,
+    _pad: f32,
+}
+
+/// `OutlineCamera` of `outline.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct CameraUniforms {
+    clip_from_world: [[f32; 4]; 4],
+    view_from_world: [[f32; 4]; 4],
+}
+
+/// The normal + depth G-buffer and its depth attachment.
+#[derive(Debug)]
+pub struct NormalDepthTarget {
+    /// [`NORMAL_DEPTH_FORMAT`] texture: renderable, sampleable, copyable.
+    pub texture: wgpu::Texture,
+    /// Default view of `texture`.
+    pub view: wgpu::TextureView,
+    /// Depth attachment ([`crate::DEPTH_FORMAT`]).
+    pub depth: wgpu::Texture,
+    /// Default view of `depth`.
+    pub depth_view: wgpu::TextureView,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+impl NormalDepthTarget {
+    /// A G-buffer of `width × height` pixels.
+    ///
+    /// # Errors
+    /// [`GpuError::InvalidSize`] for a zero size or one past the device's 2-D limit.
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Self, GpuError> {
+        crate::targets::check_size(device, width, height)?;
+        let texture = texture_2d(
+            device,
+            "npr normal+depth",
+            width,
+            height,
+            NORMAL_DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = texture_2d(
+            device,
+            "npr normal+depth depth",
+            width,
+            height,
+            crate::DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        Ok(Self {
+            view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+            depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+            texture,
+            depth,
+            width,
+            height,
+        })
+    }
+
+    /// Reads the G-buffer back (`[nx, ny, nz, depth]` per pixel, rows top to bottom).
+    /// Submits and waits.
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`] when mapping fails.
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        let bytes = crate::readback_texture(device, queue, &self.texture)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}
+
+/// One object's transform for the normal + depth prepass (group 1: an [`ObjectUniforms`]
+/// buffer, of which only the transforms are read).
+#[derive(Debug)]
+pub struct OutlineObject {
+    buffer: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+impl OutlineObject {
+    /// Writes a new object transform.
+    pub fn set_transform(&self, queue: &wgpu::Queue, world_from_object: Mat4) {
+        let u = ObjectUniforms::default_material(world_from_object);
+        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&u));
+    }
+}
+
+fn module(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("outline.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(crate::shaders::compose(crate::shaders::OUTLINE).into()),
+    })
+}
+
+/// The normal + depth prepass: any technique can run it over its meshes.
+#[derive(Debug)]
+pub struct NormalDepthPass {
+    pipeline: wgpu::RenderPipeline,
+    camera_buffer: wgpu::Buffer,
+    camera_group: wgpu::BindGroup,
+    object_layout: wgpu::BindGroupLayout,
+}
+
+impl NormalDepthPass {
+    /// Builds the pipeline (back faces culled, depth test less).
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = module(device);
+        let camera_layout = crate::layout::uniform_layout(device, "npr outline camera");
+        let object_layout = crate::layout::uniform_layout(device, "npr outline object");
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr normal+depth"),
+            bind_group_layouts: &[Some(&camera_layout), Some(&object_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("npr normal+depth"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_normal_depth"),
+                compilation_options: Default::default(),
+                buffers: &[Some(Vertex::layout())],
+            },
+            primitive: wgpu::PrimitiveState {
+                cull_mode: Some(wgpu::Face::Back),
+                ..Default::default()
+            },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: crate::DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_normal_depth"),
+                compilation_options: Default::default(),
+                targets: &[Some(NORMAL_DEPTH_FORMAT.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr outline camera"),
+            size: std::mem::size_of::<CameraUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let camera_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr outline camera"),
+            layout: &camera_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: camera_buffer.as_entire_binding(),
+            }],
+        });
+        Self {
+            pipeline,
+            camera_buffer,
+            camera_group,
+            object_layout,
+        }
+    }
+
+    /// Writes the camera used by the following [`NormalDepthPass::record`].
+    pub fn set_camera(&self, queue: &wgpu::Queue, camera: &Camera) {
+        let u = CameraUniforms {
+            clip_from_world: camera.clip_from_world().to_cols_array_2d(),
+            view_from_world: camera.view_from_world().to_cols_array_2d(),
+        };
+        queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&u));
+    }
+
+    /// An object with transform `world_from_object`.
+    pub fn create_object(&self, device: &wgpu::Device, world_from_object: Mat4) -> OutlineObject {
+        let u = ObjectUniforms::default_material(world_from_object);
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr outline object"),
+            contents: bytemuck::bytes_of(&u),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr outline object"),
+            layout: &self.object_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        OutlineObject { buffer, bind_group }
+    }
+
+    /// Clears `target` and draws `objects` into it.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &NormalDepthTarget,
+        objects: &[(&GpuMesh, &OutlineObject)],
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr normal+depth"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.camera_group, &[]);
+        for (mesh, object) in objects {
+            pass.set_bind_group(1, &object.bind_group, &[]);
+            mesh.draw(&mut pass);
+        }
+    }
+}
+
+/// The full-screen outline pass over a caller's colour target.
+#[derive(Debug)]
+pub struct OutlinePass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+}
+
+impl OutlinePass {
+    /// Builds the pass for colour targets of `color_format` with `settings`.
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        settings: &OutlineSettings,
+    ) -> Self {
+        let module = module(device);
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr outline"),
+            entries: &[
+                crate::layout::uniform_entry(1),
+                crate::layout::texture_entry(
+                    2,
+                    wgpu::TextureViewDimension::D2,
+                    crate::layout::UNFILTERABLE,
+                ),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr outline"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("npr outline"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_outline"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: color_format,
+                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("npr outline params"),
+            contents: bytemuck::bytes_of(&settings.uniforms()),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        Self {
+            pipeline,
+            layout,
+            params,
+        }
+    }
+
+    /// Replaces the settings (sanitized, see [`OutlineSettings::sanitized`]).
+    pub fn set_settings(&self, queue: &wgpu::Queue, settings: &OutlineSettings) {
+        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&settings.uniforms()));
+    }
+
+    /// Draws the outlines of `gbuffer` over `color_view` (same size), keeping its
+    /// contents elsewhere.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        color_view: &wgpu::TextureView,
+        gbuffer: &NormalDepthTarget,
+    ) {
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr outline"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.params.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&gbuffer.view),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr outline"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+/// CPU twin of `is_edge` in `outline.wgsl` for a read-back G-buffer (`[nx, ny, nz, depth]`
+/// per pixel, row-major).
+fn is_edge(
+    gbuffer: &[[f32; 4]],
+    width: i64,
+    height: i64,
+    x: i64,
+    y: i64,
+    u: &OutlineUniforms,
+) -> bool {
+    let inside = |x: i64, y: i64| x >= 0 && y >= 0 && x < width && y < height;
+    let at = |x: i64, y: i64| gbuffer[(y * width + x) as usize];
+    if !inside(x, y) {
+        return false;
+    }
+    let c = at(x, y);
+    if c[3].is_nan() || c[3] <= 0.0 {
+        return false;
+    }
+    [(1, 0), (-1, 0), (0, 1), (0, -1)].iter().any(|&(dx, dy)| {
+        if !inside(x + dx, y + dy) {
+            return false;
+        }
+        let q = at(x + dx, y + dy);
+        if q[3].is_nan() || q[3] <= 0.0 {
+            return true;
+        }
+        let step = q[3] - c[3];
+        let limit = u.depth_ratio * c[3].min(q[3]);
+        let dot = c[0] * q[0] + c[1] * q[1] + c[2] * q[2];
+        step > limit || (step.abs() <= limit && step >= 0.0 && dot < u.cos_crease)
+    })
+}
+
+/// The outline mask the GPU pass draws (`true` = line pixel), computed on the CPU from a
+/// read-back G-buffer ([`NormalDepthTarget::read`]) with the same rule (see the module
+/// docs). Returns `None` when `gbuffer` does not hold `width × height` pixels.
+pub fn outline_mask_cpu(
+    width: u32,
+    height: u32,
+    gbuffer: &[[f32; 4]],
+    settings: &OutlineSettings,
+) -> Option<Vec<bool>> {
+    if gbuffer.len() != (width as usize) * (height as usize) {
+        return None;
+    }
+    let u = settings.uniforms();
+    let (w, h) = (i64::from(width), i64::from(height));
+    let edges: Vec<bool> = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (x, y)))
+        .map(|(x, y)| is_edge(gbuffer, w, h, x, y, &u))
+        .collect();
+    let r = u.radius_px.floor() as i64;
+    let r2 = u.radius_px * u.radius_px;
+    let edge = |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && edges[(y * w + x) as usize];
+    Some(
+        (0..h)
+            .flat_map(|y| (0..w).map(move |x| (x, y)))
+            .map(|(x, y)| {
+                (-r..=r).any(|dy| {
+                    (-r..=r).any(|dx| ((dx * dx + dy * dy) as f32) <= r2 && edge(x + dx, y + dy))
+                })
+            })
+            .collect(),
+    )
+}
+
+/// Draws outlines of `objects` (meshes with their `world_from_object`) seen by `camera`
+/// over `image` and returns the result: uploads the image, runs both passes, reads back.
+/// A helper for demos and tools; it submits and waits.
+///
+/// # Errors
+/// [`GpuError::InvalidSize`] for an empty or too large image, [`GpuError::Readback`]
+/// when readback fails.
+pub fn outline_image(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    image: &image::RgbaImage,
+    camera: &Camera,
+    objects: &[(&GpuMesh, Mat4)],
+    settings: &OutlineSettings,
+) -> Result<image::RgbaImage, GpuError> {
+    let (width, height) = image.dimensions();
+    let gbuffer = NormalDepthTarget::new(device, width, height)?;
+    let color = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("npr outline image"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: crate::COLOR_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        image.as_raw(),
+    );
+    let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
+    let prepass = NormalDepthPass::new(device);
+    prepass.set_camera(queue, camera);
+    let bound: Vec<OutlineObject> = objects
+        .iter()
+        .map(|(_, m)| prepass.create_object(device, *m))
+        .collect();
+    let list: Vec<(&GpuMesh, &OutlineObject)> = objects
+        .iter()
+        .zip(&bound)
+        .map(|((mesh, _), o)| (*mesh, o))
+        .collect();
+    let outline = OutlinePass::new(device, crate::COLOR_FORMAT, settings);
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("npr outline_image"),
+    });
+    prepass.record(&mut encoder, &gbuffer, &list);
+    outline.record(device, &mut encoder, &color_view, &gbuffer);
+    queue.submit(Some(encoder.finish()));
+    crate::readback_rgba(device, queue, &color)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_are_sanitized() {
+        let s = OutlineSettings {
+            width_px: f32::NAN,
+            color: [2.0, -1.0, 0.5],
+            opacity: 7.0,
+            crease_angle_deg: 0.0,
+            depth_ratio: -1.0,
+        }
+        .sanitized();
+        assert_eq!(s.width_px, 3.0);
+        assert_eq!(s.color, [1.0, 0.0, 0.5]);
+        assert_eq!(s.opacity, 1.0);
+        assert_eq!(s.crease_angle_deg, 1.0);
+        assert_eq!(s.depth_ratio, 1e-4);
+    }
+
+    /// A `w × h` G-buffer whose left half is `left` and right half `right`, and its
+    /// 1-pixel outline mask.
+    fn halves(w: u32, h: u32, left: [f32; 4], right: [f32; 4]) -> (Vec<[f32; 4]>, Vec<bool>) {
+        let g: Vec<[f32; 4]> = (0..w * h)
+            .map(|i| if i % w < w / 2 { left } else { right })
+            .collect();
+        let s = OutlineSettings {
+            width_px: 1.0,
+            ..Default::default()
+        };
+        let m = outline_mask_cpu(w, h, &g, &s).unwrap();
+        (g, m)
+    }
+
+    #[test]
+    fn cpu_mask_marks_the_near_side_of_a_step() {
+        // Left half at depth 1 facing the camera, right half at depth 2.
+        let (w, h) = (8u32, 4u32);
+        let (g, m) = halves(w, h, [0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 1.0, 2.0]);
+        for y in 0..h {
+            for x in 0..w {
+                assert_eq!(m[(y * w + x) as usize], x == 3, "({x}, {y})");
+            }
+        }
+        assert!(outline_mask_cpu(w, h, &g[1..], &OutlineSettings::default()).is_none());
+    }
+
+    #[test]
+    fn cpu_mask_marks_creases_once() {
+        // Two planes at equal depth meeting at x = 4 with normals 90° apart.
+        let (w, h) = (8u32, 3u32);
+        let (_, m) = halves(w, h, [0.0, 0.0, 1.0, 1.0], [1.0, 0.0, 0.0, 1.0]);
+        // Equal depth: both sides count as "no nearer", so both sides of the crease.
+        let row: Vec<bool> = (0..w).map(|x| m[(w + x) as usize]).collect();
+        assert_eq!(row, [false, false, false, true, true, false, false, false]);
+    }
+}

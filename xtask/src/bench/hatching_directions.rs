@@ -1,0 +1,117 @@
+//! `cargo xtask bench hatching-directions [--mesh PATH]... [--json PATH]`: how smooth the
+//! hatching stroke directions are and how well they follow curvature (issue 11), for the
+//! raw principal field (`raw`, `npr_hatching::DirectionSource::Principal`) and the smooth
+//! line field (`smooth`, Knöppel et al. 2013, the default), exactly as the hatching pass
+//! receives them (per render vertex, with the `y × n` fallback).
+//!
+//! Per mesh and field: `jump30_edge_share`, the share (0–1) of mesh edges across which the
+//! stroke line turns by more than 30° (line angle mod 180°, both ends projected onto the
+//! plane normal to the mean vertex normal); `aniso_dev_deg`, the mean angle to the
+//! direction of maximum curvature at the vertices of the most anisotropic half
+//! (`|κ_max − κ_min|` at or above the median); on the analytic torus also
+//! `exact_dev_max_deg`, the largest angle to the exact principal direction. Default
+//! meshes: the analytic torus R = 2, r = 0.7 with 10,000 vertices, the Stanford bunny and
+//! Spot. Targets: jumps on ≤ 2 % of edges (bunny, Spot), ≤ 10° deviation, torus ≤ 0.5°.
+//! `directions_ms` is the CPU wall time of the whole direction computation (curvature
+//! included), on this machine, for scale only.
+
+use super::table::{Cell, Table, emit};
+use crate::demo_hatching::directions_from;
+use glam::Vec3;
+use npr_geometry::{
+    CurvatureField, CurvatureOptions, LineFieldStats, Mesh, analytic, generate, line_angle_deg,
+};
+use npr_hatching::DirectionSource;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The analytic torus of the benchmark: (R, r).
+const TORUS: (f32, f32) = (2.0, 0.7);
+
+fn default_meshes() -> anyhow::Result<Vec<(String, Mesh, bool)>> {
+    let (big, small) = TORUS;
+    let (nu, nv) = generate::torus_segments_for(big, small, 10_000);
+    let mut out = vec![(
+        "torus R=2 r=0.7 (10k)".to_string(),
+        generate::torus(big, small, nu, nv),
+        true,
+    )];
+    for name in ["stanford-bunny.obj", "spot.obj"] {
+        out.push((
+            name.trim_end_matches(".obj").to_string(),
+            npr_geometry::load_obj(crate::fixture_mesh(name))?,
+            false,
+        ));
+    }
+    Ok(out)
+}
+
+/// Runs the benchmark on `meshes` (OBJ paths), or the default meshes when empty.
+pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
+    let cases = if meshes.is_empty() {
+        default_meshes()?
+    } else {
+        meshes
+            .iter()
+            .map(|p| {
+                let mesh = npr_geometry::load_obj(p)?;
+                Ok((p.display().to_string(), mesh, false))
+            })
+            .collect::<anyhow::Result<_>>()?
+    };
+    let mut table = Table::new(
+        "hatching-directions: stroke-line jumps > 30° across edges and deviation from the principal direction (anisotropic half)",
+        &[
+            "mesh",
+            "field",
+            "vertices",
+            "jump30_edge_share",
+            "aniso_dev_deg",
+            "exact_dev_max_deg",
+            "directions_ms",
+        ],
+    );
+    let opts = CurvatureOptions::default();
+    for (name, mesh, is_torus) in &cases {
+        let (welded, topo, curvature) = CurvatureField::for_mesh(mesh, &opts);
+        // One render vertex per welded vertex.
+        let mut rep = vec![None; topo.vertex_count()];
+        for (v, &w) in welded.render_to_welded.iter().enumerate() {
+            if let Some(slot) = rep.get_mut(w as usize) {
+                slot.get_or_insert(v);
+            }
+        }
+        for source in [DirectionSource::Principal, DirectionSource::default()] {
+            let start = Instant::now();
+            let render = directions_from(name, mesh, &source);
+            let ms = start.elapsed().as_secs_f64() * 1e3;
+            let dirs: Vec<Vec3> = rep
+                .iter()
+                .map(|r| r.and_then(|v| render.get(v).copied()).unwrap_or(Vec3::ZERO))
+                .collect();
+            let stats = LineFieldStats::measure(&topo, &curvature, &dirs, 30.0);
+            let exact = is_torus.then(|| {
+                let (big, small) = TORUS;
+                topo.positions
+                    .iter()
+                    .zip(&dirs)
+                    .zip(&curvature.normal)
+                    .filter_map(|((p, d), n)| {
+                        let e = analytic::torus(*p, f64::from(big), f64::from(small));
+                        line_angle_deg(*d, e.dir_kappa_max.as_vec3(), *n)
+                    })
+                    .fold(0.0f64, f64::max)
+            });
+            table.push(vec![
+                name.as_str().into(),
+                source.name().into(),
+                topo.vertex_count().into(),
+                Cell::Num(stats.jump_edge_share, 4),
+                Cell::Num(stats.aniso_dev_deg, 2),
+                exact.map_or(Cell::Empty, |x| Cell::Num(x, 3)),
+                Cell::Num(ms, 0),
+            ]);
+        }
+    }
+    emit(&[table], json)
+}
