@@ -8,15 +8,16 @@
 //!   their differences from the full render (the §3.4 problem and its fix): top row a
 //!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
 
-use crate::warp_rig::{CLEAR, Rig, Variant, draw_over, path_for};
+use crate::warp_rig::{CLEAR, Rig, Variant, light, path_for};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::readback_rgba;
-use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
+use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms};
 use npr_warp::metrics::difference_image;
 use npr_warp::{
-    Departures, Proxy, ReferenceFrame, ScenePose, WarpMode, WarpSchedule, WarpSequence, compare,
+    Departures, PhongBase, Proxy, ReferenceFrame, ScenePose, WarpMode, WarpSchedule, WarpSequence,
+    compare,
 };
 use std::path::{Path, PathBuf};
 
@@ -161,22 +162,9 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let frames = 41u32;
     let mut psnr = Vec::new();
     let mut strip = image::RgbaImage::from_pixel(TILE / 2 * 6, TILE / 2, image::Rgba([255; 4]));
-    let target = OffscreenTarget::new(&ctx.device, TILE, TILE)?;
     for f in 0..frames {
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        seq.record_frame(
-            &ctx.device,
-            &ctx.queue,
-            &mut enc,
-            &mut rig.base,
-            &objects,
-            &scene,
-            f,
-            &target.color_view,
-            &target.depth_view,
-        );
-        ctx.queue.submit(Some(enc.finish()));
-        let warped = readback_rgba(&ctx.device, &ctx.queue, &target.color)?;
+        rig.sequence_frame(&mut seq, &objects, &scene, f);
+        let warped = rig.image()?;
         let full = rig.full(&scene(f))?;
         psnr.push(compare(&full, &warped).psnr_db);
         if f % 4 == 1 && f / 4 < 6 {
@@ -263,7 +251,14 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         Vec3::ZERO,
         1.0,
     );
-    draw_over(ctx, &r0, &square, &r0.pose.camera, &red);
+    let mut occluder = PhongBase::new(&square, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let over = npr_warp::Pose {
+        camera: r0.pose.camera,
+        world_from_object: world_from_square,
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, &over, 0);
+    ctx.queue.submit(Some(enc.finish()));
     let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.color)?;
     let at = path.pose(6.0);
     let full6 = rig.full(&at)?;

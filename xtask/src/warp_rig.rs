@@ -5,12 +5,12 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuContext, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
+    OffscreenTarget, readback_rgba,
 };
 use npr_warp::{
-    Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
-    WarpObject, WarpPass, WarpSettings,
+    Departures, FrameReport, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable,
+    WarpMode, WarpObject, WarpPass, WarpSequence, WarpSettings,
 };
 
 /// Clear colour of every warping image (transparent black: the object's pixels are the
@@ -62,26 +62,6 @@ pub fn path_for(
         },
         scale,
     )
-}
-
-/// Draws `mesh` with full Phong over what `target` holds (no clear), seen by `camera`: a
-/// synthetic occluder in a reference.
-pub fn draw_over(
-    ctx: &GpuContext,
-    target: &ReferenceFrame,
-    mesh: &GpuMesh,
-    camera: &Camera,
-    uniforms: &ObjectUniforms,
-) {
-    let shading = BaseShading::new(&ctx.device, &ctx.queue, COLOR_FORMAT, DEPTH_FORMAT);
-    shading.set_frame(&ctx.queue, &FrameUniforms::new(camera, &light()));
-    let object = shading.create_object(&ctx.device, uniforms);
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = target.begin_load_pass(&mut enc);
-        shading.draw(&mut pass, ShadingModel::Phong, &object, mesh);
-    }
-    ctx.queue.submit(Some(enc.finish()));
 }
 
 /// One warp variant of a proxy: the object (binned, inflated per the departures), its
@@ -177,6 +157,33 @@ impl<'a> Rig<'a> {
         r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR);
         q.submit(Some(enc.finish()));
         Ok(r)
+    }
+
+    /// Records and submits frame `frame` of `seq` (objects `objects` along `path`, references
+    /// drawn by the rig's base pass) into the rig's target.
+    pub fn sequence_frame(
+        &mut self,
+        seq: &mut WarpSequence,
+        objects: &[WarpObject],
+        path: &dyn Fn(u32) -> ScenePose,
+        frame: u32,
+    ) -> FrameReport {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let mut enc = d.create_command_encoder(&Default::default());
+        let t = &self.target;
+        let report = seq.record_frame(
+            d,
+            q,
+            &mut enc,
+            &mut self.base,
+            objects,
+            path,
+            frame,
+            &t.color_view,
+            &t.depth_view,
+        );
+        q.submit(Some(enc.finish()));
+        report
     }
 
     /// The target's current image.

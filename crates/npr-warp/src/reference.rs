@@ -245,19 +245,50 @@ impl ReferenceFrame {
         })
     }
 
-    /// A render pass over the reference that keeps what it holds (to draw over it, e.g. a
-    /// synthetic occluder).
-    pub fn begin_load_pass<'e>(
+    /// Records `base` drawing `pose` (as slot `slot`) over what the reference holds, with
+    /// no clear; the reference keeps its own pose. E.g. a synthetic occluder: it is in the
+    /// reference's colour and depth but not part of the warped object.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_over(
         &self,
-        encoder: &'e mut wgpu::CommandEncoder,
-    ) -> wgpu::RenderPass<'e> {
-        begin_pass(
-            encoder,
-            &self.color_view,
-            &self.depth_view,
-            wgpu::LoadOp::Load,
-            wgpu::LoadOp::Load,
-        )
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        pose: &Pose,
+        slot: usize,
+    ) {
+        let draw = ReferenceDraw {
+            pose,
+            slot,
+            slice: 0,
+            slices: 1,
+        };
+        self.draw_base(device, queue, encoder, base, &draw, None);
+    }
+
+    /// `base.prepare`, then a pass over the reference (cleared to `clear`, or loaded)
+    /// recording `base.draw`.
+    fn draw_base(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        draw: &ReferenceDraw<'_>,
+        clear: Option<[f64; 4]>,
+    ) {
+        base.prepare(device, queue, draw);
+        let (color, depth) = match clear {
+            Some([r, g, b, a]) => (
+                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                wgpu::LoadOp::Clear(1.0),
+            ),
+            None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        let mut pass =
+            npr_gpu::begin_views_pass(encoder, &self.color_view, &self.depth_view, color, depth);
+        base.draw(&mut pass, draw);
     }
 
     /// Records the whole reference at `pose` drawn by `base` into `encoder`, cleared to
@@ -306,52 +337,9 @@ impl ReferenceFrame {
             slice,
             slices,
         };
-        base.prepare(device, queue, &draw);
-        let [r, g, b, a] = clear;
-        let (color, depth) = if slice == 0 {
-            (
-                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                wgpu::LoadOp::Clear(1.0),
-            )
-        } else {
-            (wgpu::LoadOp::Load, wgpu::LoadOp::Load)
-        };
-        let mut pass = begin_pass(encoder, &self.color_view, &self.depth_view, color, depth);
-        base.draw(&mut pass, &draw);
+        let clear = (slice == 0).then_some(clear);
+        self.draw_base(device, queue, encoder, base, &draw, clear);
     }
-}
-
-/// A render pass over `color` and `depth` with the given load operations (stored).
-pub(crate) fn begin_pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    color: &wgpu::TextureView,
-    depth: &wgpu::TextureView,
-    color_load: wgpu::LoadOp<wgpu::Color>,
-    depth_load: wgpu::LoadOp<f32>,
-) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("npr-warp"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: color,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: color_load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: depth,
-            depth_ops: Some(wgpu::Operations {
-                load: depth_load,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
 }
 
 /// A render pass over `color` and `depth` cleared to `clear` (linear RGBA) and depth 1.
@@ -362,7 +350,7 @@ pub fn begin_clear_pass<'e>(
     clear: [f64; 4],
 ) -> wgpu::RenderPass<'e> {
     let [r, g, b, a] = clear;
-    begin_pass(
+    npr_gpu::begin_views_pass(
         encoder,
         color,
         depth,

@@ -6,8 +6,8 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuContext, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
+    OffscreenTarget, readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
     Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
@@ -287,25 +287,6 @@ fn quality_falls_smoothly_away_from_the_references() {
     }
 }
 
-/// Draws `mesh` with `uniforms` into `target` over what is there (no clear).
-fn draw_over(
-    ctx: &GpuContext,
-    target: &ReferenceFrame,
-    mesh: &GpuMesh,
-    camera: &Camera,
-    uniforms: &ObjectUniforms,
-) {
-    let shading = BaseShading::new(&ctx.device, &ctx.queue, COLOR_FORMAT, DEPTH_FORMAT);
-    shading.set_frame(&ctx.queue, &FrameUniforms::new(camera, &light()));
-    let object = shading.create_object(&ctx.device, uniforms);
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = target.begin_load_pass(&mut encoder);
-        shading.draw(&mut pass, ShadingModel::Phong, &object, mesh);
-    }
-    ctx.queue.submit(Some(encoder.finish()));
-}
-
 fn red_pixels(img: &image::RgbaImage) -> usize {
     img.pixels()
         .filter(|p| p[3] > 0 && p[0] > 120 && u32::from(p[1]) + u32::from(p[2]) < 60)
@@ -331,7 +312,21 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
     let m = Mat4::from_translation(at)
         * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, towards_eye));
     let red = ObjectUniforms::new(m, Vec3::new(1.0, 0.0, 0.0), 0.0, Vec3::ZERO, 1.0);
-    draw_over(ctx, &r0, &quad_gpu, &r0.pose.camera, &red);
+    let mut occluder = PhongBase::new(&quad_gpu, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let over = npr_warp::Pose {
+        camera: r0.pose.camera,
+        world_from_object: m,
+    };
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    r0.record_over(
+        &ctx.device,
+        &ctx.queue,
+        &mut encoder,
+        &mut occluder,
+        &over,
+        0,
+    );
+    ctx.queue.submit(Some(encoder.finish()));
     let occluded_ref = readback_rgba(&ctx.device, &ctx.queue, &r0.color).unwrap();
     assert!(
         red_pixels(&occluded_ref) > 1000,

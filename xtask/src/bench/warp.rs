@@ -581,19 +581,7 @@ fn spreading(
                 .create_object(&ctx.device, proxy, BINS, ours.inflation(proxy), false)?];
         let scene = |f: u32| path.pose(f as f32);
         let mut frame = |rig: &mut Rig<'_>, f: u32| {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            seq.record_frame(
-                &ctx.device,
-                &ctx.queue,
-                &mut enc,
-                &mut rig.base,
-                &objects,
-                &scene,
-                f,
-                &rig.target.color_view,
-                &rig.target.depth_view,
-            );
-            ctx.queue.submit(Some(enc.finish()));
+            rig.sequence_frame(&mut seq, &objects, &scene, f);
         };
         // Start-up (the first two references) is not timed.
         frame(rig, 0);
