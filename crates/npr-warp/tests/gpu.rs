@@ -503,3 +503,65 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
         Err(npr_warp::WarpError::InvalidSetting(_))
     ));
 }
+
+#[test]
+fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_covers() {
+    let Some(ctx) = context_or_skip(
+        "the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_covers",
+    ) else {
+        return;
+    };
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let rig = rig(ctx, 0.05);
+    // Both references at the same pose: whatever the §3.3.3 weights, a pixel blends two
+    // equal lookups, so the paper's pass must give back the reference's own colour wherever
+    // the (uninflated) proxy covers the object in both images; weights that do not sum to
+    // one, or a wrong texture matrix, would show.
+    for mode in [WarpMode::Paper, WarpMode::PaperCoverage] {
+        let mut warper = Warper::new(
+            d,
+            &rig.proxy,
+            Departures::PAPER,
+            0.6,
+            SIZE,
+            SIZE,
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
+        )
+        .unwrap();
+        warper.mode = mode;
+        let mut base = rig.base(COLOR_FORMAT);
+        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+        let pose = rig.path.pose(0.0).object(0);
+        let mut encoder = d.create_command_encoder(&Default::default());
+        for _ in 0..2 {
+            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+        }
+        let plan = warper
+            .record_warp(
+                q,
+                &mut encoder,
+                &target.color_view,
+                &target.depth_view,
+                &pose,
+                0.5,
+            )
+            .unwrap();
+        q.submit(Some(encoder.finish()));
+        assert!(plan.bins_blended > 0, "{plan:?}");
+        let warped = readback_rgba(d, q, &target.color).unwrap();
+        let reference = readback_rgba(d, q, &warper.references()[0].color).unwrap();
+        let (mut covered, mut off) = (0usize, 0usize);
+        for (a, b) in reference.pixels().zip(warped.pixels()) {
+            if a[3] == 255 && b[3] == 255 {
+                covered += 1;
+                if (0..3).any(|c| a[c].abs_diff(b[c]) > 2) {
+                    off += 1;
+                }
+            }
+        }
+        eprintln!("{mode:?}: {off} of {covered} covered pixels off by more than 2");
+        assert!(covered > 5000, "{covered}");
+        assert!(off * 200 <= covered, "{mode:?}: {off} of {covered}");
+    }
+}
