@@ -255,21 +255,43 @@ fn fs_blend(in: WarpOut) -> @location(0) vec4<f32> {
     return select(c1, c0, pick == 1);
 }
 
-// The paper's pass as published (§3.3.1–§3.3.3, no depth test): reference 0 only.
+// The paper's pass as published (§3.3.1–§3.3.3): the reference image projected as it is,
+// no depth test, so texels outside the object project the reference's (transparent black)
+// background. Reference 0 only.
 @fragment
 fn fs_single0_paper(in: WarpOut) -> @location(0) vec4<f32> {
-    return color0(in.tex0.xy / in.tex0.w);
+    return textureSampleLevel(ref0_color, color_sampler, in.tex0.xy / in.tex0.w, 0.0);
 }
 
 // The paper's pass as published: reference 1 only.
 @fragment
 fn fs_single1_paper(in: WarpOut) -> @location(0) vec4<f32> {
-    return color1(in.tex1.xy / in.tex1.w);
+    return textureSampleLevel(ref1_color, color_sampler, in.tex1.xy / in.tex1.w, 0.0);
 }
 
 // The paper's pass as published: both references blended with the bin's ramp (§3.3.3).
 @fragment
 fn fs_blend_paper(in: WarpOut) -> @location(0) vec4<f32> {
+    let c0 = textureSampleLevel(ref0_color, color_sampler, in.tex0.xy / in.tex0.w, 0.0);
+    let c1 = textureSampleLevel(ref1_color, color_sampler, in.tex1.xy / in.tex1.w, 0.0);
+    return mix(c1, c0, in.weight0);
+}
+
+// The paper's pass with coverage-normalised lookups (ours, no depth test): reference 0 only.
+@fragment
+fn fs_single0_coverage(in: WarpOut) -> @location(0) vec4<f32> {
+    return color0(in.tex0.xy / in.tex0.w);
+}
+
+// The paper's pass with coverage-normalised lookups: reference 1 only.
+@fragment
+fn fs_single1_coverage(in: WarpOut) -> @location(0) vec4<f32> {
+    return color1(in.tex1.xy / in.tex1.w);
+}
+
+// The paper's pass with coverage-normalised lookups: both blended with the bin's ramp.
+@fragment
+fn fs_blend_coverage(in: WarpOut) -> @location(0) vec4<f32> {
     return mix(color1(in.tex1.xy / in.tex1.w), color0(in.tex0.xy / in.tex0.w), in.weight0);
 }
 

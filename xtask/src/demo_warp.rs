@@ -4,40 +4,24 @@
 //!   ratios (the paper's Fig. 8–10);
 //! - `warp-sequence-*.png` / `warp-sequence-psnr-*.png`: frames of a [`WarpSequence`] with a
 //!   reference every 10 frames and the per-frame PSNR against the full render, plotted;
-//! - `warp-occlusion-knot.png`: the paper's pass and ours with the reference depth test,
-//!   with their differences from the full render (the §3.4 problem and its fix): top row a
+//! - `warp-occlusion-knot.png`: the paper's path ([`Departures::PAPER`]) and ours, with
+//!   their differences from the full render (the §3.4 problem and its fix): top row a
 //!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
 
-use crate::warp_rig::{CLEAR, Rig, light, material};
+use crate::warp_rig::{CLEAR, Rig, Variant, light, path_for};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget, readback_rgba};
+use npr_gpu::readback_rgba;
+use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms};
 use npr_warp::metrics::difference_image;
 use npr_warp::{
-    Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpSchedule, WarpSequence,
-    WarpSettings, compare,
+    Departures, PhongBase, Proxy, ReferenceFrame, ScenePose, WarpMode, WarpSchedule, WarpSequence,
+    compare,
 };
 use std::path::{Path, PathBuf};
 
 const TILE: u32 = 320;
-
-fn path_for(mesh: &Mesh, orbit_camera: bool) -> (Turntable, f32) {
-    let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
-    let scale = 1.0 / radius.max(1e-6);
-    let mut camera = Camera::look_at(Vec3::new(0.0, 0.35, 1.0).normalize() * 3.3, Vec3::ZERO, 1.0);
-    camera.fov_y_rad = 34f32.to_radians();
-    (
-        Turntable {
-            camera,
-            normalize: Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-centre),
-            deg_per_frame: 1.0,
-            offsets: vec![Vec3::ZERO],
-            orbit_camera,
-        },
-        scale,
-    )
-}
 
 /// Composites an image with transparent background over white.
 fn on_white(img: &image::RgbaImage) -> image::RgbaImage {
@@ -57,44 +41,34 @@ fn save(img: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyh
 }
 
 impl Rig<'_> {
-    /// The paper's warp and ours (with the reference depth test) of the same frame.
+    /// The paper's warp and ours of the same frame.
     fn paper_and_ours(
         &self,
         refs: [&ReferenceFrame; 2],
-        object: &WarpObject,
+        [paper, ours]: [&Variant; 2],
         scene: &ScenePose,
         s: f32,
-        settings: &WarpSettings,
     ) -> anyhow::Result<(image::RgbaImage, image::RgbaImage)> {
         Ok((
-            self.warp(refs, object, scene, s, settings, WarpMode::Paper, false)?,
-            self.warp(
-                refs,
-                object,
-                scene,
-                s,
-                settings,
-                WarpMode::DepthTested,
-                false,
-            )?,
+            self.warp(refs, paper, scene, s, paper.mode, false)?,
+            self.warp(refs, ours, scene, s, ours.mode, false)?,
         ))
     }
 
     /// The warp (or, with `wire`, the proxy filled light grey with its edges over it).
-    #[allow(clippy::too_many_arguments)]
     fn warp(
         &self,
         refs: [&ReferenceFrame; 2],
-        object: &WarpObject,
+        variant: &Variant,
         scene: &ScenePose,
         s: f32,
-        settings: &WarpSettings,
         mode: WarpMode,
         wire: bool,
     ) -> anyhow::Result<image::RgbaImage> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let pair = self.pass.bind_pair(d, refs);
-        let mut settings = *settings;
+        let object = &variant.object;
+        let mut settings = variant.settings;
         if wire {
             settings.fill_color = [0.8, 0.8, 0.8, 1.0];
         }
@@ -122,30 +96,6 @@ impl Rig<'_> {
     }
 }
 
-/// Draws `mesh` with full Phong over what `target` holds (no clear).
-fn draw_over(
-    ctx: &GpuContext,
-    target: &OffscreenTarget,
-    mesh: &GpuMesh,
-    camera: &Camera,
-    uniforms: &ObjectUniforms,
-) {
-    let shading = npr_gpu::BaseShading::new(
-        &ctx.device,
-        &ctx.queue,
-        npr_gpu::COLOR_FORMAT,
-        npr_gpu::DEPTH_FORMAT,
-    );
-    shading.set_frame(&ctx.queue, &npr_gpu::FrameUniforms::new(camera, &light()));
-    let object = shading.create_object(&ctx.device, uniforms);
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = target.begin_load_pass(&mut enc);
-        shading.draw(&mut pass, npr_gpu::ShadingModel::Phong, &object, mesh);
-    }
-    ctx.queue.submit(Some(enc.finish()));
-}
-
 /// The demo mesh: the bunny from `fixtures/meshes/`.
 fn demo_mesh() -> anyhow::Result<(String, Mesh, [f32; 3])> {
     let mesh = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
@@ -157,7 +107,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let (name, mesh, ratios) = demo_mesh()?;
     let mut rig = Rig::new(ctx, &mesh, TILE)?;
-    let (path, world_per_object) = path_for(&mesh, true);
+    let (path, world_per_object) = path_for(&mesh, vec![Vec3::ZERO], 3.3, true);
     let k = 10;
     let (r0, r1) = (
         rig.reference(&path.pose(0.0))?,
@@ -171,29 +121,9 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     image::imageops::replace(&mut sheet, &on_white(&full_mid), 0, 0);
     for (i, &ratio) in ratios.iter().enumerate() {
         let proxy = Proxy::simplify(&mesh, ratio)?;
-        let inflation = proxy.suggested_inflation();
-        let settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
-        let object = rig
-            .pass
-            .create_object(&ctx.device, &proxy, 16, inflation, true)?;
-        let wire = rig.warp(
-            [&r0, &r1],
-            &object,
-            &mid,
-            0.5,
-            &settings,
-            WarpMode::Fill,
-            true,
-        )?;
-        let warped = rig.warp(
-            [&r0, &r1],
-            &object,
-            &mid,
-            0.5,
-            &settings,
-            WarpMode::DepthTested,
-            false,
-        )?;
+        let ours = rig.variant(&proxy, Departures::OURS, world_per_object, 16, true)?;
+        let wire = rig.warp([&r0, &r1], &ours, &mid, 0.5, WarpMode::Fill, true)?;
+        let warped = rig.warp([&r0, &r1], &ours, &mid, 0.5, ours.mode, false)?;
         let q = compare(&full_mid, &warped);
         println!(
             "demo warp: {name} {:.1} % ({} triangles, error {:.4} of the extent): PSNR {:.2} dB, SSIM {:.4} halfway between references 10 frames apart",
@@ -215,37 +145,26 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 
     // A sequence: references every 10 frames (spread over the frames between), 41 frames.
     let proxy = Proxy::simplify(&mesh, ratios[1])?;
-    let inflation = proxy.suggested_inflation();
-    let settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
+    let ours = Departures::OURS;
     let mut seq = WarpSequence::new(
         &ctx.device,
-        &ctx.queue,
         WarpSchedule::new(k, true)?,
-        settings,
+        ours.settings(&proxy, world_per_object),
         TILE,
         TILE,
-        light(),
-        material(),
+        COLOR_FORMAT,
+        DEPTH_FORMAT,
     )?;
-    let objects = [seq
-        .pass()
-        .create_object(&ctx.device, &proxy, 16, inflation, false)?];
+    let objects =
+        [seq.pass()
+            .create_object(&ctx.device, &proxy, 16, ours.inflation(&proxy), false)?];
     let scene = |f: u32| path.pose(f as f32);
     let frames = 41u32;
     let mut psnr = Vec::new();
     let mut strip = image::RgbaImage::from_pixel(TILE / 2 * 6, TILE / 2, image::Rgba([255; 4]));
-    let target = OffscreenTarget::new(&ctx.device, TILE, TILE)?;
     for f in 0..frames {
-        seq.render_frame(
-            &ctx.device,
-            &ctx.queue,
-            &rig.full,
-            &objects,
-            &scene,
-            f,
-            &target,
-        );
-        let warped = readback_rgba(&ctx.device, &ctx.queue, &target.color)?;
+        rig.sequence_frame(&mut seq, &objects, &scene, f);
+        let warped = rig.image()?;
         let full = rig.full(&scene(f))?;
         psnr.push(compare(&full, &warped).psnr_db);
         if f % 4 == 1 && f / 4 < 6 {
@@ -288,7 +207,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         tube_segments: 48,
     });
     let mut rig = Rig::new(ctx, &knot, TILE)?;
-    let (path, world_per_object) = path_for(&knot, false);
+    let (path, world_per_object) = path_for(&knot, vec![Vec3::ZERO], 3.3, false);
     let (r0, r1) = (
         rig.reference(&path.pose(0.0))?,
         rig.reference(&path.pose(20.0))?,
@@ -296,15 +215,13 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mid = path.pose(10.0);
     let full = rig.full(&mid)?;
     let proxy = Proxy::simplify(&knot, 0.05)?;
-    let inflation = proxy.suggested_inflation();
-    let settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
-    let object = rig
-        .pass
-        .create_object(&ctx.device, &proxy, 16, inflation, false)?;
-    let (paper, ours) = rig.paper_and_ours([&r0, &r1], &object, &mid, 0.5, &settings)?;
+    let paper_path = rig.variant(&proxy, Departures::PAPER, world_per_object, 16, false)?;
+    let ours_path = rig.variant(&proxy, Departures::OURS, world_per_object, 16, false)?;
+    let variants = [&paper_path, &ours_path];
+    let (paper, ours) = rig.paper_and_ours([&r0, &r1], variants, &mid, 0.5)?;
     let (qp, qo) = (compare(&full, &paper), compare(&full, &ours));
     println!(
-        "demo warp: occlusion, knot 20 degrees between references: paper PSNR {:.2} dB, with the reference depth test {:.2} dB",
+        "demo warp: occlusion, knot 20 degrees between references: paper's path PSNR {:.2} dB, ours {:.2} dB",
         qp.psnr_db, qo.psnr_db
     );
     let mut sheet = image::RgbaImage::from_pixel(TILE * 5, TILE * 2, image::Rgba([255; 4]));
@@ -334,14 +251,21 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         Vec3::ZERO,
         1.0,
     );
-    draw_over(ctx, &r0.target, &square, &r0.pose.camera, &red);
-    let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.target.color)?;
+    let mut occluder = PhongBase::new(&square, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let over = npr_warp::Pose {
+        camera: r0.pose.camera,
+        world_from_object: world_from_square,
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, &over, 0);
+    ctx.queue.submit(Some(enc.finish()));
+    let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.color)?;
     let at = path.pose(6.0);
     let full6 = rig.full(&at)?;
-    let (paper6, ours6) = rig.paper_and_ours([&r0, &r1], &object, &at, 0.3, &settings)?;
+    let (paper6, ours6) = rig.paper_and_ours([&r0, &r1], variants, &at, 0.3)?;
     let (qp6, qo6) = (compare(&full6, &paper6), compare(&full6, &ours6));
     println!(
-        "demo warp: synthetic occluder in reference 0: paper PSNR {:.2} dB, with the reference depth test {:.2} dB",
+        "demo warp: synthetic occluder in reference 0: paper's path PSNR {:.2} dB, ours {:.2} dB",
         qp6.psnr_db, qo6.psnr_db
     );
     for (i, img) in [

@@ -1,13 +1,24 @@
 //! The GPU rig shared by the warping demo and benchmark: the full-detail renderer, the
-//! reference frames and the warp pass, drawing into one square target.
+//! reference frames (drawn by npr-warp's default Phong base pass) and the warp pass,
+//! drawing into one square target; the turntable path; the paper's and our warp variants.
 
+use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
-use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, OffscreenTarget, readback_rgba};
-use npr_warp::{FullRenderer, ReferenceFrame, ScenePose, WarpPass};
+use npr_gpu::{
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
+    OffscreenTarget, readback_rgba,
+};
+use npr_warp::{
+    Departures, FrameReport, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable,
+    WarpMode, WarpObject, WarpPass, WarpSequence, WarpSettings,
+};
 
 /// Clear colour of every warping image (transparent black: the object's pixels are the
 /// ones with alpha).
 pub const CLEAR: [f64; 4] = [0.0; 4];
+
+/// Rotation per frame of every warping path (degrees).
+pub const DEG_PER_FRAME: f32 = 1.0;
 
 /// The light of the warping scenes.
 pub fn light() -> Light {
@@ -25,14 +36,55 @@ pub fn material() -> ObjectUniforms {
     )
 }
 
+/// The turntable framing `mesh` (scaled to a unit bounding sphere at the origin) with one
+/// copy per offset, seen from `distance` with a 34° field of view, at [`DEG_PER_FRAME`]:
+/// with `orbit_camera` the camera orbits the fixed objects, else the objects turn before a
+/// fixed camera. Returns the path and the world units per object unit.
+pub fn path_for(
+    mesh: &Mesh,
+    offsets: Vec<Vec3>,
+    distance: f32,
+    orbit_camera: bool,
+) -> (Turntable, f32) {
+    let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
+    let scale = 1.0 / radius.max(1e-6);
+    let normalize = Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-centre);
+    let eye = Vec3::new(0.0, 0.35, 1.0).normalize() * distance;
+    let mut camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
+    camera.fov_y_rad = 34f32.to_radians();
+    (
+        Turntable {
+            camera,
+            normalize,
+            deg_per_frame: DEG_PER_FRAME,
+            offsets,
+            orbit_camera,
+        },
+        scale,
+    )
+}
+
+/// One warp variant of a proxy: the object (binned, inflated per the departures), its
+/// settings and fragment shader.
+pub struct Variant {
+    /// The proxy on the GPU.
+    pub object: WarpObject,
+    /// Plan and tolerances.
+    pub settings: WarpSettings,
+    /// Fragment shader.
+    pub mode: WarpMode,
+}
+
 /// Full mesh, renderer, target and warp pass for one mesh.
 pub struct Rig<'a> {
     /// The GPU.
     pub ctx: &'a GpuContext,
     /// The full-detail mesh.
     pub full: GpuMesh,
-    /// Full-detail renderer (the reference and ground-truth frames).
+    /// Full-detail renderer (the ground-truth frames).
     pub renderer: FullRenderer,
+    /// The base pass of the references (full Phong of the mesh).
+    pub base: PhongBase,
     /// The `size × size` target every frame is drawn into.
     pub target: OffscreenTarget,
     /// The warp pass.
@@ -43,13 +95,38 @@ pub struct Rig<'a> {
 impl<'a> Rig<'a> {
     /// A rig for `mesh` drawing `size × size` frames.
     pub fn new(ctx: &'a GpuContext, mesh: &Mesh, size: u32) -> anyhow::Result<Self> {
+        let full = GpuMesh::upload(&ctx.device, mesh)?;
         Ok(Self {
             ctx,
-            full: GpuMesh::upload(&ctx.device, mesh)?,
-            renderer: FullRenderer::new(&ctx.device, &ctx.queue),
+            base: PhongBase::new(&full, light(), material(), COLOR_FORMAT, DEPTH_FORMAT),
+            full,
+            renderer: FullRenderer::new(&ctx.device, &ctx.queue, COLOR_FORMAT, DEPTH_FORMAT),
             target: OffscreenTarget::new(&ctx.device, size, size)?,
-            pass: WarpPass::new(&ctx.device),
+            pass: WarpPass::new(&ctx.device, COLOR_FORMAT, DEPTH_FORMAT)?,
             size,
+        })
+    }
+
+    /// `proxy` warped with `departures` (binned with `bins` per axis, optionally with a
+    /// wireframe), for a path scaling object units by `world_per_object`.
+    pub fn variant(
+        &self,
+        proxy: &Proxy,
+        departures: Departures,
+        world_per_object: f32,
+        bins: u32,
+        wireframe: bool,
+    ) -> anyhow::Result<Variant> {
+        Ok(Variant {
+            object: self.pass.create_object(
+                &self.ctx.device,
+                proxy,
+                bins,
+                departures.inflation(proxy),
+                wireframe,
+            )?,
+            settings: departures.settings(proxy, world_per_object),
+            mode: departures.mode(),
         })
     }
 
@@ -59,8 +136,9 @@ impl<'a> Rig<'a> {
         self.renderer
             .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
         let mut enc = d.create_command_encoder(&Default::default());
+        let t = &self.target;
         self.renderer
-            .record(&mut enc, &self.target, &self.full, CLEAR);
+            .record(&mut enc, &t.color_view, &t.depth_view, &self.full, CLEAR);
         enc
     }
 
@@ -72,14 +150,40 @@ impl<'a> Rig<'a> {
     }
 
     /// A reference frame of object 0 at `scene`.
-    pub fn reference(&self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
+    pub fn reference(&mut self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, q, self.size, self.size)?;
-        r.set_pose(q, &scene.object(0), &light(), &material());
+        let mut r = ReferenceFrame::new(d, self.size, self.size, COLOR_FORMAT, DEPTH_FORMAT)?;
         let mut enc = d.create_command_encoder(&Default::default());
-        r.record(&mut enc, &self.full, CLEAR);
+        r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR);
         q.submit(Some(enc.finish()));
         Ok(r)
+    }
+
+    /// Records and submits frame `frame` of `seq` (objects `objects` along `path`, references
+    /// drawn by the rig's base pass) into the rig's target.
+    pub fn sequence_frame(
+        &mut self,
+        seq: &mut WarpSequence,
+        objects: &[WarpObject],
+        path: &dyn Fn(u32) -> ScenePose,
+        frame: u32,
+    ) -> FrameReport {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let mut enc = d.create_command_encoder(&Default::default());
+        let t = &self.target;
+        let report = seq.record_frame(
+            d,
+            q,
+            &mut enc,
+            &mut self.base,
+            objects,
+            path,
+            frame,
+            &t.color_view,
+            &t.depth_view,
+        );
+        q.submit(Some(enc.finish()));
+        report
     }
 
     /// The target's current image.

@@ -64,6 +64,15 @@ struct HatchState {
     direction: DirectionPreset,
 }
 
+/// Outline state: the normal + depth prepass and the full-screen pass.
+struct OutlineState {
+    size: (u32, u32),
+    target: npr_gpu::outline::NormalDepthTarget,
+    prepass: npr_gpu::outline::NormalDepthPass,
+    object: npr_gpu::outline::OutlineObject,
+    pass: npr_gpu::outline::OutlinePass,
+}
+
 /// One model's renderer (see the module docs).
 pub struct Renderer {
     model: Model,
@@ -74,6 +83,7 @@ pub struct Renderer {
     cel_bands: Vec<u8>,
     specular: Option<SpecularState>,
     hatching: Option<HatchState>,
+    outline: Option<OutlineState>,
     tams: HashMap<bool, TonalArtMap>,
     directions: HashMap<DirectionPreset, Vec<Vec3>>,
     curvature: Option<Vec<f32>>,
@@ -206,6 +216,7 @@ impl Renderer {
             cel_bands: Vec::new(),
             specular: None,
             hatching: None,
+            outline: None,
             tams: HashMap::new(),
             directions: HashMap::new(),
             curvature: None,
@@ -243,6 +254,7 @@ impl Renderer {
         self.gpu_mesh = gpu_mesh;
         self.specular = None;
         self.hatching = None;
+        self.outline = None;
         self.directions.clear();
         self.curvature = None;
         self.frame_index = 0;
@@ -393,11 +405,27 @@ impl Renderer {
     pub fn directions(&mut self, which: DirectionPreset) -> &[Vec3] {
         let mesh = &self.model.mesh;
         self.directions.entry(which).or_insert_with(|| {
-            let dir = match which {
-                DirectionPreset::KMax => npr_hatching::StrokeDirection::KappaMax,
-                DirectionPreset::KMin => npr_hatching::StrokeDirection::KappaMin,
+            let (source, dir) = match which {
+                DirectionPreset::Smooth => (
+                    npr_hatching::DirectionSource::default(),
+                    npr_hatching::StrokeDirection::KappaMax,
+                ),
+                DirectionPreset::KMax => (
+                    npr_hatching::DirectionSource::Principal,
+                    npr_hatching::StrokeDirection::KappaMax,
+                ),
+                DirectionPreset::KMin => (
+                    npr_hatching::DirectionSource::Principal,
+                    npr_hatching::StrokeDirection::KappaMin,
+                ),
             };
-            npr_hatching::principal_directions(mesh, dir, &CurvatureOptions::default(), Vec3::Y)
+            npr_hatching::stroke_directions(
+                mesh,
+                &source,
+                dir,
+                &CurvatureOptions::default(),
+                Vec3::Y,
+            )
         })
     }
 
@@ -578,8 +606,45 @@ impl Renderer {
                 }
             }
         }
+        if preset.outline.enabled {
+            self.record_outline(device, queue, &mut encoder, preset, view)?;
+        }
         queue.submit(Some(encoder.finish()));
         Ok(stats)
+    }
+
+    /// Records the outline prepass and pass over the target (`npr_gpu::outline`).
+    fn record_outline(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        preset: &Preset,
+        view: &View,
+    ) -> Result<(), AppError> {
+        use npr_gpu::outline::{NormalDepthPass, NormalDepthTarget, OutlinePass};
+        let size = self.size();
+        if self.outline.as_ref().is_none_or(|o| o.size != size) {
+            let prepass = NormalDepthPass::new(device);
+            let object = prepass.create_object(device, view.world_from_object);
+            self.outline = Some(OutlineState {
+                size,
+                target: NormalDepthTarget::new(device, size.0, size.1)?,
+                object,
+                prepass,
+                pass: OutlinePass::new(device, COLOR_FORMAT, &preset.outline.settings()),
+            });
+        }
+        if let Some(o) = &self.outline {
+            o.pass.set_settings(queue, &preset.outline.settings());
+            o.prepass.set_camera(queue, &view.camera);
+            o.object.set_transform(queue, view.world_from_object);
+            o.prepass
+                .record(encoder, &o.target, &[(&self.gpu_mesh, &o.object)]);
+            o.pass
+                .record(device, encoder, &self.target.color_view, &o.target);
+        }
+        Ok(())
     }
 
     fn set_ramp(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bands: &[u8]) {

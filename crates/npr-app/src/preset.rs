@@ -263,11 +263,53 @@ impl Default for SpecularPreset {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum DirectionPreset {
-    /// Along the direction of maximum curvature.
+    /// The smooth line field fitted to the direction of maximum curvature (Knöppel et al.
+    /// 2013): strokes flow instead of following every bump of a scan.
     #[default]
+    Smooth,
+    /// The raw direction of maximum curvature, vertex by vertex.
     KMax,
-    /// Along the direction of minimum curvature.
+    /// The raw direction of minimum curvature, vertex by vertex.
     KMin,
+}
+
+/// Ink outlines: silhouettes and creases over any effect (`npr_gpu::outline`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct OutlinePreset {
+    /// Draw outlines.
+    pub enabled: bool,
+    /// Line width in pixels (1..=15).
+    pub width_px: f32,
+    /// Linear RGB line colour.
+    pub color: [f32; 3],
+    /// Neighbouring normals turned by more than this make a crease line, degrees.
+    pub crease_deg: f32,
+}
+
+impl Default for OutlinePreset {
+    fn default() -> Self {
+        let d = npr_gpu::outline::OutlineSettings::default();
+        Self {
+            enabled: false,
+            width_px: d.width_px,
+            color: d.color,
+            crease_deg: d.crease_angle_deg,
+        }
+    }
+}
+
+impl OutlinePreset {
+    /// The outline pass settings.
+    pub fn settings(&self) -> npr_gpu::outline::OutlineSettings {
+        npr_gpu::outline::OutlineSettings {
+            width_px: self.width_px,
+            color: self.color,
+            crease_angle_deg: self.crease_deg,
+            ..Default::default()
+        }
+        .sanitized()
+    }
 }
 
 /// Blend of direction bins (SPEC §3.2–3.3).
@@ -321,7 +363,7 @@ impl Default for HatchingPreset {
             stroke_scale: p.stroke_scale,
             blend: BlendPreset::Offset,
             shadows: true,
-            direction: DirectionPreset::KMax,
+            direction: DirectionPreset::Smooth,
             ink: p.ink,
             paper: p.paper,
         }
@@ -389,6 +431,8 @@ pub struct Preset {
     pub hatching: HatchingPreset,
     /// Warping.
     pub warp: WarpPreset,
+    /// Outlines over any effect.
+    pub outline: OutlinePreset,
     /// Output size.
     pub output: OutputPreset,
 }

@@ -316,3 +316,62 @@ fn bad_input_gets_one_line_and_no_output() {
         assert!(leftovers.is_empty(), "{args:?} left partial files");
     }
 }
+
+#[test]
+fn outlines_draw_ink_on_the_silhouette_over_any_effect() {
+    let Some(ctx) = context_or_skip("outlines_draw_ink_on_the_silhouette_over_any_effect") else {
+        return;
+    };
+    let model = Model::from_mesh("sphere", npr_geometry::generate::icosphere(4, 1.0));
+    let size = (160, 120);
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size).unwrap();
+    for effect in [Effect::Phong, Effect::Cel, Effect::HatchingPen] {
+        let mut preset = Preset {
+            effect,
+            ..Preset::default()
+        };
+        let view = View::new(&preset, &model.framing, size, 0.0);
+        renderer
+            .render(&ctx.device, &ctx.queue, &preset, &view)
+            .unwrap();
+        let plain = renderer.read(&ctx.device, &ctx.queue).unwrap();
+        preset.outline.enabled = true;
+        renderer
+            .render(&ctx.device, &ctx.queue, &preset, &view)
+            .unwrap();
+        let lined = renderer.read(&ctx.device, &ctx.queue).unwrap();
+        // Pixels on the sphere's projected rim (within 2 px of it) turn dark; the centre
+        // of the disc stays as it was.
+        let centre = view.to_pixel(glam::Vec3::ZERO, size).unwrap();
+        let rim_px = {
+            let eye = view.camera.eye;
+            let d = eye.length();
+            let r_world = (d * d - 1.0).sqrt() / d; // tangent circle radius
+            let side = eye.cross(glam::Vec3::Y).normalize();
+            let p = eye * (1.0 / (d * d)) + side * r_world;
+            (view.to_pixel(p, size).unwrap() - centre).length()
+        };
+        let (mut rim_dark, mut rim_n, mut inner_changed, mut inner_n) = (0, 0, 0, 0);
+        for (x, y, p) in lined.enumerate_pixels() {
+            let r = (glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - centre).length();
+            let luma = (u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2])) / 3;
+            if (r - rim_px).abs() < 1.0 {
+                rim_n += 1;
+                rim_dark += usize::from(luma < 80);
+            } else if r < 0.5 * rim_px {
+                inner_n += 1;
+                inner_changed += usize::from(p.0 != plain.get_pixel(x, y).0);
+            }
+        }
+        assert!(
+            rim_dark as f64 > 0.8 * rim_n as f64,
+            "{}: {rim_dark}/{rim_n} rim pixels dark",
+            effect.name()
+        );
+        assert!(
+            (inner_changed as f64) < 0.02 * inner_n as f64,
+            "{}: {inner_changed}/{inner_n} inner pixels changed",
+            effect.name()
+        );
+    }
+}

@@ -40,7 +40,7 @@ pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex};
 pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
 pub use shading::{BaseShading, ObjectBinding, ShadingModel, default_ramp, toon_ramp, upload_ramp};
-pub use targets::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, texture_2d};
+pub use targets::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, begin_views_pass, texture_2d};
 pub use uniforms::{FrameUniforms, ObjectUniforms};
 
 pub use wgpu;

@@ -6,11 +6,12 @@
 //! matrix of positions, §3.3.2). Per frame, each bin is classified against each reference
 //! camera with its *representative normal* only: `N²` dot products instead of one per face.
 //!
-//! Where the paper tests the representative normal alone (and accepts "some error where the
-//! view direction is exactly perpendicular"), each bin here also keeps the half-angle of the
-//! cone that holds its faces' normals, and the perspective spread of the object seen from
-//! the camera; a bin is culled only when *every* face in it is back-facing, so culling is
-//! conservative and never removes a visible face.
+//! The paper tests the representative normal alone (and accepts "some error where the view
+//! direction is exactly perpendicular"): [`Culling::Representative`], the cell's centre
+//! direction against the direction to the camera. Ours ([`Culling::Conservative`]) also
+//! keeps the half-angle of the cone that holds each bin's faces' normals and the
+//! perspective spread of the object seen from the camera; a bin is culled only when *every*
+//! face in it is back-facing, so culling never removes a visible face.
 
 use crate::WarpError;
 use glam::Vec3;
@@ -30,6 +31,9 @@ pub struct Bin {
     pub normal: Vec3,
     /// The largest angle between [`Bin::normal`] and a face normal of the bin, radians.
     pub half_angle_rad: f32,
+    /// The paper's representative vector (§3.3.2, Fig. 5): the centre direction of the
+    /// bin's `(θ, φ)` cell, whatever faces it holds.
+    pub cell_normal: Vec3,
 }
 
 /// Proxy faces binned by normal (§3.3.2): the index buffer sorted by bin, one range per bin.
@@ -152,6 +156,7 @@ impl NormalBins {
                         .try_normalize()
                         .unwrap_or_else(|| cell_centre(b as u32, per_axis)),
                     half_angle_rad: 0.0,
+                    cell_normal: cell_centre(b as u32, per_axis),
                 }
             })
             .collect();
@@ -232,6 +237,55 @@ impl NormalBins {
     }
 }
 
+impl NormalBins {
+    /// How bin `b` faces a camera at `eye_object` by the paper's test (§3.3.2): the sign of
+    /// the representative vector ([`Bin::cell_normal`]) against the direction from the
+    /// bounding-sphere centre to the eye, nothing else. Never [`Facing::Mixed`], so faces
+    /// near the silhouette may be culled while visible (the error the paper accepts).
+    pub fn facing_representative(&self, b: usize, eye_object: Vec3) -> Facing {
+        let Some(bin) = self.bins.get(b) else {
+            return Facing::Back;
+        };
+        if bin.cell_normal.dot(eye_object - self.centre) > 0.0 {
+            Facing::Front
+        } else {
+            Facing::Back
+        }
+    }
+
+    /// How bin `b` faces a camera at `eye_object` under `culling`.
+    pub fn facing_by(&self, b: usize, eye_object: Vec3, culling: Culling) -> Facing {
+        match culling {
+            Culling::Representative => self.facing_representative(b, eye_object),
+            Culling::Conservative => self.facing(b, eye_object),
+        }
+    }
+}
+
+/// How a bin is tested against a reference camera (§3.3.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Culling {
+    /// The paper: the representative vector alone ([`NormalBins::facing_representative`]).
+    Representative,
+    /// Ours: culled only when every face of the bin is back-facing ([`NormalBins::facing`]).
+    Conservative,
+}
+
+/// The shape of the §3.3.3 opacity ramp over the bins both references see.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Ramp {
+    /// The paper: reference 0's opacity falls linearly from 1 at the boundary where
+    /// reference 1 stops seeing the bin to 0 at the boundary where reference 0 stops:
+    /// `w0 = a0 / (a0 + a1)` with `a_i = asin(n · v_i)` the elevation of reference i's
+    /// direction above the bin's plane (linear in angle along the arc between boundaries),
+    /// `n` the representative vector.
+    LinearAngle,
+    /// Ours: `w0 = r0 / (r0 + r1)` with `r_i = max(cos(n, v_i) + sin δ_i, ε)`, `n` the bin's
+    /// mean normal and `δ_i` its cone plus the object's spread (bins at a grazing angle
+    /// keep a small weight).
+    CosineRatio,
+}
+
 /// Which pass draws a range of bins (§3.3.3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum DrawKind {
@@ -256,13 +310,22 @@ pub struct BinDraw {
     pub instance: u32,
 }
 
-/// How the warp decides and blends per bin; see [`plan`].
+/// How the warp decides and blends per bin; see [`plan`]. [`PlanSettings::paper`] is the
+/// paper's §3.3.2–§3.3.3; `Default` is ours.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlanSettings {
     /// Width of the §3.3.3 opacity ramp, in `(0, 1]`: 1 blends across the whole overlap as
     /// the paper does; smaller values give bins whose ramp is beyond the band a single
     /// reference (cheaper, fragment-bound adapters), keeping the ramp around equal weight.
     pub blend_band: f32,
+    /// The shape of the ramp (paper: [`Ramp::LinearAngle`]).
+    pub ramp: Ramp,
+    /// How bins are culled against the references (paper: [`Culling::Representative`]).
+    pub culling: Culling,
+    /// Draw bins that face the current camera but neither reference (disocclusion, §3.4)
+    /// with the reference nearer in time (ours); off, they are culled as the paper's
+    /// per-reference culling implies.
+    pub draw_unseen: bool,
     /// Also weight each reference by its distance in time from the current frame
     /// (`1 − s` and `s`); with it the warp at a reference pose reproduces that reference.
     pub temporal_weight: bool,
@@ -278,10 +341,45 @@ impl Default for PlanSettings {
     fn default() -> Self {
         Self {
             blend_band: 0.5,
+            ramp: Ramp::CosineRatio,
+            culling: Culling::Conservative,
+            draw_unseen: true,
             temporal_weight: true,
             cull_current: true,
             cull_references: true,
         }
+    }
+}
+
+impl PlanSettings {
+    /// The paper's §3.3.2–§3.3.3: representative-vector culling, the linear ramp from
+    /// boundary to boundary over the whole overlap, no time term, bins neither reference
+    /// sees culled. (Bins back-facing for the current camera are skipped as the rasterizer
+    /// would cull them anyway; that changes no pixel.)
+    pub fn paper() -> Self {
+        Self {
+            blend_band: 1.0,
+            ramp: Ramp::LinearAngle,
+            culling: Culling::Representative,
+            draw_unseen: false,
+            temporal_weight: false,
+            cull_current: true,
+            cull_references: true,
+        }
+    }
+
+    /// Checks the ranges: `blend_band` in `(0, 1]`.
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] naming the bad value.
+    pub fn validate(&self) -> Result<(), WarpError> {
+        if !(self.blend_band > 0.0 && self.blend_band <= 1.0) {
+            return Err(WarpError::InvalidSetting(format!(
+                "blend_band {} is outside (0, 1]",
+                self.blend_band
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -308,13 +406,13 @@ pub struct BinPlan {
 /// object space of its reference pose), `s ∈ [0, 1]` the current frame's position between
 /// the references.
 ///
-/// Opacity (§3.3.3): with `a_i = max(cos(normal, v_i) + sin δ_i, ε)` (how parallel the bin's
-/// representative normal is to the direction towards reference i, shifted by the bin's
-/// margin so bins seen at a grazing angle keep a small positive weight), and, with
-/// `temporal_weight`, `r_0 = a_0 (1 − s)`, `r_1 = a_1 s`: the raw ramp is `w = r_0 / (r_0 + r_1)`,
-/// sharpened to `clamp((w − ½) / band + ½, 0, 1)`. Bins seen by one reference only use it
-/// (w = 1 or 0); bins seen by neither but facing the current camera (disocclusion, §3.4)
-/// use the nearer reference in time.
+/// Opacity (§3.3.3): `a_i` per [`PlanSettings::ramp`] ([`Ramp`]: the paper's elevation
+/// angle, or ours, `max(cos(normal, v_i) + sin δ_i, ε)`), and, with `temporal_weight`,
+/// `r_0 = a_0 (1 − s)`, `r_1 = a_1 s` (else `r_i = a_i`): the raw ramp is
+/// `w = r_0 / (r_0 + r_1)`, sharpened to `clamp((w − ½) / band + ½, 0, 1)` (band 1: the
+/// paper's full ramp). Bins seen by one reference only use it (w = 1 or 0); bins seen by
+/// neither but facing the current camera (disocclusion, §3.4) use the nearer reference in
+/// time with `draw_unseen`, and are culled without it.
 pub fn plan(
     bins: &NormalBins,
     eye_now: Vec3,
@@ -345,8 +443,18 @@ pub fn plan(
             out.bins_culled += 1;
             continue;
         }
-        let see = |i: usize| !settings.cull_references || bins.facing(b, eye_ref[i]).may_see();
+        let see = |i: usize| {
+            !settings.cull_references || bins.facing_by(b, eye_ref[i], settings.culling).may_see()
+        };
         let (see0, see1) = (see(0), see(1));
+        if !see0 && !see1 && !settings.draw_unseen {
+            out.bins_culled += 1;
+            continue;
+        }
+        let elevation = |i: usize| {
+            let v = (eye_ref[i] - bins.centre).normalize_or(Vec3::Z);
+            bin.cell_normal.dot(v).clamp(-1.0, 1.0).asin().max(0.0)
+        };
         let cos_margin = |i: usize| {
             let v = (eye_ref[i] - bins.centre).normalize_or(Vec3::Z);
             let d = (eye_ref[i] - bins.centre)
@@ -371,7 +479,11 @@ pub fn plan(
                 } else {
                     (1.0, 1.0)
                 };
-                let (r0, r1) = (cos_margin(0) * t0, cos_margin(1) * t1);
+                let (a0, a1) = match settings.ramp {
+                    Ramp::CosineRatio => (cos_margin(0), cos_margin(1)),
+                    Ramp::LinearAngle => (elevation(0), elevation(1)),
+                };
+                let (r0, r1) = (a0 * t0, a1 * t1);
                 let raw = if r0 + r1 > 0.0 { r0 / (r0 + r1) } else { 0.5 };
                 ((raw - 0.5) / band + 0.5).clamp(0.0, 1.0)
             }

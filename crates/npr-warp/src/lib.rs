@@ -13,29 +13,82 @@
 //! ramps ([`bins`], §3.3.2–§3.3.3). A reference every k frames along a known path is the
 //! [`sequence`] (§4). [`metrics`] measures each warped frame against the full render.
 //!
-//! Beyond the paper: a reference depth test (as a shadow map) removes texels hidden by
-//! other polygons in a reference, which the paper's §3.4 leaves open, falling back to the
-//! other reference; the proxy may be inflated by its simplification error so that its
-//! silhouette covers the full mesh's; a temporal term in the §3.3.3 ramp makes the warp at
-//! a reference pose reproduce that reference.
+//! The paper's path is [`Departures::PAPER`] (§3.3.2 representative-vector culling, the
+//! §3.3.3 linear ramp, the uninflated proxy, references projected as they are). Ours,
+//! [`Departures::OURS`], adds each of the [`Departure`]s, switchable alone: a reference
+//! depth test (as a shadow map) removes texels hidden by other polygons in a reference,
+//! which the paper's §3.4 leaves open; coverage-normalised lookups; conservative culling;
+//! bins neither reference sees drawn from the nearer one; the proxy inflated by its
+//! simplification error; a cosine-ratio ramp, sharpened to a band, with a time term that
+//! makes the warp at a reference pose reproduce that reference.
+//!
+//! Embedding: every pass draws into the caller's colour and depth formats and records into
+//! the caller's `wgpu::CommandEncoder`; nothing here submits. What a reference shows is
+//! the caller's [`BasePass`] ([`PhongBase`]: npr-gpu's Phong). An application keeps a
+//! [`Warper`] and, per frame, either records a reference at the current camera or warps
+//! the two newest references to it:
+//!
+//! ```no_run
+//! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue, mesh: &npr_geometry::Mesh,
+//! #     gpu_mesh: &npr_gpu::GpuMesh, target: &wgpu::Texture, depth: &wgpu::TextureView,
+//! #     poses: &[npr_warp::Pose]) -> Result<(), npr_warp::WarpError> {
+//! use npr_warp::{Departures, PhongBase, Proxy, Warper, metrics};
+//! let (color_format, depth_format) =
+//!     (wgpu::TextureFormat::Bgra8UnormSrgb, wgpu::TextureFormat::Depth32Float);
+//! let proxy = Proxy::simplify(mesh, 0.02)?; // §3.2: 2 % of the triangles
+//! let mut warper = Warper::new(device, &proxy, Departures::OURS, 1.0, 512, 512,
+//!     color_format, depth_format)?;
+//! let light = npr_gpu::Light::directional(glam::Vec3::new(1.0, 1.5, 2.0));
+//! let material = npr_gpu::ObjectUniforms::default_material(glam::Mat4::IDENTITY);
+//! let mut base = PhongBase::new(gpu_mesh, light, material, color_format, depth_format);
+//! let color = target.create_view(&Default::default());
+//! for (frame, pose) in poses.iter().enumerate() {
+//!     let mut encoder = device.create_command_encoder(&Default::default());
+//!     if frame % 10 == 0 {
+//!         // "Render a reference at camera C" (shown as is this frame: warp at s = 1).
+//!         warper.record_reference(device, queue, &mut encoder, &mut base, pose);
+//!     }
+//!     // "Warp the current references to camera C".
+//!     let s = warper.position(pose);
+//!     warper.record_warp(queue, &mut encoder, &color, depth, pose, s);
+//!     queue.submit(Some(encoder.finish()));
+//! }
+//! // PSNR of the last warped frame against a full render at the same camera.
+//! let warped = metrics::read_rgba(device, queue, target)?;
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! let full_target = npr_warp::ReferenceFrame::new(device, 512, 512, color_format, depth_format)?;
+//! let mut full_target = full_target;
+//! if let Some(pose) = poses.last() {
+//!     full_target.record(device, queue, &mut encoder, &mut base, pose, 2, [0.0; 4]);
+//! }
+//! queue.submit(Some(encoder.finish()));
+//! let full = metrics::read_rgba(device, queue, &full_target.color)?;
+//! println!("PSNR {:.2} dB", metrics::compare(&full, &warped).psnr_db);
+//! # Ok(()) }
+//! ```
 //!
 //! Data flow: `Mesh` → [`Proxy::simplify`] (once) → [`WarpPass::create_object`] (bins,
 //! once) → per reference pose [`ReferenceFrame::record`] → per frame
-//! [`WarpPass::prepare`] + [`WarpPass::draw`] into the caller's render pass.
+//! [`WarpPass::prepare`] + [`WarpPass::draw`] into the caller's render pass. [`Warper`]
+//! bundles this for one object; [`WarpSequence`] runs a known path (§4).
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bins;
+pub mod departures;
 mod error;
 pub mod metrics;
 pub mod pass;
 pub mod proxy;
 pub mod reference;
 pub mod sequence;
+pub mod warper;
 
-pub use bins::{BinPlan, DrawKind, Facing, NormalBins, PlanSettings};
+pub use bins::{BinPlan, Culling, DrawKind, Facing, NormalBins, PlanSettings, Ramp};
+pub use departures::{Departure, Departures};
 pub use error::WarpError;
 pub use metrics::{Quality, compare};
 pub use pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
 pub use proxy::Proxy;
-pub use reference::{FullRenderer, Pose, ReferenceFrame};
+pub use reference::{BasePass, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame};
 pub use sequence::{FrameReport, FrameRole, ScenePose, Turntable, WarpSchedule, WarpSequence};
+pub use warper::Warper;

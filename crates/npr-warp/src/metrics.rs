@@ -160,6 +160,35 @@ fn ssim_masked(x: &[f64], y: &[f64], w: usize, h: usize, mask: &[bool]) -> f64 {
     }
 }
 
+/// Reads an 8-bit RGBA or BGRA colour texture (`Rgba8Unorm[Srgb]`, `Bgra8Unorm[Srgb]`)
+/// back as an RGBA image (BGRA swizzled), to [`compare`] a warped frame of an application's
+/// target with a full render. Submits and waits: call it outside a frame.
+///
+/// # Errors
+/// [`crate::WarpError::Gpu`] for another format or a failed readback.
+pub fn read_rgba(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<image::RgbaImage, crate::WarpError> {
+    use wgpu::TextureFormat as F;
+    let format = texture.format();
+    let bgra = match format {
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => false,
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => true,
+        _ => return Err(npr_gpu::GpuError::UnsupportedFormat(format).into()),
+    };
+    let mut bytes = npr_gpu::readback_texture(device, queue, texture)?;
+    if bgra {
+        for p in bytes.chunks_exact_mut(4) {
+            p.swap(0, 2);
+        }
+    }
+    image::RgbaImage::from_raw(texture.width(), texture.height(), bytes).ok_or_else(|| {
+        npr_gpu::GpuError::Readback("buffer size does not match the image".into()).into()
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

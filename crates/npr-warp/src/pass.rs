@@ -11,7 +11,7 @@ use crate::bins::{BinPlan, DrawKind, NormalBins, PlanSettings};
 use crate::reference::{Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
-use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuMesh, Vertex, projective};
+use npr_gpu::{GpuMesh, Vertex, projective};
 use wgpu::util::DeviceExt;
 
 /// The `WarpObject` uniform block of `warp.wgsl` (272 bytes).
@@ -43,8 +43,12 @@ pub enum WarpMode {
     /// The warp with the reference depth test (ours): hidden texels fall back to the other
     /// reference, background texels are discarded.
     DepthTested,
-    /// The paper's pass as published: projected colours, no depth test.
+    /// The paper's pass as published (§3.3.1): the reference images projected as they are,
+    /// no depth test; texels outside the object project the (transparent) background.
     Paper,
+    /// The paper's pass with each lookup divided by the reference's coverage (alpha), so
+    /// silhouette pixels average only the object's texels (ours, no depth test).
+    PaperCoverage,
     /// The proxy with a constant colour: the fill floor of any warp pass.
     Fill,
 }
@@ -78,6 +82,34 @@ impl WarpSettings {
             surface_slack_world: (proxy.error_object + inflation_object) * world_per_object,
             ..Default::default()
         }
+    }
+}
+
+impl WarpSettings {
+    /// Checks every setting's range: tolerances finite and non-negative, the fill colour
+    /// finite, the plan's ([`PlanSettings::validate`]).
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] naming the bad value.
+    pub fn validate(&self) -> Result<(), WarpError> {
+        self.plan.validate()?;
+        for (name, v) in [
+            ("depth_tolerance_world", self.depth_tolerance_world),
+            ("surface_slack_world", self.surface_slack_world),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(WarpError::InvalidSetting(format!(
+                    "{name} {v} is not a finite non-negative distance"
+                )));
+            }
+        }
+        if !self.fill_color.iter().all(|c| c.is_finite()) {
+            return Err(WarpError::InvalidSetting(format!(
+                "fill_color {:?} is not finite",
+                self.fill_color
+            )));
+        }
+        Ok(())
     }
 }
 
@@ -176,6 +208,10 @@ pub struct WarpPass {
     blend: wgpu::RenderPipeline,
     single_paper: [wgpu::RenderPipeline; 2],
     blend_paper: wgpu::RenderPipeline,
+    single_coverage: [wgpu::RenderPipeline; 2],
+    blend_coverage: wgpu::RenderPipeline,
+    color_format: wgpu::TextureFormat,
+    depth_format: wgpu::TextureFormat,
     fill: wgpu::RenderPipeline,
     wire: wgpu::RenderPipeline,
     ref_layout: wgpu::BindGroupLayout,
@@ -184,8 +220,18 @@ pub struct WarpPass {
 }
 
 impl WarpPass {
-    /// Builds the pipelines for [`COLOR_FORMAT`] targets with [`DEPTH_FORMAT`] depth.
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// Builds the pipelines for the caller's targets: colour `color_format` (linear colour
+    /// is written; an sRGB format encodes it) with `depth_format` depth (less-equal, write).
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] when `depth_format` has no depth aspect or
+    /// `color_format` is not a renderable colour format.
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, WarpError> {
+        check_formats(color_format, depth_format)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("warp.wgsl"),
             source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
@@ -233,7 +279,7 @@ impl WarpPass {
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
+                    format: depth_format,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::LessEqual),
                     stencil: Default::default(),
@@ -244,7 +290,7 @@ impl WarpPass {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(COLOR_FORMAT.into())],
+                    targets: &[Some(color_format.into())],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -259,7 +305,7 @@ impl WarpPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        Self {
+        Ok(Self {
             single: [pipeline("fs_single0", tri), pipeline("fs_single1", tri)],
             blend: pipeline("fs_blend", tri),
             single_paper: [
@@ -267,12 +313,24 @@ impl WarpPass {
                 pipeline("fs_single1_paper", tri),
             ],
             blend_paper: pipeline("fs_blend_paper", tri),
+            single_coverage: [
+                pipeline("fs_single0_coverage", tri),
+                pipeline("fs_single1_coverage", tri),
+            ],
+            blend_coverage: pipeline("fs_blend_coverage", tri),
             fill: pipeline("fs_fill", tri),
             wire: pipeline("fs_fill", wgpu::PrimitiveTopology::LineList),
             ref_layout,
             object_layout,
             sampler,
-        }
+            color_format,
+            depth_format,
+        })
+    }
+
+    /// The colour and depth formats the pipelines draw into (and references use).
+    pub fn formats(&self) -> (wgpu::TextureFormat, wgpu::TextureFormat) {
+        (self.color_format, self.depth_format)
     }
 
     /// Binds two rendered references as the pair a warp interpolates between. Rebind after
@@ -282,32 +340,29 @@ impl WarpPass {
         device: &wgpu::Device,
         references: [&ReferenceFrame; 2],
     ) -> ReferencePair {
-        let depth_view = |r: &ReferenceFrame| {
-            r.target.depth.create_view(&wgpu::TextureViewDescriptor {
-                aspect: wgpu::TextureAspect::DepthOnly,
-                ..Default::default()
-            })
-        };
-        let (d0, d1) = (depth_view(references[0]), depth_view(references[1]));
+        let (d0, d1) = (
+            &references[0].depth_sample_view,
+            &references[1].depth_sample_view,
+        );
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr-warp references"),
             layout: &self.ref_layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
-                    resource: wgpu::BindingResource::TextureView(&references[0].target.color_view),
+                    resource: wgpu::BindingResource::TextureView(&references[0].color_view),
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&d0),
+                    resource: wgpu::BindingResource::TextureView(d0),
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&references[1].target.color_view),
+                    resource: wgpu::BindingResource::TextureView(&references[1].color_view),
                 },
                 wgpu::BindGroupEntry {
                     binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&d1),
+                    resource: wgpu::BindingResource::TextureView(d1),
                 },
                 wgpu::BindGroupEntry {
                     binding: 4,
@@ -319,7 +374,7 @@ impl WarpPass {
             bind_group,
             poses: [references[0].pose, references[1].pose],
             clip_from_world: [references[0].clip_from_world, references[1].clip_from_world],
-            size: [references[0].target.width, references[0].target.height],
+            size: [references[0].width, references[0].height],
         }
     }
 
@@ -436,8 +491,8 @@ impl WarpPass {
         plan
     }
 
-    /// Records the draws of `plan` for `object` into the caller's pass (colour target
-    /// [`COLOR_FORMAT`], depth [`DEPTH_FORMAT`]).
+    /// Records the draws of `plan` for `object` into the caller's pass (targets of the
+    /// formats given to [`WarpPass::new`]).
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
@@ -461,6 +516,9 @@ impl WarpPass {
             (WarpMode::Paper, DrawKind::Single0) => &self.single_paper[0],
             (WarpMode::Paper, DrawKind::Single1) => &self.single_paper[1],
             (WarpMode::Paper, DrawKind::Blend) => &self.blend_paper,
+            (WarpMode::PaperCoverage, DrawKind::Single0) => &self.single_coverage[0],
+            (WarpMode::PaperCoverage, DrawKind::Single1) => &self.single_coverage[1],
+            (WarpMode::PaperCoverage, DrawKind::Blend) => &self.blend_coverage,
         };
         // Group draws by pipeline so each pipeline is set once.
         for kind in [DrawKind::Single0, DrawKind::Single1, DrawKind::Blend] {
@@ -493,6 +551,32 @@ impl WarpPass {
         pass.set_index_buffer(edges.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..*count, 0, 0..1);
     }
+}
+
+/// Checks that `color_format` is a filterable colour format (the references are sampled) and
+/// `depth_format` has a depth aspect that can be sampled.
+pub(crate) fn check_formats(
+    color_format: wgpu::TextureFormat,
+    depth_format: wgpu::TextureFormat,
+) -> Result<(), WarpError> {
+    if color_format.has_depth_aspect()
+        || color_format.has_stencil_aspect()
+        || color_format.is_compressed()
+        || !matches!(
+            color_format.sample_type(None, None),
+            Some(wgpu::TextureSampleType::Float { filterable: true })
+        )
+    {
+        return Err(WarpError::InvalidSetting(format!(
+            "colour format {color_format:?} is not a filterable colour format"
+        )));
+    }
+    if !depth_format.has_depth_aspect() {
+        return Err(WarpError::InvalidSetting(format!(
+            "depth format {depth_format:?} has no depth aspect"
+        )));
+    }
+    Ok(())
 }
 
 /// The angle one texel of a `height`-texel image subtends under `camera`:

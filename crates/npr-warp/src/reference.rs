@@ -1,17 +1,20 @@
-//! Reference frames (§3.3, Fig. 4): the full-detail mesh rendered at a reference pose into
+//! Reference frames (§3.3, Fig. 4): the full-detail scene rendered at a reference pose into
 //! colour and depth textures, keeping the reference camera's `clip_from_world` and the
 //! object's pose so the image can be projected back (§3.3.1).
 //!
-//! A reference can be rendered at once ([`ReferenceFrame::record`]) or in slices spread over
-//! the intermediate frames ([`ReferenceFrame::record_slice`]), as the paper's §3.4 suggests
-//! for hiding the reference cost behind a third off-screen buffer.
+//! What a reference shows is the caller's: a [`BasePass`] records the draws into the
+//! reference's render pass (targets of the caller's colour and depth formats), given the
+//! reference camera ([`ReferenceDraw`]). [`PhongBase`] is the default: npr-gpu's full Phong.
+//! A reference can be rendered at once ([`ReferenceFrame::record`]) or in slices spread
+//! over the intermediate frames ([`ReferenceFrame::record_slice`]), as the paper's §3.4
+//! suggests for hiding the reference cost behind a third off-screen buffer.
 
 use crate::WarpError;
 use glam::{Mat4, Vec3};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuMesh, Light, ObjectBinding,
-    ObjectUniforms, OffscreenTarget, ShadingModel,
+    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectBinding, ObjectUniforms, ShadingModel,
 };
+use std::ops::Range;
 
 /// Where and how a reference (or a full frame) is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,113 +34,329 @@ impl Pose {
     }
 }
 
-/// A reference image: colour + depth of the full mesh at one pose (§3.3).
+/// What a [`BasePass`] is asked to draw: one reference, or one slice of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReferenceDraw<'a> {
+    /// The reference camera and the object's pose.
+    pub pose: &'a Pose,
+    /// The reference slot (0, 1, 2 in a [`crate::WarpSequence`]; 0, 1 in a
+    /// [`crate::Warper`]): references alive at once have different slots, so a base pass
+    /// that keeps its camera uniforms per slot may record several references before one
+    /// submit (`queue.write_buffer` lands at the submit, before any command).
+    pub slot: usize,
+    /// This slice, `0..slices`.
+    pub slice: u32,
+    /// Slices the reference is split into (1: whole).
+    pub slices: u32,
+}
+
+impl ReferenceDraw<'_> {
+    /// The range of a `count`-long triangle-list index buffer this slice draws: the
+    /// triangles `[slice/slices, (slice+1)/slices)`, whole triangles only.
+    pub fn index_range(&self, count: u32) -> Range<u32> {
+        let slices = self.slices.max(1);
+        let slice = self.slice.min(slices - 1);
+        let triangles = u64::from(count / 3);
+        let at = |k: u32| (triangles * u64::from(k) / u64::from(slices)) as u32 * 3;
+        at(slice)..at(slice + 1)
+    }
+}
+
+/// The caller's base pass: what a reference (and a full frame) shows.
+///
+/// [`BasePass::prepare`] is called before each [`BasePass::draw`] of a reference (per slice),
+/// outside any render pass; `draw` records into a render pass whose colour and depth
+/// targets have the formats the [`crate::WarpPass`] was built for, cleared (slice 0) or
+/// loaded (later slices). Keep per-slot uniforms: two references may be recorded into one
+/// encoder.
+pub trait BasePass {
+    /// Writes what `draw` needs (camera, transforms) for `target`.
+    fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>);
+    /// Records the draws of `target` (for a slice, only its share of the work, e.g.
+    /// [`ReferenceDraw::index_range`] of the index buffer).
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, target: &ReferenceDraw<'_>);
+}
+
+/// `material` with its transforms replaced by `world_from_object`'s.
+fn posed(material: &ObjectUniforms, world_from_object: Mat4) -> ObjectUniforms {
+    let fresh = ObjectUniforms::new(world_from_object, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0);
+    ObjectUniforms {
+        world_from_object: fresh.world_from_object,
+        normal_from_object: fresh.normal_from_object,
+        ..*material
+    }
+}
+
+/// Records `mesh` with Phong, drawing only `range` of its index buffer (the whole mesh when
+/// the range covers it).
+fn draw_phong_range(
+    pass: &mut wgpu::RenderPass<'_>,
+    shading: &BaseShading,
+    object: &ObjectBinding,
+    mesh: &GpuMesh,
+    range: Range<u32>,
+) {
+    if range == (0..mesh.index_count) {
+        shading.draw(pass, ShadingModel::Phong, object, mesh);
+        return;
+    }
+    // `BaseShading::draw` sets the pipeline and bind groups and draws the whole mesh;
+    // give it an empty view of the mesh, then draw only this range.
+    let state_only = GpuMesh {
+        vertex_buffer: mesh.vertex_buffer.clone(),
+        index_buffer: mesh.index_buffer.clone(),
+        index_count: 0,
+        vertex_count: mesh.vertex_count,
+    };
+    shading.draw(pass, ShadingModel::Phong, object, &state_only);
+    pass.draw_indexed(range, 0, 0..1);
+}
+
+/// The default [`BasePass`]: one mesh with npr-gpu's full Phong under one light, its
+/// shading state kept per reference slot.
+#[derive(Debug)]
+pub struct PhongBase {
+    mesh: GpuMesh,
+    light: Light,
+    material: ObjectUniforms,
+    color_format: wgpu::TextureFormat,
+    depth_format: wgpu::TextureFormat,
+    slots: Vec<(BaseShading, ObjectBinding)>,
+}
+
+impl PhongBase {
+    /// Full Phong of `mesh` (its buffers are shared, not copied) lit by `light` with
+    /// `material` (whose transform is replaced by each pose's), into targets of
+    /// `color_format` / `depth_format`.
+    pub fn new(
+        mesh: &GpuMesh,
+        light: Light,
+        material: ObjectUniforms,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Self {
+        Self {
+            mesh: GpuMesh {
+                vertex_buffer: mesh.vertex_buffer.clone(),
+                index_buffer: mesh.index_buffer.clone(),
+                index_count: mesh.index_count,
+                vertex_count: mesh.vertex_count,
+            },
+            light,
+            material,
+            color_format,
+            depth_format,
+            slots: Vec::new(),
+        }
+    }
+}
+
+impl BasePass for PhongBase {
+    fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
+        while self.slots.len() <= target.slot {
+            let shading = BaseShading::new(device, queue, self.color_format, self.depth_format);
+            let object =
+                shading.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
+            self.slots.push((shading, object));
+        }
+        let (shading, object) = &self.slots[target.slot];
+        shading.set_frame(queue, &FrameUniforms::new(&target.pose.camera, &self.light));
+        object.update(queue, &posed(&self.material, target.pose.world_from_object));
+    }
+
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, target: &ReferenceDraw<'_>) {
+        if let Some((shading, object)) = self.slots.get(target.slot) {
+            let range = target.index_range(self.mesh.index_count);
+            draw_phong_range(pass, shading, object, &self.mesh, range);
+        }
+    }
+}
+
+/// A reference image: colour + depth of the scene at one pose (§3.3), in the caller's
+/// formats.
 #[derive(Debug)]
 pub struct ReferenceFrame {
-    /// Colour ([`COLOR_FORMAT`]) and depth ([`DEPTH_FORMAT`]) textures, both sampleable.
-    pub target: OffscreenTarget,
+    /// Colour texture (renderable, sampleable, copyable).
+    pub color: wgpu::Texture,
+    /// Default view of `color`.
+    pub color_view: wgpu::TextureView,
+    /// Depth texture (renderable, sampleable).
+    pub depth: wgpu::Texture,
+    /// Default view of `depth` (the attachment).
+    pub depth_view: wgpu::TextureView,
+    pub(crate) depth_sample_view: wgpu::TextureView,
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
     /// The pose the reference shows (valid after a complete record).
     pub pose: Pose,
     /// `pose.camera.clip_from_world()`, kept for the projective texture matrix.
     pub clip_from_world: Mat4,
-    shading: BaseShading,
-    object: ObjectBinding,
 }
 
 impl ReferenceFrame {
-    /// A reference slot of `width × height` with its own full-Phong shading state.
+    /// A reference slot of `width × height` with colour `color_format` and depth
+    /// `depth_format` (as given to [`crate::WarpPass::new`]).
     ///
     /// # Errors
-    /// [`WarpError::Gpu`] for a bad size.
+    /// [`WarpError::Gpu`] for a zero size or one past the device's limit;
+    /// [`WarpError::InvalidSetting`] for formats the warp cannot sample.
     pub fn new(
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
         width: u32,
         height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
     ) -> Result<Self, WarpError> {
-        let target = OffscreenTarget::new(device, width, height)?;
-        let shading = BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT);
-        let object =
-            shading.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
-        let camera = Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, target.aspect());
+        crate::pass::check_formats(color_format, depth_format)?;
+        let max = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(npr_gpu::GpuError::InvalidSize {
+                width,
+                height,
+                reason: format!("each side must be in 1..={max}"),
+            }
+            .into());
+        }
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC;
+        let make = |label, format| npr_gpu::texture_2d(device, label, width, height, format, usage);
+        let color = make("npr-warp reference colour", color_format);
+        let depth = make("npr-warp reference depth", depth_format);
+        let camera = Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, width as f32 / height as f32);
         Ok(Self {
-            target,
+            color_view: color.create_view(&Default::default()),
+            depth_view: depth.create_view(&Default::default()),
+            depth_sample_view: depth.create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            }),
+            color,
+            depth,
+            width,
+            height,
             pose: Pose {
                 camera,
                 world_from_object: Mat4::IDENTITY,
             },
             clip_from_world: camera.clip_from_world(),
-            shading,
-            object,
         })
     }
 
-    /// Writes the uniforms for rendering `pose` with `light` and `material` (whose
-    /// `world_from_object` is replaced by the pose's). Call before the submit that carries
-    /// [`ReferenceFrame::record`] or the first [`ReferenceFrame::record_slice`].
-    pub fn set_pose(
-        &mut self,
-        queue: &wgpu::Queue,
-        pose: &Pose,
-        light: &Light,
-        material: &ObjectUniforms,
-    ) {
-        self.pose = *pose;
-        self.clip_from_world = pose.camera.clip_from_world();
-        self.shading
-            .set_frame(queue, &FrameUniforms::new(&pose.camera, light));
-        let mut m = *material;
-        let fresh = ObjectUniforms::new(pose.world_from_object, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0);
-        m.world_from_object = fresh.world_from_object;
-        m.normal_from_object = fresh.normal_from_object;
-        self.object.update(queue, &m);
-    }
-
-    /// Records the full render of `mesh` (full Phong) into the reference, clearing it to
-    /// `clear` (use alpha 0 so the object's pixels are those with alpha 1).
-    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, mesh: &GpuMesh, clear: [f64; 4]) {
-        self.record_slice(encoder, mesh, clear, 0, 1);
-    }
-
-    /// Records slice `slice` of `slices` of the full render: the triangles
-    /// `[slice/slices, (slice+1)/slices)` of the index buffer. Slice 0 clears; later slices
-    /// load what earlier ones drew, so after all slices the reference equals
-    /// [`ReferenceFrame::record`] (§3.4: the next reference spread over the frames between).
-    pub fn record_slice(
+    /// Records `base` drawing `pose` (as slot `slot`) over what the reference holds, with
+    /// no clear; the reference keeps its own pose. E.g. a synthetic occluder: it is in the
+    /// reference's colour and depth but not part of the warped object.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_over(
         &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        mesh: &GpuMesh,
+        base: &mut dyn BasePass,
+        pose: &Pose,
+        slot: usize,
+    ) {
+        let draw = ReferenceDraw {
+            pose,
+            slot,
+            slice: 0,
+            slices: 1,
+        };
+        self.draw_base(device, queue, encoder, base, &draw, None);
+    }
+
+    /// `base.prepare`, then a pass over the reference (cleared to `clear`, or loaded)
+    /// recording `base.draw`.
+    fn draw_base(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        draw: &ReferenceDraw<'_>,
+        clear: Option<[f64; 4]>,
+    ) {
+        base.prepare(device, queue, draw);
+        let (color, depth) = match clear {
+            Some([r, g, b, a]) => (
+                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                wgpu::LoadOp::Clear(1.0),
+            ),
+            None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        let mut pass =
+            npr_gpu::begin_views_pass(encoder, &self.color_view, &self.depth_view, color, depth);
+        base.draw(&mut pass, draw);
+    }
+
+    /// Records the whole reference at `pose` drawn by `base` into `encoder`, cleared to
+    /// `clear` (use alpha 0 so the object's pixels are those with alpha), as slot `slot`
+    /// of `base`. Submit the encoder before binding the reference for a warp.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        pose: &Pose,
+        slot: usize,
+        clear: [f64; 4],
+    ) {
+        self.record_slice(device, queue, encoder, base, pose, slot, clear, 0, 1);
+    }
+
+    /// Records slice `slice` of `slices` of the reference at `pose`: slice 0 clears and
+    /// sets the pose; later slices load what earlier ones drew, so after all slices the
+    /// reference equals [`ReferenceFrame::record`] (§3.4: the next reference spread over
+    /// the frames between).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_slice(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        pose: &Pose,
+        slot: usize,
         clear: [f64; 4],
         slice: u32,
         slices: u32,
     ) {
         let slices = slices.max(1);
         let slice = slice.min(slices - 1);
-        let triangles = u64::from(mesh.index_count / 3);
-        let tri_at = |k: u32| (triangles * u64::from(k) / u64::from(slices)) as u32 * 3;
-        let (start, end) = (tri_at(slice), tri_at(slice + 1));
-        let mut pass = if slice == 0 {
-            self.target.begin_clear_pass(encoder, clear)
-        } else {
-            self.target.begin_load_pass(encoder)
-        };
-        if slices == 1 {
-            self.shading
-                .draw(&mut pass, ShadingModel::Phong, &self.object, mesh);
-            return;
+        if slice == 0 {
+            self.pose = *pose;
+            self.clip_from_world = pose.camera.clip_from_world();
         }
-        // `BaseShading::draw` sets the pipeline and bind groups and draws the whole mesh;
-        // give it an empty view of the mesh, then draw only this slice's range.
-        let state_only = GpuMesh {
-            vertex_buffer: mesh.vertex_buffer.clone(),
-            index_buffer: mesh.index_buffer.clone(),
-            index_count: 0,
-            vertex_count: mesh.vertex_count,
+        let draw = ReferenceDraw {
+            pose,
+            slot,
+            slice,
+            slices,
         };
-        self.shading
-            .draw(&mut pass, ShadingModel::Phong, &self.object, &state_only);
-        pass.draw_indexed(start..end, 0, 0..1);
+        let clear = (slice == 0).then_some(clear);
+        self.draw_base(device, queue, encoder, base, &draw, clear);
     }
+}
+
+/// A render pass over `color` and `depth` cleared to `clear` (linear RGBA) and depth 1.
+pub fn begin_clear_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    color: &wgpu::TextureView,
+    depth: &wgpu::TextureView,
+    clear: [f64; 4],
+) -> wgpu::RenderPass<'e> {
+    let [r, g, b, a] = clear;
+    npr_gpu::begin_views_pass(
+        encoder,
+        color,
+        depth,
+        wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+        wgpu::LoadOp::Clear(1.0),
+    )
 }
 
 /// The full render of every object of a scene (full Phong): what each warped frame is
@@ -150,10 +369,15 @@ pub struct FullRenderer {
 }
 
 impl FullRenderer {
-    /// A renderer for [`COLOR_FORMAT`] / [`DEPTH_FORMAT`] targets.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+    /// A renderer for targets of `color_format` / `depth_format`.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Self {
         Self {
-            shading: BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT),
+            shading: BaseShading::new(device, queue, color_format, depth_format),
             objects: Vec::new(),
             count: 0,
         }
@@ -177,27 +401,28 @@ impl FullRenderer {
                 .push(self.shading.create_object(device, material));
         }
         for (binding, m) in self.objects.iter().zip(world_from_objects) {
-            let fresh = ObjectUniforms::new(*m, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0);
-            let mut u = *material;
-            u.world_from_object = fresh.world_from_object;
-            u.normal_from_object = fresh.normal_from_object;
-            binding.update(queue, &u);
+            binding.update(queue, &posed(material, *m));
         }
         self.count = world_from_objects.len();
     }
 
-    /// Records the full render of `mesh` at every object transform into `target`.
+    /// Records the full render of `mesh` at every object transform into the caller's pass.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, mesh: &GpuMesh) {
+        for object in self.objects.iter().take(self.count) {
+            draw_phong_range(pass, &self.shading, object, mesh, 0..mesh.index_count);
+        }
+    }
+
+    /// Records a pass over `color` / `depth`, cleared to `clear`, with the full render.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        target: &OffscreenTarget,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
         mesh: &GpuMesh,
         clear: [f64; 4],
     ) {
-        let mut pass = target.begin_clear_pass(encoder, clear);
-        for object in self.objects.iter().take(self.count) {
-            self.shading
-                .draw(&mut pass, ShadingModel::Phong, object, mesh);
-        }
+        let mut pass = begin_clear_pass(encoder, color, depth, clear);
+        self.draw(&mut pass, mesh);
     }
 }

@@ -6,9 +6,9 @@
 use crate::WarpError;
 use crate::bins::BinPlan;
 use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
-use crate::reference::{Pose, ReferenceFrame};
+use crate::reference::{BasePass, Pose, ReferenceFrame};
 use glam::Mat4;
-use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, OffscreenTarget};
+use npr_gpu::Camera;
 
 /// Which references a frame interpolates and where it lies between them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,7 +104,8 @@ pub struct FrameReport {
 }
 
 /// A warped animation over a known path: a reference every k frames, warped frames between
-/// (§3.3, §4). Owns three reference slots (two in use, one being built, §3.4).
+/// (§3.3, §4). Owns three reference slots (two in use, one being built, §3.4). Records into
+/// the caller's encoder; submits nothing.
 #[derive(Debug)]
 pub struct WarpSequence {
     /// The schedule.
@@ -113,44 +114,42 @@ pub struct WarpSequence {
     pub settings: WarpSettings,
     /// Draw mode (depth-tested, paper or fill).
     pub mode: WarpMode,
+    /// Clear colour of the references and frames (alpha 0 by default: the object's pixels
+    /// are the ones with alpha).
+    pub clear: [f64; 4],
     pass: WarpPass,
     slots: [ReferenceFrame; 3],
     /// Reference index held by each slot (`None`: empty), and slices done.
     held: [Option<(u32, u32)>; 3],
     pair: Option<(u32, ReferencePair)>,
-    light: Light,
-    material: ObjectUniforms,
-    clear: [f64; 4],
 }
 
 impl WarpSequence {
-    /// A sequence rendering references of `width × height`.
+    /// A sequence rendering references of `width × height` in the caller's formats.
     ///
     /// # Errors
-    /// [`WarpError::Gpu`] for a bad size.
-    #[allow(clippy::too_many_arguments)]
+    /// [`WarpError::Gpu`] for a bad size, [`WarpError::InvalidSetting`] for settings out
+    /// of range or formats the warp cannot use.
     pub fn new(
         device: &wgpu::Device,
-        queue: &wgpu::Queue,
         schedule: WarpSchedule,
         settings: WarpSettings,
         width: u32,
         height: u32,
-        light: Light,
-        material: ObjectUniforms,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
     ) -> Result<Self, WarpError> {
-        let slot = || ReferenceFrame::new(device, queue, width, height);
+        settings.validate()?;
+        let slot = || ReferenceFrame::new(device, width, height, color_format, depth_format);
         Ok(Self {
             schedule,
             settings,
             mode: WarpMode::DepthTested,
-            pass: WarpPass::new(device),
+            clear: [0.0; 4],
+            pass: WarpPass::new(device, color_format, depth_format)?,
             slots: [slot()?, slot()?, slot()?],
             held: [None; 3],
             pair: None,
-            light,
-            material,
-            clear: [0.0; 4],
         })
     }
 
@@ -176,66 +175,60 @@ impl WarpSequence {
         }
     }
 
-    /// Renders reference `index` slice `slice` (or whole when not spreading) into its slot.
+    /// Records reference `index` slice by slice (or whole when not spreading) into its slot
+    /// (base-pass slot `index % 3`): one slice, or with `complete` every remaining one.
+    /// Returns the slices recorded.
+    #[allow(clippy::too_many_arguments)]
     fn advance_reference(
         &mut self,
+        device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        full: &GpuMesh,
+        base: &mut dyn BasePass,
         path: &dyn Fn(u32) -> ScenePose,
         index: u32,
+        complete: bool,
     ) -> u32 {
         let slot = (index % 3) as usize;
         let slices = self.slices();
-        let done = match self.held[slot] {
+        let mut done = match self.held[slot] {
             Some((i, done)) if i == index => done,
             _ => 0,
         };
-        if done >= slices {
-            return 0;
-        }
-        if done == 0 {
-            let pose = path(index * self.schedule.period).object(0);
-            self.slots[slot].set_pose(queue, &pose, &self.light, &self.material);
-        }
-        self.slots[slot].record_slice(encoder, full, self.clear, done, slices);
-        self.held[slot] = Some((index, done + 1));
-        1
-    }
-
-    /// Finishes reference `index` (all remaining slices), submitting each slice so the
-    /// uniform writes of different slots do not race.
-    fn complete_reference(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        full: &GpuMesh,
-        path: &dyn Fn(u32) -> ScenePose,
-        index: u32,
-    ) -> u32 {
+        let pose = path(index * self.schedule.period).object(0);
         let mut n = 0;
-        while self.reference(index).is_none() {
-            let mut encoder = device.create_command_encoder(&Default::default());
-            n += self.advance_reference(queue, &mut encoder, full, path, index);
-            queue.submit(Some(encoder.finish()));
+        while done < slices {
+            self.slots[slot].record_slice(
+                device, queue, encoder, base, &pose, slot, self.clear, done, slices,
+            );
+            done += 1;
+            n += 1;
+            if !complete {
+                break;
+            }
         }
+        self.held[slot] = Some((index, done));
         n
     }
 
-    /// Records and submits frame `frame` into `target` (cleared to alpha 0): the references
-    /// it needs (rendered now if missing; the one after next advanced by one slice when
-    /// spreading), then every object of `path(frame)` warped with `objects[i]`
-    /// (`objects.len()` objects; `path(frame).objects` gives their poses). Does not wait.
+    /// Records frame `frame` into `encoder`: the references it needs (recorded now if
+    /// missing, drawn by `base`; the one after next advanced by one slice when spreading),
+    /// then a pass over `color` / `depth` (cleared to [`WarpSequence::clear`]) with every
+    /// object of `path(frame)` warped with `objects[i]` (`path(frame).objects` gives their
+    /// poses). Submit the encoder before recording the next frame (uniforms are written per
+    /// frame). Submits nothing and does not wait.
     #[allow(clippy::too_many_arguments)]
-    pub fn render_frame(
+    pub fn record_frame(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        full: &GpuMesh,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
         objects: &[WarpObject],
         path: &dyn Fn(u32) -> ScenePose,
         frame: u32,
-        target: &OffscreenTarget,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
     ) -> FrameReport {
         let role = self.schedule.role(frame);
         let j = role.segment;
@@ -243,8 +236,10 @@ impl WarpSequence {
             s: role.s,
             ..Default::default()
         };
-        report.reference_slices += self.complete_reference(device, queue, full, path, j);
-        report.reference_slices += self.complete_reference(device, queue, full, path, j + 1);
+        for index in [j, j + 1] {
+            report.reference_slices +=
+                self.advance_reference(device, queue, encoder, base, path, index, true);
+        }
         if self.pair.as_ref().map(|p| p.0) != Some(j) {
             let (a, b) = ((j % 3) as usize, ((j + 1) % 3) as usize);
             let pair = self
@@ -252,12 +247,9 @@ impl WarpSequence {
                 .bind_pair(device, [&self.slots[a], &self.slots[b]]);
             self.pair = Some((j, pair));
         }
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("npr-warp frame"),
-        });
         if self.schedule.spread {
             report.reference_slices +=
-                self.advance_reference(queue, &mut encoder, full, path, j + 2);
+                self.advance_reference(device, queue, encoder, base, path, j + 2, false);
         }
         let scene = path(frame);
         if let Some((_, pair)) = &self.pair {
@@ -272,19 +264,18 @@ impl WarpSequence {
                 );
                 report.plans.push(plan);
             }
-            let mut rpass = target.begin_clear_pass(&mut encoder, self.clear);
+            let mut rpass = crate::reference::begin_clear_pass(encoder, color, depth, self.clear);
             for (object, plan) in objects.iter().zip(&report.plans) {
                 self.pass.draw(&mut rpass, pair, object, plan, self.mode);
             }
         }
-        queue.submit(Some(encoder.finish()));
         report
     }
 }
 
 /// A known path (§1: "an object moving along a set path"): objects turning about the
 /// world y axis at `deg_per_frame`, each at its own offset, before a fixed camera; or, with
-/// `orbit_camera`, the camera circling the fixed objects at the same rate (the same
+/// `orbit_camera`, the camera orbiting the fixed objects at the same rate (the same
 /// relative motion, but the world-fixed light then lights the object the same way in every
 /// frame, so only view-dependent shading changes). Used by the tests, the demo and the
 /// benchmark.

@@ -194,6 +194,92 @@ fn blend_ramps_follow_time_and_view_direction() {
 }
 
 #[test]
+fn the_papers_plan_culls_by_representative_vector_and_ramps_linearly() {
+    let mesh = generate::icosphere(3, 1.0);
+    let bins = NormalBins::build(&mesh, 8).unwrap();
+    let refs = [Vec3::new(-2.0, 0.0, 4.0), Vec3::new(2.0, 0.0, 4.0)];
+    let eye_now = Vec3::new(0.0, 0.0, 4.5);
+    let paper = PlanSettings::paper();
+    let at = |s: f32| plan(&bins, eye_now, refs, s, &paper);
+    let p = at(0.5);
+    let faces = |b: usize, eye: Vec3| bins.bins[b].cell_normal.dot(eye - bins.centre) > 0.0;
+    let elevation = |b: usize, eye: Vec3| {
+        let v = (eye - bins.centre).normalize();
+        bins.bins[b]
+            .cell_normal
+            .dot(v)
+            .clamp(-1.0, 1.0)
+            .asin()
+            .max(0.0)
+    };
+    let mut checked = 0;
+    for (b, bin) in bins.bins.iter().enumerate() {
+        if bin.indices.is_empty() {
+            continue;
+        }
+        let drawn = p
+            .draws
+            .iter()
+            .any(|d| d.indices.start <= bin.indices.start && bin.indices.end <= d.indices.end);
+        let (f0, f1) = (faces(b, refs[0]), faces(b, refs[1]));
+        let facing_now = bins.facing(b, eye_now) != Facing::Back;
+        // §3.3.2: a bin is drawn exactly when its representative vector faces a reference
+        // (and the bin is not certainly back-facing now); bins neither sees are culled.
+        assert_eq!(drawn, (f0 || f1) && facing_now, "bin {b}");
+        if !drawn {
+            continue;
+        }
+        // §3.3.3: the linear ramp from boundary to boundary, no time term.
+        let w0 = p.weights[b][0];
+        let want = match (f0, f1) {
+            (true, false) => 1.0,
+            (false, true) => 0.0,
+            _ => {
+                let (a0, a1) = (elevation(b, refs[0]), elevation(b, refs[1]));
+                a0 / (a0 + a1)
+            }
+        };
+        assert!((w0 - want).abs() < 1e-5, "bin {b}: {w0} vs {want}");
+        checked += 1;
+    }
+    assert!(
+        checked > 10 && p.bins_blended > 0 && p.bins_culled > 0,
+        "{p:?}"
+    );
+    // No time term: the weights do not depend on s.
+    assert_eq!(at(0.1).weights, p.weights);
+    // Ours differs: the time term moves the weights.
+    let ours = PlanSettings::default();
+    assert_ne!(
+        plan(&bins, eye_now, refs, 0.1, &ours).weights,
+        plan(&bins, eye_now, refs, 0.9, &ours).weights
+    );
+}
+
+#[test]
+fn settings_out_of_range_are_typed_errors() {
+    for band in [0.0, -0.5, 1.5, f32::NAN] {
+        let settings = PlanSettings {
+            blend_band: band,
+            ..Default::default()
+        };
+        assert!(
+            matches!(settings.validate(), Err(WarpError::InvalidSetting(_))),
+            "band {band}"
+        );
+    }
+    assert!(PlanSettings::paper().validate().is_ok());
+    let mut warp = npr_warp::WarpSettings::default();
+    assert!(warp.validate().is_ok());
+    warp.depth_tolerance_world = f32::NAN;
+    let e = warp.validate().unwrap_err();
+    assert!(e.to_string().contains("depth_tolerance_world"), "{e}");
+    warp.depth_tolerance_world = 0.01;
+    warp.surface_slack_world = -1.0;
+    assert!(matches!(warp.validate(), Err(WarpError::InvalidSetting(_))));
+}
+
+#[test]
 fn schedule_places_references_every_k_frames() {
     let s = WarpSchedule::new(10, false).unwrap();
     let r = s.role(23);

@@ -6,12 +6,13 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuContext, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
+    OffscreenTarget, readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
-    FullRenderer, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass,
-    WarpSchedule, WarpSequence, WarpSettings, compare,
+    Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
+    WarpObject, WarpPass, WarpSchedule, WarpSequence, WarpSettings, Warper, compare,
+    metrics::read_rgba,
 };
 
 const SIZE: u32 = 256;
@@ -60,7 +61,7 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
     // Inflated by 1.5 x its error the proxy's silhouette covers the knot's at the reference
     // poses (the default 0.75 x trades a few silhouette holes for a thinner rim).
     let inflation = 1.5 * proxy.error_object;
-    let pass = WarpPass::new(&ctx.device);
+    let pass = WarpPass::new(&ctx.device, COLOR_FORMAT, DEPTH_FORMAT).unwrap();
     let object = pass
         .create_object(&ctx.device, &proxy, 8, inflation, false)
         .unwrap();
@@ -87,21 +88,27 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
 impl Rig {
     fn reference(&self, t: f32) -> ReferenceFrame {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, q, SIZE, SIZE).unwrap();
-        r.set_pose(q, &self.path.pose(t).object(0), &light(), &material());
+        let mut r = ReferenceFrame::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT).unwrap();
+        let mut base = self.base(COLOR_FORMAT);
         let mut encoder = d.create_command_encoder(&Default::default());
-        r.record(&mut encoder, &self.full, CLEAR);
+        let pose = self.path.pose(t).object(0);
+        r.record(d, q, &mut encoder, &mut base, &pose, 0, CLEAR);
         q.submit(Some(encoder.finish()));
         r
     }
 
+    fn base(&self, color_format: wgpu::TextureFormat) -> PhongBase {
+        PhongBase::new(&self.full, light(), material(), color_format, DEPTH_FORMAT)
+    }
+
     fn full_image(&self, scene: &ScenePose) -> image::RgbaImage {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut renderer = FullRenderer::new(d, q);
+        let mut renderer = FullRenderer::new(d, q, COLOR_FORMAT, DEPTH_FORMAT);
         renderer.set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
-        renderer.record(&mut encoder, &target, &self.full, CLEAR);
+        let (c, z) = (&target.color_view, &target.depth_view);
+        renderer.record(&mut encoder, c, z, &self.full, CLEAR);
         q.submit(Some(encoder.finish()));
         readback_rgba(d, q, &target.color).unwrap()
     }
@@ -150,7 +157,7 @@ fn warp_at_a_reference_pose_reproduces_the_reference() {
     };
     let rig = rig(ctx, 0.05);
     let (r0, r1) = (rig.reference(0.0), rig.reference(10.0));
-    let reference = readback_rgba(&ctx.device, &ctx.queue, &r0.target.color).unwrap();
+    let reference = readback_rgba(&ctx.device, &ctx.queue, &r0.color).unwrap();
     let warped = rig.warp_image([&r0, &r1], 0.0, 0.0, WarpMode::DepthTested);
     let q = compare(&reference, &warped);
     if let Ok(dir) = std::env::var("NPR_WARP_TEST_OUT") {
@@ -178,7 +185,7 @@ fn warp_at_a_reference_pose_reproduces_the_reference() {
     assert!(q.psnr_db > 38.0, "PSNR {}", q.psnr_db);
     assert!(q.ssim > 0.998, "SSIM {}", q.ssim);
     // The same at the other end of the pair.
-    let reference1 = readback_rgba(&ctx.device, &ctx.queue, &r1.target.color).unwrap();
+    let reference1 = readback_rgba(&ctx.device, &ctx.queue, &r1.color).unwrap();
     let warped1 = rig.warp_image([&r0, &r1], 10.0, 1.0, WarpMode::DepthTested);
     let q1 = compare(&reference1, &warped1);
     if let Ok(dir) = std::env::var("NPR_WARP_TEST_OUT") {
@@ -280,25 +287,6 @@ fn quality_falls_smoothly_away_from_the_references() {
     }
 }
 
-/// Draws `mesh` with `uniforms` into `target` over what is there (no clear).
-fn draw_over(
-    ctx: &GpuContext,
-    target: &OffscreenTarget,
-    mesh: &GpuMesh,
-    camera: &Camera,
-    uniforms: &ObjectUniforms,
-) {
-    let shading = BaseShading::new(&ctx.device, &ctx.queue, COLOR_FORMAT, DEPTH_FORMAT);
-    shading.set_frame(&ctx.queue, &FrameUniforms::new(camera, &light()));
-    let object = shading.create_object(&ctx.device, uniforms);
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = target.begin_load_pass(&mut encoder);
-        shading.draw(&mut pass, ShadingModel::Phong, &object, mesh);
-    }
-    ctx.queue.submit(Some(encoder.finish()));
-}
-
 fn red_pixels(img: &image::RgbaImage) -> usize {
     img.pixels()
         .filter(|p| p[3] > 0 && p[0] > 120 && u32::from(p[1]) + u32::from(p[2]) < 60)
@@ -324,8 +312,22 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
     let m = Mat4::from_translation(at)
         * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, towards_eye));
     let red = ObjectUniforms::new(m, Vec3::new(1.0, 0.0, 0.0), 0.0, Vec3::ZERO, 1.0);
-    draw_over(ctx, &r0.target, &quad_gpu, &r0.pose.camera, &red);
-    let occluded_ref = readback_rgba(&ctx.device, &ctx.queue, &r0.target.color).unwrap();
+    let mut occluder = PhongBase::new(&quad_gpu, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let over = npr_warp::Pose {
+        camera: r0.pose.camera,
+        world_from_object: m,
+    };
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    r0.record_over(
+        &ctx.device,
+        &ctx.queue,
+        &mut encoder,
+        &mut occluder,
+        &over,
+        0,
+    );
+    ctx.queue.submit(Some(encoder.finish()));
+    let occluded_ref = readback_rgba(&ctx.device, &ctx.queue, &r0.color).unwrap();
     assert!(
         red_pixels(&occluded_ref) > 1000,
         "the occluder shows in reference 0"
@@ -368,32 +370,59 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
     let rig = rig(ctx, 0.05);
     let path = |f: u32| rig.path.pose(f as f32);
     let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+    let (k, frames_n) = (5u32, 12u32);
     let mut frames = Vec::new();
     for spread in [false, true] {
-        let schedule = WarpSchedule::new(5, spread).unwrap();
+        let schedule = WarpSchedule::new(k, spread).unwrap();
         let mut seq = WarpSequence::new(
             d,
-            q,
             schedule,
             rig.settings,
             SIZE,
             SIZE,
-            light(),
-            material(),
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
         )
         .unwrap();
         let objects = [seq
             .pass()
             .create_object(d, &rig.proxy, 8, 1.5 * rig.proxy.error_object, false)
             .unwrap()];
+        let mut base = rig.base(COLOR_FORMAT);
         let mut images = Vec::new();
-        let mut slices = 0;
-        for f in 0..12 {
-            let report = seq.render_frame(d, q, &rig.full, &objects, &path, f, &target);
-            slices += report.reference_slices;
+        let mut slices = Vec::new();
+        for f in 0..frames_n {
+            let mut encoder = d.create_command_encoder(&Default::default());
+            let report = seq.record_frame(
+                d,
+                q,
+                &mut encoder,
+                &mut base,
+                &objects,
+                &path,
+                f,
+                &target.color_view,
+                &target.depth_view,
+            );
+            q.submit(Some(encoder.finish()));
+            slices.push(report.reference_slices);
             images.push(readback_rgba(d, q, &target.color).unwrap());
         }
-        eprintln!("spread {spread}: {slices} reference slices for 12 frames");
+        eprintln!("spread {spread}: reference slices per frame {slices:?}");
+        if spread {
+            // Frame 0 renders references 0 and 1 whole (k slices each) and starts reference
+            // 2; then spreading happened: every later frame renders exactly one slice (the
+            // budget), so the references after the first two arrive in k slices each.
+            assert_eq!(slices[0], 2 * k + 1, "start-up: {slices:?}");
+            assert!(slices[1..].iter().all(|&n| n == 1), "{slices:?}");
+        } else {
+            assert_eq!(slices[0], 2, "start-up: {slices:?}");
+            // Whole references: one at each segment start (frames k, 2k), none between.
+            for (f, &n) in slices.iter().enumerate().skip(1) {
+                let want = u32::from((f as u32).is_multiple_of(k));
+                assert_eq!(n, want, "frame {f}: {slices:?}");
+            }
+        }
         frames.push(images);
     }
     for (f, (a, b)) in frames[0].iter().zip(&frames[1]).enumerate() {
@@ -403,5 +432,136 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
             "frame {f}: max diff {}",
             qd.max_abs_diff
         );
+    }
+}
+
+/// A colour + depth target of `format` for the caller-format test.
+fn app_target(d: &wgpu::Device, format: wgpu::TextureFormat) -> (wgpu::Texture, wgpu::Texture) {
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+    (
+        npr_gpu::texture_2d(d, "app colour", SIZE, SIZE, format, usage),
+        npr_gpu::texture_2d(d, "app depth", SIZE, SIZE, DEPTH_FORMAT, usage),
+    )
+}
+
+#[test]
+fn warper_draws_into_a_bgra_target_like_into_rgba() {
+    let Some(ctx) = context_or_skip("warper_draws_into_a_bgra_target_like_into_rgba") else {
+        return;
+    };
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let rig = rig(ctx, 0.05);
+    let mut images = Vec::new();
+    for format in [
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        wgpu::TextureFormat::Bgra8UnormSrgb,
+    ] {
+        let mut warper = Warper::new(
+            d,
+            &rig.proxy,
+            Departures::OURS,
+            0.6,
+            SIZE,
+            SIZE,
+            format,
+            DEPTH_FORMAT,
+        )
+        .unwrap();
+        let mut base = rig.base(format);
+        let (color, depth) = app_target(d, format);
+        let (cv, dv) = (
+            color.create_view(&Default::default()),
+            depth.create_view(&Default::default()),
+        );
+        // The application's frames: references at frames 0 and 10 (recorded in the same
+        // encoder as the warp that follows them), warps between.
+        let mut encoder = d.create_command_encoder(&Default::default());
+        for t in [0.0, 10.0] {
+            let pose = rig.path.pose(t).object(0);
+            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+        }
+        let now = rig.path.pose(4.0).object(0);
+        let s = warper.position(&now);
+        assert!((s - 0.4).abs() < 0.05, "position {s}");
+        let plan = warper.record_warp(q, &mut encoder, &cv, &dv, &now, s);
+        q.submit(Some(encoder.finish()));
+        assert!(plan.is_some_and(|p| p.triangles_drawn > 0));
+        images.push(read_rgba(d, q, &color).unwrap());
+    }
+    let same = compare(&images[0], &images[1]);
+    eprintln!("rgba vs bgra: {same:?}");
+    assert!(same.pixels > 5000, "{same:?}");
+    assert!(same.max_abs_diff <= 1, "{same:?}");
+    // And the warp is the warp: close to the full render at that pose.
+    let full = rig.full_image(&rig.path.pose(4.0));
+    let q_full = compare(&full, &images[1]);
+    eprintln!("bgra warp vs full render: PSNR {:.2} dB", q_full.psnr_db);
+    assert!(q_full.psnr_db > 20.0, "{q_full:?}");
+    // A depth format without a depth aspect is a typed error, not a panic.
+    assert!(matches!(
+        WarpPass::new(d, COLOR_FORMAT, COLOR_FORMAT),
+        Err(npr_warp::WarpError::InvalidSetting(_))
+    ));
+}
+
+#[test]
+fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_covers() {
+    let Some(ctx) = context_or_skip(
+        "the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_covers",
+    ) else {
+        return;
+    };
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let rig = rig(ctx, 0.05);
+    // Both references at the same pose: whatever the §3.3.3 weights, a pixel blends two
+    // equal lookups, so the paper's pass must give back the reference's own colour wherever
+    // the (uninflated) proxy covers the object in both images; weights that do not sum to
+    // one, or a wrong texture matrix, would show.
+    for mode in [WarpMode::Paper, WarpMode::PaperCoverage] {
+        let mut warper = Warper::new(
+            d,
+            &rig.proxy,
+            Departures::PAPER,
+            0.6,
+            SIZE,
+            SIZE,
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
+        )
+        .unwrap();
+        warper.mode = mode;
+        let mut base = rig.base(COLOR_FORMAT);
+        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+        let pose = rig.path.pose(0.0).object(0);
+        let mut encoder = d.create_command_encoder(&Default::default());
+        for _ in 0..2 {
+            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+        }
+        let plan = warper
+            .record_warp(
+                q,
+                &mut encoder,
+                &target.color_view,
+                &target.depth_view,
+                &pose,
+                0.5,
+            )
+            .unwrap();
+        q.submit(Some(encoder.finish()));
+        assert!(plan.bins_blended > 0, "{plan:?}");
+        let warped = readback_rgba(d, q, &target.color).unwrap();
+        let reference = readback_rgba(d, q, &warper.references()[0].color).unwrap();
+        let (mut covered, mut off) = (0usize, 0usize);
+        for (a, b) in reference.pixels().zip(warped.pixels()) {
+            if a[3] == 255 && b[3] == 255 {
+                covered += 1;
+                if (0..3).any(|c| a[c].abs_diff(b[c]) > 2) {
+                    off += 1;
+                }
+            }
+        }
+        eprintln!("{mode:?}: {off} of {covered} covered pixels off by more than 2");
+        assert!(covered > 5000, "{covered}");
+        assert!(off * 200 <= covered, "{mode:?}: {off} of {covered}");
     }
 }

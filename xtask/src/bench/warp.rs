@@ -1,32 +1,32 @@
 //! `cargo xtask bench warp`: the warping paper's Tables 1–3 on our meshes and adapter.
 //!
 //! Park & Ihm, "Post-Rendering 3D Warping using Projective Texture" (KIISE 2002): full
-//! render vs warped frames for k = 10, 20, 30, 40 and three proxy ratios per mesh, the
-//! quality of every measured warped frame against the full render at its pose, Table 3
-//! (objects sharing one reference pair), the fill floor and the ceiling
-//! `k·FULL / (FULL + k·FILL)`, the effect of the bin count N, the gain of the reference
-//! depth test, and spreading the reference over the frames between.
+//! render vs warped frames for k = 10, 20, 30, 40 and three proxy ratios per mesh, each
+//! with the paper's path ([`Departures::PAPER`], JSON `mode` = `paper`) and ours (`ours`),
+//! the quality of every measured warped frame against the full render at its pose, the
+//! ablation of each of our departures alone (added to the paper's path, removed from ours),
+//! Table 3 (objects sharing one reference pair), the fill floor and the ceiling
+//! `k·FULL / (FULL + k·FILL)`, the effect of the bin count N, and spreading the reference
+//! over the frames between.
 //!
-//! Sizes are kept small so the whole run fits in about ten minutes on a two-core software
-//! adapter (it took about a minute on an idle one): 512 × 512 frames, five sampled frames
-//! per segment of k (timings are medians of 3 runs of each sampled frame, averaged over
-//! the frames; quality is measured on the same frames). The camera circles the object at
-//! 1°/frame under a world-fixed light.
+//! Sizes are kept small for a two-core software adapter: 512 × 512 frames, five sampled
+//! frames per segment of k (timings are medians of 3 runs of each sampled frame, averaged
+//! over the frames; quality is measured on the same frames). The object stays fixed; the
+//! camera orbits it at 1°/frame under a world-fixed light.
 //!
 //! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
-//! mesh name>`, `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, depth table only),
-//! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_INFLATE` (scales the default inflation),
-//! `NPR_WARP_BAND` (blend band), `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference
-//! images of every measured frame).
+//! mesh name>`, `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
+//! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
+//! of every measured frame).
 
 use super::table::{Cell, Table, emit};
-use crate::warp_rig::{CLEAR, Rig, light, material};
-use glam::{Mat4, Vec3};
+use crate::warp_rig::{CLEAR, DEG_PER_FRAME, Rig, Variant, path_for};
+use glam::Vec3;
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuContext};
+use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
 use npr_warp::{
-    Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpSchedule, WarpSequence,
-    WarpSettings, compare,
+    Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpSchedule,
+    WarpSequence, compare,
 };
 use std::path::Path;
 use std::time::Instant;
@@ -35,11 +35,11 @@ const SIZE: u32 = 512;
 const KS: [u32; 4] = [10, 20, 30, 40];
 /// Bins per axis used unless a table varies it.
 const BINS: u32 = 16;
-/// Rotation of the object per frame (degrees): the known path.
-const DEG_PER_FRAME: f32 = 1.0;
-/// The camera circles the object (light fixed in the world, as post-rendering warping's
-/// camera-motion use); the object-turning variant is measured in its own table.
+/// The camera orbits the fixed object (light fixed in the world, as post-rendering
+/// warping's camera-motion use).
 const ORBIT: bool = true;
+/// The two ends every "ours vs paper" row compares.
+const MODES: [(Departures, &str); 2] = [(Departures::PAPER, "paper"), (Departures::OURS, "ours")];
 
 struct BenchMesh {
     name: String,
@@ -96,31 +96,6 @@ fn mean(v: &[f64]) -> f64 {
     v.iter().sum::<f64>() / v.len().max(1) as f64
 }
 
-/// The turntable framing `mesh` (unit bounding sphere at the origin) with `offsets`.
-fn path_for(
-    mesh: &Mesh,
-    offsets: Vec<Vec3>,
-    distance: f32,
-    orbit_camera: bool,
-) -> (Turntable, f32) {
-    let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
-    let scale = 1.0 / radius.max(1e-6);
-    let normalize = Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-centre);
-    let eye = Vec3::new(0.0, 0.35, 1.0).normalize() * distance;
-    let mut camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
-    camera.fov_y_rad = 34f32.to_radians();
-    (
-        Turntable {
-            camera,
-            normalize,
-            deg_per_frame: DEG_PER_FRAME,
-            offsets,
-            orbit_camera,
-        },
-        scale,
-    )
-}
-
 /// Frames sampled inside a segment of length k (never the reference frames themselves).
 fn sampled_steps(k: u32) -> Vec<u32> {
     let mut v: Vec<u32> = [1, k / 4, k / 2, (3 * k) / 4, k - 1]
@@ -141,14 +116,12 @@ impl Rig<'_> {
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn warp_ms(
         &self,
         refs: [&ReferenceFrame; 2],
-        objects: &[WarpObject],
+        objects: &[Variant],
         scene: &ScenePose,
         s: f32,
-        settings: &WarpSettings,
         mode: WarpMode,
     ) -> (f64, usize, usize) {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
@@ -161,14 +134,14 @@ impl Rig<'_> {
                 .enumerate()
                 .map(|(i, o)| {
                     self.pass
-                        .prepare(q, o, &pair, &scene.object(i), s, settings)
+                        .prepare(q, &o.object, &pair, &scene.object(i), s, &o.settings)
                 })
                 .collect();
             let mut enc = d.create_command_encoder(&Default::default());
             {
                 let mut rpass = self.target.begin_clear_pass(&mut enc, CLEAR);
                 for (o, p) in objects.iter().zip(&plans) {
-                    self.pass.draw(&mut rpass, &pair, o, p, mode);
+                    self.pass.draw(&mut rpass, &pair, &o.object, p, mode);
                 }
             }
             q.submit(Some(enc.finish()));
@@ -190,21 +163,25 @@ struct SegmentResult {
     tris_drawn: f64,
 }
 
-#[allow(clippy::too_many_arguments)]
+/// Full renders already made, by (k, frame, objects).
+type Fulls = std::collections::HashMap<(u32, u32, usize), image::RgbaImage>;
+
+/// Measures the sampled frames of one segment of length k warped with `objects` (their
+/// variants' mode is the first's); with `fill`, also the fill floor.
 fn segment(
     rig: &mut Rig<'_>,
     path: &Turntable,
     k: u32,
-    objects: &[WarpObject],
-    settings: &WarpSettings,
-    mode: WarpMode,
-    fulls: &mut std::collections::HashMap<(u32, u32, usize), image::RgbaImage>,
+    objects: &[Variant],
+    fill: bool,
+    fulls: &mut Fulls,
 ) -> anyhow::Result<SegmentResult> {
+    let mode = objects.first().map_or(WarpMode::DepthTested, |o| o.mode);
     let (r0, r1) = (
         rig.reference(&path.pose(0.0))?,
         rig.reference(&path.pose(k as f32))?,
     );
-    let (mut warp, mut fill, mut psnr, mut ssim, mut blended, mut tris) =
+    let (mut warp, mut fills_ms, mut psnr, mut ssim, mut blended, mut tris) =
         (vec![], vec![], vec![], vec![], vec![], vec![]);
     for f in sampled_steps(k) {
         let scene = path.pose(f as f32);
@@ -215,7 +192,7 @@ fn segment(
         }
         let mut runs = Vec::new();
         for _ in 0..3 {
-            let (ms, b, t) = rig.warp_ms([&r0, &r1], objects, &scene, s, settings, mode);
+            let (ms, b, t) = rig.warp_ms([&r0, &r1], objects, &scene, s, mode);
             runs.push(ms);
             blended.push(b as f64);
             tris.push(t as f64);
@@ -234,23 +211,51 @@ fn segment(
             psnr.push(q.psnr_db);
             ssim.push(q.ssim);
         }
-        let fills: Vec<f64> = (0..3)
-            .map(|_| {
-                rig.warp_ms([&r0, &r1], objects, &scene, s, settings, WarpMode::Fill)
-                    .0
-            })
-            .collect();
-        fill.push(median(fills));
+        if fill {
+            let fills: Vec<f64> = (0..3)
+                .map(|_| {
+                    rig.warp_ms([&r0, &r1], objects, &scene, s, WarpMode::Fill)
+                        .0
+                })
+                .collect();
+            fills_ms.push(median(fills));
+        }
     }
     Ok(SegmentResult {
         warp_ms: mean(&warp),
-        fill_ms: mean(&fill),
+        fill_ms: mean(&fills_ms),
         psnr_mean: mean(&psnr),
         psnr_worst: psnr.iter().copied().fold(f64::INFINITY, f64::min),
         ssim_mean: mean(&ssim),
         blended_bins: mean(&blended),
         tris_drawn: mean(&tris),
     })
+}
+
+/// Ablation rows: the paper's path, the paper's path plus each departure alone, ours, and
+/// ours minus each departure alone (the coverage lookup cannot leave the depth test, which
+/// needs it). Each row: (variant name, departure, departures).
+fn ablation_rows() -> Vec<(String, &'static str, Departures)> {
+    let mut rows = vec![("paper".to_string(), "", Departures::PAPER)];
+    for d in Departure::ALL {
+        rows.push((
+            format!("paper + {}", d.name()),
+            d.name(),
+            Departures::PAPER.with(d, true),
+        ));
+    }
+    rows.push(("ours".to_string(), "", Departures::OURS));
+    for d in Departure::ALL {
+        if d == Departure::Coverage {
+            continue;
+        }
+        rows.push((
+            format!("ours - {}", d.name()),
+            d.name(),
+            Departures::OURS.with(d, false),
+        ));
+    }
+    rows
 }
 
 /// Runs the benchmark and prints (and optionally writes) its tables.
@@ -260,12 +265,13 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     let adapter = ctx.adapter.get_info().name;
     println!("bench warp: adapter {}", ctx.adapter_summary());
     println!(
-        "bench warp: {SIZE}x{SIZE}, object turning {DEG_PER_FRAME} deg/frame, N = {BINS}, \
-         sampled frames per segment {:?} (k = 10)",
+        "bench warp: {SIZE}x{SIZE}, object fixed, camera orbiting it at {DEG_PER_FRAME} \
+         deg/frame (light fixed in the world), N = {BINS}, sampled frames per segment {:?} \
+         (k = 10)",
         sampled_steps(10)
     );
     let mut t1 = Table::new(
-        "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio and k",
+        "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio, k and mode (paper's path, ours)",
         &[
             "mesh",
             "triangles",
@@ -273,6 +279,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "proxy_triangles",
             "proxy_error_rel",
             "k",
+            "mode",
             "full_ms",
             "warp_ms",
             "amortized_ms",
@@ -286,20 +293,22 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "adapter",
         ],
     );
-    let mut t_depth = Table::new(
-        "Reference depth test (ours) vs the paper's pass, k = 20, middle ratio",
+    let mut t_ablation = Table::new(
+        "Departures from the paper one at a time: added to the paper's path, removed from ours (k = 20, middle ratio)",
         &[
             "mesh",
-            "mode",
+            "variant",
+            "departure",
             "warp_ms",
             "psnr_mean_db",
             "psnr_worst_db",
             "ssim_mean",
+            "delta_db",
             "adapter",
         ],
     );
     let mut t_bins = Table::new(
-        "Effect of the bin count N (§3.3.2), k = 10, middle ratio",
+        "Effect of the bin count N (§3.3.2), ours, k = 10, middle ratio",
         &[
             "mesh",
             "bins_per_axis",
@@ -311,7 +320,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ],
     );
     let mut t3 = Table::new(
-        "Table 3: objects sharing one reference pair, k = 10, middle ratio",
+        "Table 3: objects sharing one reference pair, ours, k = 10, middle ratio",
         &[
             "mesh",
             "objects",
@@ -326,7 +335,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ],
     );
     let mut t_spread = Table::new(
-        "Spreading the next reference over the k frames (§3.4), k = 10, middle ratio",
+        "Spreading the next reference over the k frames (§3.4), ours, k = 10, middle ratio",
         &[
             "mesh",
             "spread",
@@ -347,8 +356,6 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "simplify_ms",
         ],
     );
-    // For iterating: NPR_WARP_BENCH_ONLY=<substring of a mesh name>, NPR_WARP_BENCH_QUICK=1
-    // (k = 10 and 20, middle ratio, Tables 1-2 and the depth test only).
     let only = std::env::var("NPR_WARP_BENCH_ONLY").ok();
     let quick = std::env::var("NPR_WARP_BENCH_QUICK").is_ok_and(|v| v == "1");
     for bm in meshes()? {
@@ -362,7 +369,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         // FULL: the full render (also the cost of a reference).
         rig.full_ms(&path.pose(0.0));
         let full_ms = median((0..5).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
-        let mut fulls = std::collections::HashMap::new();
+        let mut fulls = Fulls::new();
         for (ri, &ratio) in bm.ratios.iter().enumerate() {
             if quick && ri != 1 {
                 continue;
@@ -382,81 +389,83 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(f64::from(proxy.error_object), 5),
                 Cell::Num(simplify_ms, 0),
             ]);
-            let inflation = proxy.suggested_inflation() * inflate_factor();
-            let mut settings = WarpSettings::for_proxy(&proxy, inflation, world_per_object);
-            if let Some(band) = std::env::var("NPR_WARP_BAND")
-                .ok()
-                .and_then(|v| v.parse().ok())
-            {
-                settings.plan.blend_band = band;
-            }
-            let object = rig
-                .pass
-                .create_object(&ctx.device, &proxy, BINS, inflation, false)?;
-            let objects = [object];
             for k in KS {
                 if quick && k > 20 {
                     continue;
                 }
-                let r = segment(
-                    &mut rig,
-                    &path,
-                    k,
-                    &objects,
-                    &settings,
-                    WarpMode::DepthTested,
-                    &mut fulls,
-                )?;
-                let schedule = WarpSchedule::new(k, false)?;
-                let amortized = schedule.amortized_ms(full_ms, r.warp_ms);
-                let speedup = full_ms / amortized;
-                let kf = f64::from(k);
-                let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
-                t1.push(vec![
-                    bm.name.clone().into(),
-                    tris.into(),
-                    Cell::Num(f64::from(ratio) * 100.0, 2),
-                    proxy.triangles().into(),
-                    Cell::Num(f64::from(proxy.error_relative), 5),
-                    k.into(),
-                    Cell::Num(full_ms, 2),
-                    Cell::Num(r.warp_ms, 2),
-                    Cell::Num(amortized, 2),
-                    Cell::Num(speedup, 2),
-                    Cell::Num(r.fill_ms, 2),
-                    Cell::Num(ceiling, 2),
-                    Cell::Num(speedup / ceiling, 3),
-                    measured(r.psnr_mean, 2),
-                    measured(r.psnr_worst, 2),
-                    measured(r.ssim_mean, 4),
-                    adapter.clone().into(),
-                ]);
-                println!(
-                    "  ratio {ratio} k {k}: warp {:.2} ms, fill {:.2} ms, speedup {speedup:.2}x \
-                     (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, {:.0} s",
-                    r.warp_ms,
-                    r.fill_ms,
-                    r.psnr_mean,
-                    r.psnr_worst,
-                    started.elapsed().as_secs_f64()
-                );
+                for (departures, mode) in MODES {
+                    let objects =
+                        [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
+                    let r = segment(&mut rig, &path, k, &objects, true, &mut fulls)?;
+                    let schedule = WarpSchedule::new(k, false)?;
+                    let amortized = schedule.amortized_ms(full_ms, r.warp_ms);
+                    let speedup = full_ms / amortized;
+                    let kf = f64::from(k);
+                    let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
+                    t1.push(vec![
+                        bm.name.clone().into(),
+                        tris.into(),
+                        Cell::Num(f64::from(ratio) * 100.0, 2),
+                        proxy.triangles().into(),
+                        Cell::Num(f64::from(proxy.error_relative), 5),
+                        k.into(),
+                        mode.into(),
+                        Cell::Num(full_ms, 2),
+                        Cell::Num(r.warp_ms, 2),
+                        Cell::Num(amortized, 2),
+                        Cell::Num(speedup, 2),
+                        Cell::Num(r.fill_ms, 2),
+                        Cell::Num(ceiling, 2),
+                        Cell::Num(speedup / ceiling, 3),
+                        measured(r.psnr_mean, 2),
+                        measured(r.psnr_worst, 2),
+                        measured(r.ssim_mean, 4),
+                        adapter.clone().into(),
+                    ]);
+                    println!(
+                        "  ratio {ratio} k {k} {mode}: warp {:.2} ms, fill {:.2} ms, speedup \
+                         {speedup:.2}x (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, {:.0} s",
+                        r.warp_ms,
+                        r.fill_ms,
+                        r.psnr_mean,
+                        r.psnr_worst,
+                        started.elapsed().as_secs_f64()
+                    );
+                }
             }
             if ri != 1 {
                 continue;
             }
-            // The depth test's gain, the bin count, Table 3 and spreading, at the middle ratio.
-            for (mode, name) in [
-                (WarpMode::DepthTested, "depth-tested"),
-                (WarpMode::Paper, "paper"),
-            ] {
-                let r = segment(&mut rig, &path, 20, &objects, &settings, mode, &mut fulls)?;
-                t_depth.push(vec![
+            // The ablation, the bin count, Table 3 and spreading, at the middle ratio.
+            let mut ends = [f64::NAN; 2];
+            for (variant, departure, departures) in ablation_rows() {
+                let objects = [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
+                let r = segment(&mut rig, &path, 20, &objects, false, &mut fulls)?;
+                // Added to the paper: gain over the paper; removed from ours: loss from ours.
+                let delta = if variant == "paper" {
+                    ends[0] = r.psnr_mean;
+                    0.0
+                } else if variant == "ours" {
+                    ends[1] = r.psnr_mean;
+                    r.psnr_mean - ends[0]
+                } else if variant.starts_with("paper") {
+                    r.psnr_mean - ends[0]
+                } else {
+                    r.psnr_mean - ends[1]
+                };
+                println!(
+                    "  ablation {variant}: warp {:.2} ms, PSNR {:.2} dB ({delta:+.2})",
+                    r.warp_ms, r.psnr_mean
+                );
+                t_ablation.push(vec![
                     bm.name.clone().into(),
-                    name.into(),
+                    variant.into(),
+                    departure.into(),
                     Cell::Num(r.warp_ms, 2),
                     measured(r.psnr_mean, 2),
                     measured(r.psnr_worst, 2),
                     measured(r.ssim_mean, 4),
+                    measured(delta, 2),
                     adapter.clone().into(),
                 ]);
             }
@@ -464,18 +473,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 continue;
             }
             for n in [2, 4, 8, 16, 32] {
-                let o = [rig
-                    .pass
-                    .create_object(&ctx.device, &proxy, n, inflation, false)?];
-                let r = segment(
-                    &mut rig,
-                    &path,
-                    10,
-                    &o,
-                    &settings,
-                    WarpMode::DepthTested,
-                    &mut fulls,
-                )?;
+                let o = [rig.variant(&proxy, Departures::OURS, world_per_object, n, false)?];
+                let r = segment(&mut rig, &path, 10, &o, false, &mut fulls)?;
                 t_bins.push(vec![
                     bm.name.clone().into(),
                     n.into(),
@@ -486,10 +485,10 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                     adapter.clone().into(),
                 ]);
             }
-            table3(&ctx, &mut rig, &bm, &proxy, &mut t3, &adapter)?;
+            table3(&mut rig, &bm, &proxy, &mut t3, &adapter)?;
             spreading(
                 &ctx,
-                &rig,
+                &mut rig,
                 &bm,
                 &proxy,
                 &path,
@@ -504,13 +503,12 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
          Dragon 8.14x, Buddha 8.39x.",
         started.elapsed().as_secs_f64()
     );
-    emit(&[t1, t_depth, t_bins, t3, t_spread, t_proxy], json)
+    emit(&[t1, t_ablation, t_bins, t3, t_spread, t_proxy], json)
 }
 
 /// Table 3: 1–4 copies sharing object 0's reference pair (the paper assumes they face
 /// about the same way). Reference cost = one object's full render.
 fn table3(
-    ctx: &GpuContext,
     rig: &mut Rig<'_>,
     bm: &BenchMesh,
     proxy: &Proxy,
@@ -518,19 +516,14 @@ fn table3(
     adapter: &str,
 ) -> anyhow::Result<()> {
     let k = 10;
-    let mut fulls = std::collections::HashMap::new();
+    let mut fulls = Fulls::new();
     for n in 1..=4usize {
         let offsets: Vec<Vec3> = (0..n)
             .map(|i| Vec3::new((i % 2) as f32 * 2.2 - 1.1, 0.0, (i / 2) as f32 * -2.2 + 1.1))
             .collect();
         let (path, world_per_object) = path_for(&bm.mesh, offsets, 7.5, ORBIT);
-        let inflation = proxy.suggested_inflation() * inflate_factor();
-        let settings = WarpSettings::for_proxy(proxy, inflation, world_per_object);
-        let objects: Vec<WarpObject> = (0..n)
-            .map(|_| {
-                rig.pass
-                    .create_object(&ctx.device, proxy, BINS, inflation, false)
-            })
+        let objects: Vec<Variant> = (0..n)
+            .map(|_| rig.variant(proxy, Departures::OURS, world_per_object, BINS, false))
             .collect::<Result<_, _>>()?;
         rig.full_ms(&path.pose(0.0));
         let full_ms = median((0..3).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
@@ -540,15 +533,7 @@ fn table3(
             objects: vec![path.pose(0.0).objects[0]],
         };
         let ref_ms = median((0..3).map(|_| rig.full_ms(&one)).collect());
-        let r = segment(
-            rig,
-            &path,
-            k,
-            &objects,
-            &settings,
-            WarpMode::DepthTested,
-            &mut fulls,
-        )?;
+        let r = segment(rig, &path, k, &objects, false, &mut fulls)?;
         let amortized = WarpSchedule::new(k, false)?.amortized_ms(ref_ms, r.warp_ms);
         table.push(vec![
             bm.name.clone().into(),
@@ -570,7 +555,7 @@ fn table3(
 #[allow(clippy::too_many_arguments)]
 fn spreading(
     ctx: &GpuContext,
-    rig: &Rig<'_>,
+    rig: &mut Rig<'_>,
     bm: &BenchMesh,
     proxy: &Proxy,
     path: &Turntable,
@@ -580,49 +565,28 @@ fn spreading(
 ) -> anyhow::Result<()> {
     let k = 10;
     let frames = 3 * k;
-    let inflation = proxy.suggested_inflation() * inflate_factor();
-    let settings = WarpSettings::for_proxy(proxy, inflation, world_per_object);
+    let ours = Departures::OURS;
     for spread in [false, true] {
         let mut seq = WarpSequence::new(
             &ctx.device,
-            &ctx.queue,
             WarpSchedule::new(k, spread)?,
-            settings,
+            ours.settings(proxy, world_per_object),
             SIZE,
             SIZE,
-            light(),
-            material(),
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
         )?;
-        let objects = [seq
-            .pass()
-            .create_object(&ctx.device, proxy, BINS, inflation, false)?];
+        let objects =
+            [seq.pass()
+                .create_object(&ctx.device, proxy, BINS, ours.inflation(proxy), false)?];
         let scene = |f: u32| path.pose(f as f32);
+        let mut frame = |rig: &mut Rig<'_>, f: u32| {
+            rig.sequence_frame(&mut seq, &objects, &scene, f);
+        };
         // Start-up (the first two references) is not timed.
-        seq.render_frame(
-            &ctx.device,
-            &ctx.queue,
-            &rig.full,
-            &objects,
-            &scene,
-            0,
-            &rig.target,
-        );
+        frame(rig, 0);
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
-        let times: Vec<f64> = (1..frames)
-            .map(|f| {
-                timed(ctx, || {
-                    seq.render_frame(
-                        &ctx.device,
-                        &ctx.queue,
-                        &rig.full,
-                        &objects,
-                        &scene,
-                        f,
-                        &rig.target,
-                    );
-                })
-            })
-            .collect();
+        let times: Vec<f64> = (1..frames).map(|f| timed(ctx, || frame(rig, f))).collect();
         table.push(vec![
             bm.name.clone().into(),
             if spread { "yes" } else { "no" }.into(),
@@ -633,14 +597,6 @@ fn spreading(
         ]);
     }
     Ok(())
-}
-
-/// Experiment knob: `NPR_WARP_INFLATE` scales the proxy's default inflation.
-fn inflate_factor() -> f32 {
-    std::env::var("NPR_WARP_INFLATE")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(1.0)
 }
 
 /// A measured value, or an empty cell when nothing was measured (no frame compared).

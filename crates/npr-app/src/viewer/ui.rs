@@ -300,8 +300,9 @@ pub fn panel(
                         ui.checkbox(&mut p.hatching.shadows, "shadows");
                         ui.horizontal(|ui| {
                             ui.label("direction");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "k_max");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMin, "k_min");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::Smooth, "smooth");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "raw k_max");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMin, "raw k_min");
                         });
                     });
                 egui::CollapsingHeader::new("warp (Park & Ihm)")
@@ -315,6 +316,12 @@ pub fn panel(
                         );
                         ui.checkbox(&mut p.warp.depth_test, "reference depth test");
                     });
+                egui::CollapsingHeader::new("outlines").show(ui, |ui| {
+                    ui.checkbox(&mut p.outline.enabled, "silhouettes and creases");
+                    ui.add(egui::Slider::new(&mut p.outline.width_px, 1.0..=15.0).text("width (px)"));
+                    ui.add(egui::Slider::new(&mut p.outline.crease_deg, 1.0..=179.0).text("crease angle"));
+                    rgb(ui, "colour", &mut p.outline.color);
+                });
                 egui::CollapsingHeader::new("debug views").show(ui, |ui| {
                     ui.radio_value(&mut debug.image, DebugImage::Shaded, "the effect");
                     ui.radio_value(&mut debug.image, DebugImage::Curvature, "mean curvature as colour");

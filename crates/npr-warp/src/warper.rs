@@ -1,0 +1,172 @@
+//! The embeddable warp for an application: per frame, either record a reference at the
+//! current camera or warp the two newest references to it (§3.3), into the caller's
+//! encoder and targets. See the crate docs for an example.
+
+use crate::bins::BinPlan;
+use crate::departures::Departures;
+use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
+use crate::reference::{BasePass, Pose, ReferenceFrame};
+use crate::{Proxy, WarpError};
+
+/// Bins per axis of a [`Warper`]'s proxy (§3.3.2; the benchmark's N).
+pub const WARPER_BINS: u32 = 16;
+
+/// Two reference slots, one proxy and the warp pass: the state an application keeps.
+#[derive(Debug)]
+pub struct Warper {
+    /// The warp settings (§3.3.2–§3.3.3 plan, tolerances).
+    pub settings: WarpSettings,
+    /// The fragment shader (depth-tested, paper, ...).
+    pub mode: WarpMode,
+    /// Clear colour of the references and warped frames (alpha 0: the object's pixels are
+    /// those with alpha).
+    pub clear: [f64; 4],
+    pass: WarpPass,
+    object: WarpObject,
+    refs: [ReferenceFrame; 2],
+    /// References recorded so far (the newest is in slot `(recorded - 1) % 2`).
+    recorded: u64,
+    pair: Option<ReferencePair>,
+}
+
+impl Warper {
+    /// A warper for `proxy` (see [`Proxy::simplify`]) drawn with a transform that scales
+    /// object units by `world_per_object`, with `departures` ([`Departures::OURS`] or
+    /// [`Departures::PAPER`]), references of `width × height`, and the caller's colour and
+    /// depth formats.
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] for formats the warp cannot use or a non-finite
+    /// `world_per_object`; [`WarpError::Gpu`] for a bad size or a failed upload.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        device: &wgpu::Device,
+        proxy: &Proxy,
+        departures: Departures,
+        world_per_object: f32,
+        width: u32,
+        height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, WarpError> {
+        if !(world_per_object.is_finite() && world_per_object > 0.0) {
+            return Err(WarpError::InvalidSetting(format!(
+                "world_per_object {world_per_object} is not a positive scale"
+            )));
+        }
+        let settings = departures.settings(proxy, world_per_object);
+        settings.validate()?;
+        let pass = WarpPass::new(device, color_format, depth_format)?;
+        let object = pass.create_object(
+            device,
+            proxy,
+            WARPER_BINS,
+            departures.inflation(proxy),
+            false,
+        )?;
+        let slot = || ReferenceFrame::new(device, width, height, color_format, depth_format);
+        Ok(Self {
+            settings,
+            mode: departures.mode(),
+            clear: [0.0; 4],
+            pass,
+            object,
+            refs: [slot()?, slot()?],
+            recorded: 0,
+            pair: None,
+        })
+    }
+
+    /// Records a reference at `pose` drawn by `base` (base-pass slot 0 or 1) into
+    /// `encoder`, replacing the older reference; from then on warps interpolate between
+    /// the previous newest reference (s = 0) and this one (s = 1). Submit the encoder before
+    /// (or with) the next warp that uses it.
+    pub fn record_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        base: &mut dyn BasePass,
+        pose: &Pose,
+    ) {
+        let slot = (self.recorded % 2) as usize;
+        self.refs[slot].record(device, queue, encoder, base, pose, slot, self.clear);
+        self.recorded += 1;
+        let [older, newer] = self.ordered();
+        // With one reference recorded, it pairs with itself.
+        self.pair = Some(self.pass.bind_pair(device, [older, newer]));
+    }
+
+    /// The references in time order, older first (both the same before a second one).
+    fn ordered(&self) -> [&ReferenceFrame; 2] {
+        let newest = ((self.recorded + 1) % 2) as usize;
+        if self.recorded < 2 {
+            [&self.refs[newest], &self.refs[newest]]
+        } else {
+            [&self.refs[1 - newest], &self.refs[newest]]
+        }
+    }
+
+    /// References recorded so far (a warp needs at least one; the paper's interpolation,
+    /// two).
+    pub fn references_recorded(&self) -> u64 {
+        self.recorded
+    }
+
+    /// The two references in time order, older first.
+    pub fn references(&self) -> [&ReferenceFrame; 2] {
+        self.ordered()
+    }
+
+    /// Where `pose`'s eye lies between the two references' eyes in object space (the
+    /// camera may move, the object may move, or both), `s ∈ [0, 1]`: its projection onto
+    /// the segment from the older reference's eye to the newer's (0 when they coincide).
+    /// For a known path pass the path's own fraction instead.
+    pub fn position(&self, pose: &Pose) -> f32 {
+        let [a, b] = self.ordered().map(|r| r.pose.eye_object());
+        let ab = b - a;
+        let len2 = ab.length_squared();
+        if len2.is_nan() || len2 <= 0.0 {
+            return 0.0;
+        }
+        let s = (pose.eye_object() - a).dot(ab) / len2;
+        if s.is_finite() {
+            s.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Records the warp of the current references to `pose` at position `s` between them
+    /// (see [`Warper::position`]) into the caller's render pass (targets of the formats
+    /// given to [`Warper::new`]). `None`, drawing nothing, before the first reference.
+    pub fn draw(
+        &self,
+        queue: &wgpu::Queue,
+        pass: &mut wgpu::RenderPass<'_>,
+        pose: &Pose,
+        s: f32,
+    ) -> Option<BinPlan> {
+        let pair = self.pair.as_ref()?;
+        let plan = self
+            .pass
+            .prepare(queue, &self.object, pair, pose, s, &self.settings);
+        self.pass.draw(pass, pair, &self.object, &plan, self.mode);
+        Some(plan)
+    }
+
+    /// As [`Warper::draw`], in a pass of its own over `color` / `depth` cleared to
+    /// [`Warper::clear`].
+    pub fn record_warp(
+        &self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        depth: &wgpu::TextureView,
+        pose: &Pose,
+        s: f32,
+    ) -> Option<BinPlan> {
+        let mut pass = crate::reference::begin_clear_pass(encoder, color, depth, self.clear);
+        self.draw(queue, &mut pass, pose, s)
+    }
+}
