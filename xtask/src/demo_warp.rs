@@ -8,6 +8,7 @@
 //!   their differences from the full render (the §3.4 problem and its fix): top row a
 //!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
 
+use crate::demo::save;
 use crate::warp_rig::{CLEAR, Rig, Variant, light, path_for};
 use anyhow::Context;
 use glam::{Mat4, Vec3};
@@ -31,13 +32,6 @@ fn on_white(img: &image::RgbaImage) -> image::RgbaImage {
         let c = |i: usize| ((u32::from(p[i]) * a + 255 * (255 - a)) / 255) as u8;
         image::Rgba([c(0), c(1), c(2), 255])
     })
-}
-
-fn save(img: &image::RgbaImage, path: &Path, written: &mut Vec<PathBuf>) -> anyhow::Result<()> {
-    img.save(path)
-        .with_context(|| format!("writing {}", path.display()))?;
-    written.push(path.to_path_buf());
-    Ok(())
 }
 
 impl Rig<'_> {

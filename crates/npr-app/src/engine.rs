@@ -73,6 +73,14 @@ struct OutlineState {
     pass: npr_gpu::outline::OutlinePass,
 }
 
+/// Warping state: the proxy's warper and the base pass drawing its references.
+struct WarpState {
+    key: (u32, crate::preset::WarpMode, bool, (u32, u32), ShadingModel, Vec<u8>),
+    warper: npr_warp::Warper,
+    base: npr_warp::PhongBase,
+    proxy_triangles: usize,
+}
+
 /// One model's renderer (see the module docs).
 pub struct Renderer {
     model: Model,
@@ -84,6 +92,7 @@ pub struct Renderer {
     specular: Option<SpecularState>,
     hatching: Option<HatchState>,
     outline: Option<OutlineState>,
+    warp: Option<WarpState>,
     tams: HashMap<bool, TonalArtMap>,
     directions: HashMap<DirectionPreset, Vec<Vec3>>,
     curvature: Option<Vec<f32>>,
@@ -217,6 +226,7 @@ impl Renderer {
             specular: None,
             hatching: None,
             outline: None,
+            warp: None,
             tams: HashMap::new(),
             directions: HashMap::new(),
             curvature: None,
@@ -255,6 +265,7 @@ impl Renderer {
         self.specular = None;
         self.hatching = None;
         self.outline = None;
+        self.warp = None;
         self.directions.clear();
         self.curvature = None;
         self.frame_index = 0;
@@ -613,6 +624,128 @@ impl Renderer {
         Ok(stats)
     }
 
+    fn ensure_warp(&mut self, device: &wgpu::Device, preset: &Preset, view: &View) -> Result<(), AppError> {
+        let w = &preset.warp;
+        let model = preset.base.model.into();
+        let key = (
+            w.proxy_ratio.to_bits(),
+            w.mode,
+            w.depth_test,
+            self.size(),
+            model,
+            preset.base.cel_bands.clone(),
+        );
+        if self.warp.as_ref().is_some_and(|s| s.key == key) {
+            return Ok(());
+        }
+        let proxy = npr_warp::Proxy::simplify(&self.model.mesh, w.proxy_ratio)?;
+        let (width, height) = self.size();
+        let warper = npr_warp::Warper::new(
+            device,
+            &proxy,
+            w.departures(),
+            1.0 / self.model.framing.radius,
+            width,
+            height,
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
+        )?;
+        let shades: Vec<[u8; 4]> = preset.base.cel_bands.iter().map(|&g| [g, g, g, 255]).collect();
+        let base = npr_warp::PhongBase::new(
+            &self.gpu_mesh,
+            view.light,
+            object_uniforms(preset, view.world_from_object),
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
+        )
+        .with_model(model, Some(npr_gpu::toon_ramp(256, &shades)));
+        self.warp = Some(WarpState {
+            key,
+            warper,
+            base,
+            proxy_triangles: proxy.mesh.triangle_count(),
+        });
+        Ok(())
+    }
+
+    /// Warping (SPEC §4): records a reference of the full model at `view` (its base shading
+    /// per the preset) and submits it. From then on warps interpolate between the previous
+    /// newest reference (s = 0) and this one (s = 1).
+    ///
+    /// # Errors
+    /// [`AppError::Warp`] for a proxy or setting the warp cannot use.
+    pub fn warp_reference(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+        view: &View,
+    ) -> Result<(), AppError> {
+        self.ensure_warp(device, preset, view)?;
+        let Some(w) = &mut self.warp else {
+            return Ok(());
+        };
+        w.base
+            .set_lighting(view.light, object_uniforms(preset, view.world_from_object));
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr app warp reference"),
+        });
+        let pose = warp_pose(view);
+        w.warper
+            .record_reference(device, queue, &mut encoder, &mut w.base, &pose);
+        queue.submit(Some(encoder.finish()));
+        Ok(())
+    }
+
+    /// References recorded so far.
+    pub fn warp_references(&self) -> u64 {
+        self.warp.as_ref().map_or(0, |w| w.warper.references_recorded())
+    }
+
+    /// Warping (SPEC §4): draws the proxy textured by the two newest references at `view`,
+    /// at position `s` between them (`None`: estimated from the eye, as for an unknown
+    /// path), over the preset's background, into the target, and submits it.
+    ///
+    /// # Errors
+    /// As [`Renderer::warp_reference`].
+    pub fn warp_frame(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+        view: &View,
+        s: Option<f32>,
+    ) -> Result<FrameStats, AppError> {
+        self.ensure_warp(device, preset, view)?;
+        let mut stats = FrameStats {
+            frame: self.frame_index,
+            effect: preset.effect.name().to_string(),
+            warped: true,
+            ..FrameStats::default()
+        };
+        self.frame_index += 1;
+        let Some(w) = &self.warp else {
+            return Ok(stats);
+        };
+        stats.triangles = w.proxy_triangles;
+        let pose = warp_pose(view);
+        let s = s.unwrap_or_else(|| w.warper.position(&pose));
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr app warp"),
+        });
+        {
+            let mut pass = self
+                .target
+                .begin_clear_pass(&mut encoder, clear_color(preset));
+            w.warper.draw(queue, &mut pass, &pose, s);
+        }
+        if preset.outline.enabled {
+            self.record_outline(device, queue, &mut encoder, preset, view)?;
+        }
+        queue.submit(Some(encoder.finish()));
+        Ok(stats)
+    }
+
     /// Records the outline prepass and pass over the target (`npr_gpu::outline`).
     fn record_outline(
         &mut self,
@@ -670,19 +803,63 @@ impl Renderer {
     }
 }
 
-/// Renders `frames` warped turntable frames (references every `k` frames, the frames
-/// between warped from them) and hands each to `sink`.
+/// Renders `frames` turntable frames with warping (SPEC §4): along the known path, a
+/// reference every `k` frames (rendered one interval ahead), the frames between warped
+/// from the two around them at the path's own fraction, and each warped frame compared
+/// with a full render of the same view (PSNR in the stats). Reference frames are the full
+/// render itself.
 ///
 /// # Errors
 /// GPU or technique errors, or what `sink` returns.
 pub fn render_warp_frames(
-    _ctx: &npr_gpu::GpuContext,
-    _model: Model,
-    _preset: &Preset,
-    _frames: u32,
-    _sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+    ctx: &npr_gpu::GpuContext,
+    model: Model,
+    preset: &Preset,
+    frames: u32,
+    mut sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
 ) -> Result<Vec<FrameStats>, AppError> {
-    Err(AppError::Usage(
-        "--effect warp is not wired into npr render yet".into(),
-    ))
+    let size = (preset.output.width, preset.output.height);
+    let framing = model.framing;
+    let k = preset.warp.k.max(1) as usize;
+    let view_at = |i: usize| View::new(preset, &framing, size, 360.0 * i as f32 / frames.max(1) as f32);
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let bar = crate::progress::bar(u64::from(frames), "warp");
+    let mut stats = Vec::new();
+    for i in 0..frames as usize {
+        let view = view_at(i);
+        if i % k == 0 {
+            if i == 0 {
+                renderer.warp_reference(&ctx.device, &ctx.queue, preset, &view)?;
+            }
+            renderer.warp_reference(&ctx.device, &ctx.queue, preset, &view_at(i + k))?;
+        }
+        let full_stats = renderer.render(&ctx.device, &ctx.queue, preset, &view)?;
+        let full = renderer.read(&ctx.device, &ctx.queue)?;
+        if i % k == 0 {
+            sink(i, full, &full_stats)?;
+            stats.push(FrameStats {
+                frame: i,
+                ..full_stats
+            });
+        } else {
+            let s = (i % k) as f32 / k as f32;
+            let mut st = renderer.warp_frame(&ctx.device, &ctx.queue, preset, &view, Some(s))?;
+            let warped = renderer.read(&ctx.device, &ctx.queue)?;
+            st.frame = i;
+            st.psnr_db = Some(npr_warp::metrics::compare(&full, &warped).psnr_db);
+            sink(i, warped, &st)?;
+            stats.push(st);
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
+}
+
+/// The warp pose of a view.
+pub fn warp_pose(view: &View) -> npr_warp::Pose {
+    npr_warp::Pose {
+        camera: view.camera,
+        world_from_object: view.world_from_object,
+    }
 }

@@ -370,6 +370,17 @@ impl Default for HatchingPreset {
     }
 }
 
+/// Which warping path (npr-warp's `Departures`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WarpMode {
+    /// Ours: the paper's path plus every measured departure.
+    #[default]
+    Ours,
+    /// The paper's path as published (§3.3.1–§3.3.3).
+    Paper,
+}
+
 /// Post-rendering warping (npr-warp).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -378,7 +389,10 @@ pub struct WarpPreset {
     pub k: u32,
     /// Proxy triangles as a share of the model's.
     pub proxy_ratio: f32,
-    /// Depth-test the references against each other.
+    /// The paper's path or ours.
+    pub mode: WarpMode,
+    /// Depth-test each reference as a shadow map (one of our departures; ignored by the
+    /// paper's path).
     pub depth_test: bool,
 }
 
@@ -387,7 +401,21 @@ impl Default for WarpPreset {
         Self {
             k: 10,
             proxy_ratio: 0.05,
+            mode: WarpMode::Ours,
             depth_test: true,
+        }
+    }
+}
+
+impl WarpPreset {
+    /// The departures from the paper this preset selects.
+    pub fn departures(&self) -> npr_warp::Departures {
+        match self.mode {
+            WarpMode::Paper => npr_warp::Departures::PAPER,
+            WarpMode::Ours => npr_warp::Departures {
+                depth_test: self.depth_test,
+                ..npr_warp::Departures::OURS
+            },
         }
     }
 }

@@ -602,8 +602,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn uniform_block_matches_wgsl_size() {
-        assert_eq!(std::mem::size_of::<WarpObjectUniforms>(), 272);
+    fn uniform_block_matches_wgsl_layout() {
+        npr_gpu::assert_wgsl_layout!(
+            WarpObjectUniforms,
+            "WarpObject",
+            [
+                clip_from_object,
+                tex_from_object0,
+                tex_from_object1,
+                ref_near_far,
+                params,
+                eye0_object,
+                eye1_object,
+                fill_color
+            ]
+        );
     }
 
     #[test]

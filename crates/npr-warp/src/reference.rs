@@ -87,17 +87,18 @@ fn posed(material: &ObjectUniforms, world_from_object: Mat4) -> ObjectUniforms {
     }
 }
 
-/// Records `mesh` with Phong, drawing only `range` of its index buffer (the whole mesh when
-/// the range covers it).
+/// Records `mesh` with `model`, drawing only `range` of its index buffer (the whole mesh
+/// when the range covers it).
 fn draw_phong_range(
     pass: &mut wgpu::RenderPass<'_>,
     shading: &BaseShading,
+    model: ShadingModel,
     object: &ObjectBinding,
     mesh: &GpuMesh,
     range: Range<u32>,
 ) {
     if range == (0..mesh.index_count) {
-        shading.draw(pass, ShadingModel::Phong, object, mesh);
+        shading.draw(pass, model, object, mesh);
         return;
     }
     // `BaseShading::draw` sets the pipeline and bind groups and draws the whole mesh;
@@ -108,12 +109,13 @@ fn draw_phong_range(
         index_count: 0,
         vertex_count: mesh.vertex_count,
     };
-    shading.draw(pass, ShadingModel::Phong, object, &state_only);
+    shading.draw(pass, model, object, &state_only);
     pass.draw_indexed(range, 0, 0..1);
 }
 
-/// The default [`BasePass`]: one mesh with npr-gpu's full Phong under one light, its
-/// shading state kept per reference slot.
+/// The default [`BasePass`]: one mesh with npr-gpu's base shading (full Phong unless
+/// [`PhongBase::with_model`] picks Gouraud or cel) under one light, its shading state kept
+/// per reference slot.
 #[derive(Debug)]
 pub struct PhongBase {
     mesh: GpuMesh,
@@ -121,6 +123,8 @@ pub struct PhongBase {
     material: ObjectUniforms,
     color_format: wgpu::TextureFormat,
     depth_format: wgpu::TextureFormat,
+    model: ShadingModel,
+    ramp: Option<Vec<[u8; 4]>>,
     slots: Vec<(BaseShading, ObjectBinding)>,
 }
 
@@ -146,15 +150,37 @@ impl PhongBase {
             material,
             color_format,
             depth_format,
+            model: ShadingModel::Phong,
+            ramp: None,
             slots: Vec::new(),
         }
+    }
+
+    /// The same base with another shading model and, for cel shading, its ramp texels
+    /// (`npr_gpu::toon_ramp`; `None` keeps npr-gpu's default ramp).
+    pub fn with_model(mut self, model: ShadingModel, ramp: Option<Vec<[u8; 4]>>) -> Self {
+        self.model = model;
+        self.ramp = ramp;
+        self.slots.clear();
+        self
+    }
+
+    /// Changes the light and material of the references recorded from now on.
+    pub fn set_lighting(&mut self, light: Light, material: ObjectUniforms) {
+        self.light = light;
+        self.material = material;
     }
 }
 
 impl BasePass for PhongBase {
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
         while self.slots.len() <= target.slot {
-            let shading = BaseShading::new(device, queue, self.color_format, self.depth_format);
+            let mut shading =
+                BaseShading::new(device, queue, self.color_format, self.depth_format);
+            if let Some(texels) = &self.ramp {
+                let view = npr_gpu::upload_ramp(device, queue, texels);
+                shading.set_ramp(device, &view);
+            }
             let object =
                 shading.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
             self.slots.push((shading, object));
@@ -167,7 +193,7 @@ impl BasePass for PhongBase {
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, target: &ReferenceDraw<'_>) {
         if let Some((shading, object)) = self.slots.get(target.slot) {
             let range = target.index_range(self.mesh.index_count);
-            draw_phong_range(pass, shading, object, &self.mesh, range);
+            draw_phong_range(pass, shading, self.model, object, &self.mesh, range);
         }
     }
 }
@@ -409,7 +435,14 @@ impl FullRenderer {
     /// Records the full render of `mesh` at every object transform into the caller's pass.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, mesh: &GpuMesh) {
         for object in self.objects.iter().take(self.count) {
-            draw_phong_range(pass, &self.shading, object, mesh, 0..mesh.index_count);
+            draw_phong_range(
+                pass,
+                &self.shading,
+                ShadingModel::Phong,
+                object,
+                mesh,
+                0..mesh.index_count,
+            );
         }
     }
 

@@ -19,6 +19,7 @@
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
 
+use npr_geometry::stats::median;
 use super::table::{Cell, Table, emit};
 use crate::warp_rig::{CLEAR, DEG_PER_FRAME, Rig, Variant, path_for};
 use glam::Vec3;
@@ -81,15 +82,6 @@ fn timed(ctx: &GpuContext, f: impl FnOnce()) -> f64 {
     f();
     let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     t.elapsed().as_secs_f64() * 1e3
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    if v.is_empty() {
-        f64::NAN
-    } else {
-        v[v.len() / 2]
-    }
 }
 
 fn mean(v: &[f64]) -> f64 {
