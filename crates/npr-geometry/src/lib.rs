@@ -42,6 +42,7 @@ pub mod curvature;
 pub mod error;
 pub mod generate;
 pub mod highlight;
+pub mod io;
 pub mod mesh;
 pub mod obj;
 pub mod rng;
