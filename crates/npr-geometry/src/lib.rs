@@ -8,7 +8,7 @@
 //! O. Devillers, B. Lévy and M. Desbrun, "Anisotropic polygonal remeshing", ACM Trans.
 //! Graph. 22(3), 485–493, 2003 (the paper's reference [10]).
 //!
-//! Pipeline: [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
+//! Pipeline: [`io::load`] (OBJ, glTF/GLB, PLY) → [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
 //! [`CurvatureField`] (once per mesh) → per frame [`HighlightSearch::find`].
 //! No GPU code lives here.
 //!

@@ -79,6 +79,7 @@ pub fn load_obj_with_vertex_map(path: impl AsRef<Path>) -> Result<ObjMesh, Geome
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use std::path::PathBuf;
 
     fn write(name: &str, text: &str) -> PathBuf {

@@ -426,7 +426,7 @@ fn base64_encode(b: &[u8]) -> String {
             s.push(A[(v >> (18 - 6 * k) & 63) as usize] as char);
         }
     }
-    while s.len() % 4 != 0 {
+    while !s.len().is_multiple_of(4) {
         s.push('=');
     }
     s

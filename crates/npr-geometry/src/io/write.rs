@@ -157,7 +157,7 @@ pub fn glb_primitive(
     let mut add = |bytes: &[u8], count: usize, ty: &str, comp: u32, target: u32, minmax: &str| {
         let offset = bin.len();
         bin.extend(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let view = first_accessor + views.len();
