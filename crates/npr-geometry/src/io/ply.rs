@@ -135,21 +135,27 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
             "missing the `ply` magic line (is this really a PLY file?)".into(),
         ));
     }
+    // A parser error as `truncated` (with what was expected) or `parse` (its message).
+    let classify =
+        |e: &ply_rs_bw::parser::ParseError, truncated: bool, at: String, expected: &str| {
+            if truncated {
+                LoadError::Truncated {
+                    file: file.to_string(),
+                    at,
+                    reason: expected.to_string(),
+                }
+            } else {
+                parse_err(at, super::error::one_line(&e.to_string()))
+            }
+        };
     let mut reader = Reader::new(BufReader::new(bytes));
     let vparser = Parser::<PlyVertex>::new();
     let header = vparser.read_header(&mut reader).map_err(|e| {
         let at = e
             .line()
             .map_or("header".into(), |l| format!("header line {l}"));
-        if e.kind() == ErrorKind::UnexpectedEof {
-            LoadError::Truncated {
-                file: file.to_string(),
-                at,
-                reason: "the header has no `end_header` line".into(),
-            }
-        } else {
-            parse_err(at, super::error::one_line(&e.to_string()))
-        }
+        let truncated = e.kind() == ErrorKind::UnexpectedEof;
+        classify(&e, truncated, at, "the header has no `end_header` line")
     })?;
     let vdef = header
         .elements
@@ -207,15 +213,13 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
         };
         // ASCII cut mid-line: the parser sees a short last line, not the end of the file.
         let cut_last_line = !bytes.ends_with(b"\n") && e.line() == Some(last_line);
-        if e.kind() == ErrorKind::UnexpectedEof || cut_last_line {
-            LoadError::Truncated {
-                file: file.to_string(),
-                at,
-                reason: "the file ends before the elements its header announces".into(),
-            }
-        } else {
-            parse_err(at, super::error::one_line(&e.to_string()))
-        }
+        let truncated = e.kind() == ErrorKind::UnexpectedEof || cut_last_line;
+        classify(
+            &e,
+            truncated,
+            at,
+            "the file ends before the elements its header announces",
+        )
     };
     let fparser = Parser::<PlyFace>::new();
     let sparser = Parser::<Skip>::new();
