@@ -501,3 +501,62 @@ fn broken_topology_loads_and_computes() {
         assert!(centres.iter().all(|c| c.position_world.is_finite()));
     }
 }
+
+/// Highlight centres of the same mesh at 1e-30, 1 and 1e30: same faces and barycentric
+/// coordinates, positions scaled.
+#[test]
+fn highlight_centres_are_consistent_across_extreme_scales() {
+    let base = generate::ellipsoid(1.0, 0.7, 0.5, 6);
+    let centres_at = |s: f32| {
+        let mut m = base.clone();
+        for p in &mut m.positions {
+            *p *= s;
+        }
+        let (_, topo, field) = CurvatureField::for_mesh(&m, &CurvatureOptions::default());
+        let search = npr_geometry::HighlightSearch::new(&topo, &field);
+        let mut c = search.find(
+            npr_geometry::LightEye::Directions {
+                to_light: Vec3::new(0.3, 1.0, 0.2).normalize(),
+                to_eye: Vec3::Z,
+            },
+            Mat4::IDENTITY,
+        );
+        c.sort_by_key(|c| c.face);
+        c
+    };
+    let one = centres_at(1.0);
+    assert!(!one.is_empty());
+    for s in [1e-30f32, 1e30] {
+        let c = centres_at(s);
+        assert_eq!(c.len(), one.len(), "scale {s:e}");
+        for (a, b) in c.iter().zip(&one) {
+            assert_eq!(a.face, b.face);
+            assert!((a.alpha - b.alpha).abs() < 1e-3 && (a.beta - b.beta).abs() < 1e-3);
+            assert!((a.position_object / s).distance(b.position_object) < 1e-4);
+        }
+    }
+}
+
+/// The shipped meshes load through `io::load` as through `load_obj`, and survive a trip
+/// through binary PLY and GLB unchanged.
+#[test]
+fn shipped_meshes_through_every_format() {
+    for name in ["stanford-bunny.obj", "spot.obj"] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../fixtures/meshes")
+            .join(name);
+        let l = load(&path).unwrap();
+        let m = npr_geometry::load_obj(&path).unwrap();
+        assert_eq!(l.mesh, m, "{name}");
+        for (format, bytes) in [
+            (Format::Ply, write::ply(&m, PlyEncoding::BinaryLittleEndian)),
+            (Format::Ply, write::ply(&m, PlyEncoding::BinaryBigEndian)),
+            (Format::Glb, write::glb(&m)),
+        ] {
+            let back = load_bytes(&bytes, format).unwrap();
+            assert_eq!(back.mesh.positions, m.positions, "{name} {format:?}");
+            assert_eq!(back.mesh.indices, m.indices, "{name} {format:?}");
+            assert_eq!(back.mesh.uvs, m.uvs, "{name} {format:?}");
+        }
+    }
+}
