@@ -66,8 +66,12 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
                         .parse()
                         .map_err(|_| err(at(), format!("bad face corner `{c}`")))?;
                     // 1-based, or negative = relative to the last `v` line so far.
-                    let resolved = if i < 0 { nv + i } else { i - 1 };
-                    if !(0..nv).contains(&resolved) {
+                    let resolved = if i < 0 {
+                        nv.checked_add(i)
+                    } else {
+                        i.checked_sub(1)
+                    };
+                    if !resolved.is_some_and(|r| (0..nv).contains(&r)) {
                         return Err(LoadError::IndexOutOfRange {
                             file: file.to_string(),
                             at: at(),
