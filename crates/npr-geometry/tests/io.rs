@@ -560,3 +560,113 @@ fn shipped_meshes_through_every_format() {
         }
     }
 }
+
+/// glTF strips and fans become consistently wound triangle lists; point primitives are
+/// skipped and reported; a primitive without normals makes the loader recompute them.
+#[test]
+fn gltf_strips_fans_points_and_partial_normals() {
+    // A zig-zag strip of 6 vertices in the z = 0 plane, and a fan of 5 around the origin.
+    let strip = Mesh {
+        positions: (0..6)
+            .map(|i| Vec3::new((i / 2) as f32, (i % 2) as f32, 0.0))
+            .collect(),
+        normals: vec![Vec3::Z; 6],
+        uvs: vec![],
+        indices: (0..6).collect(),
+    };
+    let fan = Mesh {
+        positions: std::iter::once(Vec3::ZERO)
+            .chain((0..4).map(|k| {
+                let a = k as f32 * 0.5;
+                Vec3::new(a.cos(), a.sin(), 0.0) + Vec3::X * 5.0
+            }))
+            .collect(),
+        normals: vec![],
+        uvs: vec![],
+        indices: (0..5).collect(),
+    };
+    let points = Mesh {
+        positions: vec![Vec3::ONE],
+        normals: vec![],
+        uvs: vec![],
+        indices: vec![0],
+    };
+    let mut bin = Vec::new();
+    let (mut views, mut accessors, mut prims) = (Vec::new(), Vec::new(), Vec::new());
+    for (m, mode) in [(&strip, 5), (&fan, 6), (&points, 0)] {
+        let (v, acc, p) = write::glb_primitive(m, &mut bin, accessors.len());
+        views.extend(v);
+        accessors.extend(acc);
+        prims.push(p.replace(r#""mode":4"#, &format!(r#""mode":{mode}"#)));
+    }
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+        "meshes":[{{"primitives":[{}]}}],"accessors":[{}],"bufferViews":[{}],
+        "buffers":[{{"byteLength":{}}}]}}"#,
+        prims.join(","),
+        accessors.join(","),
+        views.join(","),
+        bin.len()
+    );
+    let l = load_bytes(&write::glb_container(&json, Some(&bin)), Format::Glb).unwrap();
+    assert_eq!(l.mesh.triangle_count(), 4 + 3);
+    // Every triangle faces the same way (+z for the strip as written, the fan too).
+    for t in l.mesh.triangles() {
+        let [a, b, c] = t.map(|i| l.mesh.positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        assert!(
+            n.z * (if t[0] < 6 { -1.0 } else { 1.0 }) > 0.0,
+            "{t:?}: {n}"
+        );
+    }
+    assert!(
+        l.report
+            .contains(&LoadNote::StripsConverted { primitives: 2 })
+    );
+    assert!(
+        l.report
+            .iter()
+            .any(|n| matches!(n, LoadNote::Skipped { count: 1, .. }))
+    );
+    assert!(
+        l.report
+            .iter()
+            .any(|n| matches!(n, LoadNote::NormalsRecomputed { .. }))
+    );
+    // The point's vertex is gone with its primitive.
+    assert!(!l.mesh.positions.contains(&Vec3::ONE));
+}
+
+/// PLY with integer coordinates, `s t` texture coordinates, a `vertex_index` list of
+/// `ushort` and extra elements before and after.
+#[test]
+fn ply_any_scalar_types_and_extra_elements() {
+    let mut ply = b"ply\nformat binary_big_endian 1.0\ncomment made by hand\n\
+        element material 1\nproperty uchar red\n\
+        element vertex 3\nproperty short x\nproperty short y\nproperty short z\n\
+        property float s\nproperty float t\nproperty uchar confidence\n\
+        element face 1\nproperty list ushort ushort vertex_index\n\
+        element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n"
+        .to_vec();
+    ply.push(200);
+    for (p, st) in [
+        ([0i16, 0, 0], [0.0f32, 0.0]),
+        ([10, 0, 0], [1.0, 0.0]),
+        ([0, 10, 0], [0.0, 1.0]),
+    ] {
+        p.iter().for_each(|c| ply.extend(c.to_be_bytes()));
+        st.iter().for_each(|c| ply.extend(c.to_be_bytes()));
+        ply.push(7);
+    }
+    ply.extend(3u16.to_be_bytes());
+    [0u16, 1, 2]
+        .iter()
+        .for_each(|i| ply.extend(i.to_be_bytes()));
+    ply.extend(0i32.to_be_bytes());
+    ply.extend(1i32.to_be_bytes());
+    let l = load_bytes(&ply, Format::Ply).unwrap();
+    assert_eq!(l.mesh.positions[1], Vec3::new(10.0, 0.0, 0.0));
+    assert_eq!(l.mesh.uvs[2], glam::Vec2::new(0.0, 1.0));
+    assert_eq!(l.mesh.indices, vec![0, 1, 2]);
+    assert_eq!(l.mesh.normals, vec![Vec3::Z; 3]);
+}

@@ -143,14 +143,16 @@ pub fn glb_container(json: &str, bin: Option<&[u8]>) -> Vec<u8> {
     out
 }
 
-/// The BIN bytes and glTF JSON objects of one primitive appended to `bin`: returns the
-/// JSON of its `bufferViews` and `accessors` (as strings to splice into a document) and
-/// the `attributes`/`indices` object, with accessor numbers starting at
-/// `first_accessor`.
+/// Appends one primitive's data (positions, then normals and uvs when the mesh has one
+/// per vertex, then `u32` indices) to `bin`, one bufferView and one accessor per array.
+/// Returns the JSON of those `bufferViews` and `accessors` (to splice into a document's
+/// arrays) and the primitive object (`attributes`, `indices`, mode 4). Views and
+/// accessors are numbered alike, from `first`: pass the number of accessors written so
+/// far, and keep the two arrays in step.
 pub fn glb_primitive(
     mesh: &Mesh,
     bin: &mut Vec<u8>,
-    first_accessor: usize,
+    first: usize,
 ) -> (Vec<String>, Vec<String>, String) {
     let mut views = Vec::new();
     let mut accessors = Vec::new();
@@ -160,7 +162,7 @@ pub fn glb_primitive(
         while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
-        let view = first_accessor + views.len();
+        let view = first + views.len();
         views.push(format!(
             r#"{{"buffer":0,"byteOffset":{offset},"byteLength":{},"target":{target}}}"#,
             bytes.len()
@@ -179,7 +181,7 @@ pub fn glb_primitive(
         r#","min":[{},{},{}],"max":[{},{},{}]"#,
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
     );
-    let mut attrs = vec![format!(r#""POSITION":{first_accessor}"#)];
+    let mut attrs = vec![format!(r#""POSITION":{first}"#)];
     add(
         &f32s(&mut mesh.positions.iter().flat_map(|p| p.to_array())),
         n,
@@ -189,7 +191,7 @@ pub fn glb_primitive(
         &minmax,
     );
     if mesh.normals.len() == n {
-        attrs.push(format!(r#""NORMAL":{}"#, first_accessor + 1));
+        attrs.push(format!(r#""NORMAL":{}"#, first + 1));
         add(
             &f32s(&mut mesh.normals.iter().flat_map(|p| p.to_array())),
             n,
@@ -200,7 +202,7 @@ pub fn glb_primitive(
         );
     }
     if mesh.uvs.len() == n {
-        attrs.push(format!(r#""TEXCOORD_0":{}"#, first_accessor + attrs.len()));
+        attrs.push(format!(r#""TEXCOORD_0":{}"#, first + attrs.len()));
         add(
             &f32s(&mut mesh.uvs.iter().flat_map(|p| p.to_array())),
             n,
@@ -210,7 +212,7 @@ pub fn glb_primitive(
             "",
         );
     }
-    let ind = first_accessor + attrs.len();
+    let ind = first + attrs.len();
     let idx: Vec<u8> = mesh.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
     add(&idx, mesh.indices.len(), "SCALAR", 5125, 34963, "");
     let prim = format!(
