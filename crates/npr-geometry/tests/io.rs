@@ -670,3 +670,21 @@ fn ply_any_scalar_types_and_extra_elements() {
     assert_eq!(l.mesh.indices, vec![0, 1, 2]);
     assert_eq!(l.mesh.normals, vec![Vec3::Z; 3]);
 }
+
+#[test]
+fn obj_texture_and_normal_indices_are_checked_with_their_line() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\nf 1/1 2/5 3/1\n";
+    let e = load_bytes(obj.as_bytes(), Format::Obj).unwrap_err();
+    assert_eq!(e.kind(), "index-out-of-range");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("line 6 (`vt`") && msg.contains("index 5"),
+        "{e}"
+    );
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\nvn 0 0 1\n";
+    let l = load_bytes(obj.as_bytes(), Format::Obj).unwrap();
+    assert_eq!(l.mesh.normals, vec![Vec3::Z; 3]);
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\nf -4 -2 -1\n";
+    let e = load_bytes(obj.as_bytes(), Format::Obj).unwrap_err();
+    assert!(e.to_string().contains("line 5"), "{e}");
+}

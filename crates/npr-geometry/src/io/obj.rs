@@ -36,6 +36,19 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
 
     // The scan: counts for the report, places for the errors.
     let (mut nv, mut polygons, mut small, mut points, mut lines) = (0i64, 0, 0, 0, 0);
+    // `vt` and `vn` lines so far: face corners `v/vt/vn` are checked against all three,
+    // positive indices against the file's totals (a face may precede its vertices),
+    // negative ones against the lines so far.
+    let (mut nvt, mut nvn) = (0i64, 0i64);
+    let mut total = [0i64; 3];
+    for line in text.lines() {
+        match line.split_whitespace().next() {
+            Some("v") => total[0] += 1,
+            Some("vt") => total[1] += 1,
+            Some("vn") => total[2] += 1,
+            _ => {}
+        }
+    }
     for (k, line) in text.lines().enumerate() {
         let at = || format!("line {}", k + 1);
         let mut words = line.split_whitespace();
@@ -61,26 +74,37 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
                     _ => polygons += 1,
                 }
                 for c in corners {
-                    let v = c.split('/').next().unwrap_or("");
-                    let i: i64 = v
-                        .parse()
-                        .map_err(|_| err(at(), format!("bad face corner `{c}`")))?;
-                    // 1-based, or negative = relative to the last `v` line so far.
-                    let resolved = if i < 0 {
-                        nv.checked_add(i)
-                    } else {
-                        i.checked_sub(1)
-                    };
-                    if !resolved.is_some_and(|r| (0..nv).contains(&r)) {
-                        return Err(LoadError::IndexOutOfRange {
-                            file: file.to_string(),
-                            at: at(),
-                            index: i,
-                            count: nv as usize,
-                        });
+                    let so_far = [nv, nvt, nvn];
+                    for (slot, part) in c.split('/').take(3).enumerate() {
+                        if part.is_empty() && slot > 0 {
+                            continue;
+                        }
+                        let i: i64 = part
+                            .parse()
+                            .map_err(|_| err(at(), format!("bad face corner `{c}`")))?;
+                        // 1-based, or negative = relative to the last line so far.
+                        let (resolved, count) = if i < 0 {
+                            (so_far[slot].checked_add(i), so_far[slot])
+                        } else {
+                            (i.checked_sub(1), total[slot])
+                        };
+                        if !resolved.is_some_and(|r| (0..count).contains(&r)) {
+                            return Err(LoadError::IndexOutOfRange {
+                                file: file.to_string(),
+                                at: format!(
+                                    "{} (`{}` of a face corner)",
+                                    at(),
+                                    ["v", "vt", "vn"][slot]
+                                ),
+                                index: i,
+                                count: count as usize,
+                            });
+                        }
                     }
                 }
             }
+            Some("vt") => nvt += 1,
+            Some("vn") => nvn += 1,
             Some("p") => points += 1,
             Some("l") => lines += 1,
             _ => {}
