@@ -432,15 +432,21 @@ fn base64_encode(b: &[u8]) -> String {
     s
 }
 
+/// `mesh` with every position multiplied by `s`.
+fn scaled(mesh: &Mesh, s: f32) -> Mesh {
+    let mut m = mesh.clone();
+    for p in &mut m.positions {
+        *p *= s;
+    }
+    m
+}
+
 /// Curvature at scale `s` of an ellipsoid, rescaled back (κ·s), against scale 1.
 #[test]
 fn curvature_is_consistent_across_extreme_scales() {
     let base = generate::ellipsoid(1.0, 0.7, 0.5, 6);
     let field_at = |s: f32| {
-        let mut m = base.clone();
-        for p in &mut m.positions {
-            *p *= s;
-        }
+        let m = scaled(&base, s);
         let topo = Topology::new(&weld(&m));
         CurvatureField::compute(&topo, &CurvatureOptions::default())
     };
@@ -477,10 +483,7 @@ fn broken_topology_loads_and_computes() {
             .any(|n| matches!(n, LoadNote::DegenerateKept { .. }))
     );
     for scale in [1e-30f32, 1.0, 1e30] {
-        let mut m = l.mesh.clone();
-        for p in &mut m.positions {
-            *p *= scale;
-        }
+        let m = scaled(&l.mesh, scale);
         let (_, topo, f) = CurvatureField::for_mesh(&m, &CurvatureOptions::default());
         assert_eq!(topo.vertex_count(), 9);
         assert!(
@@ -508,10 +511,7 @@ fn broken_topology_loads_and_computes() {
 fn highlight_centres_are_consistent_across_extreme_scales() {
     let base = generate::ellipsoid(1.0, 0.7, 0.5, 6);
     let centres_at = |s: f32| {
-        let mut m = base.clone();
-        for p in &mut m.positions {
-            *p *= s;
-        }
+        let m = scaled(&base, s);
         let (_, topo, field) = CurvatureField::for_mesh(&m, &CurvatureOptions::default());
         let search = npr_geometry::HighlightSearch::new(&topo, &field);
         let mut c = search.find(

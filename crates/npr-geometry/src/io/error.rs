@@ -81,9 +81,9 @@ pub enum LoadError {
         what: String,
     },
     /// A glTF file requires an extension this loader does not implement (mesh
-    /// compression, quantised attributes, ...). Fix: re-export without it, e.g.
-    /// `gltf-transform copy in.glb out.glb` after `gltf-transform dequantize` /
-    /// decompression.
+    /// compression, quantised attributes, ...). Fix: re-export from the modeller without
+    /// Draco/meshopt compression or quantisation (gltf-transform's `dequantize` undoes
+    /// `KHR_mesh_quantization`).
     #[error("{file}: requires glTF extension `{extension}`, which is not supported")]
     UnsupportedExtension {
         /// The file.
