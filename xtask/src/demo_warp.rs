@@ -10,7 +10,6 @@
 
 use crate::demo::save;
 use crate::warp_rig::{CLEAR, Rig, Variant, light, path_for};
-use anyhow::Context;
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::readback_rgba;

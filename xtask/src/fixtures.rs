@@ -15,5 +15,16 @@ pub fn run() -> anyhow::Result<()> {
         image.save(&path)?;
         println!("fixtures: wrote {}", path.display());
     }
+    // The bad-input corpus of `npr_geometry::io` and its manifest.
+    let bad = dir.join("bad");
+    std::fs::create_dir_all(&bad)?;
+    for (name, bytes, _kind) in npr_geometry::io::fixtures::bad() {
+        std::fs::write(bad.join(name), bytes)?;
+    }
+    std::fs::write(
+        bad.join("expected.txt"),
+        npr_geometry::io::fixtures::expected_txt(),
+    )?;
+    println!("fixtures: wrote {}/ (bad-input corpus)", bad.display());
     Ok(())
 }

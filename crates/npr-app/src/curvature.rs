@@ -35,7 +35,8 @@ impl From<Method> for CurvatureMethod {
 /// Arguments of `npr curvature`.
 #[derive(clap::Args, Debug)]
 pub struct CurvatureArgs {
-    /// Input model (Wavefront OBJ; rows follow its `v` lines).
+    /// Input model: OBJ (rows follow its `v` lines), PLY or glTF (rows follow the loaded
+    /// mesh's vertices).
     pub input: PathBuf,
     /// Output CSV: header `k_min,k_max,dmax_x,dmax_y,dmax_z`, one row per `v` line of
     /// the input in input order; empty fields where curvature is undefined.
@@ -71,14 +72,33 @@ pub fn run(args: CurvatureArgs) -> Result<(), AppError> {
         (None, Some(k)) => CurvatureRadius::EdgeLengths(k),
         (None, None) => CurvatureRadius::default(),
     };
-    let obj =
-        npr_geometry::load_obj_with_vertex_map(&args.input).map_err(|source| AppError::Load {
+    let is_obj = args
+        .input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    let (welded, rows) = if is_obj {
+        // One row per `v` line of the file, as before.
+        let obj = npr_geometry::load_obj_with_vertex_map(&args.input).map_err(|e| match e {
+            npr_geometry::GeometryError::Load(source) => AppError::Load {
+                path: args.input.clone(),
+                source,
+            },
+            e => AppError::Geometry(e),
+        })?;
+        (obj.welded, obj.obj_to_welded)
+    } else {
+        // One row per vertex of the loaded mesh (for PLY, the file's vertices in order).
+        let loaded = npr_geometry::io::load(&args.input).map_err(|source| AppError::Load {
             path: args.input.clone(),
             source,
         })?;
+        let welded = npr_geometry::weld(&loaded.mesh);
+        let rows = welded.render_to_welded.iter().map(|&w| Some(w)).collect();
+        (welded, rows)
+    };
 
     let start = Instant::now();
-    let topo = Topology::new(&obj.welded);
+    let topo = Topology::new(&welded);
     let field = CurvatureField::compute(
         &topo,
         &CurvatureOptions {
@@ -93,7 +113,7 @@ pub fn run(args: CurvatureArgs) -> Result<(), AppError> {
     crate::output::write_with(&args.output, |out| {
         let io = |e| AppError::io(&output, e);
         writeln!(out, "k_min,k_max,dmax_x,dmax_y,dmax_z").map_err(io)?;
-        for w in &obj.obj_to_welded {
+        for w in &rows {
             match w.map(|w| w as usize).filter(|&w| field.valid[w]) {
                 Some(w) => {
                     let d = field.dir_kappa_max[w];
@@ -115,7 +135,7 @@ pub fn run(args: CurvatureArgs) -> Result<(), AppError> {
     println!("compute_s={compute_s:.6}");
     eprintln!(
         "{} rows ({} undefined), method {}, radius {} world units -> {}",
-        obj.obj_to_welded.len(),
+        rows.len(),
         undefined,
         field.method.name(),
         field.radius_world,

@@ -75,7 +75,14 @@ struct OutlineState {
 
 /// Warping state: the proxy's warper and the base pass drawing its references.
 struct WarpState {
-    key: (u32, crate::preset::WarpMode, bool, (u32, u32), ShadingModel, Vec<u8>),
+    key: (
+        u32,
+        crate::preset::WarpMode,
+        bool,
+        (u32, u32),
+        ShadingModel,
+        Vec<u8>,
+    ),
     warper: npr_warp::Warper,
     base: npr_warp::PhongBase,
     proxy_triangles: usize,
@@ -624,7 +631,12 @@ impl Renderer {
         Ok(stats)
     }
 
-    fn ensure_warp(&mut self, device: &wgpu::Device, preset: &Preset, view: &View) -> Result<(), AppError> {
+    fn ensure_warp(
+        &mut self,
+        device: &wgpu::Device,
+        preset: &Preset,
+        view: &View,
+    ) -> Result<(), AppError> {
         let w = &preset.warp;
         let model = preset.base.model.into();
         let key = (
@@ -650,7 +662,12 @@ impl Renderer {
             COLOR_FORMAT,
             DEPTH_FORMAT,
         )?;
-        let shades: Vec<[u8; 4]> = preset.base.cel_bands.iter().map(|&g| [g, g, g, 255]).collect();
+        let shades: Vec<[u8; 4]> = preset
+            .base
+            .cel_bands
+            .iter()
+            .map(|&g| [g, g, g, 255])
+            .collect();
         let base = npr_warp::PhongBase::new(
             &self.gpu_mesh,
             view.light,
@@ -699,7 +716,9 @@ impl Renderer {
 
     /// References recorded so far.
     pub fn warp_references(&self) -> u64 {
-        self.warp.as_ref().map_or(0, |w| w.warper.references_recorded())
+        self.warp
+            .as_ref()
+            .map_or(0, |w| w.warper.references_recorded())
     }
 
     /// Warping (SPEC §4): draws the proxy textured by the two newest references at `view`,
@@ -821,7 +840,14 @@ pub fn render_warp_frames(
     let size = (preset.output.width, preset.output.height);
     let framing = model.framing;
     let k = preset.warp.k.max(1) as usize;
-    let view_at = |i: usize| View::new(preset, &framing, size, 360.0 * i as f32 / frames.max(1) as f32);
+    let view_at = |i: usize| {
+        View::new(
+            preset,
+            &framing,
+            size,
+            360.0 * i as f32 / frames.max(1) as f32,
+        )
+    };
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
     let bar = crate::progress::bar(u64::from(frames), "warp");
     let mut stats = Vec::new();

@@ -6,15 +6,18 @@ use std::path::{Path, PathBuf};
 /// setting at fault; nothing here panics and no command leaves a partial output file.
 #[derive(Debug, thiserror::Error)]
 pub enum AppError {
-    /// The model could not be loaded.
-    #[error("{path}: {source}")]
+    /// The model could not be loaded (the loader's message names the file and the place).
+    #[error("{source}")]
     Load {
         /// The model file.
         path: PathBuf,
-        /// The loader's error.
+        /// The loader's typed error (`kind()` is a stable name).
         #[source]
-        source: npr_geometry::GeometryError,
+        source: npr_geometry::io::LoadError,
     },
+    /// The model loaded but is unusable (a geometry-layer error).
+    #[error("{0}")]
+    Geometry(#[from] npr_geometry::GeometryError),
     /// A preset file is malformed or holds an invalid value.
     #[error("preset {path}: {reason}")]
     Preset {
@@ -73,6 +76,7 @@ impl AppError {
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Load { .. } => "load",
+            Self::Geometry(_) => "geometry",
             Self::Preset { .. } => "preset",
             Self::Usage(_) => "usage",
             Self::NoDisplay(_) => "no-display",

@@ -43,7 +43,10 @@ impl Model {
     /// # Errors
     /// [`AppError::Load`] with the loader's one-line reason.
     pub fn load(path: &Path) -> Result<Self, AppError> {
-        let loaded = load_file(path)?;
+        let loaded = npr_geometry::io::load(path).map_err(|source| AppError::Load {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let name = path
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
@@ -59,40 +62,12 @@ impl Model {
     /// # Errors
     /// [`AppError::Load`] if the embedded file does not parse (it always does).
     pub fn bunny() -> Result<Self, AppError> {
-        let path = Path::new("stanford-bunny.obj");
-        let loaded = load_obj_text(BUNNY_OBJ, path)?;
+        let loaded =
+            npr_geometry::io::load_bytes(BUNNY_OBJ.as_bytes(), npr_geometry::io::Format::Obj)
+                .map_err(|source| AppError::Load {
+                    path: "stanford-bunny.obj".into(),
+                    source,
+                })?;
         Ok(Self::from_mesh("stanford-bunny.obj", loaded.mesh))
     }
-}
-
-/// What a loader returns: the mesh and its notes.
-struct Loaded {
-    mesh: Mesh,
-    report: Vec<String>,
-}
-
-// TEMPORARY until npr_geometry::io lands: OBJ only.
-fn load_file(path: &Path) -> Result<Loaded, AppError> {
-    let mesh = npr_geometry::load_obj(path).map_err(|source| AppError::Load {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    Ok(Loaded {
-        mesh,
-        report: Vec::new(),
-    })
-}
-
-fn load_obj_text(text: &str, name: &Path) -> Result<Loaded, AppError> {
-    let tmp = std::env::temp_dir().join(format!("npr-bunny-{}.obj", std::process::id()));
-    std::fs::write(&tmp, text).map_err(|e| AppError::io(&tmp, e))?;
-    let r = load_file(&tmp);
-    let _ = std::fs::remove_file(&tmp);
-    r.map_err(|e| match e {
-        AppError::Load { source, .. } => AppError::Load {
-            path: name.to_path_buf(),
-            source,
-        },
-        e => e,
-    })
 }

@@ -56,11 +56,52 @@ fn object_coverage(img: &image::RgbaImage) -> (f64, [f64; 2]) {
     (share, centre)
 }
 
-fn models() -> Vec<PathBuf> {
-    vec![
-        root().join("fixtures/meshes/spot.obj"),
-        root().join("fixtures/meshes/stanford-bunny.obj"),
-    ]
+/// Spot as a GLB of two meshes on two nodes: a parent with translation, rotation and
+/// scale holding half the triangles, and a child (inheriting it) holding the rest.
+fn multi_node_glb(mesh: &npr_geometry::Mesh) -> Vec<u8> {
+    use npr_geometry::io::write::{glb_container, glb_primitive};
+    let half = mesh.indices.len() / 6 * 3;
+    let part = |r: std::ops::Range<usize>| npr_geometry::Mesh {
+        indices: mesh.indices[r].to_vec(),
+        ..mesh.clone()
+    };
+    let (a, b) = (part(0..half), part(half..mesh.indices.len()));
+    let mut bin = Vec::new();
+    let (v0, a0, p0) = glb_primitive(&a, &mut bin, 0);
+    let (v1, a1, p1) = glb_primitive(&b, &mut bin, v0.len());
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"children":[1],"translation":[5,-2,1],"rotation":[0,0.3826834,0,0.9238795],"scale":[3,3,3]}},{{"mesh":1}}],"meshes":[{{"primitives":[{p0}]}},{{"primitives":[{p1}]}}],"accessors":[{}],"bufferViews":[{}],"buffers":[{{"byteLength":{}}}]}}"#,
+        [a0, a1].concat().join(","),
+        [v0, v1].concat().join(","),
+        bin.len()
+    );
+    glb_container(&json, Some(&bin))
+}
+
+/// An OBJ, a binary PLY scan (the bunny) and a multi-node GLB (Spot), the latter two
+/// written into `dir`.
+fn models(dir: &Path) -> Vec<PathBuf> {
+    let bunny = npr_geometry::io::load(root().join("fixtures/meshes/stanford-bunny.obj"))
+        .unwrap()
+        .mesh;
+    let spot = npr_geometry::io::load(root().join("fixtures/meshes/spot.obj"))
+        .unwrap()
+        .mesh;
+    let ply = dir.join("bunny-binary.ply");
+    std::fs::write(
+        &ply,
+        npr_geometry::io::write::ply(
+            &bunny,
+            npr_geometry::io::write::PlyEncoding::BinaryLittleEndian,
+        ),
+    )
+    .unwrap();
+    let glb = dir.join("spot-two-nodes.glb");
+    std::fs::write(&glb, multi_node_glb(&spot)).unwrap();
+    // The GLB loads whole: both nodes' triangles.
+    let loaded = npr_geometry::io::load(&glb).unwrap();
+    assert_eq!(loaded.mesh.triangle_count(), spot.triangle_count());
+    vec![root().join("fixtures/meshes/spot.obj"), ply, glb]
 }
 
 #[test]
@@ -69,14 +110,16 @@ fn every_effect_shows_the_object_on_every_model() {
         return;
     };
     let dir = out_dir("effects");
-    for model in models() {
-        for effect in Effect::ALL.into_iter().filter(|e| *e != Effect::Warp) {
+    for model in models(&dir) {
+        for effect in Effect::ALL {
             let out = dir.join(format!(
                 "{}-{}.png",
                 model.file_stem().unwrap().to_string_lossy(),
                 effect.name()
             ));
-            let o = npr(&[
+            // Warp: two frames of a turntable, the second one warped.
+            let warp_args = ["--turntable", "2", "--json", "/dev/null"];
+            let mut args = vec![
                 "render",
                 model.to_str().unwrap(),
                 "--effect",
@@ -85,7 +128,11 @@ fn every_effect_shows_the_object_on_every_model() {
                 "160x120",
                 "--out",
                 out.to_str().unwrap(),
-            ]);
+            ];
+            if effect == Effect::Warp {
+                args.extend(warp_args);
+            }
+            let o = npr(&args);
             assert!(
                 o.status.success(),
                 "{} {}: {}",
@@ -93,6 +140,11 @@ fn every_effect_shows_the_object_on_every_model() {
                 effect.name(),
                 String::from_utf8_lossy(&o.stderr)
             );
+            let out = if effect == Effect::Warp {
+                npr_app::output::frame_path(&out, 1)
+            } else {
+                out
+            };
             let img = image::open(&out).unwrap().to_rgba8();
             assert_eq!(img.dimensions(), (160, 120));
             let (share, centre) = object_coverage(&img);
@@ -374,4 +426,42 @@ fn outlines_draw_ink_on_the_silhouette_over_any_effect() {
             effect.name()
         );
     }
+}
+
+#[test]
+fn every_file_of_the_bad_corpus_gets_one_line_through_npr_render() {
+    let dir = out_dir("corpus");
+    let bad = root().join("fixtures/bad");
+    let expected = std::fs::read_to_string(bad.join("expected.txt")).unwrap();
+    let mut n = 0;
+    for line in expected.lines().filter(|l| !l.trim().is_empty()) {
+        let (file, kind) = line.split_once(' ').unwrap();
+        let out = dir.join(format!("{file}.png"));
+        let o = npr(&[
+            "render",
+            bad.join(file).to_str().unwrap(),
+            "--size",
+            "32x32",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!o.status.success(), "{file} rendered");
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let errors: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.starts_with("npr: error:"))
+            .collect();
+        assert_eq!(errors.len(), 1, "{file}: {stderr}");
+        assert!(errors[0].contains(file), "{file} ({kind}): {}", errors[0]);
+        assert!(!stderr.contains("panicked"), "{file}: {stderr}");
+        assert!(!out.exists(), "{file}: an output was written");
+        // The library gives the kind the corpus expects.
+        let e = npr_app::model::Model::load(&bad.join(file)).unwrap_err();
+        match e {
+            npr_app::AppError::Load { source, .. } => assert_eq!(source.kind(), kind, "{file}"),
+            e => panic!("{file}: {e}"),
+        }
+        n += 1;
+    }
+    assert!(n >= 20, "only {n} bad files");
 }

@@ -201,6 +201,32 @@ fn sym6(d: DVec3, s: f64) -> [f64; 6] {
     ]
 }
 
+/// `2^k` as an exact `f32` (`k` in -126..=127).
+fn pow2(k: i32) -> f32 {
+    f32::from_bits(((k.clamp(-126, 127) + 127) as u32) << 23)
+}
+
+/// The power of two `k` with `2^k` ≈ the bounding radius of the finite positions (about
+/// their bounding-box centre), when it is outside `-8..=8`; `None` for meshes near unit
+/// size (computed as they are) and for meshes without a finite extent.
+fn normalising_exponent(positions: &[Vec3]) -> Option<i32> {
+    let finite = positions
+        .iter()
+        .filter(|p| p.is_finite())
+        .map(|p| p.as_dvec3());
+    let (lo, hi) = finite.clone().fold(
+        (glam::DVec3::splat(f64::MAX), glam::DVec3::splat(f64::MIN)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    );
+    let centre = 0.5 * (lo + hi);
+    let radius = finite.map(|p| p.distance(centre)).fold(0.0, f64::max);
+    if !(radius > 0.0) || !radius.is_finite() {
+        return None;
+    }
+    let k = radius.log2().round() as i32;
+    (k.abs() > 8).then_some(k.clamp(-126, 126))
+}
+
 impl CurvatureField {
     /// Welds a render mesh, builds its topology and computes the field per welded
     /// vertex; [`CurvatureField::to_render`] maps it to render vertices.
@@ -263,7 +289,41 @@ impl CurvatureField {
     /// and boundary edges carry no dihedral angle, so curvature there reads low.
     /// Vertices with a non-finite position, isolated vertices, and vertices whose ball
     /// holds no area are marked invalid; non-finite neighbours are skipped.
+    ///
+    /// Any scale works: when the mesh's bounding radius is far from 1 (beyond 2^±8), the
+    /// field is computed on a copy scaled by a power of two to unit size (exact in
+    /// floating point, so only the absolute tolerances and the `f32` range of areas see a
+    /// difference) and the curvatures are scaled back: κ is reported in 1/(file unit),
+    /// `radius_world` in file units.
     pub fn compute(topo: &Topology, options: &CurvatureOptions) -> Self {
+        let Some(k) = normalising_exponent(&topo.positions) else {
+            return Self::compute_at_scale(topo, options);
+        };
+        // x · 2^-k, and back with 2^k: both exact (|k| ≤ 126 keeps them normal floats).
+        let (down, up) = (pow2(-k), pow2(k));
+        let scaled = Topology::from_parts(
+            topo.positions.iter().map(|&p| p * down).collect(),
+            topo.triangles.clone(),
+        );
+        let radius = match options.radius {
+            CurvatureRadius::World(r) => CurvatureRadius::World(r * down),
+            edges => edges,
+        };
+        let mut field = Self::compute_at_scale(
+            &scaled,
+            &CurvatureOptions {
+                radius,
+                method: options.method,
+            },
+        );
+        for kappa in field.kappa_max.iter_mut().chain(field.kappa_min.iter_mut()) {
+            *kappa *= down;
+        }
+        field.radius_world *= up;
+        field
+    }
+
+    fn compute_at_scale(topo: &Topology, options: &CurvatureOptions) -> Self {
         let r = match options.radius {
             CurvatureRadius::World(r) => r,
             CurvatureRadius::EdgeLengths(k) => k * topo.mean_edge_length,

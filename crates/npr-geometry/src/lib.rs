@@ -8,7 +8,7 @@
 //! O. Devillers, B. Lévy and M. Desbrun, "Anisotropic polygonal remeshing", ACM Trans.
 //! Graph. 22(3), 485–493, 2003 (the paper's reference [10]).
 //!
-//! Pipeline: [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
+//! Pipeline: [`io::load`] (OBJ, glTF/GLB, PLY) → [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
 //! [`CurvatureField`] (once per mesh) → per frame [`HighlightSearch::find`].
 //! No GPU code lives here.
 //!
@@ -42,6 +42,7 @@ pub mod curvature;
 pub mod error;
 pub mod generate;
 pub mod highlight;
+pub mod io;
 pub mod mesh;
 pub mod obj;
 pub mod rng;

@@ -1,13 +1,11 @@
-//! Wavefront OBJ loading through `tobj`: triangulated, single-indexed render vertices
-//! (each keeps its own uv and normal), smooth normals computed when the file has none,
-//! and an optional map from the file's `v` lines to welded vertices.
+//! Wavefront OBJ loading, kept for the callers that want an OBJ's `v`-line numbering:
+//! both entry points go through [`crate::io`] (same parsing, same validation, same
+//! typed errors) and differ only in what they return.
 
 use std::collections::HashMap;
-use std::io::BufReader;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use glam::{Vec2, Vec3};
-
+use crate::io::{Format, load_path_as, parse_v};
 use crate::weld::position_key;
 use crate::{GeometryError, Mesh, Welded, weld};
 
@@ -24,20 +22,19 @@ pub struct ObjMesh {
     pub obj_to_welded: Vec<Option<u32>>,
 }
 
-/// Loads an OBJ file as a render [`Mesh`] (all objects and groups concatenated,
-/// polygons fan-triangulated, points and lines ignored, materials ignored).
+/// Loads an OBJ file (whatever its extension) as a render [`Mesh`]: all objects and
+/// groups concatenated, polygons fan-triangulated, points and lines ignored, materials
+/// ignored. [`crate::io::load`] does the same and also returns the report of what changed.
 ///
 /// Normals come from the file when every face corner has one; otherwise smooth
 /// area-weighted normals are computed over the welded mesh (see
 /// [`Mesh::recompute_normals`]). Missing texture coordinates are zero.
 ///
 /// # Errors
-/// [`GeometryError::Unreadable`], [`GeometryError::Malformed`] (parse errors),
-/// [`GeometryError::ObjIndexOutOfRange`], [`GeometryError::NoFaces`],
-/// [`GeometryError::NonFinite`].
+/// [`GeometryError::Load`] with the [`crate::io::LoadError`] (missing file, parse error
+/// with its line, index out of range, non-finite coordinate, no faces).
 pub fn load_obj(path: impl AsRef<Path>) -> Result<Mesh, GeometryError> {
-    let text = read(path.as_ref())?;
-    parse(&text, path.as_ref())
+    Ok(load_path_as(path.as_ref(), Format::Obj)?.0.mesh)
 }
 
 /// Like [`load_obj`], and also maps every `v` line of the file to its welded vertex, for
@@ -51,9 +48,8 @@ pub fn load_obj(path: impl AsRef<Path>) -> Result<Mesh, GeometryError> {
 /// # Errors
 /// As [`load_obj`]; a non-finite `v` line is reported even if no face uses it.
 pub fn load_obj_with_vertex_map(path: impl AsRef<Path>) -> Result<ObjMesh, GeometryError> {
-    let path = path.as_ref();
-    let text = read(path)?;
-    let mesh = parse(&text, path)?;
+    let (loaded, bytes) = load_path_as(path.as_ref(), Format::Obj)?;
+    let mesh = loaded.mesh;
     let welded = weld(&mesh);
     let lookup: HashMap<[u32; 3], u32> = welded
         .positions
@@ -61,25 +57,18 @@ pub fn load_obj_with_vertex_map(path: impl AsRef<Path>) -> Result<ObjMesh, Geome
         .enumerate()
         .map(|(i, &p)| (position_key(p), i as u32))
         .collect();
-    let mut obj_to_welded = Vec::new();
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        if words.next() != Some("v") {
-            continue;
-        }
-        let vals: Vec<&str> = words.collect();
-        let p = parse_v(&vals).ok_or_else(|| GeometryError::Malformed {
-            path: path.to_path_buf(),
-            reason: format!("bad vertex line `{line}`"),
-        })?;
-        if !p.is_finite() {
-            return Err(GeometryError::NonFinite {
-                vertex: obj_to_welded.len(),
-                what: "position",
-            });
-        }
-        obj_to_welded.push(lookup.get(&position_key(p)).copied());
-    }
+    // The loader has checked every `v` line (parsable, finite) and that the bytes are UTF-8.
+    let text = String::from_utf8_lossy(&bytes);
+    let obj_to_welded = text
+        .lines()
+        .filter_map(|line| {
+            let mut words = line.split_whitespace();
+            (words.next() == Some("v")).then(|| {
+                let vals: Vec<&str> = words.collect();
+                parse_v(&vals).and_then(|p| lookup.get(&position_key(p)).copied())
+            })
+        })
+        .collect();
     Ok(ObjMesh {
         mesh,
         welded,
@@ -87,108 +76,11 @@ pub fn load_obj_with_vertex_map(path: impl AsRef<Path>) -> Result<ObjMesh, Geome
     })
 }
 
-/// Parses `x y z [w]` (or `x y z r g b`) the way `tobj` does.
-fn parse_v(vals: &[&str]) -> Option<Vec3> {
-    let f = |s: &str| s.parse::<f32>().ok();
-    let mut p = [f(vals.first()?)?, f(vals.get(1)?)?, f(vals.get(2)?)?];
-    if vals.len() == 4 {
-        let w = f(vals[3])?;
-        for c in p.iter_mut() {
-            *c /= w;
-        }
-    }
-    Some(Vec3::from(p))
-}
-
-fn read(path: &Path) -> Result<String, GeometryError> {
-    std::fs::read_to_string(path).map_err(|source| GeometryError::Unreadable {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
-fn parse(text: &str, path: &Path) -> Result<Mesh, GeometryError> {
-    let opts = tobj::LoadOptions {
-        single_index: true,
-        triangulate: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let malformed = |e: tobj::LoadError| match e {
-        tobj::LoadError::FaceVertexOutOfBounds => GeometryError::ObjIndexOutOfRange {
-            path: PathBuf::from(path),
-        },
-        e => GeometryError::Malformed {
-            path: PathBuf::from(path),
-            reason: e.to_string(),
-        },
-    };
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut BufReader::new(text.as_bytes()), &opts, |_| {
-            Err(tobj::LoadError::OpenFileFailed)
-        })
-        .map_err(malformed)?;
-
-    let mut mesh = Mesh::default();
-    let mut all_normals = true;
-    for m in &models {
-        let t = &m.mesh;
-        let base = mesh.positions.len() as u32;
-        let n = t.positions.len() / 3;
-        mesh.positions.extend(
-            t.positions
-                .chunks_exact(3)
-                .map(|p| Vec3::new(p[0], p[1], p[2])),
-        );
-        if t.normals.len() == 3 * n {
-            mesh.normals.extend(
-                t.normals
-                    .chunks_exact(3)
-                    .map(|p| Vec3::new(p[0], p[1], p[2])),
-            );
-        } else {
-            all_normals = false;
-            mesh.normals.extend(std::iter::repeat_n(Vec3::ZERO, n));
-        }
-        if t.texcoords.len() == 2 * n {
-            mesh.uvs
-                .extend(t.texcoords.chunks_exact(2).map(|p| Vec2::new(p[0], p[1])));
-        } else {
-            mesh.uvs.extend(std::iter::repeat_n(Vec2::ZERO, n));
-        }
-        mesh.indices.extend(t.indices.iter().map(|&i| i + base));
-    }
-    if mesh.indices.len() < 3 {
-        return Err(GeometryError::NoFaces {
-            path: path.to_path_buf(),
-        });
-    }
-    if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
-        return Err(GeometryError::NonFinite {
-            vertex: i,
-            what: "position",
-        });
-    }
-    // Normals: keep the file's when complete and finite, normalised; else smooth ones.
-    let usable = all_normals
-        && mesh
-            .normals
-            .iter()
-            .all(|n| n.is_finite() && n.length_squared() > 0.0);
-    if usable {
-        for n in &mut mesh.normals {
-            *n = n.normalize();
-        }
-    } else {
-        mesh.recompute_normals();
-    }
-    mesh.validate()?;
-    Ok(mesh)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
+    use std::path::PathBuf;
 
     fn write(name: &str, text: &str) -> PathBuf {
         let p = std::env::temp_dir().join(format!("npr-geometry-{}-{name}", std::process::id()));
@@ -225,22 +117,25 @@ mod tests {
 
     #[test]
     fn typed_errors() {
-        assert!(matches!(
-            load_obj("/nonexistent/x.obj"),
-            Err(GeometryError::Unreadable { .. })
-        ));
+        let kind = |r: Result<Mesh, GeometryError>| match r {
+            Err(GeometryError::Load(e)) => e.kind(),
+            other => panic!("expected a load error, got {other:?}"),
+        };
+        assert_eq!(kind(load_obj("/nonexistent/x.obj")), "missing");
         let p = write("nofaces.obj", "v 0 0 0\nv 1 0 0\n");
-        assert!(matches!(load_obj(&p), Err(GeometryError::NoFaces { .. })));
+        assert_eq!(kind(load_obj(&p)), "no-triangles");
         let p = write("nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-        assert!(matches!(load_obj(&p), Err(GeometryError::NonFinite { .. })));
-        let p = write("inf.obj", "v 0 0 inf\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-        assert!(matches!(load_obj(&p), Err(GeometryError::NonFinite { .. })));
+        assert_eq!(kind(load_obj(&p)), "non-finite");
+        // Also when no face uses the vertex.
+        let p = write("inf.obj", "v 0 0 inf\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 2 3 4\n");
+        assert_eq!(
+            kind(load_obj_with_vertex_map(&p).map(|o| o.mesh)),
+            "non-finite"
+        );
         let p = write("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-        assert!(matches!(
-            load_obj(&p),
-            Err(GeometryError::ObjIndexOutOfRange { .. })
-        ));
+        let e = load_obj(&p).unwrap_err().to_string();
+        assert!(e.contains("line 4") && e.contains("range.obj"), "{e}");
         let p = write("bad.obj", "v 0 x 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-        assert!(matches!(load_obj(&p), Err(GeometryError::Malformed { .. })));
+        assert_eq!(kind(load_obj(&p)), "parse");
     }
 }

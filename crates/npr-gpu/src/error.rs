@@ -46,4 +46,21 @@ pub enum GpuError {
     /// `WAYLAND_DISPLAY`, or render offscreen instead.
     #[error("cannot create a window surface: {0}")]
     Surface(String),
+    /// A mesh buffer would exceed one of the adapter's limits. Cause: the mesh is too large
+    /// for this adapter (`max_buffer_size`, or `max_storage_buffer_binding_size`, since
+    /// the passes bind the vertex and index buffers as storage). Fix: decimate or split
+    /// the mesh, or use an adapter with larger limits.
+    #[error(
+        "mesh {buffer} buffer needs {size} bytes, over the adapter's {limit_name} of {limit} bytes"
+    )]
+    MeshTooLarge {
+        /// `"vertex"` or `"index"`.
+        buffer: &'static str,
+        /// The buffer's size in bytes.
+        size: u64,
+        /// The wgpu limit exceeded (`"max_buffer_size"`, ...).
+        limit_name: &'static str,
+        /// The limit's value on this device.
+        limit: u64,
+    },
 }

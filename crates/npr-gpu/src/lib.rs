@@ -37,7 +37,7 @@ mod uniforms;
 pub use camera::{Camera, Light};
 pub use context::GpuContext;
 pub use error::GpuError;
-pub use mesh::{GpuMesh, Vertex};
+pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
 pub use shading::{BaseShading, ObjectBinding, ShadingModel, default_ramp, toon_ramp, upload_ramp};
 pub use targets::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, begin_views_pass, texture_2d};

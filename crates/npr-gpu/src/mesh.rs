@@ -44,12 +44,49 @@ pub struct GpuMesh {
     pub vertex_count: u32,
 }
 
+/// Checks that the vertex and index buffers of a mesh with `vertex_count` vertices and
+/// `index_count` indices fit `limits`: `max_buffer_size` for both, and
+/// `max_storage_buffer_binding_size` for both (the specular and warping passes bind
+/// them whole as storage buffers). Pure, so it can be tested with made-up limits.
+///
+/// # Errors
+/// [`GpuError::MeshTooLarge`] naming the buffer, its size, the limit and its value.
+pub fn check_mesh_limits(
+    vertex_count: usize,
+    index_count: usize,
+    limits: &wgpu::Limits,
+) -> Result<(), GpuError> {
+    let vertex_bytes = (vertex_count as u64).saturating_mul(std::mem::size_of::<Vertex>() as u64);
+    let index_bytes = (index_count as u64).saturating_mul(4);
+    for (buffer, size) in [("vertex", vertex_bytes), ("index", index_bytes)] {
+        for (limit_name, limit) in [
+            ("max_buffer_size", limits.max_buffer_size),
+            (
+                "max_storage_buffer_binding_size",
+                limits.max_storage_buffer_binding_size,
+            ),
+        ] {
+            if size > limit {
+                return Err(GpuError::MeshTooLarge {
+                    buffer,
+                    size,
+                    limit_name,
+                    limit,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
 impl GpuMesh {
     /// Uploads `mesh`.
     ///
     /// # Errors
     /// [`GpuError::InvalidMesh`] when the mesh has no triangles, its attribute arrays differ
-    /// in length, its index count is not a multiple of 3, or an index is out of range.
+    /// in length, its index count is not a multiple of 3, or an index is out of range;
+    /// [`GpuError::MeshTooLarge`] when a buffer would exceed the device's limits
+    /// ([`check_mesh_limits`]).
     pub fn upload(device: &wgpu::Device, mesh: &Mesh) -> Result<Self, GpuError> {
         let n = mesh.positions.len();
         if mesh.indices.is_empty() || !mesh.indices.len().is_multiple_of(3) {
@@ -70,6 +107,7 @@ impl GpuMesh {
                 "index {bad} out of range for {n} vertices"
             )));
         }
+        check_mesh_limits(n, mesh.indices.len(), &device.limits())?;
         let vertices: Vec<Vertex> = (0..n)
             .map(|i| Vertex {
                 position: mesh.positions[i].to_array(),
@@ -100,5 +138,46 @@ impl GpuMesh {
         pass.set_vertex_buffer(0, self.vertex_buffer.slice(..));
         pass.set_index_buffer(self.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mesh_limits_name_the_limit_and_the_size() {
+        let limits = wgpu::Limits {
+            max_buffer_size: 1000,
+            max_storage_buffer_binding_size: 600,
+            ..wgpu::Limits::default()
+        };
+        // 18 vertices = 576 bytes, 150 indices = 600 bytes: fits exactly.
+        assert!(check_mesh_limits(18, 150, &limits).is_ok());
+        let e = check_mesh_limits(19, 3, &limits).unwrap_err();
+        assert!(matches!(
+            e,
+            GpuError::MeshTooLarge {
+                buffer: "vertex",
+                size: 608,
+                limit_name: "max_storage_buffer_binding_size",
+                limit: 600
+            }
+        ));
+        let msg = e.to_string();
+        assert!(msg.contains("608") && msg.contains("max_storage_buffer_binding_size"));
+        let e = check_mesh_limits(3, 300, &limits).unwrap_err();
+        assert!(matches!(
+            e,
+            GpuError::MeshTooLarge {
+                buffer: "index",
+                size: 1200,
+                limit_name: "max_buffer_size",
+                limit: 1000
+            }
+        ));
+        // Sizes past u64 saturate instead of wrapping to a small number.
+        assert!(check_mesh_limits(usize::MAX, 3, &limits).is_err());
     }
 }

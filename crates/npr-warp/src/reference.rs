@@ -175,8 +175,7 @@ impl PhongBase {
 impl BasePass for PhongBase {
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
         while self.slots.len() <= target.slot {
-            let mut shading =
-                BaseShading::new(device, queue, self.color_format, self.depth_format);
+            let mut shading = BaseShading::new(device, queue, self.color_format, self.depth_format);
             if let Some(texels) = &self.ramp {
                 let view = npr_gpu::upload_ramp(device, queue, texels);
                 shading.set_ramp(device, &view);

@@ -19,10 +19,10 @@
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
 
-use npr_geometry::stats::median;
 use super::table::{Cell, Table, emit};
 use crate::warp_rig::{CLEAR, DEG_PER_FRAME, Rig, Variant, path_for};
 use glam::Vec3;
+use npr_geometry::stats::median;
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
 use npr_warp::{
@@ -360,7 +360,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let (path, world_per_object) = path_for(&bm.mesh, vec![Vec3::ZERO], 3.3, ORBIT);
         // FULL: the full render (also the cost of a reference).
         rig.full_ms(&path.pose(0.0));
-        let full_ms = median((0..5).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
+        let full_ms = median((0..5).map(|i| rig.full_ms(&path.pose(i as f32))));
         let mut fulls = Fulls::new();
         for (ri, &ratio) in bm.ratios.iter().enumerate() {
             if quick && ri != 1 {
@@ -518,13 +518,13 @@ fn table3(
             .map(|_| rig.variant(proxy, Departures::OURS, world_per_object, BINS, false))
             .collect::<Result<_, _>>()?;
         rig.full_ms(&path.pose(0.0));
-        let full_ms = median((0..3).map(|i| rig.full_ms(&path.pose(i as f32))).collect());
+        let full_ms = median((0..3).map(|i| rig.full_ms(&path.pose(i as f32))));
         // The shared reference renders object 0 only.
         let one = ScenePose {
             camera: path.camera,
             objects: vec![path.pose(0.0).objects[0]],
         };
-        let ref_ms = median((0..3).map(|_| rig.full_ms(&one)).collect());
+        let ref_ms = median((0..3).map(|_| rig.full_ms(&one)));
         let r = segment(rig, &path, k, &objects, false, &mut fulls)?;
         let amortized = WarpSchedule::new(k, false)?.amortized_ms(ref_ms, r.warp_ms);
         table.push(vec![
