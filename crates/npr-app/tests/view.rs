@@ -110,14 +110,18 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
          @14 report {after}\n\
          @16 effect hatching-pen\n\
          @20 key 7\n\
-         @24 resize 0 0\n\
-         @28 resize 900 640\n\
-         @34 effect specular\n\
-         @40 save-preset {preset}\n\
-         @41 screenshot {shot}\n\
-         @42 exit\n",
+         @21 turntable on\n\
+         @40 report {warp}\n\
+         @41 turntable off\n\
+         @44 resize 0 0\n\
+         @48 resize 900 640\n\
+         @54 effect specular\n\
+         @60 save-preset {preset}\n\
+         @61 screenshot {shot}\n\
+         @62 exit\n",
         before = p("before.json"),
         after = p("after.json"),
+        warp = p("warp.json"),
         preset = p("preset.toml"),
         shot = p("view.png"),
     );
@@ -180,6 +184,15 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
         h1[0] > 1.25 * h0[0] && h1[1] > 1.25 * h0[1],
         "{h0:?} -> {h1:?}"
     );
+
+    // Warping ran live: references at predicted cameras, warped frames between, and a
+    // warped frame measured against a full render.
+    let w = read("warp.json");
+    assert_eq!(w["effect"], "warp");
+    let warped_db = w["stats"]["psnr_db"]
+        .as_f64()
+        .expect("a measured warped frame");
+    assert!(warped_db > 15.0, "warped frame PSNR {warped_db}");
 
     // The screenshot equals `npr render` of the saved preset.
     let rendered = dir.join("render.png");

@@ -17,7 +17,7 @@ use crate::preset::Preset;
 use crate::{AppError, output};
 use glam::Vec2;
 use script::{Command, Event};
-use state::{Button, HighlightInfo, Input, Key, ViewerState};
+use state::{Button, CameraPredictor, HighlightInfo, Input, Key, Pose, ViewerState};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -105,6 +105,8 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
         pending_resize: None,
         debug: ui::Debug::default(),
         debug_texture: None,
+        predictor: CameraPredictor::default(),
+        warp: WarpLive::default(),
     };
     event_loop
         .run_app(&mut app)
@@ -144,6 +146,27 @@ struct App {
     pending_resize: Option<(u32, u32)>,
     debug: ui::Debug,
     debug_texture: Option<egui::TextureHandle>,
+    predictor: CameraPredictor,
+    warp: WarpLive,
+}
+
+/// Live warping (SPEC §4): references every k frames at the current pose and at the pose
+/// predicted k frames ahead, warped frames between, and now and then a full render to
+/// measure the last warped frame.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WarpLive {
+    /// Frame of the last pair of references.
+    pub last_reference: Option<u64>,
+    /// Smoothed time of a full frame (references), ms (GPU waited for).
+    pub full_ms: f64,
+    /// Smoothed time of a warped frame, ms (GPU waited for).
+    pub warped_ms: f64,
+    /// PSNR of the last measured warped frame against a full render, dB.
+    pub psnr_db: Option<f64>,
+}
+
+fn smooth(avg: f64, x: f64) -> f64 {
+    if avg == 0.0 { x } else { 0.8 * avg + 0.2 * x }
 }
 
 impl App {
@@ -496,6 +519,7 @@ impl App {
                 &mut self.state,
                 &mut self.debug,
                 &self.stats,
+                &self.warp,
                 self.frame_ms,
                 gfx.renderer.model(),
                 self.status.as_deref(),
@@ -537,10 +561,25 @@ impl App {
         let view = self
             .state
             .view(&gfx.renderer.model().framing, gfx.view_size);
-        match gfx
-            .renderer
-            .render(&gfx.ctx.device, &gfx.ctx.queue, &self.state.preset, &view)
-        {
+        self.predictor.push(
+            self.frame,
+            Pose::of(&self.state.preset, self.state.turntable_deg),
+        );
+        let result = if self.state.preset.effect == crate::preset::Effect::Warp {
+            Self::warp_frame(
+                gfx,
+                &mut self.warp,
+                &self.predictor,
+                &self.state,
+                &view,
+                self.frame,
+            )
+        } else {
+            self.warp.last_reference = None;
+            gfx.renderer
+                .render(&gfx.ctx.device, &gfx.ctx.queue, &self.state.preset, &view)
+        };
+        match result {
             Ok(stats) => self.stats = stats,
             Err(e) => self.status = Some(format!("error: {e}")),
         }
@@ -650,6 +689,65 @@ impl App {
             event_loop.exit();
         }
         Ok(())
+    }
+
+    /// One frame of live warping (see [`WarpLive`]).
+    fn warp_frame(
+        gfx: &mut Gfx,
+        live: &mut WarpLive,
+        predictor: &CameraPredictor,
+        state: &ViewerState,
+        view: &crate::view::View,
+        frame: u64,
+    ) -> Result<FrameStats, AppError> {
+        let (device, queue) = (&gfx.ctx.device, &gfx.ctx.queue);
+        let preset = &state.preset;
+        let k = u64::from(preset.warp.k.max(1));
+        let wait = || {
+            let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        };
+        let due = live.last_reference.is_none_or(|f| frame >= f + k)
+            || gfx.renderer.warp_references() == 0;
+        if due {
+            // The references: now, and where the camera will be in k frames.
+            let started = Instant::now();
+            gfx.renderer.warp_reference(device, queue, preset, view)?;
+            let ahead = predictor
+                .predict(k as f32)
+                .unwrap_or(Pose::of(preset, state.turntable_deg));
+            let mut future = preset.clone();
+            future.camera.yaw_deg = ahead.yaw_deg;
+            future.camera.pitch_deg = ahead.pitch_deg;
+            future.camera.distance = ahead.distance;
+            future.turn_deg = ahead.turn_deg;
+            let future_view =
+                crate::view::View::new(&future, &gfx.renderer.model().framing, gfx.view_size, 0.0);
+            gfx.renderer
+                .warp_reference(device, queue, preset, &future_view)?;
+            // This frame is the full render.
+            let stats = gfx.renderer.render(device, queue, preset, view)?;
+            wait();
+            live.full_ms = smooth(live.full_ms, started.elapsed().as_secs_f64() * 1e3);
+            live.last_reference = Some(frame);
+            return Ok(FrameStats {
+                psnr_db: live.psnr_db,
+                ..stats
+            });
+        }
+        let started = Instant::now();
+        let mut stats = gfx.renderer.warp_frame(device, queue, preset, view, None)?;
+        wait();
+        live.warped_ms = smooth(live.warped_ms, started.elapsed().as_secs_f64() * 1e3);
+        // Half-way between references, measure this warped frame against a full render
+        // (which is then shown instead, so the measurement costs no stale frame).
+        if live.last_reference.is_some_and(|f| frame == f + k / 2) {
+            let warped = gfx.renderer.read(device, queue)?;
+            gfx.renderer.render(device, queue, preset, view)?;
+            let full = gfx.renderer.read(device, queue)?;
+            live.psnr_db = Some(npr_warp::metrics::compare(&full, &warped).psnr_db);
+        }
+        stats.psnr_db = live.psnr_db;
+        Ok(stats)
     }
 
     fn handle_actions(&mut self, a: ui::Actions) -> Result<(), AppError> {

@@ -138,6 +138,7 @@ pub fn panel(
     state: &mut ViewerState,
     debug: &mut Debug,
     stats: &FrameStats,
+    warp: &super::WarpLive,
     frame_ms: f64,
     model: &Model,
     status: Option<&str>,
@@ -314,7 +315,15 @@ pub fn panel(
                                 .logarithmic(true)
                                 .text("proxy ratio"),
                         );
-                        ui.checkbox(&mut p.warp.depth_test, "reference depth test");
+                        ui.horizontal(|ui| {
+                            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Ours, "ours");
+                            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Paper, "paper's path");
+                        });
+                        ui.add_enabled(
+                            p.warp.mode == crate::preset::WarpMode::Ours,
+                            egui::Checkbox::new(&mut p.warp.depth_test, "reference depth test"),
+                        );
+                        ui.small("References every k frames, at the camera predicted k frames ahead; turn the turntable on to see warping.");
                     });
                 egui::CollapsingHeader::new("outlines").show(ui, |ui| {
                     ui.checkbox(&mut p.outline.enabled, "silhouettes and creases");
@@ -351,8 +360,19 @@ pub fn panel(
                     "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} triangles",
                     stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
                 ));
-                if let Some(psnr) = stats.psnr_db {
-                    ui.small(format!("warped frame PSNR {psnr:.1} dB"));
+                if state.preset.effect == Effect::Warp {
+                    let fps = |ms: f64| if ms > 0.0 { 1e3 / ms } else { 0.0 };
+                    ui.small(format!(
+                        "warp: full frames {:.0} fps ({:.1} ms), warped {:.0} fps ({:.1} ms)",
+                        fps(warp.full_ms),
+                        warp.full_ms,
+                        fps(warp.warped_ms),
+                        warp.warped_ms,
+                    ));
+                    match stats.psnr_db {
+                        Some(psnr) => ui.small(format!("last measured warped frame: PSNR {psnr:.1} dB")),
+                        None => ui.small("PSNR: measured half-way between references"),
+                    };
                 }
             });
         });
