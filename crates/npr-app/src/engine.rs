@@ -73,6 +73,9 @@ struct OutlineState {
     pass: npr_gpu::outline::OutlinePass,
 }
 
+/// The fewest proxy triangles warping uses (see [`Renderer::warp_reference`]).
+pub const MIN_PROXY_TRIANGLES: usize = 256;
+
 /// Warping state: the proxy's warper and the base pass drawing its references.
 struct WarpState {
     key: (
@@ -650,7 +653,13 @@ impl Renderer {
         if self.warp.as_ref().is_some_and(|s| s.key == key) {
             return Ok(());
         }
-        let proxy = npr_warp::Proxy::simplify(&self.model.mesh, w.proxy_ratio)?;
+        // A proxy needs some triangles to carry the references: keep at least
+        // MIN_PROXY_TRIANGLES (all of a smaller mesh) whatever the ratio.
+        let tris = self.model.mesh.triangle_count().max(1);
+        let ratio = w
+            .proxy_ratio
+            .max((MIN_PROXY_TRIANGLES as f32 / tris as f32).min(1.0));
+        let proxy = npr_warp::Proxy::simplify(&self.model.mesh, ratio)?;
         let (width, height) = self.size();
         let warper = npr_warp::Warper::new(
             device,

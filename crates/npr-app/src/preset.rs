@@ -387,7 +387,7 @@ pub enum WarpMode {
 pub struct WarpPreset {
     /// A reference every k frames.
     pub k: u32,
-    /// Proxy triangles as a share of the model's.
+    /// Proxy triangles as a share of the model's (at least 256 triangles are kept).
     pub proxy_ratio: f32,
     /// The paper's path or ours.
     pub mode: WarpMode,

@@ -117,8 +117,9 @@ fn every_effect_shows_the_object_on_every_model() {
                 model.file_stem().unwrap().to_string_lossy(),
                 effect.name()
             ));
-            // Warp: two frames of a turntable, the second one warped.
-            let warp_args = ["--turntable", "2", "--json", "/dev/null"];
+            // Warp: a turntable in 10° steps (a reference every 10 frames); frame 1 is
+            // warped.
+            let warp_args = ["--turntable", "36", "--json", "/dev/null"];
             let mut args = vec![
                 "render",
                 model.to_str().unwrap(),
@@ -464,4 +465,55 @@ fn every_file_of_the_bad_corpus_gets_one_line_through_npr_render() {
         n += 1;
     }
     assert!(n >= 20, "only {n} bad files");
+}
+
+#[test]
+fn degenerate_non_manifold_and_disconnected_meshes_render() {
+    let Some(_) = context_or_skip("degenerate_non_manifold_and_disconnected_meshes_render") else {
+        return;
+    };
+    let dir = out_dir("messy");
+    // Two disconnected tetrahedra, a zero-area face, a duplicate vertex, and three
+    // triangles sharing one edge (non-manifold).
+    let obj = "\
+v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n\
+v 3 0 0\nv 4 0 0\nv 3 1 0\nv 3 0 1\n\
+v 1 0 0\nv 2 0 0\n\
+v 0 -1 0\nv 0 0 -1\nv -1 0 0\n\
+f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n\
+f 5 7 6\nf 5 6 8\nf 5 8 7\nf 6 7 8\n\
+f 1 2 10\nf 2 9 1\n\
+f 1 2 11\nf 1 2 12\nf 2 1 13\n";
+    let path = dir.join("messy.obj");
+    std::fs::write(&path, obj).unwrap();
+    for effect in Effect::ALL {
+        let out = dir.join(format!("{}.png", effect.name()));
+        let mut args = vec![
+            "render",
+            path.to_str().unwrap(),
+            "--effect",
+            effect.name(),
+            "--size",
+            "96x72",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if effect == Effect::Warp {
+            args.extend(["--turntable", "36"]);
+        }
+        let o = npr(&args);
+        assert!(
+            o.status.success(),
+            "{}: {}",
+            effect.name(),
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let out = if effect == Effect::Warp {
+            npr_app::output::frame_path(&out, 1)
+        } else {
+            out
+        };
+        let (share, _) = object_coverage(&image::open(&out).unwrap().to_rgba8());
+        assert!(share > 0.01, "{}: nothing drawn ({share})", effect.name());
+    }
 }

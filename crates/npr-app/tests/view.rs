@@ -113,6 +113,8 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
          @21 turntable on\n\
          @40 report {warp}\n\
          @41 turntable off\n\
+         @42 load {bad}\n\
+         @43 report {after_bad}\n\
          @44 resize 0 0\n\
          @48 resize 900 640\n\
          @54 effect specular\n\
@@ -122,6 +124,8 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
         before = p("before.json"),
         after = p("after.json"),
         warp = p("warp.json"),
+        bad = root().join("fixtures/bad/truncated.glb").display(),
+        after_bad = p("after-bad.json"),
         preset = p("preset.toml"),
         shot = p("view.png"),
     );
@@ -193,6 +197,15 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
         .as_f64()
         .expect("a measured warped frame");
     assert!(warped_db > 15.0, "warped frame PSNR {warped_db}");
+
+    // A bad model dropped on the window: its error in the panel, the model kept.
+    let d = read("after-bad.json");
+    assert_eq!(d["model"], "spot.obj", "{d}");
+    let status = d["status"].as_str().unwrap_or("");
+    assert!(
+        status.starts_with("error") && status.contains("truncated.glb"),
+        "{status}"
+    );
 
     // The screenshot equals `npr render` of the saved preset.
     let rendered = dir.join("render.png");

@@ -452,6 +452,8 @@ impl App {
             "frame": self.frame,
             "view_size": [gfx.view_size.0, gfx.view_size.1],
             "effect": self.state.preset.effect.name(),
+            "model": gfx.renderer.model().name,
+            "status": self.status,
             "highlights": gfx.highlights.len(),
             "selected": selected.map(|h| {
                 let c = view.to_pixel(h.centre_world, gfx.view_size);
