@@ -32,7 +32,7 @@ pub const NAMES: &[&str] = &[
 ];
 
 /// The benchmarks that take `--mesh`.
-const TAKE_MESHES: &[&str] = &["hatching-directions"];
+const TAKE_MESHES: &[&str] = &["hatching-directions", "specular"];
 
 /// Runs benchmark `name` (on `meshes` instead of its defaults, where it takes them).
 pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
@@ -45,7 +45,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
     match name {
         "hatching-directions" => hatching_directions::run(meshes, json),
         "curvature" => curvature::run(json),
-        "specular" => specular::run(json),
+        "specular" => specular::run(meshes, json),
         "hatching" => hatching::run(json),
         "warp" => warp::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),

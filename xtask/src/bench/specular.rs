@@ -4,7 +4,9 @@
 //! ratios against the base frame: `highlight_cost_ratio_gpu` (the GPU frame with the
 //! highlight pass alone) and `highlight_cost_ratio_frame` (that GPU frame plus the CPU
 //! setup it waits on: the whole frame). Frames rotate the object 3° each; GPU times
-//! include submit and wait.
+//! include submit and wait. The setup is also timed on one core (`setup_us_median_1core`,
+//! the updates run in a one-thread rayon pool), the measure. Default meshes plus
+//! the 1.1M-triangle knot and any `--mesh PATH` (OBJ, PLY, glTF).
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
@@ -13,7 +15,7 @@ use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::HighlightSet;
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 const FRAMES: usize = 60;
@@ -21,7 +23,7 @@ const WIDTH: u32 = 640;
 const HEIGHT: u32 = 480;
 
 /// Runs the benchmark.
-pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
+pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     let ctx = GpuContext::new()?;
     let adapter = ctx.adapter_summary();
     let mut meshes: Vec<(String, Mesh)> = vec![
@@ -38,6 +40,16 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             npr_geometry::load_obj(crate::fixture_mesh(name))?,
         ));
     }
+    meshes.push(("knot (1.1M faces)".into(), generate::benchmark_knot()));
+    for path in extra {
+        let mesh = npr_geometry::io::load(path)?.mesh;
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        meshes.push((name, mesh));
+    }
+    let one_core = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
     let mut table = Table::new(
         &format!(
@@ -50,6 +62,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "highlights_max",
             "receiver_faces_median",
             "setup_us_median",
+            "setup_us_median_1core",
             "search_us_median",
             "visibility_us_median",
             "base_ms_median",
@@ -122,6 +135,25 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             bar.inc(1);
         }
         bar.finish_and_clear();
+        // The same turning sequence, setup only, on one core.
+        let mut set1 = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+        let setup_1core: Vec<f64> = one_core.install(|| {
+            (0..FRAMES + 3)
+                .map(|frame| {
+                    let world_from_object =
+                        Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
+                            * world_from_normalized;
+                    let le = LightEye::Positions {
+                        light: to_light * 50.0,
+                        eye: camera.eye,
+                    };
+                    let t = Instant::now();
+                    set1.update(le, world_from_object);
+                    t.elapsed().as_secs_f64() * 1e6
+                })
+                .skip(3)
+                .collect()
+        });
         let (b, w, f) = (median(base), median(with), median(whole));
         table.push(vec![
             name.as_str().into(),
@@ -130,6 +162,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             hmax.into(),
             Cell::Num(median(receivers), 0),
             Cell::Num(median(setup), 1),
+            Cell::Num(median(setup_1core), 1),
             Cell::Num(median(search), 1),
             Cell::Num(median(visibility), 1),
             Cell::Num(b, 3),
