@@ -596,6 +596,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn uniform_layouts_match_wgsl() {
+        crate::assert_wgsl_layout!(
+            CameraUniforms,
+            "OutlineCamera",
+            [clip_from_world, view_from_world]
+        );
+        crate::assert_wgsl_layout!(
+            OutlineUniforms,
+            "OutlineParams",
+            [color, radius_px, cos_crease, depth_ratio, _pad]
+        );
+    }
+
+    #[test]
     fn settings_are_sanitized() {
         let s = OutlineSettings {
             width_px: f32::NAN,

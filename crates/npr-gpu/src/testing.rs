@@ -308,6 +308,14 @@ mod tests {
                 "npr-specular pass::tests::projector_layout_matches_wgsl",
             ),
             ("WarpObject", "npr-warp pass::tests (assert_wgsl_layout!)"),
+            (
+                "OutlineCamera",
+                "npr-gpu outline::tests::uniform_layouts_match_wgsl",
+            ),
+            (
+                "OutlineParams",
+                "npr-gpu outline::tests::uniform_layouts_match_wgsl",
+            ),
         ];
         let blocks = wgsl_layout::blocks().unwrap();
         let mut missing: Vec<String> = blocks
