@@ -265,6 +265,109 @@ pub struct HighlightSearch {
     /// Which normal field the solve uses.
     pub interpolation: NormalInterpolation,
     normal_source: NormalSource,
+    /// Vertex clusters with bounds on their normals: the coarsest rejection.
+    clusters: Vec<Cluster>,
+    /// Vertices in cluster order (each cluster is a range of this).
+    cluster_vertices: Vec<u32>,
+}
+
+/// Vertices per [`Cluster`].
+const CLUSTER_SIZE: usize = 16;
+
+/// A cluster of nearby vertices and bounds over them, for a normal-cone rejection of
+/// whole clusters before the per-vertex tests (a one-level normal-cone hierarchy).
+#[derive(Clone, Debug)]
+struct Cluster {
+    /// Range of [`HighlightSearch::cluster_vertices`].
+    start: u32,
+    end: u32,
+    /// Centre of the vertices' bounding box.
+    centre: Vec3,
+    /// Largest `|p_v − centre| + reach_v`: every point of every face around the
+    /// cluster's vertices lies within it.
+    radius: f32,
+    /// Cone axis of the vertex normals (unit; zero when they span no cone).
+    axis: Vec3,
+    /// Largest angle between `axis` and a vertex normal (π without a cone).
+    spread: f32,
+    /// Smallest `cos_spread_v − ANGLE_MARGIN` over the vertices.
+    cmin_linear: f32,
+    /// Smallest `cos_spread_v − ANGLE_MARGIN − curvature_margin_v`.
+    cmin_curved: f32,
+}
+
+/// Vertices grouped in clusters of [`CLUSTER_SIZE`] along a Morton (Z-order) curve of
+/// their positions, so each cluster is compact in space.
+fn build_clusters(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    cos_spread: &[f32],
+    reach: &[f32],
+    curvature_margin: &[f32],
+) -> (Vec<Cluster>, Vec<u32>) {
+    let nv = positions.len();
+    let (lo, hi) = positions.iter().filter(|p| p.is_finite()).fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
+    let spread_bits = |x: u32| {
+        let mut x = x & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let morton = |p: Vec3| -> u32 {
+        if !p.is_finite() {
+            return u32::MAX;
+        }
+        let q = ((p - lo) / extent * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
+        spread_bits(q.x as u32) | (spread_bits(q.y as u32) << 1) | (spread_bits(q.z as u32) << 2)
+    };
+    let mut order: Vec<u32> = (0..nv as u32).collect();
+    order.sort_by_key(|&v| morton(positions[v as usize]));
+    let clusters = order
+        .chunks(CLUSTER_SIZE)
+        .enumerate()
+        .map(|(i, chunk)| {
+            let vs = || chunk.iter().map(|&v| v as usize);
+            let (clo, chi) = vs().fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), v| (lo.min(positions[v]), hi.max(positions[v])),
+            );
+            let centre = (clo + chi) * 0.5;
+            let radius = vs()
+                .map(|v| positions[v].distance(centre) + reach[v])
+                .fold(0f32, f32::max);
+            let sum: Vec3 = vs().map(|v| normals[v]).sum();
+            let axis = sum.normalize_or_zero();
+            let spread = if axis == Vec3::ZERO {
+                std::f32::consts::PI
+            } else {
+                vs().map(|v| normals[v].dot(axis).clamp(-1.0, 1.0).acos())
+                    .fold(0f32, f32::max)
+            };
+            let cmin_linear = vs()
+                .map(|v| cos_spread[v] - ANGLE_MARGIN)
+                .fold(f32::MAX, f32::min);
+            let cmin_curved = vs()
+                .map(|v| cos_spread[v] - ANGLE_MARGIN - curvature_margin[v])
+                .fold(f32::MAX, f32::min);
+            let finite = radius.is_finite() && spread.is_finite() && centre.is_finite();
+            Cluster {
+                start: (i * CLUSTER_SIZE) as u32,
+                end: (i * CLUSTER_SIZE + chunk.len()) as u32,
+                centre,
+                radius: if finite { radius } else { f32::INFINITY },
+                axis: if finite { axis } else { Vec3::ZERO },
+                spread: if finite { spread } else { std::f32::consts::PI },
+                cmin_linear,
+                cmin_curved,
+            }
+        })
+        .collect();
+    (clusters, order)
 }
 
 /// Where [`HighlightSearch`] takes its vertex normals from.
@@ -436,7 +539,16 @@ impl HighlightSearch {
                 }
             }
         }
+        let (clusters, cluster_vertices) = build_clusters(
+            &topo.positions,
+            &normals,
+            &cos_spread,
+            &reach,
+            &curvature_margin,
+        );
         Self {
+            clusters,
+            cluster_vertices,
             positions: topo.positions.clone(),
             triangles: topo.triangles.clone(),
             normals,
@@ -456,7 +568,11 @@ impl HighlightSearch {
     /// Every highlight centre on the mesh for this light, eye and object transform
     /// (`world_from_object`, affine), duplicates from neighbouring faces merged.
     ///
-    /// Cheap rejection first, both tests conservative (they never drop a centre):
+    /// Cheap rejection first, every test conservative (they never drop a centre):
+    /// 0. per cluster of 16 nearby vertices (Morton order): the cluster's normal cone
+    ///    against the half vectors its faces can see, bounded over its bounding sphere
+    ///    (point light and near eye included); a cluster that fails is skipped whole, so a
+    ///    frame costs about the clusters plus the vertices near highlights (issue 13);
     /// 1. per vertex: a centre in a face around `v` means `angle(N_v, H_v) ≤ s_v + b_v`,
     ///    with `s_v` the normal spread of those faces (precomputed) and `b_v` a bound on
     ///    how far `H` turns across them (0 for directions; from the edge length, the
@@ -479,6 +595,100 @@ impl HighlightSearch {
         world_from_object: Mat4,
     ) -> Vec<HighlightCentre> {
         self.find_with(light_eye, world_from_object, false)
+    }
+
+    /// How many vertices survive the cluster (normal-cone) rejection of
+    /// [`HighlightSearch::find`] for this light, eye and transform, out of all of them:
+    /// what the per-vertex tests still look at (for measurements and tests).
+    pub fn candidate_vertices(&self, light_eye: LightEye, world_from_object: Mat4) -> usize {
+        let lin = Mat3::from_mat4(world_from_object);
+        let (_, cond) = svd_ratio(lin);
+        if cond < 1.0 + 1e-4 || matches!(light_eye, LightEye::Directions { .. }) {
+            let curved = self.interpolation == NormalInterpolation::Curvature;
+            self.active_vertices(light_eye, world_from_object, lin, curved)
+                .len()
+        } else {
+            self.positions.len()
+        }
+    }
+
+    /// The vertices of the clusters that can hold a centre (the coarsest rejection): a
+    /// cluster whose normals all lie more than the per-vertex test's largest allowance
+    /// away from every half vector its faces can see is skipped whole. Conservative: a
+    /// skipped vertex would have failed its own test (see [`HighlightSearch::find`]).
+    fn active_vertices(
+        &self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        lin: Mat3,
+        curved: bool,
+    ) -> Vec<u32> {
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        let lin_t = lin.transpose();
+        let object_from_world = world_from_object.inverse();
+        let keep = |c: &Cluster| -> bool {
+            if c.axis == Vec3::ZERO || !c.radius.is_finite() {
+                return true;
+            }
+            let cmin = if curved { c.cmin_curved } else { c.cmin_linear };
+            // H at the centre, how far the per-vertex allowance b_v can grow (b), and how
+            // far H itself turns over the cluster (b_h).
+            let (hc, b, b_h) = match light_eye {
+                LightEye::Directions { to_light, to_eye } => {
+                    let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
+                    (
+                        (lin_t * s.normalize_or_zero()).normalize_or_zero(),
+                        0.0,
+                        0.0,
+                    )
+                }
+                LightEye::Positions { light, eye } => {
+                    let (l, e) = (
+                        object_from_world.transform_point3(light) - c.centre,
+                        object_from_world.transform_point3(eye) - c.centre,
+                    );
+                    let (ll, le) = (l.length(), e.length());
+                    let s = l / ll + e / le;
+                    let sl = s.length();
+                    if !(sl > 1e-6) || !s.is_finite() {
+                        return true;
+                    }
+                    let r = c.radius;
+                    // Turn of L̂ (V̂) between the centre and any point within r of it, and
+                    // the per-vertex turn bound at any vertex (its reach ≤ r, its distance
+                    // ≥ d − r): both ≤ turn(d − r) with the vertex formula.
+                    let turn = |d: f32| {
+                        let d = d - r;
+                        if d > 3.0 * r {
+                            let x = r / (d - r);
+                            x * (1.0 + x * x)
+                        } else {
+                            half_pi
+                        }
+                    };
+                    let t = turn(ll) + turn(le);
+                    if t >= half_pi {
+                        return true;
+                    }
+                    let b = (t / (sl - 2.0 * t).max(1e-3)).min(4.0);
+                    let b_h = (t / (sl - t).max(1e-3)).min(std::f32::consts::PI);
+                    (s / sl, b, b_h)
+                }
+            };
+            if hc == Vec3::ZERO {
+                return true;
+            }
+            let allowance = (cmin - b).clamp(-1.0, 1.0).acos();
+            let angle = c.axis.dot(hc).clamp(-1.0, 1.0).acos();
+            angle <= c.spread + b_h + allowance + ANGLE_MARGIN
+        };
+        let mut out = Vec::new();
+        for c in &self.clusters {
+            if keep(c) {
+                out.extend_from_slice(&self.cluster_vertices[c.start as usize..c.end as usize]);
+            }
+        }
+        out
     }
 
     fn find_with(
@@ -506,6 +716,14 @@ impl HighlightSearch {
         let similarity = cond < 1.0 + 1e-4;
         let mut h_obj = vec![Vec3::ZERO; nv];
         let mut pass = vec![false; nv];
+        // The vertices the per-vertex tests look at: those of the clusters whose normal
+        // cone can hold H (all of them without the rejection or for non-similar maps).
+        let active: Vec<u32> =
+            if reject && (similarity || matches!(light_eye, LightEye::Directions { .. })) {
+                self.active_vertices(light_eye, world_from_object, lin, curved)
+            } else {
+                (0..nv as u32).collect()
+            };
         match light_eye {
             LightEye::Directions { to_light, to_eye } => {
                 let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
@@ -514,7 +732,8 @@ impl HighlightSearch {
                 if h == Vec3::ZERO {
                     return Vec::new();
                 }
-                for v in 0..nv {
+                for &v in &active {
+                    let v = v as usize;
                     h_obj[v] = h;
                     pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - margin(v);
                 }
@@ -572,15 +791,18 @@ impl HighlightSearch {
                         self.normals[v].dot(h) >= self.cos_spread[v] - b - margin(v),
                     )
                 };
-                if nv >= 8192 {
-                    (h_obj, pass) = (0..nv)
-                        .into_par_iter()
+                if active.len() >= 8192 {
+                    let results: Vec<(Vec3, bool)> = active
+                        .par_iter()
                         .with_min_len(2048)
-                        .map(per_vertex)
-                        .unzip();
+                        .map(|&v| per_vertex(v as usize))
+                        .collect();
+                    for (&v, (h, ok)) in active.iter().zip(results) {
+                        (h_obj[v as usize], pass[v as usize]) = (h, ok);
+                    }
                 } else {
-                    for v in 0..nv {
-                        (h_obj[v], pass[v]) = per_vertex(v);
+                    for &v in &active {
+                        (h_obj[v as usize], pass[v as usize]) = per_vertex(v as usize);
                     }
                 }
             }
@@ -590,10 +812,11 @@ impl HighlightSearch {
         if !reject {
             pass.fill(true);
         }
-        for v in 0..nv {
-            if !pass[v] {
-                continue;
-            }
+        let mut candidates: Vec<u32> = active.into_iter().filter(|&v| pass[v as usize]).collect();
+        // Faces are solved once, at their smallest vertex index, in index order.
+        candidates.sort_unstable();
+        for v in candidates {
+            let v = v as usize;
             let (s, e) = (self.vf_offsets[v] as usize, self.vf_offsets[v + 1] as usize);
             for &f in &self.vf[s..e] {
                 let t = self.triangles[f as usize];

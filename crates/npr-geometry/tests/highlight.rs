@@ -271,3 +271,76 @@ fn for_mesh_solves_on_the_mesh_normals() {
     let s = HighlightSearch::for_mesh(&bare, &welded, &topo, &f);
     assert_eq!(s.normal_source(), npr_geometry::NormalSource::Field);
 }
+
+#[test]
+fn cluster_rejection_keeps_every_centre_on_real_meshes_and_skips_most_vertices() {
+    // The fast path (cluster cones, then per-vertex and per-face tests) against solving
+    // every face, on the shipped scans, for point lights and near eyes around the model,
+    // under a rotation with uniform scale: the same centres at the same positions.
+    for file in ["stanford-bunny.obj", "spot.obj"] {
+        let path = format!(
+            "{}/../../fixtures/meshes/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let mesh = npr_geometry::load_obj(&path).unwrap();
+        let welded = weld(&mesh);
+        let topo = Topology::new(&welded);
+        let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+        let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
+        let (lo, hi) = topo.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let tol = 1e-4 * r;
+        let world = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.5),
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(1.0, -2.0, 0.5),
+        );
+        let (mut kept, mut total) = (0usize, 0usize);
+        for k in 0..12 {
+            let a = k as f32 * 0.52;
+            let w = |p: Vec3| world.transform_point3(p);
+            let le = LightEye::Positions {
+                light: w(c + Vec3::new(4.0 * r * a.cos(), 2.0 * r, 4.0 * r * a.sin())),
+                eye: w(c + Vec3::new(
+                    3.0 * r * (a + 0.9).sin(),
+                    0.5 * r,
+                    3.0 * r * (a + 0.9).cos(),
+                )),
+            };
+            let fast: Vec<Vec3> = s
+                .find(le, world)
+                .iter()
+                .map(|c| c.position_object)
+                .collect();
+            let all: Vec<Vec3> = s
+                .find_exhaustive(le, world)
+                .iter()
+                .map(|c| c.position_object)
+                .collect();
+            assert!(!all.is_empty(), "{file} view {k}: no centre at all");
+            for p in &all {
+                assert!(
+                    fast.iter().any(|q| q.distance(*p) <= tol),
+                    "{file} view {k}: lost {p}"
+                );
+            }
+            for p in &fast {
+                assert!(
+                    all.iter().any(|q| q.distance(*p) <= tol),
+                    "{file} view {k}: extra {p}"
+                );
+            }
+            kept += s.candidate_vertices(le, world);
+            total += topo.vertex_count();
+        }
+        // The clusters do reject: many vertices are never looked at one by one.
+        println!("{file}: clusters kept {kept} of {total} vertex visits");
+        assert!(
+            (kept as f64) < 0.4 * total as f64,
+            "{file}: clusters kept {kept} of {total} vertex visits"
+        );
+    }
+}
