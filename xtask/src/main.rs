@@ -35,6 +35,9 @@ enum Command {
         /// Also write the rows as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
+        /// Extra meshes (OBJ) for the benchmarks that take them (`specular-fidelity`).
+        #[arg(long = "mesh")]
+        mesh: Vec<PathBuf>,
     },
     /// Regenerate fixtures/ from the code that defines them.
     Fixtures,
@@ -59,7 +62,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Test => test::run(),
         Command::Demo => demo::run(),
-        Command::Bench { name, json } => bench::run(&name, json.as_deref()),
+        Command::Bench { name, json, mesh } => bench::run(&name, json.as_deref(), &mesh),
         Command::Fixtures => fixtures::run(),
         Command::Doctor => {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);

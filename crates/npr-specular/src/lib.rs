@@ -12,8 +12,10 @@
 //! into the caller's render pass after the base shading).
 
 mod error;
+pub mod fidelity;
 pub mod pass;
 pub mod projector;
+pub mod region;
 pub mod set;
 pub mod snapshot;
 pub mod textures;
@@ -21,6 +23,9 @@ pub mod visibility;
 
 pub use error::SpecularError;
 pub use pass::{FrameInput, HighlightDraw, HighlightPass, ProjectorGpu, projector_gpu};
-pub use projector::{HighlightControls, Projector, ProjectorControls, UpAxis, frustum_size};
-pub use set::{Highlight, HighlightSet, UpdateStats};
+pub use projector::{
+    HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
+};
+pub use region::Footprint;
+pub use set::{Highlight, HighlightSet, HighlightSizing, UpdateStats};
 pub use textures::HighlightShape;

@@ -3,10 +3,11 @@
 pub mod curvature;
 pub mod hatching;
 pub mod specular;
+pub mod specular_fidelity;
 pub mod table;
 pub mod warp;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A progress bar of `len` steps labelled `what`, on stderr; indicatif draws nothing when
 /// stderr is not a terminal, so piped output and `--json` runs stay clean.
@@ -22,13 +23,20 @@ pub fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 }
 
 /// The benchmarks by name.
-pub const NAMES: &[&str] = &["curvature", "specular", "hatching", "warp"];
+pub const NAMES: &[&str] = &[
+    "curvature",
+    "specular",
+    "specular-fidelity",
+    "hatching",
+    "warp",
+];
 
-/// Runs benchmark `name`.
-pub fn run(name: &str, json: Option<&Path>) -> anyhow::Result<()> {
+/// Runs benchmark `name` (`meshes`: extra meshes, for the benchmarks that take them).
+pub fn run(name: &str, json: Option<&Path>, meshes: &[PathBuf]) -> anyhow::Result<()> {
     match name {
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
+        "specular-fidelity" => specular_fidelity::run(json, meshes),
         "hatching" => hatching::run(json),
         "warp" => warp::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
