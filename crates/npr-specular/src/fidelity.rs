@@ -105,6 +105,20 @@ impl FidelityScore {
     }
 }
 
+/// The transform that fits `mesh` into the unit sphere at the origin (its bounding box's
+/// centre to the origin, half diagonal to 1); identity for an empty mesh.
+pub fn unit_sphere_transform(mesh: &npr_geometry::Mesh) -> Mat4 {
+    let (lo, hi) = mesh.positions.iter().filter(|p| p.is_finite()).fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    if lo.x > hi.x {
+        return Mat4::IDENTITY;
+    }
+    let radius = ((hi - lo) * 0.5).length().max(1e-6);
+    Mat4::from_scale(Vec3::splat(1.0 / radius)) * Mat4::from_translation(-(lo + hi) * 0.5)
+}
+
 /// The standard views of a mesh normalised to the unit sphere at the origin
 /// (`world_from_object`): `count` eyes around it at distance 2.3 (alternating elevation
 /// +25° / −10°), each with two lights (up-right and up-left of the eye).
@@ -292,19 +306,28 @@ pub struct Coherence {
     pub area_change_max: f32,
     /// Frames seen.
     pub frames: usize,
+    fade_step: f32,
     previous: Vec<(u64, f32, f32)>,
 }
 
 impl Coherence {
+    /// Checks a sequence against fades over `fade_frames` updates (0: no fade required).
+    pub fn new(fade_frames: u32) -> Self {
+        Self {
+            fade_step: if fade_frames == 0 {
+                1.0
+            } else {
+                1.0 / fade_frames as f32
+            },
+            ..Self::default()
+        }
+    }
+
     /// Records the set's highlights after one update. The first frame may show anything
-    /// at full opacity; afterwards a highlight must appear with an opacity of at most
-    /// `1/fade_frames`, and disappear only after reaching it.
+    /// at full opacity; afterwards a highlight must appear with an opacity of at most one
+    /// fade step, and disappear only after fading to it.
     pub fn step(&mut self, set: &HighlightSet) {
-        let step = if set.fade_frames == 0 {
-            1.0
-        } else {
-            1.0 / set.fade_frames as f32
-        } + 1e-4;
+        let step = self.fade_step + 1e-4;
         let now: Vec<(u64, f32, f32)> = set
             .highlights()
             .iter()

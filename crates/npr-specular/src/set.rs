@@ -249,8 +249,10 @@ impl HighlightSet {
         // object does not move a centre there; only lighting changes do).
         let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
         for (i, h) in previous.iter().enumerate() {
-            let reach =
-                self.match_radius * h.projector.half_extent.max_element() / scale.max(1e-12);
+            // Reach from the footprint before controls, at most Eq. (8)'s cap: a large
+            // measured region must not let a highlight take a far centre's identity.
+            let extent = h.footprint.half_extent.max_element().min(radius_world);
+            let reach = self.match_radius * extent / scale.max(1e-12);
             for (j, c) in centres.iter().enumerate() {
                 let d = h.centre.position_object.distance(c.position_object);
                 if d <= reach.max(2.0 * self.topology.mean_edge_length) {
@@ -330,9 +332,10 @@ impl HighlightSet {
                     _ => None,
                 },
             };
-            // The paper's rule in both modes: two projectors claiming the same region (one's
-            // centre inside the central half of the other's frustum) keep the older one.
-            if let Some(fp) = footprint.filter(|_| found) {
+            // The paper's sizing: two projectors claiming the same region (one's centre
+            // inside the central half of the other's frustum) keep the older one (the
+            // measured regions are shared out between their centres instead).
+            if let Some(fp) = footprint.filter(|_| found && self.sizing == HighlightSizing::Paper) {
                 let clash = kept.iter().any(|k| {
                     let limit = 0.5
                         * k.projector

@@ -11,7 +11,9 @@ use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
-use npr_specular::fidelity::{Coherence, FidelityRig, FidelityScore, standard_views};
+use npr_specular::fidelity::{
+    Coherence, FidelityRig, FidelityScore, standard_views, unit_sphere_transform,
+};
 use npr_specular::{HighlightSet, HighlightSizing};
 use std::path::{Path, PathBuf};
 
@@ -86,7 +88,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
     );
     let aspect = WIDTH as f32 / HEIGHT as f32;
     for (name, mesh) in &meshes {
-        let (_, world_from_object) = crate::demo::framing_camera(mesh, aspect);
+        let world_from_object = unit_sphere_transform(mesh);
         let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
         let gpu = GpuMesh::upload(&ctx.device, mesh)?;
         let views = standard_views(world_from_object, VIEWS, aspect);
@@ -132,6 +134,7 @@ fn turning() -> anyhow::Result<Table> {
         &[
             "mesh",
             "sizing",
+            "max_area_change",
             "frames",
             "pops_in",
             "pops_out",
@@ -143,10 +146,15 @@ fn turning() -> anyhow::Result<Table> {
         eye: camera.eye,
     };
     let mut set = HighlightSet::new(&mesh, &CurvatureOptions::default())?;
-    for sizing in [HighlightSizing::Paper, HighlightSizing::Region] {
+    for (sizing, limit) in [
+        (HighlightSizing::Paper, 0.25),
+        (HighlightSizing::Region, 0.25),
+        (HighlightSizing::Region, 0.0),
+    ] {
         set.sizing = sizing;
+        set.max_area_change = limit;
         set.reset();
-        let mut c = Coherence::default();
+        let mut c = Coherence::new(set.fade_frames);
         for deg in 0..=360 {
             let m = Mat4::from_rotation_y((deg as f32).to_radians()) * world_from_normalized;
             set.update(le, m);
@@ -155,6 +163,7 @@ fn turning() -> anyhow::Result<Table> {
         table.push(vec![
             "stanford-bunny".into(),
             format!("{sizing:?}").to_lowercase().into(),
+            Cell::Num(f64::from(limit), 2),
             c.frames.into(),
             c.pops_in.into(),
             c.pops_out.into(),
