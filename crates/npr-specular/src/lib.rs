@@ -3,9 +3,11 @@
 //! Implements Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using
 //! Projective Textures based on Principal Curvature Analysis", Journal of the Korea
 //! Computer Graphics Society (SPEC §2): highlight centres where `N = H` (§3.1, in
-//! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized by
-//! the principal curvatures (Eq. (8)), user controls (§3.4), visibility by breadth-first
-//! search (§4.2), and a highlight pass over any base shading (§5, Eq. (9)).
+//! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized to
+//! the region `N·H ≥ σ` measured on the mesh (default, [`region`]) or by the principal
+//! curvatures (Eq. (8), [`HighlightSizing::Paper`]), user controls (§3.4), visibility by
+//! breadth-first search (§4.2), a highlight pass over any base shading (§5, Eq. (9)), and
+//! the measurement of how well the highlights cover that region ([`fidelity`]).
 //!
 //! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
 //! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded

@@ -308,7 +308,7 @@ impl Moments {
     /// The ellipse with these moments (see the module docs); `None` for an empty or
     /// degenerate region.
     fn footprint(&self) -> Option<Footprint> {
-        if !(self.area > 1e-20) {
+        if self.area.is_nan() || self.area <= 1e-20 {
             return None;
         }
         let mx = self.first[0] / self.area;

@@ -8,8 +8,14 @@
 //!   so a highlight keeps its identity and its controls;
 //! - new highlights fade in and lost ones fade out over [`HighlightSet::fade_frames`]
 //!   updates instead of popping;
-//! - two projectors claiming the same region (one's centre inside the central half of the
-//!   other's frustum) are merged into the older one.
+//! - projectors are sized, by default, to the region `N·H ≥ σ` measured on the mesh
+//!   ([`HighlightSizing::Region`], [`crate::region`]), the regions of all centres grown at
+//!   once so that one region holding several centres is shared out; a centre on another's
+//!   face or with a tiny region is suppressed, and a footprint's area changes by at most
+//!   [`HighlightSet::max_area_change`] per update;
+//! - with the paper's sizing, two projectors claiming the same region (one's centre
+//!   inside the central half of the other's frustum) are merged into the older one;
+//! - a merged or suppressed highlight fades out like a lost one.
 
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionFrame, RegionGrower};
@@ -442,7 +448,7 @@ impl HighlightSet {
 /// `next` with each half extent kept within a factor `sqrt(1 + max_area_change)` of
 /// `last` (so the area changes by at most `max_area_change` per update; ≤ 0 disables).
 fn limit_change(last: &Footprint, next: Footprint, max_area_change: f32) -> Footprint {
-    if !(max_area_change > 0.0) || last.half_extent.min_element() <= 0.0 {
+    if max_area_change.is_nan() || max_area_change <= 0.0 || last.half_extent.min_element() <= 0.0 {
         return next;
     }
     let r = (1.0 + max_area_change).sqrt();
