@@ -155,12 +155,7 @@ pub struct FidelityRig {
 
 /// sRGB byte → linear.
 fn linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    npr_gpu::reference::srgb_to_linear(f32::from(c) / 255.0)
 }
 
 impl FidelityRig {
@@ -208,17 +203,14 @@ impl FidelityRig {
         );
         let sigma = set.global.sigma;
         let w = view.world_from_object;
-        let n_dot_h = self.renderer.render(
-            device,
-            queue,
-            &scene(
-                mesh,
-                set,
-                view,
-                ObjectUniforms::new(w, Vec3::ZERO, 1.0, Vec3::ONE, 1.0),
-                false,
-            ),
-        )?;
+        // Phong with k_s, specular colour and exponent 1 and no diffuse: N·H where N·L > 0;
+        // all zero: a black base for the highlight pass.
+        let render = |set: &HighlightSet, k_s: f32, highlights: bool| {
+            let object = ObjectUniforms::new(w, Vec3::ZERO, k_s, Vec3::splat(k_s), 1.0);
+            self.renderer
+                .render(device, queue, &scene(mesh, set, view, object, highlights))
+        };
+        let n_dot_h = render(set, 1.0, false)?;
         // Each highlight's tint codes its index in (g, b) / r, so that overlapping
         // highlights stay apart; r alone is the coverage (tint r = 1).
         for (k, h) in set.highlights_mut().iter_mut().enumerate() {
@@ -226,17 +218,7 @@ impl FidelityRig {
             h.controls.tint = Vec3::new(1.0, code(k), code(k / 16));
             h.opacity = 1.0;
         }
-        let drawn = self.renderer.render(
-            device,
-            queue,
-            &scene(
-                mesh,
-                set,
-                view,
-                ObjectUniforms::new(w, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0),
-                true,
-            ),
-        )?;
+        let drawn = render(set, 0.0, true)?;
         let region: Vec<bool> = n_dot_h.pixels().map(|p| linear(p.0[0]) >= sigma).collect();
         let mut own = vec![0usize; 256];
         let highlight: Vec<bool> = drawn
