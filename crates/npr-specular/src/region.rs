@@ -17,7 +17,7 @@ use npr_geometry::{HighlightCentre, LightEye, Topology};
 use std::collections::VecDeque;
 
 /// A projector's footprint before the §3.4 controls: the ellipse inscribed in its square.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Footprint {
     /// Half extents along the (rotated) `e_max` and `e_min` axes, world units.
     pub half_extent: Vec2,
@@ -30,6 +30,22 @@ pub struct Footprint {
     /// Area of the region measured (projected onto the projector plane), world units²;
     /// zero for Eq. (8).
     pub region_area: f32,
+    /// Smallest `cos` between the region's normals and the projector's axis (the
+    /// region's normal cone; receivers beyond it cannot be in the region); −1 when not
+    /// measured (Eq. (8)).
+    pub normal_cone_cos: f32,
+}
+
+impl Default for Footprint {
+    fn default() -> Self {
+        Self {
+            half_extent: Vec2::ZERO,
+            offset: Vec2::ZERO,
+            rotate_rad: 0.0,
+            region_area: 0.0,
+            normal_cone_cos: -1.0,
+        }
+    }
 }
 
 /// What growing a centre's region found.
@@ -142,6 +158,7 @@ impl RegionGrower {
                 sigma: *sigma,
                 moments: Moments::default(),
                 faces: 0,
+                cone: 1.0,
             });
             if start >= topo.face_count() || frame.is_none() {
                 continue;
@@ -168,6 +185,7 @@ impl RegionGrower {
             // normal, H at the point; `N·H − σ` linear on each sub-triangle.
             let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
             let mut any = false;
+            let mut cone = 1f32;
             let mut g = 0;
             for i in 0..=SUB {
                 for j in 0..=SUB - i {
@@ -177,7 +195,10 @@ impl RegionGrower {
                     let nn = (vs[0].1 * b0 + vs[1].1 * b1 + vs[2].1 * b2).normalize_or_zero();
                     let d = nn.dot(half_vector(f.light_eye, p)) - part.sigma;
                     let d = if d.is_finite() { d } else { -1.0 };
-                    any |= d >= 0.0;
+                    if d >= 0.0 {
+                        any = true;
+                        cone = cone.min(nn.dot(n));
+                    }
                     let q = p - part.origin;
                     grid[g] = (Vec2::new(q.dot(e_u), q.dot(e_v)), d);
                     g += 1;
@@ -188,6 +209,7 @@ impl RegionGrower {
             }
             let part = &mut parts[k as usize];
             part.faces += 1;
+            part.cone = part.cone.min(cone);
             for_sub_triangles(|a, b, c| part.moments.add_clipped([grid[a], grid[b], grid[c]]));
             total += 1;
             if total >= MAX_REGION_FACES {
@@ -204,6 +226,10 @@ impl RegionGrower {
         for (k, part) in parts.iter().enumerate() {
             if out[k] == Region::Empty && part.faces > 0 {
                 if let Some(fp) = part.moments.footprint() {
+                    let fp = Footprint {
+                        normal_cone_cos: part.cone,
+                        ..fp
+                    };
                     out[k] = Region::Fit(fp, part.faces);
                 }
             }
@@ -219,6 +245,7 @@ struct Part {
     sigma: f32,
     moments: Moments,
     faces: usize,
+    cone: f32,
 }
 
 /// Sub-grid of a face: `SUB` steps per edge.
@@ -342,6 +369,7 @@ impl Moments {
             offset: offset.as_vec2(),
             rotate_rad: theta as f32,
             region_area: self.area as f32,
+            normal_cone_cos: -1.0,
         };
         (half.min_element() > 0.0 && fp.offset.is_finite() && half.is_finite()).then_some(fp)
     }

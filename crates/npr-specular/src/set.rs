@@ -110,6 +110,10 @@ pub struct HighlightSet {
     /// the projector's axis (default 0.3, so the texture stretches at most 1/0.3 ≈ 3.3:1
     /// and never wraps onto another limb); the paper's rule is `> 0`.
     pub receiver_min_cos: f32,
+    /// [`HighlightSizing::Region`]: receivers must also lie within the measured region's
+    /// normal cone ([`Footprint::normal_cone_cos`]) widened by this angle, radians
+    /// (default 10°).
+    pub receiver_cone_margin_rad: f32,
     /// Largest relative change of a found highlight's footprint area from one update to
     /// the next (default 0.25); the footprint catches up over a few updates instead of
     /// jumping when its region merges or splits. ≤ 0 disables the limit.
@@ -164,6 +168,7 @@ impl HighlightSet {
             sizing: HighlightSizing::default(),
             min_region_area: 5e-4,
             receiver_min_cos: 0.3,
+            receiver_cone_margin_rad: 10f32.to_radians(),
             max_area_change: 0.25,
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
@@ -397,6 +402,16 @@ impl HighlightSet {
         };
         for h in &mut kept {
             let start = self.receiver_faces.len();
+            // Ours: also within the measured region's normal cone, widened by
+            // `receiver_cone_margin_rad` (no receiver outside it can be in the region).
+            let min_cos = if self.sizing == HighlightSizing::Region {
+                let cone = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
+                let widened =
+                    (cone + self.receiver_cone_margin_rad).min(std::f32::consts::FRAC_PI_2);
+                min_cos.max(widened.cos())
+            } else {
+                min_cos
+            };
             receivers_within(
                 &self.topology,
                 world_from_object,
