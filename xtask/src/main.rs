@@ -35,8 +35,8 @@ enum Command {
         /// Also write the rows as JSON to this file.
         #[arg(long)]
         json: Option<PathBuf>,
-        /// A mesh (OBJ) to run on instead of the defaults; repeatable. Only for
-        /// benchmarks that take meshes (`hatching-directions`).
+        /// A mesh (OBJ, PLY, glTF) to run on; repeatable. Only for the benchmarks that take
+        /// meshes (`hatching-directions`, `specular`, `specular-fidelity`).
         #[arg(long)]
         mesh: Vec<PathBuf>,
     },

@@ -457,6 +457,13 @@ impl HighlightSearch {
         self.normal_source
     }
 
+    /// The unit vertex normals the search solves on, one per welded vertex, object space
+    /// (the mesh's own where [`NormalSource::Mesh`]): what a renderer shades with, so the
+    /// region `N·H ≥ σ` a highlight stylizes is measured on them.
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
     /// `normals`: one per welded vertex (zero entries fall back to the field's), or
     /// `None` for the field's.
     fn with_normals(topo: &Topology, field: &CurvatureField, given: Option<&[Vec3]>) -> Self {

@@ -3,17 +3,21 @@
 //! Implements Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using
 //! Projective Textures based on Principal Curvature Analysis", Journal of the Korea
 //! Computer Graphics Society (SPEC §2): highlight centres where `N = H` (§3.1, in
-//! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized by
-//! the principal curvatures (Eq. (8)), user controls (§3.4), visibility by breadth-first
-//! search (§4.2), and a highlight pass over any base shading (§5, Eq. (9)).
+//! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized to
+//! the region `N·H ≥ σ` measured on the mesh (default, [`region`]) or by the principal
+//! curvatures (Eq. (8), [`HighlightSizing::Paper`]), user controls (§3.4), visibility by
+//! breadth-first search (§4.2), a highlight pass over any base shading (§5, Eq. (9)), and
+//! the measurement of how well the highlights cover that region ([`fidelity`]).
 //!
 //! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
 //! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded
 //! into the caller's render pass after the base shading).
 
 mod error;
+pub mod fidelity;
 pub mod pass;
 pub mod projector;
+pub mod region;
 pub mod set;
 pub mod snapshot;
 pub mod textures;
@@ -21,6 +25,9 @@ pub mod visibility;
 
 pub use error::SpecularError;
 pub use pass::{FrameInput, HighlightDraw, HighlightPass, ProjectorGpu, projector_gpu};
-pub use projector::{HighlightControls, Projector, ProjectorControls, UpAxis, frustum_size};
-pub use set::{Highlight, HighlightSet, UpdateStats};
+pub use projector::{
+    HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
+};
+pub use region::Footprint;
+pub use set::{Highlight, HighlightSet, HighlightSizing, UpdateStats};
 pub use textures::HighlightShape;

@@ -12,6 +12,7 @@
 //! after an arc of about `sqrt(1 − σ²)/|κ|`, so `s` is the region's full width: the
 //! frustum spans `[−s/2, s/2]` along each axis (half-extent `s/2`).
 
+use crate::region::Footprint;
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::HighlightCentre;
 
@@ -131,6 +132,18 @@ pub fn frustum_size(kappa: f32, sigma: f32, radius: f32) -> f32 {
     (2.0 / k * (1.0 - s * s).max(0.0).sqrt()).min(cap)
 }
 
+/// Eq. (8)'s footprint of `centre` at threshold `sigma` with the cap radius `radius_world`:
+/// full widths [`frustum_size`] along `e_max`, `e_min`, centred on the centre.
+pub fn eq8_footprint(centre: &HighlightCentre, sigma: f32, radius_world: f32) -> Footprint {
+    Footprint {
+        half_extent: Vec2::new(
+            frustum_size(centre.kappa_max, sigma, radius_world),
+            frustum_size(centre.kappa_min, sigma, radius_world),
+        ) * 0.5,
+        ..Footprint::default()
+    }
+}
+
 /// One orthographic highlight projector in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Projector {
@@ -165,21 +178,37 @@ impl Projector {
         controls: &ProjectorControls,
         radius_world: f32,
     ) -> Option<Self> {
+        Self::with_footprint(
+            centre,
+            controls,
+            &eq8_footprint(centre, controls.sigma, radius_world),
+        )
+    }
+
+    /// Builds the projector of `centre` over a given footprint (Eq. (8)'s from
+    /// [`eq8_footprint`], or a measured region's from [`crate::region`]), with the §3.4
+    /// `controls` on top: the footprint's offset and rotation add to the controls'
+    /// translation and rotation, its half extents are scaled by `controls.scale`. `None`
+    /// as for [`Projector::new`].
+    pub fn with_footprint(
+        centre: &HighlightCentre,
+        controls: &ProjectorControls,
+        footprint: &Footprint,
+    ) -> Option<Self> {
         let n = centre.normal_world.try_normalize()?;
         // Re-orthonormalise the principal frame against the normal.
         let e_max = (centre.dir_kappa_max - n * n.dot(centre.dir_kappa_max)).try_normalize()?;
         let e_min = n.cross(e_max);
-        let size_max = frustum_size(centre.kappa_max, controls.sigma, radius_world);
-        let size_min = frustum_size(centre.kappa_min, controls.sigma, radius_world);
+        let fh = footprint.half_extent;
         let (mut u, mut v, mut half) = match controls.up {
-            UpAxis::KappaMin => (e_max, e_min, Vec2::new(size_max, size_min) * 0.5),
-            UpAxis::KappaMax => (-e_min, e_max, Vec2::new(size_min, size_max) * 0.5),
+            UpAxis::KappaMin => (e_max, e_min, fh),
+            UpAxis::KappaMax => (-e_min, e_max, Vec2::new(fh.y, fh.x)),
         };
         half *= controls.scale.abs();
-        let (s, c) = controls.rotate_rad.sin_cos();
+        let (s, c) = (controls.rotate_rad + footprint.rotate_rad).sin_cos();
         (u, v) = (u * c + v * s, v * c - u * s);
-        let centre_world =
-            centre.position_world + e_max * controls.translate.x + e_min * controls.translate.y;
+        let translate = controls.translate + footprint.offset;
+        let centre_world = centre.position_world + e_max * translate.x + e_min * translate.y;
         let half_depth = 2.0 * half.max_element();
         let positive = half.min_element() > 0.0; // false for NaN too
         if !positive || !centre_world.is_finite() || !half_depth.is_finite() {

@@ -8,10 +8,18 @@
 //!   so a highlight keeps its identity and its controls;
 //! - new highlights fade in and lost ones fade out over [`HighlightSet::fade_frames`]
 //!   updates instead of popping;
-//! - two projectors claiming the same region (one's centre inside the central half of the
-//!   other's frustum) are merged into the older one.
+//! - projectors are sized, by default, to the region `N·H ≥ σ` measured on the mesh
+//!   ([`HighlightSizing::Region`], [`crate::region`]), the regions of all centres grown at
+//!   once so that one region holding several centres is shared out; a centre on another's
+//!   face or with a tiny region is suppressed, and a footprint's area changes by at most
+//!   [`HighlightSet::max_area_change`] per update;
+//! - with the paper's sizing, two projectors claiming the same region (one's centre
+//!   inside the central half of the other's frustum) are merged into the older one;
+//! - a merged or suppressed highlight fades out like a lost one.
 
-use crate::visibility::{VisibilityScratch, receivers};
+use crate::projector::eq8_footprint;
+use crate::region::{Footprint, Region, RegionFrame, RegionGrower};
+use crate::visibility::{VisibilityScratch, receivers_within};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
 use npr_geometry::{
@@ -27,8 +35,11 @@ pub struct Highlight {
     pub id: u64,
     /// The `N = H` centre this frame (or the last one seen, while fading out).
     pub centre: HighlightCentre,
-    /// Its projector (Eq. (7)–(8) with the composed controls).
+    /// Its projector (Eq. (7) over [`Highlight::footprint`], with the composed controls).
     pub projector: Projector,
+    /// Its footprint before the controls (Eq. (8)'s or the measured region's, see
+    /// [`HighlightSizing`]); kept while the highlight fades out.
+    pub footprint: Footprint,
     /// The controls it was built with (global ∘ per-highlight).
     pub controls: ProjectorControls,
     /// Opacity in [0, 1]: ramps up when the highlight appears, down when it is lost.
@@ -56,6 +67,21 @@ pub struct UpdateStats {
     pub visibility_us: f64,
 }
 
+/// How projectors are sized.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HighlightSizing {
+    /// The paper: Eq. (8), `s = min(2r, 2/|κ| · sqrt(1 − σ²))` per principal direction,
+    /// centred on the `N = H` point; receivers need only `N·N_max > 0` (§4.2).
+    Paper,
+    /// Beyond the paper (default): the footprint is fitted to the region `N·H ≥ σ`
+    /// measured on the mesh ([`crate::region`]), offset to its centroid and turned to its
+    /// axes; a centre whose region another highlight already claims, or whose region is
+    /// smaller than [`HighlightSet::min_region_area`], is suppressed; receivers must also
+    /// lie within [`HighlightSet::receiver_min_cos`] of the projector's axis.
+    #[default]
+    Region,
+}
+
 /// Highlights of one mesh. See the module docs.
 #[derive(Debug)]
 pub struct HighlightSet {
@@ -74,9 +100,29 @@ pub struct HighlightSet {
     pub fade_frames: u32,
     /// Matching radius as a multiple of the previous frustum's larger half-extent.
     pub match_radius: f32,
+    /// Projector sizing: the measured region (default) or the paper's Eq. (8).
+    pub sizing: HighlightSizing,
+    /// [`HighlightSizing::Region`]: smallest region kept, as a fraction of the squared
+    /// bounding-sphere radius (default 5·10⁻⁴: about 20 px when the mesh fills a
+    /// 640×480 view).
+    pub min_region_area: f32,
+    /// [`HighlightSizing::Region`]: a receiver's face normal must make `cos ≥` this with
+    /// the projector's axis (default 0.3, so the texture stretches at most 1/0.3 ≈ 3.3:1
+    /// and never wraps onto another limb); the paper's rule is `> 0`.
+    pub receiver_min_cos: f32,
+    /// [`HighlightSizing::Region`]: receivers must also lie within the measured region's
+    /// normal cone ([`Footprint::normal_cone_cos`]) widened by this angle, radians
+    /// (default 10°).
+    pub receiver_cone_margin_rad: f32,
+    /// Largest relative change of a found highlight's footprint area from one update to
+    /// the next (default 0.25); the footprint catches up over a few updates instead of
+    /// jumping when its region merges or splits. ≤ 0 disables the limit.
+    pub max_area_change: f32,
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
     scratch: VisibilityScratch,
+    grower: RegionGrower,
+    radius_bound: f32,
     next_id: u64,
     stats: UpdateStats,
 }
@@ -109,8 +155,9 @@ impl HighlightSet {
     }
 
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
+        let radius_bound = bounding_radius(&topology);
         Self {
-            radius_object: field.radius_world.max(0.15 * bounding_radius(&topology)),
+            radius_object: field.radius_world.max(0.15 * radius_bound),
             size_cap_radius: None,
             topology,
             search,
@@ -118,9 +165,16 @@ impl HighlightSet {
             per_highlight: HashMap::new(),
             fade_frames: 6,
             match_radius: 1.0,
+            sizing: HighlightSizing::default(),
+            min_region_area: 5e-4,
+            receiver_min_cos: 0.3,
+            receiver_cone_margin_rad: 10f32.to_radians(),
+            max_area_change: 0.25,
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             scratch: VisibilityScratch::default(),
+            grower: RegionGrower::default(),
+            radius_bound,
             next_id: 0,
             stats: UpdateStats::default(),
         }
@@ -146,6 +200,11 @@ impl HighlightSet {
     /// The current highlights.
     pub fn highlights(&self) -> &[Highlight] {
         &self.highlights
+    }
+
+    /// The current highlights, for this crate's measurements (e.g. per-highlight tints).
+    pub(crate) fn highlights_mut(&mut self) -> &mut [Highlight] {
+        &mut self.highlights
     }
 
     /// Receiver faces of all highlights; each [`Highlight::receivers`] is a range of it.
@@ -188,7 +247,9 @@ impl HighlightSet {
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         let previous = std::mem::take(&mut self.highlights);
         let mut claimed = vec![false; centres.len()];
-        let mut next: Vec<Highlight> = Vec::with_capacity(centres.len() + previous.len());
+        // (id, centre, found, previous highlight index)
+        let mut next: Vec<(u64, HighlightCentre, bool, Option<usize>)> =
+            Vec::with_capacity(centres.len() + previous.len());
         let step = if self.fade_frames == 0 {
             1.0
         } else {
@@ -199,8 +260,10 @@ impl HighlightSet {
         // object does not move a centre there; only lighting changes do).
         let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
         for (i, h) in previous.iter().enumerate() {
-            let reach =
-                self.match_radius * h.projector.half_extent.max_element() / scale.max(1e-12);
+            // Reach from the footprint before controls, at most Eq. (8)'s cap: a large
+            // measured region must not let a highlight take a far centre's identity.
+            let extent = h.footprint.half_extent.max_element().min(radius_world);
+            let reach = self.match_radius * extent / scale.max(1e-12);
             for (j, c) in centres.iter().enumerate() {
                 let d = h.centre.position_object.distance(c.position_object);
                 if d <= reach.max(2.0 * self.topology.mean_edge_length) {
@@ -210,79 +273,151 @@ impl HighlightSet {
         }
         pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut prev_taken = vec![false; previous.len()];
-        let mut matched: Vec<(usize, usize)> = Vec::new();
         for (_, i, j) in pairs {
             if !prev_taken[i] && !claimed[j] {
                 prev_taken[i] = true;
                 claimed[j] = true;
-                matched.push((i, j));
+                next.push((previous[i].id, centres[j], true, Some(i)));
             }
-        }
-        for (i, j) in matched {
-            let h = &previous[i];
-            next.push(self.make(
-                h.id,
-                centres[j],
-                (h.opacity + step).min(1.0),
-                true,
-                radius_world,
-            ));
         }
         // Lost highlights fade out at their last point on the object, re-placed with the
         // object's current transform (the projector and the receiver search both follow
         // an object that moves while the highlight fades).
         for (i, h) in previous.iter().enumerate() {
-            if !prev_taken[i] && h.opacity - step > 0.0 {
+            if !prev_taken[i] {
                 let c = &h.centre;
                 let centre = self
                     .search
                     .centre_at(c.face, c.alpha, c.beta, world_from_object)
                     .unwrap_or(h.centre);
-                next.push(self.make(h.id, centre, h.opacity - step, false, radius_world));
+                next.push((h.id, centre, false, Some(i)));
             }
         }
         // New highlights fade in (appear at full opacity on the first frame).
         let first_frame = previous.is_empty();
         for (j, c) in centres.iter().enumerate() {
             if !claimed[j] {
-                let id = self.next_id;
+                next.push((self.next_id, *c, true, None));
                 self.next_id += 1;
-                let opacity = if first_frame { 1.0 } else { step };
-                next.push(self.make(id, *c, opacity, true, radius_world));
             }
         }
-        next.retain(|h| h.projector.half_extent.min_element() > 0.0 && h.opacity > 0.0);
-        // Merge projectors claiming the same region: keep the older (smaller id).
-        next.sort_by_key(|h| h.id);
+        // Footprints, oldest highlight first: an older highlight keeps its region, and a
+        // younger centre inside a region already claimed is suppressed (fades out if it
+        // was shown, never appears if it is new).
+        next.sort_by_key(|e| e.0);
+        let controls_of = |id: u64| {
+            self.global
+                .compose(&self.per_highlight.get(&id).copied().unwrap_or_default())
+        };
+        let mut regions = match self.sizing {
+            HighlightSizing::Paper => Vec::new(),
+            HighlightSizing::Region => {
+                let seeds: Vec<(HighlightCentre, f32)> = next
+                    .iter()
+                    .filter(|e| e.2)
+                    .map(|e| (e.1, controls_of(e.0).sigma))
+                    .collect();
+                let frame = RegionFrame {
+                    topology: &self.topology,
+                    normals: self.search.normals(),
+                    world_from_object,
+                    light_eye,
+                };
+                self.grower.grow_all(&frame, &seeds)
+            }
+        }
+        .into_iter();
+        let min_area = self.min_region_area * (self.radius_bound * scale).powi(2);
         let mut merged = 0;
         let mut kept: Vec<Highlight> = Vec::with_capacity(next.len());
-        for h in next {
-            let clash = kept.iter().any(|k| {
-                let limit = 0.5
-                    * k.projector
-                        .half_extent
-                        .min_element()
-                        .min(h.projector.half_extent.min_element());
-                k.found
-                    && h.found
-                    && k.centre.position_world.distance(h.centre.position_world) < limit
-            });
-            if clash {
-                merged += 1;
-            } else {
+        for (id, centre, found, prev) in next {
+            let before = prev.map(|i| &previous[i]);
+            let controls = controls_of(id);
+            let mut footprint = match (found, self.sizing) {
+                (false, _) => before.map(|h| h.footprint),
+                (true, HighlightSizing::Paper) => {
+                    Some(eq8_footprint(&centre, controls.sigma, radius_world))
+                }
+                (true, HighlightSizing::Region) => match regions.next() {
+                    Some(Region::Fit(fp, _)) => (fp.region_area >= min_area).then_some(fp),
+                    _ => None,
+                },
+            };
+            // The paper's sizing: two projectors claiming the same region (one's centre
+            // inside the central half of the other's frustum) keep the older one (the
+            // measured regions are shared out between their centres instead).
+            if let Some(fp) = footprint.filter(|_| found && self.sizing == HighlightSizing::Paper) {
+                let clash = kept.iter().any(|k| {
+                    let limit = 0.5
+                        * k.projector
+                            .half_extent
+                            .min_element()
+                            .min(fp.half_extent.min_element());
+                    k.found && k.centre.position_world.distance(centre.position_world) < limit
+                });
+                if clash {
+                    footprint = None;
+                }
+            }
+            let shown = before.map_or(0.0, |h| h.opacity);
+            let (footprint, opacity, found) = match (footprint, found) {
+                (Some(fp), true) => {
+                    let fp = match before {
+                        Some(h) => limit_change(&h.footprint, fp, self.max_area_change),
+                        _ => fp,
+                    };
+                    let opacity = if first_frame {
+                        1.0
+                    } else {
+                        (shown + step).min(1.0)
+                    };
+                    (fp, opacity, true)
+                }
+                (Some(fp), false) => (fp, shown - step, false),
+                (None, _) => {
+                    // Suppressed: a highlight already shown fades out with its last
+                    // footprint; a new one never appears.
+                    if found {
+                        merged += 1;
+                    }
+                    match before {
+                        Some(h) => (h.footprint, shown - step, false),
+                        None => continue,
+                    }
+                }
+            };
+            if opacity <= 0.0 || footprint.half_extent.min_element() <= 0.0 {
+                continue;
+            }
+            if let Some(h) = self.make(id, centre, controls, footprint, opacity, found) {
                 kept.push(h);
             }
         }
         // Receivers (§4.2).
         let visibility_start = std::time::Instant::now();
         self.receiver_faces.clear();
+        let min_cos = match self.sizing {
+            HighlightSizing::Paper => 0.0,
+            HighlightSizing::Region => self.receiver_min_cos,
+        };
         for h in &mut kept {
             let start = self.receiver_faces.len();
-            receivers(
+            // Ours: also within the measured region's normal cone, widened by
+            // `receiver_cone_margin_rad` (no receiver outside it can be in the region).
+            let min_cos = if self.sizing == HighlightSizing::Region {
+                let cone = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
+                let widened =
+                    (cone + self.receiver_cone_margin_rad).min(std::f32::consts::FRAC_PI_2);
+                min_cos.max(widened.cos())
+            } else {
+                min_cos
+            };
+            receivers_within(
                 &self.topology,
                 world_from_object,
                 &h.projector,
                 h.centre.face,
+                min_cos,
                 &mut self.scratch,
                 &mut self.receiver_faces,
             );
@@ -306,37 +441,37 @@ impl HighlightSet {
         &self,
         id: u64,
         centre: HighlightCentre,
+        controls: ProjectorControls,
+        footprint: Footprint,
         opacity: f32,
         found: bool,
-        radius_world: f32,
-    ) -> Highlight {
-        let local = self.per_highlight.get(&id).copied().unwrap_or_default();
-        let controls = self.global.compose(&local);
-        let safe = if centre.position_world.is_finite() {
-            centre.position_world
-        } else {
-            Vec3::ZERO
-        };
-        let projector = Projector::new(&centre, &controls, radius_world).unwrap_or(Projector {
-            centre_world: safe,
-            anchor_world: safe,
-            axis_u: Vec3::X,
-            axis_v: Vec3::Y,
-            normal: Vec3::Z,
-            half_extent: glam::Vec2::ZERO,
-            half_depth: 0.0,
-            clip_from_world: Mat4::ZERO,
-            tex_from_world: Mat4::ZERO,
-        });
-        Highlight {
+    ) -> Option<Highlight> {
+        let projector = Projector::with_footprint(&centre, &controls, &footprint)?;
+        Some(Highlight {
             id,
             centre,
             projector,
             controls,
+            footprint,
             opacity,
             found,
             receivers: 0..0,
-        }
+        })
+    }
+}
+
+/// `next` with each half extent kept within a factor `sqrt(1 + max_area_change)` of
+/// `last` (so the area changes by at most `max_area_change` per update; ≤ 0 disables).
+fn limit_change(last: &Footprint, next: Footprint, max_area_change: f32) -> Footprint {
+    if max_area_change.is_nan() || max_area_change <= 0.0 || last.half_extent.min_element() <= 0.0 {
+        return next;
+    }
+    let r = (1.0 + max_area_change).sqrt();
+    let lo = last.half_extent / r;
+    let hi = last.half_extent * r;
+    Footprint {
+        half_extent: next.half_extent.clamp(lo, hi),
+        ..next
     }
 }
 

@@ -64,6 +64,33 @@ impl Renderer {
         })
     }
 
+    /// Creates the pipelines with caller highlight textures (as
+    /// [`HighlightPass::with_textures`]) and a `width × height` target.
+    ///
+    /// # Errors
+    /// A bad size or texture set.
+    pub fn with_textures(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        width: u32,
+        height: u32,
+        layers: &[image::RgbaImage],
+        normal_map: &[bool],
+    ) -> Result<Self, SpecularError> {
+        Ok(Self {
+            base: BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT),
+            pass: HighlightPass::with_textures(
+                device,
+                queue,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                layers,
+                normal_map,
+            )?,
+            target: OffscreenTarget::new(device, width, height)?,
+        })
+    }
+
     /// The highlight pass.
     pub fn pass(&self) -> &HighlightPass {
         &self.pass

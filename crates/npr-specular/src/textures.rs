@@ -148,6 +148,25 @@ pub fn generate(shape: HighlightShape, size: u32) -> image::RgbaImage {
     })
 }
 
+/// The footprint texture (beyond the paper's set): the ellipse inscribed in the
+/// projector's square, fully opaque white, so a projected highlight covers exactly its
+/// footprint (what `cargo xtask bench specular-fidelity` measures), with no margin.
+pub fn footprint(size: u32) -> image::RgbaImage {
+    let size = size.max(4);
+    let aa = 2.0 / size as f32;
+    image::RgbaImage::from_fn(size, size, |i, j| {
+        // The border ring stays clear, as in every texture (clamped sampling outside).
+        if i == 0 || j == 0 || i == size - 1 || j == size - 1 {
+            return image::Rgba([255, 255, 255, 0]);
+        }
+        let x = ((i as f32 + 0.5) / size as f32) * 2.0 - 1.0;
+        let y = ((j as f32 + 0.5) / size as f32) * 2.0 - 1.0;
+        let r = (x * x + y * y).sqrt();
+        let a = 1.0 - smoothstep(1.0 - aa, 1.0, r);
+        image::Rgba([255, 255, 255, (a * 255.0).round() as u8])
+    })
+}
+
 /// Every built-in shape at `size`, in [`HighlightShape::ALL`] order (the texture-array
 /// layers of the highlight pass).
 pub fn builtin_set(size: u32) -> Vec<image::RgbaImage> {

@@ -75,13 +75,39 @@ pub fn receivers(
     scratch: &mut VisibilityScratch,
     out: &mut Vec<u32>,
 ) -> usize {
+    receivers_within(
+        topology,
+        world_from_object,
+        projector,
+        start_face,
+        0.0,
+        scratch,
+        out,
+    )
+}
+
+/// [`receivers`] limited by the normal cone as well (beyond the paper): a face is crossed
+/// and received only when its world normal makes `cos > min_cos` with the projector's
+/// axis, so the projected texture stretches at most `1/min_cos` on any receiver and the
+/// search does not wrap onto another limb. `min_cos = 0` is §4.2's `N·N_max > 0`.
+pub fn receivers_within(
+    topology: &Topology,
+    world_from_object: Mat4,
+    projector: &Projector,
+    start_face: u32,
+    min_cos: f32,
+    scratch: &mut VisibilityScratch,
+    out: &mut Vec<u32>,
+) -> usize {
     let faces = topology.face_count();
     if start_face as usize >= faces {
         return 0;
     }
     let generation = scratch.begin(faces, topology.vertex_count());
     // N_world · N_max = (M⁻ᵀ n) · N_max = n · (M⁻¹ N_max): test in object space.
-    let n_max_object = Mat3::from_mat4(world_from_object).inverse() * projector.normal;
+    let linear = Mat3::from_mat4(world_from_object);
+    let n_max_object = linear.inverse() * projector.normal;
+    let normal_from_object = linear.inverse().transpose();
     let ndc_from_object = projector.clip_from_world * world_from_object;
     if !n_max_object.is_finite() || !ndc_from_object.is_finite() {
         return 0;
@@ -102,7 +128,13 @@ pub fn receivers(
         ..
     } = scratch;
     let mut visit = |f: usize| -> Option<bool> {
-        let facing = topology.face_normals[f].dot(n_max_object) > 0.0; // false for NaN
+        // cos = (M⁻ᵀ n)·N_max / |M⁻ᵀ n| = n·(M⁻¹ N_max) / |M⁻ᵀ n|.
+        let n = topology.face_normals[f];
+        let facing = if min_cos > 0.0 {
+            n.dot(n_max_object) > min_cos * (normal_from_object * n).length()
+        } else {
+            n.dot(n_max_object) > 0.0 // false for NaN
+        };
         if topology.is_degenerate(f) || !facing {
             return None;
         }

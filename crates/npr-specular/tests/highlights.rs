@@ -420,8 +420,16 @@ fn a_fading_highlight_follows_object_motion() {
             let on_object = world_from_object.transform_point3(h.centre.position_object);
             let moved = h.centre.position_world.distance(on_object);
             assert!(moved < 1e-4, "frame {frame}: centre left behind by {moved}");
-            let p = h.projector.centre_world.distance(on_object);
+            let p = h.projector.anchor_world.distance(on_object);
             assert!(p < 1e-3, "frame {frame}: projector left behind by {p}");
+            // The footprint's offset from the centre (the measured region's centroid)
+            // moves rigidly with it.
+            let offset = h.projector.centre_world.distance(h.projector.anchor_world);
+            let want = h.footprint.offset.length();
+            assert!(
+                (offset - want).abs() < 1e-3,
+                "frame {frame}: footprint offset {offset} vs {want}"
+            );
             let n = world_from_object.transform_vector3(h.centre.normal_object);
             assert!(h.centre.normal_world.dot(n.normalize()) > 0.9999);
             assert!(!h.receivers.is_empty(), "frame {frame}: no receivers");

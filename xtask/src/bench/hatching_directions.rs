@@ -54,7 +54,7 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         meshes
             .iter()
             .map(|p| {
-                let mesh = npr_geometry::load_obj(p)?;
+                let mesh = npr_geometry::io::load(p)?.mesh;
                 Ok((p.display().to_string(), mesh, false))
             })
             .collect::<anyhow::Result<_>>()?

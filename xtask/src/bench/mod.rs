@@ -4,6 +4,7 @@ pub mod curvature;
 pub mod hatching;
 pub mod hatching_directions;
 pub mod specular;
+pub mod specular_fidelity;
 pub mod table;
 pub mod warp;
 
@@ -26,15 +27,17 @@ pub fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 pub const NAMES: &[&str] = &[
     "curvature",
     "specular",
+    "specular-fidelity",
     "hatching",
     "hatching-directions",
     "warp",
 ];
 
 /// The benchmarks that take `--mesh`.
-const TAKE_MESHES: &[&str] = &["hatching-directions", "specular"];
+const TAKE_MESHES: &[&str] = &["hatching-directions", "specular", "specular-fidelity"];
 
-/// Runs benchmark `name` (on `meshes` instead of its defaults, where it takes them).
+/// Runs benchmark `name` (on `meshes`, added to or instead of its defaults, where it
+/// takes them).
 pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     if !meshes.is_empty() && !TAKE_MESHES.contains(&name) {
         anyhow::bail!(
@@ -46,6 +49,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
         "hatching-directions" => hatching_directions::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(meshes, json),
+        "specular-fidelity" => specular_fidelity::run(json, meshes),
         "hatching" => hatching::run(json),
         "warp" => warp::run(json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),

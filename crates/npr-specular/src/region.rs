@@ -1,0 +1,445 @@
+//! The region `N·H ≥ σ` a highlight stylizes, measured on the mesh (beyond the paper).
+//!
+//! Eq. (8) sizes a projector from the principal curvatures at the centre: exact on a
+//! sphere, but on a real mesh κ is noisy and the region is not an ellipse, so the paper's
+//! footprint misses most of it (recall 0.37–0.80 measured by `cargo xtask bench
+//! specular-fidelity`). Here the region itself is grown over the mesh from the centre's
+//! face, on the normals the `N = H` search uses (the shaded ones), with `H` per vertex
+//! from the light and eye: each face is clipped to the linear interpolant of
+//! `N·H − σ ≥ 0`, projected onto the projector's plane (e_max, e_min) and its area
+//! moments summed. The footprint is the ellipse with the same moments: centred at the
+//! region's centroid, half extent `2·sqrt(variance)` along each axis (a uniform ellipse of
+//! half axis `a` has variance `a²/4`), turned towards the moments' own axes when the
+//! region is clearly anisotropic.
+
+use glam::{Mat3, Mat4, Vec2, Vec3};
+use npr_geometry::{HighlightCentre, LightEye, Topology};
+use std::collections::VecDeque;
+
+/// A projector's footprint before the §3.4 controls: the ellipse inscribed in its square.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    /// Half extents along the (rotated) `e_max` and `e_min` axes, world units.
+    pub half_extent: Vec2,
+    /// Offset of the footprint's centre from the `N = H` point along (`e_max`, `e_min`),
+    /// world units (zero for Eq. (8)).
+    pub offset: Vec2,
+    /// Rotation of the footprint's axes about the normal from (`e_max`, `e_min`), radians
+    /// (zero for Eq. (8)).
+    pub rotate_rad: f32,
+    /// Area of the region measured (projected onto the projector plane), world units²;
+    /// zero for Eq. (8).
+    pub region_area: f32,
+    /// Smallest `cos` between the region's normals and the projector's axis (the
+    /// region's normal cone; receivers beyond it cannot be in the region); −1 when not
+    /// measured (Eq. (8)).
+    pub normal_cone_cos: f32,
+}
+
+impl Default for Footprint {
+    fn default() -> Self {
+        Self {
+            half_extent: Vec2::ZERO,
+            offset: Vec2::ZERO,
+            rotate_rad: 0.0,
+            region_area: 0.0,
+            normal_cone_cos: -1.0,
+        }
+    }
+}
+
+/// What growing a centre's region found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Region {
+    /// The centre's face is an earlier centre's: the highlight would stylize a region
+    /// another one covers.
+    Covered,
+    /// The linear interpolant of `N·H − σ` is negative at every vertex of the centre's
+    /// face: the region is smaller than a triangle (or absent).
+    Empty,
+    /// The fitted footprint and the number of faces the region touches.
+    Fit(Footprint, usize),
+}
+
+/// Reusable per-mesh scratch of [`RegionGrower`]: per-frame vertex values and face
+/// ownership, generation-stamped so nothing is cleared per frame.
+#[derive(Clone, Debug, Default)]
+pub struct RegionGrower {
+    frame: u32,
+    vertex_frame: Vec<u32>,
+    vertex_world: Vec<Vec3>,
+    vertex_normal: Vec<Vec3>,
+    face_visit: Vec<u32>,
+    queue: VecDeque<(u32, u32)>,
+}
+
+/// Everything of the current frame the growth needs.
+#[derive(Clone, Copy, Debug)]
+pub struct RegionFrame<'a> {
+    /// The mesh (object space).
+    pub topology: &'a Topology,
+    /// Unit vertex normals the search uses, object space.
+    pub normals: &'a [Vec3],
+    /// Object → world.
+    pub world_from_object: Mat4,
+    /// Light and eye, world space.
+    pub light_eye: LightEye,
+}
+
+/// Largest number of faces one region may visit (a flat mesh facing the light would
+/// otherwise be walked whole every frame; the fit of a truncated region is still its best).
+const MAX_REGION_FACES: usize = 200_000;
+
+impl RegionGrower {
+    /// Starts a frame: forgets the vertex values and face marks of the last one.
+    fn begin_frame(&mut self, topology: &Topology) {
+        let (nv, nf) = (topology.vertex_count(), topology.face_count());
+        if self.vertex_frame.len() != nv || self.face_visit.len() != nf {
+            *self = Self {
+                vertex_frame: vec![0; nv],
+                vertex_world: vec![Vec3::ZERO; nv],
+                vertex_normal: vec![Vec3::ZERO; nv],
+                face_visit: vec![0; nf],
+                ..Self::default()
+            };
+        }
+        self.frame = self.frame.wrapping_add(1);
+        if self.frame == 0 {
+            self.vertex_frame.fill(0);
+            self.face_visit.fill(0);
+            self.frame = 1;
+        }
+    }
+
+    /// World position and unit world normal of vertex `v` (cached for the frame).
+    fn vertex(&mut self, f: &RegionFrame<'_>, normal_from_object: Mat3, v: usize) -> (Vec3, Vec3) {
+        if self.vertex_frame[v] != self.frame {
+            self.vertex_frame[v] = self.frame;
+            self.vertex_world[v] = f
+                .world_from_object
+                .transform_point3(f.topology.positions[v]);
+            self.vertex_normal[v] = (normal_from_object
+                * f.normals.get(v).copied().unwrap_or(Vec3::ZERO))
+            .normalize_or_zero();
+        }
+        (self.vertex_world[v], self.vertex_normal[v])
+    }
+
+    /// Grows the regions `N·H ≥ σ` of all `seeds` (centre in world frame as the search
+    /// returns it, and its σ) at once, breadth-first from their faces, so that a region
+    /// holding several centres is shared between them (each face goes to the centre that
+    /// reaches it first), and fits each part's footprint. A seed whose face an earlier
+    /// seed already holds is [`Region::Covered`].
+    pub fn grow_all(
+        &mut self,
+        f: &RegionFrame<'_>,
+        seeds: &[(HighlightCentre, f32)],
+    ) -> Vec<Region> {
+        let topo = f.topology;
+        self.begin_frame(topo);
+        let mut out = vec![Region::Empty; seeds.len()];
+        let m3 = Mat3::from_mat4(f.world_from_object);
+        if m3.determinant().abs() <= f32::MIN_POSITIVE {
+            return out;
+        }
+        let normal_from_object = m3.inverse().transpose();
+        let mut parts: Vec<Part> = Vec::with_capacity(seeds.len());
+        self.queue.clear();
+        for (k, (centre, sigma)) in seeds.iter().enumerate() {
+            let start = centre.face as usize;
+            let frame = centre.normal_world.try_normalize().and_then(|n| {
+                let e_u =
+                    (centre.dir_kappa_max - n * n.dot(centre.dir_kappa_max)).try_normalize()?;
+                Some((n, e_u, n.cross(e_u)))
+            });
+            parts.push(Part {
+                frame: frame.unwrap_or((Vec3::Z, Vec3::X, Vec3::Y)),
+                origin: centre.position_world,
+                sigma: *sigma,
+                moments: Moments::default(),
+                faces: 0,
+                cone: 1.0,
+            });
+            if start >= topo.face_count() || frame.is_none() {
+                continue;
+            }
+            if self.face_visit[start] == self.frame {
+                out[k] = Region::Covered;
+                continue;
+            }
+            self.face_visit[start] = self.frame;
+            self.queue.push_back((start as u32, k as u32));
+        }
+        let mut total = 0usize;
+        while let Some((face, k)) = self.queue.pop_front() {
+            let fi = face as usize;
+            let part = &parts[k as usize];
+            let (n, e_u, e_v) = part.frame;
+            if topo.is_degenerate(fi) || (normal_from_object * topo.face_normals[fi]).dot(n) <= 0.0
+            {
+                continue;
+            }
+            let tri = topo.triangles[fi];
+            let vs = tri.map(|v| self.vertex(f, normal_from_object, v as usize));
+            // The face on a sub-grid, as the GPU shades it: interpolated and normalised
+            // normal, H at the point; `N·H − σ` linear on each sub-triangle.
+            let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
+            let mut any = false;
+            let mut cone = 1f32;
+            let mut g = 0;
+            for i in 0..=SUB {
+                for j in 0..=SUB - i {
+                    let (b1, b2) = (i as f32 / SUB as f32, j as f32 / SUB as f32);
+                    let b0 = 1.0 - b1 - b2;
+                    let p = vs[0].0 * b0 + vs[1].0 * b1 + vs[2].0 * b2;
+                    let nn = (vs[0].1 * b0 + vs[1].1 * b1 + vs[2].1 * b2).normalize_or_zero();
+                    let d = nn.dot(half_vector(f.light_eye, p)) - part.sigma;
+                    let d = if d.is_finite() { d } else { -1.0 };
+                    if d >= 0.0 {
+                        any = true;
+                        cone = cone.min(nn.dot(n));
+                    }
+                    let q = p - part.origin;
+                    grid[g] = (Vec2::new(q.dot(e_u), q.dot(e_v)), d);
+                    g += 1;
+                }
+            }
+            if !any {
+                continue;
+            }
+            let part = &mut parts[k as usize];
+            part.faces += 1;
+            part.cone = part.cone.min(cone);
+            for_sub_triangles(|a, b, c| part.moments.add_clipped([grid[a], grid[b], grid[c]]));
+            total += 1;
+            if total >= MAX_REGION_FACES {
+                break;
+            }
+            for &nb in topo.face_neighbours(fi) {
+                let ni = nb as usize;
+                if self.face_visit[ni] != self.frame {
+                    self.face_visit[ni] = self.frame;
+                    self.queue.push_back((nb, k));
+                }
+            }
+        }
+        for (k, part) in parts.iter().enumerate() {
+            if out[k] == Region::Empty && part.faces > 0 {
+                if let Some(fp) = part.moments.footprint() {
+                    let fp = Footprint {
+                        normal_cone_cos: part.cone,
+                        ..fp
+                    };
+                    out[k] = Region::Fit(fp, part.faces);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// One seed's growing region: its projector frame (n, e_max, e_min), origin, σ, moments.
+struct Part {
+    frame: (Vec3, Vec3, Vec3),
+    origin: Vec3,
+    sigma: f32,
+    moments: Moments,
+    faces: usize,
+    cone: f32,
+}
+
+/// Sub-grid of a face: `SUB` steps per edge.
+const SUB: usize = 4;
+const GRID_POINTS: usize = (SUB + 1) * (SUB + 2) / 2;
+
+/// Index of grid point (i, j) (i + j ≤ SUB) in the order [`RegionGrower::grow`] fills
+/// them.
+const fn grid_index(i: usize, j: usize) -> usize {
+    // Row i starts after rows 0..i of SUB + 1 − r points each.
+    i * (2 * SUB + 3 - i) / 2 + j
+}
+
+/// Calls `f` with the grid indices of every sub-triangle, in the face's orientation.
+fn for_sub_triangles(mut f: impl FnMut(usize, usize, usize)) {
+    for i in 0..SUB {
+        for j in 0..SUB - i {
+            let (a, b, c) = (grid_index(i, j), grid_index(i + 1, j), grid_index(i, j + 1));
+            f(a, b, c);
+            if i + j + 1 < SUB {
+                f(b, grid_index(i + 1, j + 1), c);
+            }
+        }
+    }
+}
+
+/// The unit half vector `H` at world point `p`.
+fn half_vector(light_eye: LightEye, p: Vec3) -> Vec3 {
+    match light_eye {
+        LightEye::Positions { light, eye } => {
+            (light - p).normalize_or_zero() + (eye - p).normalize_or_zero()
+        }
+        LightEye::Directions { to_light, to_eye } => {
+            to_light.normalize_or_zero() + to_eye.normalize_or_zero()
+        }
+    }
+    .normalize_or_zero()
+}
+
+/// Area moments of a planar region (area, first and second moments about the origin).
+#[derive(Clone, Copy, Debug, Default)]
+struct Moments {
+    area: f64,
+    first: [f64; 2],
+    /// (xx, xy, yy)
+    second: [f64; 3],
+}
+
+impl Moments {
+    /// Adds a triangle (counter-clockwise seen from the normal for positive area).
+    fn add_triangle(&mut self, a: Vec2, b: Vec2, c: Vec2) {
+        let (a, b, c) = (a.as_dvec2(), b.as_dvec2(), c.as_dvec2());
+        let area = 0.5 * (b - a).perp_dot(c - a);
+        let s = a + b + c;
+        self.area += area;
+        self.first[0] += area * s.x / 3.0;
+        self.first[1] += area * s.y / 3.0;
+        // ∫ x xᵀ dA = A/12 · (Σ vᵢvᵢᵀ + s sᵀ) over a triangle.
+        let k = area / 12.0;
+        self.second[0] += k * (a.x * a.x + b.x * b.x + c.x * c.x + s.x * s.x);
+        self.second[1] += k * (a.x * a.y + b.x * b.y + c.x * c.y + s.x * s.y);
+        self.second[2] += k * (a.y * a.y + b.y * b.y + c.y * c.y + s.y * s.y);
+    }
+
+    /// Adds the part of the triangle where the linear interpolant of the values `≥ 0`.
+    fn add_clipped(&mut self, tri: [(Vec2, f32); 3]) {
+        let mut poly: [Vec2; 4] = [Vec2::ZERO; 4];
+        let mut len = 0;
+        for k in 0..3 {
+            let (p, dp) = tri[k];
+            let (q, dq) = tri[(k + 1) % 3];
+            if dp >= 0.0 {
+                poly[len] = p;
+                len += 1;
+            }
+            if (dp >= 0.0) != (dq >= 0.0) && len < 4 {
+                let t = dp / (dp - dq);
+                poly[len] = p + (q - p) * t;
+                len += 1;
+            }
+        }
+        for k in 1..len.saturating_sub(1) {
+            self.add_triangle(poly[0], poly[k], poly[k + 1]);
+        }
+    }
+
+    /// The ellipse with these moments (see the module docs); `None` for an empty or
+    /// degenerate region.
+    fn footprint(&self) -> Option<Footprint> {
+        if self.area.is_nan() || self.area <= 1e-20 {
+            return None;
+        }
+        let mx = self.first[0] / self.area;
+        let my = self.first[1] / self.area;
+        let cxx = (self.second[0] / self.area - mx * mx).max(0.0);
+        let cxy = self.second[1] / self.area - mx * my;
+        let cyy = (self.second[2] / self.area - my * my).max(0.0);
+        // The moments' axis nearest to e_max, within ±45°.
+        let mut theta = 0.5 * (2.0 * cxy).atan2(cxx - cyy);
+        let quarter = std::f64::consts::FRAC_PI_2;
+        if theta > quarter / 2.0 {
+            theta -= quarter;
+        } else if theta < -quarter / 2.0 {
+            theta += quarter;
+        }
+        // Turn only for a clearly anisotropic region: near-isotropic moments have unstable
+        // axes, and a turning texture would flicker.
+        let spread = ((cxx - cyy).powi(2) + 4.0 * cxy * cxy).sqrt() / (cxx + cyy).max(1e-30);
+        let t = ((spread - 0.05) / 0.15).clamp(0.0, 1.0);
+        let theta = theta * t * t * (3.0 - 2.0 * t);
+        let (s, c) = theta.sin_cos();
+        let var_u = cxx * c * c + 2.0 * cxy * s * c + cyy * s * s;
+        let var_v = cxx * s * s - 2.0 * cxy * s * c + cyy * c * c;
+        let offset = glam::DVec2::new(mx, my);
+        let half = Vec2::new(
+            (2.0 * var_u.max(0.0).sqrt()) as f32,
+            (2.0 * var_v.max(0.0).sqrt()) as f32,
+        );
+        let fp = Footprint {
+            half_extent: half,
+            offset: offset.as_vec2(),
+            rotate_rad: theta as f32,
+            region_area: self.area as f32,
+            normal_cone_cos: -1.0,
+        };
+        (half.min_element() > 0.0 && fp.offset.is_finite() && half.is_finite()).then_some(fp)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moments_of_a_square_and_its_clipped_half() {
+        let mut m = Moments::default();
+        let (a, b, c, d) = (
+            Vec2::new(-1.0, -1.0),
+            Vec2::new(1.0, -1.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(-1.0, 1.0),
+        );
+        m.add_triangle(a, b, c);
+        m.add_triangle(a, c, d);
+        assert!((m.area - 4.0).abs() < 1e-9);
+        // Var of a uniform [−1, 1] is 1/3.
+        assert!((m.second[0] / m.area - 1.0 / 3.0).abs() < 1e-9);
+        assert!(m.second[1].abs() < 1e-9);
+        // Clip by x ≥ 0: values = x.
+        let mut h = Moments::default();
+        h.add_clipped([(a, a.x), (b, b.x), (c, c.x)]);
+        h.add_clipped([(a, a.x), (c, c.x), (d, d.x)]);
+        assert!((h.area - 2.0).abs() < 1e-6, "{}", h.area);
+        assert!((h.first[0] / h.area - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn the_sub_grid_tiles_the_face_once() {
+        let mut area = 0.0;
+        let mut count = 0;
+        let pts: Vec<Vec2> = (0..=SUB)
+            .flat_map(|i| (0..=SUB - i).map(move |j| Vec2::new(i as f32, j as f32)))
+            .collect();
+        assert_eq!(pts.len(), GRID_POINTS);
+        for_sub_triangles(|a, b, c| {
+            let t = 0.5 * (pts[b] - pts[a]).perp_dot(pts[c] - pts[a]);
+            assert!(t > 0.0, "orientation");
+            area += t;
+            count += 1;
+        });
+        assert_eq!(count, SUB * SUB);
+        assert!((area - 0.5 * (SUB * SUB) as f32).abs() < 1e-4);
+    }
+
+    #[test]
+    fn an_ellipse_gets_its_own_half_axes() {
+        // A polygonal ellipse of half axes 3 × 1, turned by 0.5 rad.
+        let mut m = Moments::default();
+        let k = 720;
+        let (s, c) = 0.5f32.sin_cos();
+        let pt = |i: usize| {
+            let t = i as f32 / k as f32 * std::f32::consts::TAU;
+            let (x, y) = (3.0 * t.cos(), t.sin());
+            Vec2::new(x * c - y * s, x * s + y * c) + Vec2::new(0.2, -0.1)
+        };
+        for i in 0..k {
+            m.add_triangle(Vec2::new(0.2, -0.1), pt(i), pt(i + 1));
+        }
+        let fp = m.footprint().unwrap();
+        assert!((fp.rotate_rad - 0.5).abs() < 1e-3, "{fp:?}");
+        assert!(
+            (fp.half_extent - Vec2::new(3.0, 1.0)).length() < 1e-2,
+            "{fp:?}"
+        );
+        assert!((fp.offset - Vec2::new(0.2, -0.1)).length() < 1e-4, "{fp:?}");
+    }
+}

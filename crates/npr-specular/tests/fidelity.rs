@@ -1,0 +1,131 @@
+//! Issue 11: the highlights match the light they stylize. GPU tests of the fidelity
+//! measurement (`npr_specular::fidelity`) at a small resolution, on the sphere and a real
+//! mesh, for the default sizing against the paper's; CPU tests of frame coherence on the
+//! bunny turning and of the §3.4 controls on top of the measured footprints.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat4, Vec2, Vec3};
+use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
+use npr_gpu::{GpuMesh, testing};
+use npr_specular::fidelity::{
+    Coherence, FidelityRig, FidelityScore, standard_views, unit_sphere_transform,
+};
+use npr_specular::{HighlightSet, HighlightSizing, ProjectorControls};
+
+fn fixture(name: &str) -> Mesh {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/meshes")
+        .join(name);
+    npr_geometry::load_obj(path).unwrap()
+}
+
+/// Scores `mesh` over 3 eyes × 2 lights at 200×150 with `sizing`.
+fn score(ctx: &npr_gpu::GpuContext, mesh: &Mesh, sizing: HighlightSizing) -> FidelityScore {
+    let (w, h) = (200, 150);
+    let rig = FidelityRig::new(&ctx.device, &ctx.queue, w, h).unwrap();
+    let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
+    set.sizing = sizing;
+    let gpu = GpuMesh::upload(&ctx.device, mesh).unwrap();
+    let views = standard_views(unit_sphere_transform(mesh), 3, w as f32 / h as f32);
+    let scores: Vec<_> = views
+        .iter()
+        .map(|v| {
+            rig.score(&ctx.device, &ctx.queue, (&gpu, &mesh.indices), &mut set, v)
+                .unwrap()
+        })
+        .collect();
+    FidelityScore::pool(&scores)
+}
+
+#[test]
+fn highlights_cover_the_region_they_stylize() {
+    let Some(ctx) = testing::context_or_skip("highlights_cover_the_region_they_stylize") else {
+        return;
+    };
+    let sphere = generate::icosphere(4, 1.0);
+    let ours = score(ctx, &sphere, HighlightSizing::Region);
+    let paper = score(ctx, &sphere, HighlightSizing::Paper);
+    eprintln!("sphere: ours {ours:?}\n        paper {paper:?}");
+    assert!(ours.precision >= 0.85 && ours.recall >= 0.85, "{ours:?}");
+    assert!(ours.stretch_max <= 4.0, "{ours:?}");
+    assert_eq!(ours.count_within, ours.views, "{ours:?}");
+    // The measurement can fail: the paper's capped Eq. (8) misses half the region.
+    assert!(paper.recall < 0.7, "{paper:?}");
+
+    let spot = fixture("spot.obj");
+    let ours = score(ctx, &spot, HighlightSizing::Region);
+    eprintln!("spot: ours {ours:?}");
+    assert!(ours.precision >= 0.7 && ours.recall >= 0.7, "{ours:?}");
+    assert!(ours.stretch_max <= 4.0, "{ours:?}");
+}
+
+/// The bunny turning in 1° steps (120 here; `cargo xtask bench specular-fidelity` turns it
+/// 360°): no highlight appears or vanishes without its fade, and no footprint changes area
+/// by more than 30 % between consecutive frames.
+#[test]
+fn the_turning_bunny_fades_and_keeps_its_footprints() {
+    let bunny = fixture("stanford-bunny.obj");
+    let mut set = HighlightSet::new(&bunny, &CurvatureOptions::default()).unwrap();
+    let base = unit_sphere_transform(&bunny);
+    let le = LightEye::Positions {
+        light: Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
+        eye: Vec3::new(0.9, 0.6, 2.4).normalize() * 2.3,
+    };
+    let mut c = Coherence::new(set.fade_frames);
+    let mut seen = 0;
+    for deg in 0..120 {
+        set.update(le, Mat4::from_rotation_y((deg as f32).to_radians()) * base);
+        seen += set.highlights().len();
+        c.step(&set);
+    }
+    eprintln!("bunny turning: {c:?}");
+    assert!(seen > 120, "too few highlights to test: {seen}");
+    assert_eq!((c.pops_in, c.pops_out), (0, 0), "{c:?}");
+    assert!(c.area_change_max <= 0.3, "{c:?}");
+    // The check can fail: without fades every change pops.
+    set.fade_frames = 0;
+    set.reset();
+    let mut popping = Coherence::new(6);
+    for deg in 0..120 {
+        set.update(le, Mat4::from_rotation_y((deg as f32).to_radians()) * base);
+        popping.step(&set);
+    }
+    assert!(popping.pops_in + popping.pops_out > 0, "{popping:?}");
+}
+
+/// §3.4: translate, rotate and scale act on top of the measured footprint.
+#[test]
+fn controls_act_on_the_measured_footprint() {
+    let mut set =
+        HighlightSet::new(&generate::icosphere(4, 1.0), &CurvatureOptions::default()).unwrap();
+    let le = LightEye::Directions {
+        to_light: Vec3::new(0.3, 0.4, 1.0).normalize(),
+        to_eye: Vec3::Z,
+    };
+    let plain = set.update(le, Mat4::IDENTITY)[0].clone();
+    assert_eq!(set.sizing, HighlightSizing::Region);
+    assert!(plain.footprint.region_area > 0.0);
+    set.global = ProjectorControls {
+        translate: Vec2::new(0.1, -0.05),
+        rotate_rad: 0.4,
+        scale: Vec2::new(2.0, 0.5),
+        ..Default::default()
+    };
+    set.reset();
+    let h = set.update(le, Mat4::IDENTITY)[0].clone();
+    let (p0, p) = (&plain.projector, &h.projector);
+    let want = p0.half_extent * Vec2::new(2.0, 0.5);
+    assert!(
+        (p.half_extent - want).length() < 1e-4,
+        "{:?} vs {want}",
+        p.half_extent
+    );
+    assert!((p.axis_u.dot(p0.axis_u) - 0.4f32.cos()).abs() < 1e-4);
+    let e_max = h.centre.dir_kappa_max;
+    let e_min = h.centre.normal_world.cross(e_max);
+    let moved = p.centre_world - p0.centre_world;
+    assert!(
+        (moved - (e_max * 0.1 - e_min * 0.05)).length() < 1e-4,
+        "{moved}"
+    );
+}
