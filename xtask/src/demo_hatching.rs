@@ -237,28 +237,13 @@ pub fn run(
                 },
                 ..Default::default()
             }];
-            let imgs = render(
-                ctx,
-                std::slice::from_ref(&item),
-                &camera,
-                &light,
-                tam,
-                &params,
-                false,
-                Outlines::Paper,
-                (640, 480),
-            )?;
-            for img in imgs {
-                save(
-                    &img,
-                    &dir.join(format!("hatching-fig2-{name}-{}.png", style.name())),
-                    &mut written,
-                )?;
-                tiles.push(img);
-            }
-            if name == "spot" && style == TamStyle::Pen {
-                // Outlines off (the paper's figure above) against on (ours).
-                let outlined = render(
+            // Spot in pen also with outlines: off (the paper's figure) against on (ours).
+            let spot_pen = name == "spot" && style == TamStyle::Pen;
+            for outlines in [Outlines::Paper, Outlines::On] {
+                if outlines == Outlines::On && !spot_pen {
+                    continue;
+                }
+                let imgs = render(
                     ctx,
                     std::slice::from_ref(&item),
                     &camera,
@@ -266,15 +251,18 @@ pub fn run(
                     tam,
                     &params,
                     false,
-                    Outlines::On,
+                    outlines,
                     (640, 480),
                 )?;
-                for img in outlined {
-                    save(
-                        &img,
-                        &dir.join("hatching-outlines-spot-pen.png"),
-                        &mut written,
-                    )?;
+                for img in imgs {
+                    let file = match outlines {
+                        Outlines::Paper => format!("hatching-fig2-{name}-{}.png", style.name()),
+                        Outlines::On => "hatching-outlines-spot-pen.png".to_string(),
+                    };
+                    save(&img, &dir.join(file), &mut written)?;
+                    if outlines == Outlines::Paper {
+                        tiles.push(img);
+                    }
                 }
             }
         }

@@ -225,6 +225,10 @@ pub fn run(
         ..Default::default()
     };
     let spin = Mat4::from_rotation_y(0.4);
+    // A Phong tile with stylized highlights only (no Phong highlight of its own).
+    let phong = |s: &mut Subject, c: ProjectorControls| {
+        tile(ctx, &renderer, s, spin, ShadingModel::Phong, Some(c), false)
+    };
     for s in &mut subjects {
         progress.set_message(format!("specular: {}", s.name));
         // Fig. 4: original, scaled, rotated, translated.
@@ -314,16 +318,7 @@ pub fn run(
         s.set.reset();
         let mut tiles = vec![texture_tile(HighlightShape::Streak)];
         for up in [UpAxis::KappaMin, UpAxis::KappaMax] {
-            let c = ProjectorControls { up, ..streak };
-            tiles.push(tile(
-                ctx,
-                &renderer,
-                s,
-                spin,
-                ShadingModel::Phong,
-                Some(c),
-                false,
-            )?);
+            tiles.push(phong(s, ProjectorControls { up, ..streak })?);
         }
         save(&sheet(&tiles), &format!("specular-fig2-{}.png", s.name))?;
         // Fig. 5: a projector enlarged (2.5×; 1.5× on the scans, whose many highlights
@@ -348,15 +343,7 @@ pub fn run(
             Some(big),
             false,
         )?;
-        let restricted_tile = tile(
-            ctx,
-            &renderer,
-            s,
-            spin,
-            ShadingModel::Phong,
-            Some(big),
-            false,
-        )?;
+        let restricted_tile = phong(s, big)?;
         save(
             &sheet(&[unrestricted_tile, restricted_tile]),
             &format!("specular-fig5-{}.png", s.name),
@@ -371,15 +358,7 @@ pub fn run(
         {
             s.set.size_cap_radius = cap;
             s.set.reset();
-            let img = tile(
-                ctx,
-                &renderer,
-                s,
-                spin,
-                ShadingModel::Phong,
-                Some(disc),
-                false,
-            )?;
+            let img = phong(s, disc)?;
             save(&img, &format!("specular-sizing-{}-{label}.png", s.name))?;
         }
         s.set.size_cap_radius = None;

@@ -395,7 +395,7 @@ pub fn figures() -> Vec<Figure> {
     out.push(fig(
         w,
         "warp-occlusion-knot.png",
-        Some("Fig. 6–7, §3.4"),
+        Some("§3.4, Fig. 6"),
         "Surfaces hidden by other polygons in a reference (§3.4's open problem). Top: a \
          self-occluding knot turning 20° between references, seen halfway: full render, the \
          paper's path, ours, and the differences from the full render (×4) of each. Bottom: \
