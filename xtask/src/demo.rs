@@ -1,6 +1,7 @@
 //! `cargo xtask demo`: renders the demo images into `target/demo/` and prints where.
 //! Base shadings of the procedural fixtures and the real meshes in `fixtures/meshes/`;
-//! each technique adds its figures here.
+//! each technique adds its figures here, and [`crate::gallery`] lists and captions them
+//! all in `target/demo/index.html`.
 
 use crate::{fixture_mesh, project_root};
 use anyhow::Context;
@@ -84,13 +85,17 @@ pub fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
     s
 }
 
-/// Runs every demo.
+/// A demo: writes its figures into the directory and returns their paths, naming its
+/// long parts on the progress bar (and adding steps to it with `inc_length`).
+type Demo = fn(&GpuContext, &Path, &indicatif::ProgressBar) -> anyhow::Result<Vec<PathBuf>>;
+
+/// Runs every demo, checks that it wrote exactly the gallery's files, and writes the
+/// gallery page (`target/demo/index.html`).
 pub fn run() -> anyhow::Result<()> {
     let dir = demo_dir();
     std::fs::create_dir_all(&dir)?;
     let ctx = GpuContext::new()?;
     println!("demo: adapter {}", ctx.adapter_summary());
-    type Demo = fn(&GpuContext, &Path) -> anyhow::Result<Vec<PathBuf>>;
     let demos: [(&str, Demo); 4] = [
         ("base shading", base_shading),
         ("specular", crate::demo_specular::run),
@@ -101,20 +106,31 @@ pub fn run() -> anyhow::Result<()> {
     let mut written = Vec::new();
     for (name, demo) in demos {
         bar.set_message(name);
-        written.extend(demo(&ctx, &dir)?);
+        written.extend(demo(&ctx, &dir, &bar)?);
         bar.inc(1);
     }
     bar.finish_and_clear();
     for p in &written {
         println!("demo: wrote {}", p.display());
     }
-    println!("demo: {} images in {}", written.len(), dir.display());
+    crate::gallery::check_written(&dir, &written)?;
+    let index = crate::gallery::write(&dir)?;
+    println!(
+        "demo: {} images in {}; the gallery: {}",
+        written.len(),
+        dir.display(),
+        index.display()
+    );
     Ok(())
 }
 
 /// Base shadings (Phong, Gouraud, cel with outlines) of every demo mesh, one PNG each
 /// and a sheet.
-fn base_shading(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+fn base_shading(
+    ctx: &GpuContext,
+    dir: &Path,
+    _progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
     const TILE: u32 = 320;
     let meshes = demo_meshes()?;
     let models = ShadingModel::ALL;

@@ -1,6 +1,7 @@
 //! Demo figures of the image-space hatching paper (Kim & Lee 2008, `npr-hatching`):
 //! Fig. 1 (cut-and-paste, blended, offset partition), Fig. 2 (pen and pencil on single
-//! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, a 2-D flow
+//! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, the complex
+//! scene of Fig. 4 (about 1.1M triangles at 1280×480), a 2-D flow
 //! field (§5), and the tonal art maps themselves. Our own figures (the scene under a spot
 //! light, raw against smooth stroke directions on the bunny) add ink outlines
 //! (`npr_gpu::outline`); those that reproduce the paper's figures do not.
@@ -156,8 +157,13 @@ fn single(name: &str, mesh: Mesh) -> (Item, Camera, ShadowLight) {
     )
 }
 
-/// Writes the hatching figures into `dir` and returns their paths.
-pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+/// Writes the hatching figures into `dir` and returns their paths; `progress` names the
+/// long parts.
+pub fn run(
+    ctx: &GpuContext,
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let pen = TonalArtMap::generate(&TamParams::pen())?;
     let pencil = TonalArtMap::generate(&TamParams::pencil())?;
@@ -210,6 +216,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     )?;
 
     // Fig. 2: pen and pencil on single objects, 640×480 as in the paper.
+    progress.set_message("hatching: Fig. 2, single objects");
     let mut singles: Vec<(String, Mesh)> = vec![("knot".to_string(), demo_knot())];
     singles.extend(
         demo_meshes()?
@@ -230,24 +237,33 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
                 },
                 ..Default::default()
             }];
-            let imgs = render(
-                ctx,
-                std::slice::from_ref(&item),
-                &camera,
-                &light,
-                tam,
-                &params,
-                false,
-                Outlines::Paper,
-                (640, 480),
-            )?;
-            for img in imgs {
-                save(
-                    &img,
-                    &dir.join(format!("hatching-fig2-{name}-{}.png", style.name())),
-                    &mut written,
+            // Spot in pen also with outlines: off (the paper's figure) against on (ours).
+            let spot_pen = name == "spot" && style == TamStyle::Pen;
+            for outlines in [Outlines::Paper, Outlines::On] {
+                if outlines == Outlines::On && !spot_pen {
+                    continue;
+                }
+                let imgs = render(
+                    ctx,
+                    std::slice::from_ref(&item),
+                    &camera,
+                    &light,
+                    tam,
+                    &params,
+                    false,
+                    outlines,
+                    (640, 480),
                 )?;
-                tiles.push(img);
+                for img in imgs {
+                    let file = match outlines {
+                        Outlines::Paper => format!("hatching-fig2-{name}-{}.png", style.name()),
+                        Outlines::On => "hatching-outlines-spot-pen.png".to_string(),
+                    };
+                    save(&img, &dir.join(file), &mut written)?;
+                    if outlines == Outlines::Paper {
+                        tiles.push(img);
+                    }
+                }
             }
         }
     }
@@ -258,6 +274,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     )?;
 
     // Fig. 3: a multi-object scene on a ground plane with cast shadows.
+    progress.set_message("hatching: Fig. 3 scene");
     let (items, camera, light) = scene_fig3();
     for (tam, style) in [(&pen, TamStyle::Pen), (&pencil, TamStyle::Pencil)] {
         let imgs = render(
@@ -285,6 +302,35 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         }
     }
 
+    // Fig. 4: a complex scene of several objects, about 1.1M triangles, at 1280×480.
+    progress.set_message("hatching: Fig. 4 scene (stroke fields)");
+    let (big, big_camera, big_light) = scene_fig4()?;
+    let triangles: usize = big.iter().map(|i| i.mesh.indices.len() / 3).sum();
+    progress.set_message("hatching: Fig. 4 scene (render)");
+    let imgs = render(
+        ctx,
+        &big,
+        &big_camera,
+        &big_light,
+        &pen,
+        &[HatchParams::default()],
+        false,
+        Outlines::Paper,
+        FIG4_SIZE,
+    )?;
+    println!(
+        "demo hatching: Fig. 4 scene, {} objects, {triangles} triangles, {}×{}",
+        big.len(),
+        FIG4_SIZE.0,
+        FIG4_SIZE.1
+    );
+    save(
+        &imgs[0],
+        &dir.join("hatching-fig4-scene-pen.png"),
+        &mut written,
+    )?;
+    drop(big);
+
     // The same scene under a spot light (cone and shadows from the VSM).
     let spot = ShadowLight::Spot {
         position: Vec3::new(-2.5, 5.0, 2.5),
@@ -310,6 +356,7 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         &mut written,
     )?;
 
+    progress.set_message("hatching: stroke directions, flow");
     // Stroke directions before/after: the raw principal field against the smooth line
     // field (issue 11), on the bunny, with outlines.
     let bunny = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
@@ -412,6 +459,90 @@ fn scene_fig3() -> (Vec<Item>, Camera, ShadowLight) {
         radius: 5.5,
     };
     (items, camera, light)
+}
+
+/// The size of the Fig. 4 scene, as in the paper.
+const FIG4_SIZE: (u32, u32) = (1280, 480);
+
+/// `world_from_object` placing `mesh` scaled to bounding radius `radius`, centred over
+/// (x, z) and resting on the ground plane y = 0.
+fn on_ground(mesh: &Mesh, radius: f32, x: f32, z: f32, turn_deg: f32) -> Mat4 {
+    let (_, unit) = framing_camera(mesh, 1.0);
+    let bottom = mesh
+        .positions
+        .iter()
+        .map(|p| unit.transform_point3(*p).y)
+        .fold(f32::MAX, f32::min);
+    Mat4::from_translation(Vec3::new(x, -bottom * radius, z))
+        * Mat4::from_scale(Vec3::splat(radius))
+        * Mat4::from_rotation_y(turn_deg.to_radians())
+        * unit
+}
+
+/// The Fig. 4-like complex scene (the paper: "a complex 3-D scene with many triangles",
+/// about 1,100,000 at 1280×480): a row of objects on a ground plane, the bunny and Spot
+/// among dense procedural ones; a directional light with shadows over the whole row.
+fn scene_fig4() -> anyhow::Result<(Vec<Item>, Camera, ShadowLight)> {
+    let plane = generate::plane(16.0, 7.0, 16, 8);
+    let dirs = vec![Vec3::new(1.0, 0.0, 0.35); plane.positions.len()];
+    let mut items = vec![Item {
+        mesh: plane,
+        world_from_object: Mat4::IDENTITY,
+        directions: dirs,
+    }];
+    let bunny = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
+    let spot = npr_geometry::load_obj(crate::fixture_mesh("spot.obj"))?;
+    let knot = generate::torus_knot(&generate::TorusKnot {
+        p: 2,
+        q: 3,
+        major_radius: 1.0,
+        minor_radius: 0.4,
+        tube_radius: 0.15,
+        segments: 1800,
+        tube_segments: 200,
+    });
+    let objects: Vec<(&str, Mesh, f32, f32, f32, f32)> = vec![
+        (
+            "cylinder",
+            generate::cylinder(0.5, 1.8, 256, 64, true),
+            1.0,
+            -6.0,
+            0.2,
+            0.0,
+        ),
+        ("stanford-bunny", bunny, 1.2, -3.7, -0.3, 20.0),
+        (
+            "torus",
+            generate::torus(1.0, 0.4, 400, 200),
+            1.1,
+            -1.2,
+            0.6,
+            0.0,
+        ),
+        ("knot", knot, 1.3, 1.3, -0.5, 0.0),
+        ("spot", spot, 1.1, 3.8, 0.4, -35.0),
+        ("sphere", generate::icosphere(6, 1.0), 0.9, 6.0, -0.2, 0.0),
+    ];
+    for (name, mesh, radius, x, z, turn) in objects {
+        let world_from_object = on_ground(&mesh, radius, x, z, turn);
+        let directions = demo_directions(name, &mesh);
+        items.push(Item {
+            mesh,
+            world_from_object,
+            directions,
+        });
+    }
+    let camera = Camera::look_at(
+        Vec3::new(0.0, 2.8, 7.4),
+        Vec3::new(0.0, 0.9, 0.0),
+        FIG4_SIZE.0 as f32 / FIG4_SIZE.1 as f32,
+    );
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(-1.0, 2.0, 1.1),
+        center: Vec3::new(0.0, 0.8, 0.0),
+        radius: 8.0,
+    };
+    Ok((items, camera, light))
 }
 
 /// A 2-D flow: a uniform stream past two counter-rotating vortices; tone from speed.

@@ -1,17 +1,19 @@
 //! `cargo xtask demo` figures of the warping paper (Park & Ihm, "Post-Rendering 3D Warping
 //! using Projective Texture", KIISE 2002):
 //! - `warp-ratios-*.png`: full render, then proxy wireframe and warped frame for three proxy
-//!   ratios (the paper's Fig. 8–10);
+//!   ratios (the paper's Fig. 8–10: the bunny, and the 870k and 1.1M knots standing in for
+//!   Dragon and Buddha);
 //! - `warp-sequence-*.png` / `warp-sequence-psnr-*.png`: frames of a [`WarpSequence`] with a
 //!   reference every 10 frames and the per-frame PSNR against the full render, plotted;
 //! - `warp-occlusion-knot.png`: the paper's path ([`Departures::PAPER`]) and ours, with
 //!   their differences from the full render (the §3.4 problem and its fix): top row a
-//!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile).
+//!   self-occluding knot, bottom row a synthetic occluder in reference 0 (first tile);
+//!   `warp-occlusion-knot-paper.png` / `-ours.png` hold the top row's two warps alone.
 
 use crate::demo::save;
-use crate::warp_rig::{CLEAR, Rig, Variant, light, path_for};
+use crate::warp_rig::{CLEAR, Rig, Variant, WarpModel, light, path_for};
 use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
+use npr_geometry::generate;
 use npr_gpu::readback_rgba;
 use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms};
 use npr_warp::metrics::difference_image;
@@ -89,55 +91,33 @@ impl Rig<'_> {
     }
 }
 
-/// The demo mesh: the bunny from `fixtures/meshes/`.
-fn demo_mesh() -> anyhow::Result<(String, Mesh, [f32; 3])> {
-    let mesh = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
-    Ok(("bunny".into(), mesh, [0.05, 0.02, 0.01]))
-}
-
 /// Writes the warping figures into `dir`.
-pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub fn run(
+    ctx: &GpuContext,
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    let (name, mesh, ratios) = demo_mesh()?;
-    let mut rig = Rig::new(ctx, &mesh, TILE)?;
-    let (path, world_per_object) = path_for(&mesh, vec![Vec3::ZERO], 3.3, true);
-    let k = 10;
-    let (r0, r1) = (
-        rig.reference(&path.pose(0.0))?,
-        rig.reference(&path.pose(k as f32))?,
-    );
-    let mid = path.pose(5.0);
-    let full_mid = rig.full(&mid)?;
-
-    // Fig. 8-10: full render | (wireframe, warp) per ratio.
-    let mut sheet = image::RgbaImage::from_pixel(TILE * 7, TILE, image::Rgba([255; 4]));
-    image::imageops::replace(&mut sheet, &on_white(&full_mid), 0, 0);
-    for (i, &ratio) in ratios.iter().enumerate() {
-        let proxy = Proxy::simplify(&mesh, ratio)?;
-        let ours = rig.variant(&proxy, Departures::OURS, world_per_object, 16, true)?;
-        let wire = rig.warp([&r0, &r1], &ours, &mid, 0.5, WarpMode::Fill, true)?;
-        let warped = rig.warp([&r0, &r1], &ours, &mid, 0.5, ours.mode, false)?;
-        let q = compare(&full_mid, &warped);
-        println!(
-            "demo warp: {name} {:.1} % ({} triangles, error {:.4} of the extent): PSNR {:.2} dB, SSIM {:.4} halfway between references 10 frames apart",
-            ratio * 100.0,
-            proxy.triangles(),
-            proxy.error_relative,
-            q.psnr_db,
-            q.ssim
-        );
-        let x = i64::from(TILE) * (1 + 2 * i as i64);
-        image::imageops::replace(&mut sheet, &on_white(&wire), x, 0);
-        image::imageops::replace(&mut sheet, &on_white(&warped), x + i64::from(TILE), 0);
+    progress.set_message("warp: loading and building the models");
+    let models = crate::warp_rig::warp_models()?;
+    // Fig. 8-10: the bunny, then the knots standing in for Dragon and Buddha.
+    progress.inc_length(models.len() as u64);
+    for model in &models {
+        progress.set_message(format!("warp: Fig. 8-10, {}", model.name));
+        ratios_figure(ctx, model, dir, &mut written)?;
+        progress.inc(1);
     }
-    save(
-        &sheet,
-        &dir.join(format!("warp-ratios-{name}.png")),
-        &mut written,
-    )?;
+    progress.set_message("warp: sequence and occlusion");
+    let Some(bunny) = models.first() else {
+        anyhow::bail!("no warping model");
+    };
+    let (name, mesh, ratios) = (bunny.slug, &bunny.mesh, bunny.ratios);
+    let mut rig = Rig::new(ctx, mesh, TILE)?;
+    let (path, world_per_object) = path_for(mesh, vec![Vec3::ZERO], 3.3, true);
+    let k = 10;
 
     // A sequence: references every 10 frames (spread over the frames between), 41 frames.
-    let proxy = Proxy::simplify(&mesh, ratios[1])?;
+    let proxy = Proxy::simplify(mesh, ratios[1])?;
     let ours = Departures::OURS;
     let mut seq = WarpSequence::new(
         &ctx.device,
@@ -274,7 +254,61 @@ pub fn run(ctx: &GpuContext, dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
         image::imageops::replace(&mut sheet, img, i64::from(TILE) * i as i64, i64::from(TILE));
     }
     save(&sheet, &dir.join("warp-occlusion-knot.png"), &mut written)?;
+    // The same pair alone, for the gallery's before/after (paper's path, ours).
+    for (img, label) in [(&paper, "paper"), (&ours, "ours")] {
+        save(
+            &on_white(img),
+            &dir.join(format!("warp-occlusion-knot-{label}.png")),
+            &mut written,
+        )?;
+    }
     Ok(written)
+}
+
+/// The warping paper's Fig. 8-10 for one model: the full render, then the proxy (light
+/// grey with its edges) and the warped frame (ours, halfway between references 10 frames
+/// apart) for each of its three proxy ratios; `warp-ratios-{slug}.png`.
+fn ratios_figure(
+    ctx: &GpuContext,
+    model: &WarpModel,
+    dir: &Path,
+    written: &mut Vec<PathBuf>,
+) -> anyhow::Result<()> {
+    let (name, mesh) = (&model.name, &model.mesh);
+    let mut rig = Rig::new(ctx, mesh, TILE)?;
+    let (path, world_per_object) = path_for(mesh, vec![Vec3::ZERO], 3.3, true);
+    let k = 10;
+    let (r0, r1) = (
+        rig.reference(&path.pose(0.0))?,
+        rig.reference(&path.pose(k as f32))?,
+    );
+    let mid = path.pose(5.0);
+    let full_mid = rig.full(&mid)?;
+    let mut sheet = image::RgbaImage::from_pixel(TILE * 7, TILE, image::Rgba([255; 4]));
+    image::imageops::replace(&mut sheet, &on_white(&full_mid), 0, 0);
+    for (i, &ratio) in model.ratios.iter().enumerate() {
+        let proxy = Proxy::simplify(mesh, ratio)?;
+        let ours = rig.variant(&proxy, Departures::OURS, world_per_object, 16, true)?;
+        let wire = rig.warp([&r0, &r1], &ours, &mid, 0.5, WarpMode::Fill, true)?;
+        let warped = rig.warp([&r0, &r1], &ours, &mid, 0.5, ours.mode, false)?;
+        let q = compare(&full_mid, &warped);
+        println!(
+            "demo warp: {name} {:.2} % ({} triangles, error {:.4} of the extent): PSNR {:.2} dB, SSIM {:.4} halfway between references 10 frames apart",
+            ratio * 100.0,
+            proxy.triangles(),
+            proxy.error_relative,
+            q.psnr_db,
+            q.ssim
+        );
+        let x = i64::from(TILE) * (1 + 2 * i as i64);
+        image::imageops::replace(&mut sheet, &on_white(&wire), x, 0);
+        image::imageops::replace(&mut sheet, &on_white(&warped), x + i64::from(TILE), 0);
+    }
+    save(
+        &sheet,
+        &dir.join(format!("warp-ratios-{}.png", model.slug)),
+        written,
+    )
 }
 
 /// PSNR per frame as a line plot (white background, grid every 5 dB from 15 to 50 dB,

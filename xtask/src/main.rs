@@ -7,6 +7,7 @@ mod demo_hatching;
 mod demo_specular;
 mod demo_warp;
 mod fixtures;
+mod gallery;
 mod gpu_setup;
 mod test;
 mod warp_rig;
@@ -26,7 +27,7 @@ enum Command {
     /// rustfmt check, clippy (warnings denied), every workspace test including the GPU
     /// ones (installs Mesa's software Vulkan driver on Debian/Ubuntu when no adapter exists).
     Test,
-    /// Render the demo images into target/demo/.
+    /// Render the demo images into target/demo/ and the gallery page target/demo/index.html.
     Demo,
     /// Run a benchmark and print its tables (`curvature`, ...).
     Bench {

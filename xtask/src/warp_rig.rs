@@ -13,6 +13,53 @@ use npr_warp::{
     WarpMode, WarpObject, WarpPass, WarpSequence, WarpSettings,
 };
 
+/// A warping test model and the three proxy ratios the warping paper's Fig. 8–10 and
+/// Table 1 show for it (the shape starts to read; good enough; hard to tell apart).
+pub struct WarpModel {
+    /// Name in tables and printouts.
+    pub name: String,
+    /// Name in file names (`warp-ratios-{slug}.png`).
+    pub slug: &'static str,
+    /// The full-detail mesh.
+    pub mesh: Mesh,
+    /// Proxy ratios, in the order of the paper's columns.
+    pub ratios: [f32; 3],
+}
+
+/// The warping models: the bunny from `fixtures/meshes/` (the paper's own Bunny, Fig. 8),
+/// and two smooth torus-knot tubes standing in for the paper's Dragon (871,414 triangles,
+/// Fig. 9) and Buddha (1,085,634, Fig. 10), which the project does not ship.
+pub fn warp_models() -> anyhow::Result<Vec<WarpModel>> {
+    Ok(vec![
+        WarpModel {
+            name: "bunny".into(),
+            slug: "bunny",
+            mesh: npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?,
+            ratios: [0.05, 0.02, 0.01],
+        },
+        WarpModel {
+            name: "knot-3-5 (870k)".into(),
+            slug: "knot-870k",
+            mesh: npr_geometry::generate::torus_knot(&npr_geometry::generate::TorusKnot {
+                p: 3,
+                q: 5,
+                major_radius: 1.0,
+                minor_radius: 0.45,
+                tube_radius: 0.14,
+                segments: 2175,
+                tube_segments: 200,
+            }),
+            ratios: [0.01, 0.004, 0.0009],
+        },
+        WarpModel {
+            name: "knot-2-3 (1.1M)".into(),
+            slug: "knot-1100k",
+            mesh: npr_geometry::generate::benchmark_knot(),
+            ratios: [0.006, 0.002, 0.0007],
+        },
+    ])
+}
+
 /// Clear colour of every warping image (transparent black: the object's pixels are the
 /// ones with alpha).
 pub const CLEAR: [f64; 4] = [0.0; 4];

@@ -291,6 +291,19 @@ impl HighlightPass {
         out
     }
 
+    /// The vertex stream without the §4.2 restriction: every face of the mesh is a
+    /// receiver of every highlight, so a projector textures all the surface inside its
+    /// frustum — the wrong projection of the specular paper's Fig. 5(a), for figures and
+    /// comparisons. Use it with [`HighlightPass::prepare_with_list`].
+    pub fn draw_list_unrestricted(set: &HighlightSet, indices: &[u32]) -> Vec<[u32; 2]> {
+        let faces = indices.len() / 3;
+        let mut out = Vec::with_capacity(faces * 3 * set.highlights().len());
+        for k in 0..set.highlights().len() {
+            out.extend(indices[..faces * 3].iter().map(|&v| [v, k as u32]));
+        }
+        out
+    }
+
     /// Creates the per-mesh buffers for `mesh` (its vertex buffer is read as storage).
     pub fn create_draw(&self, device: &wgpu::Device, mesh: &GpuMesh) -> HighlightDraw {
         let uniform = |label, size: usize| {
@@ -382,16 +395,30 @@ impl HighlightPass {
         draw: &mut HighlightDraw,
         input: &FrameInput<'_>,
     ) {
+        let list = Self::draw_list(input.set, input.indices);
+        self.prepare_with_list(device, queue, draw, input, &list);
+    }
+
+    /// [`HighlightPass::prepare`] with a caller's vertex stream instead of the set's
+    /// receivers, e.g. [`HighlightPass::draw_list_unrestricted`]. Entries are (render
+    /// vertex, index into `input.set.highlights()`), three per triangle.
+    pub fn prepare_with_list(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &mut HighlightDraw,
+        input: &FrameInput<'_>,
+        list: &[[u32; 2]],
+    ) {
         let FrameInput {
             mesh,
-            indices,
             set,
             frame,
             object,
+            ..
         } = *input;
         queue.write_buffer(&draw.frame, 0, bytemuck::bytes_of(frame));
         queue.write_buffer(&draw.object, 0, bytemuck::bytes_of(object));
-        let list = Self::draw_list(set, indices);
         let projectors = self.projectors(set);
         let need = (list.len() as u64, projectors.len() as u64);
         if need.0 > draw.capacity.0 || need.1 > draw.capacity.1 {
@@ -404,7 +431,7 @@ impl HighlightPass {
             draw.capacity = cap;
         }
         if !list.is_empty() {
-            queue.write_buffer(&draw.draw_list, 0, bytemuck::cast_slice(&list));
+            queue.write_buffer(&draw.draw_list, 0, bytemuck::cast_slice(list));
             queue.write_buffer(&draw.projectors, 0, bytemuck::cast_slice(&projectors));
         }
         draw.vertex_count = list.len() as u32;
@@ -428,6 +455,30 @@ impl HighlightPass {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn unrestricted_list_covers_every_face_for_every_highlight() {
+        let mesh = npr_geometry::generate::icosphere(3, 1.0);
+        let mut set = HighlightSet::new(&mesh, &npr_geometry::CurvatureOptions::default())
+            .expect("sphere set");
+        let d = glam::Vec3::new(0.3, 0.4, 1.0).normalize();
+        set.update(
+            npr_geometry::LightEye::Directions {
+                to_light: d,
+                to_eye: d,
+            },
+            glam::Mat4::IDENTITY,
+        );
+        let highlights = set.highlights().len();
+        assert!(highlights > 0, "the sphere has a highlight");
+        let restricted = HighlightPass::draw_list(&set, &mesh.indices);
+        let all = HighlightPass::draw_list_unrestricted(&set, &mesh.indices);
+        assert_eq!(all.len(), mesh.indices.len() * highlights);
+        assert!(restricted.len() < all.len(), "§4.2 restricts the receivers");
+        // Every restricted entry is in the unrestricted list (same projector index).
+        let set_all: std::collections::HashSet<[u32; 2]> = all.iter().copied().collect();
+        assert!(restricted.iter().all(|e| set_all.contains(e)));
+    }
 
     #[test]
     fn projector_layout_matches_wgsl() {

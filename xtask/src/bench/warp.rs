@@ -20,10 +20,11 @@
 //! of every measured frame).
 
 use super::table::{Cell, Table, emit};
-use crate::warp_rig::{CLEAR, DEG_PER_FRAME, Rig, Variant, path_for};
+use crate::warp_rig::{
+    CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
+};
 use glam::Vec3;
 use npr_geometry::stats::median;
-use npr_geometry::{Mesh, generate};
 use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
 use npr_warp::{
     Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpSchedule,
@@ -41,40 +42,6 @@ const BINS: u32 = 16;
 const ORBIT: bool = true;
 /// The two ends every "ours vs paper" row compares.
 const MODES: [(Departures, &str); 2] = [(Departures::PAPER, "paper"), (Departures::OURS, "ours")];
-
-struct BenchMesh {
-    name: String,
-    mesh: Mesh,
-    ratios: [f32; 3],
-}
-
-fn meshes() -> anyhow::Result<Vec<BenchMesh>> {
-    let mut out = vec![BenchMesh {
-        name: "bunny".into(),
-        mesh: npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?,
-        ratios: [0.05, 0.02, 0.01],
-    }];
-    // About the paper's Dragon (871,414) and Buddha (1,085,634): smooth torus-knot tubes.
-    out.push(BenchMesh {
-        name: "knot-3-5 (870k)".into(),
-        mesh: generate::torus_knot(&generate::TorusKnot {
-            p: 3,
-            q: 5,
-            major_radius: 1.0,
-            minor_radius: 0.45,
-            tube_radius: 0.14,
-            segments: 2175,
-            tube_segments: 200,
-        }),
-        ratios: [0.01, 0.004, 0.0009],
-    });
-    out.push(BenchMesh {
-        name: "knot-2-3 (1.1M)".into(),
-        mesh: generate::benchmark_knot(),
-        ratios: [0.006, 0.002, 0.0007],
-    });
-    Ok(out)
-}
 
 /// Wall time of `f` (which submits) plus waiting for the GPU, in ms.
 fn timed(ctx: &GpuContext, f: impl FnOnce()) -> f64 {

@@ -1,0 +1,685 @@
+//! The demo's gallery: `target/demo/index.html`, one page with every image `cargo xtask
+//! demo` writes, in sections per paper, each figure captioned with the paper figure it
+//! reproduces and its parameters, and a "departures" section of before/after pairs (the
+//! paper's way, then ours).
+//!
+//! [`figures`] and [`departures`] are the one list of what the demo writes: the page is
+//! made from them, and the demo checks after its run that it wrote exactly these files
+//! ([`check_written`]), so a figure cannot be added to the demo without a caption here,
+//! nor captioned here without being written.
+
+use npr_gpu::ShadingModel;
+use npr_hatching::{BlendMode, DirectionSource, TamStyle};
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The file name of the page, in the demo directory.
+pub const INDEX: &str = "index.html";
+
+/// The base-shading demo meshes (`demo::demo_meshes`), in order.
+pub const BASE_MESHES: [&str; 7] = [
+    "sphere",
+    "torus",
+    "ellipsoid",
+    "cylinder",
+    "knot",
+    "spot",
+    "stanford-bunny",
+];
+
+/// The specular figures' subjects, in order.
+pub const SPECULAR_SUBJECTS: [&str; 4] = ["knot", "ellipsoid", "spot", "stanford-bunny"];
+
+/// The specular subjects of the highlight-sizing before/after pairs.
+pub const SIZING_SUBJECTS: [&str; 2] = ["spot", "stanford-bunny"];
+
+/// The single objects of the hatching paper's Fig. 2, in order.
+pub const HATCHING_SINGLES: [&str; 5] = ["knot", "sphere", "torus", "spot", "stanford-bunny"];
+
+/// A section of the page: the base shadings, or one paper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Section {
+    /// Base shadings shared by the papers (`npr-gpu`).
+    Base,
+    /// Lee & Choi, stylized specular highlights (`npr-specular`).
+    Specular,
+    /// Kim & Lee, image-space hatching (`npr-hatching`).
+    Hatching,
+    /// Park & Ihm, post-rendering 3D warping (`npr-warp`).
+    Warp,
+}
+
+impl Section {
+    /// Every section, in page order.
+    pub const ALL: [Section; 4] = [Self::Base, Self::Specular, Self::Hatching, Self::Warp];
+
+    fn title(self) -> &'static str {
+        match self {
+            Self::Base => "Base shading",
+            Self::Specular => "Stylized specular highlights (npr-specular)",
+            Self::Hatching => "Image-space hatching (npr-hatching)",
+            Self::Warp => "Post-rendering 3D warping (npr-warp)",
+        }
+    }
+
+    fn paper(self) -> &'static str {
+        match self {
+            Self::Base => "",
+            Self::Specular => {
+                "Hwan-Jik Lee and Jung-Ju Choi, Stylized Specular Reflections Using \
+                 Projective Textures based on Principal Curvature Analysis (SPEC §2)"
+            }
+            Self::Hatching => {
+                "Yongjin Kim and Seungyong Lee, Real-time Image-space Hatching (SPEC §3)"
+            }
+            Self::Warp => {
+                "Huiwon Park and Insung Ihm, Post-Rendering 3D Warping using Projective \
+                 Texture (SPEC §4)"
+            }
+        }
+    }
+
+    /// Short paper name for captions.
+    fn short(self) -> &'static str {
+        match self {
+            Self::Base => "",
+            Self::Specular => "Lee & Choi",
+            Self::Hatching => "Kim & Lee",
+            Self::Warp => "Park & Ihm",
+        }
+    }
+}
+
+/// One figure on the page.
+#[derive(Clone, Debug)]
+pub struct Figure {
+    /// Its section.
+    pub section: Section,
+    /// The image shown (relative to the demo directory).
+    pub file: String,
+    /// The paper figure it reproduces (`"Fig. 4"` of the section's paper), or `None` for
+    /// our own figures.
+    pub figure: Option<&'static str>,
+    /// What it shows and its parameters.
+    pub caption: String,
+    /// Files written beside it (its tiles, alone), linked under it.
+    pub parts: Vec<String>,
+}
+
+/// A before/after pair: the paper's way, then ours.
+#[derive(Clone, Debug)]
+pub struct Departure {
+    /// What departs.
+    pub title: &'static str,
+    /// The paper's way.
+    pub before: String,
+    /// Label of `before`.
+    pub before_label: &'static str,
+    /// Ours.
+    pub after: String,
+    /// Label of `after`.
+    pub after_label: &'static str,
+    /// What to look for, and the parameters.
+    pub caption: String,
+}
+
+fn fig(
+    section: Section,
+    file: impl Into<String>,
+    figure: Option<&'static str>,
+    caption: impl Into<String>,
+) -> Figure {
+    Figure {
+        section,
+        file: file.into(),
+        figure,
+        caption: caption.into(),
+        parts: Vec::new(),
+    }
+}
+
+/// Every figure the demo writes, in page order.
+pub fn figures() -> Vec<Figure> {
+    let mut out = Vec::new();
+    let base = Section::Base;
+    let mut sheet = fig(
+        base,
+        "base-shading-sheet.png",
+        None,
+        "Phong, Gouraud and cel shading (a three-band 1-D ramp, as Lake 2000, with ink \
+         outlines from npr_gpu::outline) of every demo mesh, one row each: sphere, torus, \
+         ellipsoid, cylinder, the specular paper's knot, Spot, the bunny. 320×320 per tile, \
+         directional light (1, 1.5, 2).",
+    );
+    for mesh in BASE_MESHES {
+        for model in ShadingModel::ALL {
+            sheet
+                .parts
+                .push(format!("base-{mesh}-{}.png", model.name()));
+        }
+    }
+    out.push(sheet);
+
+    let sp = Section::Specular;
+    let common = "Phong base unless named, directional light towards (0.4, 0.7, 1.0), the \
+                  object turned 0.4 rad about y, curvature ball 3 mean edge lengths, 360×360 \
+                  per tile";
+    for s in SPECULAR_SUBJECTS {
+        out.push(fig(
+            sp,
+            format!("specular-fig2-{s}.png"),
+            Some("Fig. 2"),
+            format!(
+                "{s}: (a) a directional texture (the streak, long along the texture's u), \
+                 (b) projected with up = e_min (the paper's choice, Eq. (7)), (c) with up = \
+                 e_max. σ = 0.9, scale 1.3. {common}."
+            ),
+        ));
+        out.push(fig(
+            sp,
+            format!("specular-fig4-{s}.png"),
+            Some("Fig. 4"),
+            format!(
+                "{s}: the §3.4 controls on the star texture (σ = 0.92): (a) original, (b) \
+                 scaled (1.6, 0.8), (c) rotated 0.6 rad about N, (d) translated (0.02, 0.1) \
+                 along (e_max, e_min). {common}."
+            ),
+        ));
+        out.push(fig(
+            sp,
+            format!("specular-fig5-{s}.png"),
+            Some("Fig. 5"),
+            format!(
+                "{s}: (a) the unrestricted projection: every face receives the projected \
+                 star (HighlightPass::draw_list_unrestricted), so it lands on whatever the \
+                 frustum reaches; (b) restricted to the §4.2 receivers (breadth-first from \
+                 the centre's face, inside the frustum, N·N_max > 0). Star σ = 0.92 scaled \
+                 2.5× (1.5× on Spot and the bunny) so the frustum reaches other parts of \
+                 the surface. {common}."
+            ),
+        ));
+        out.push(fig(
+            sp,
+            format!("specular-fig6-{s}.png"),
+            Some("Fig. 6"),
+            format!(
+                "{s}: (a) Phong's own highlight (k_s = 0.8, n = 60), (b) the disc texture \
+                 projected, (c) the normal-map texture shaded with Blinn's (N·H)^n, n = 8 \
+                 (Eq. (2)–(3)). {common}."
+            ),
+        ));
+        out.push(fig(
+            sp,
+            format!("specular-fig7-{s}.png"),
+            Some("Fig. 7"),
+            format!(
+                "{s}: the highlight pass over other base shadings (§5): (a) Gouraud with the \
+                 star, (b) cel (three-band ramp) with the disc. {common}."
+            ),
+        ));
+    }
+    out.push(fig(
+        sp,
+        "specular-fig8-knot-strip.png",
+        Some("Fig. 8"),
+        "The paper's knot (2,880 faces) turning about y in 5° steps (tilted 0.5 rad), cel \
+         base with the star: every 9th frame (45° apart). Highlights are matched from frame \
+         to frame and fade in and out over 6 frames (our frame-coherence additions).",
+    ));
+    out.push(fig(
+        sp,
+        "specular-fig8-knot.gif",
+        Some("Fig. 8"),
+        "The same, all 72 frames (a full turn) as a looping GIF, 60 ms per frame.",
+    ));
+
+    let h = Section::Hatching;
+    for style in [TamStyle::Pen, TamStyle::Pencil] {
+        out.push(fig(
+            h,
+            format!("hatching-tam-{}.png", style.name()),
+            None,
+            format!(
+                "The {} tonal art map, light to dark: nested slices (every stroke of a \
+                 lighter slice is in all darker ones), Praun et al. 2001's structure \
+                 without mipmaps.",
+                style.name()
+            ),
+        ));
+    }
+    let mut f1 = fig(
+        h,
+        "hatching-fig1.png",
+        Some("Fig. 1"),
+        "The three stages on the knot (a close-up, 480×360, pen, strokes 1.5 px per texel, \
+         no outlines): (left) cut-and-paste, Eq. (1), 16 direction bins; (middle) blended \
+         with the neighbouring bins, Eq. (2)–(3); (right) the offset partition mixed 50/50, \
+         §3.3.",
+    );
+    for mode in BlendMode::ALL {
+        f1.parts.push(format!("hatching-fig1-{}.png", mode.name()));
+    }
+    out.push(f1);
+    let mut f2 = fig(
+        h,
+        "hatching-fig2.png",
+        Some("Fig. 2"),
+        "Single objects at 640×480 as in the paper, pen (left) and pencil (right, strokes \
+         1.25×, ink 0.04): a (2, 3) knot, sphere, torus, Spot, the bunny. Stroke directions \
+         from the smooth line field (our default), tone from Phong with a variance shadow \
+         map; no outlines.",
+    );
+    for s in HATCHING_SINGLES {
+        for style in [TamStyle::Pen, TamStyle::Pencil] {
+            f2.parts
+                .push(format!("hatching-fig2-{s}-{}.png", style.name()));
+        }
+    }
+    out.push(f2);
+    for (file, what) in [
+        ("hatching-fig3-scene-pen.png", "pen"),
+        ("hatching-fig3-scene-pencil.png", "pencil"),
+    ] {
+        out.push(fig(
+            h,
+            file,
+            Some("Fig. 3"),
+            format!(
+                "A scene of six objects on a ground plane (the paper's is about 35,000 \
+                 triangles), {what}, 960×600, directional light with cast shadows from the \
+                 variance shadow map; no outlines."
+            ),
+        ));
+    }
+    out.push(fig(
+        h,
+        "hatching-fig3-scene-phong-vsm.png",
+        None,
+        "The Fig. 3 scene's baseline: Phong with the same variance shadow map (what `cargo \
+         xtask bench hatching` times the hatching frame against).",
+    ));
+    out.push(fig(
+        h,
+        "hatching-fig4-scene-pen.png",
+        Some("Fig. 4"),
+        "A complex scene of several objects, about 1.1M triangles in all, at 1280×480 as in \
+         the paper: a ground plane, a cylinder (33k), the bunny (69k), a torus (160k), a \
+         (2, 3) knot (720k), Spot (23k) and a sphere (82k); pen, directional light with cast \
+         shadows, smooth stroke fields; no outlines. The demo prints the exact count.",
+    ));
+    out.push(fig(
+        h,
+        "hatching-fig3-scene-spot-pen.png",
+        None,
+        "Ours: the Fig. 3 scene under a spot light (cone 26°–38°, shadows from the variance \
+         shadow map), pen, with ink outlines.",
+    ));
+    let mut dirs = fig(
+        h,
+        "hatching-directions-bunny.png",
+        None,
+        "Stroke directions on the bunny, pen with outlines: (left) the raw principal \
+         directions, (right) the smooth line field fitted to them (Knöppel et al. 2013). \
+         `cargo xtask bench hatching-directions` measures both.",
+    );
+    for source in [DirectionSource::Principal, DirectionSource::default()] {
+        dirs.parts
+            .push(format!("hatching-directions-bunny-{}.png", source.name()));
+    }
+    out.push(dirs);
+    out.push(fig(
+        h,
+        "hatching-flow-gpu.png",
+        None,
+        "The paper's suggested further use (§5): 2-D flow visualisation, a stream past two \
+         counter-rotating vortices, tone from speed; the GPU pass with the pen map, 640×480.",
+    ));
+    out.push(fig(
+        h,
+        "hatching-flow-cpu-pencil.png",
+        None,
+        "The same flow hatched by the CPU reference with the pencil map.",
+    ));
+
+    let w = Section::Warp;
+    let ratios_caption = |model: &str, ratios: &str| {
+        format!(
+            "{model}: the full render, then for each proxy ratio ({ratios}) the proxy (light \
+             grey, edges dark) and the warped frame (all our departures on), halfway between \
+             two references 10° (10 frames) apart as the camera orbits the object; 320×320 \
+             per tile, 16×16 normal bins. The demo prints each warp's PSNR and SSIM against \
+             the full render."
+        )
+    };
+    out.push(fig(
+        w,
+        "warp-ratios-bunny.png",
+        Some("Fig. 8"),
+        ratios_caption("The bunny (69,451 triangles)", "5 %, 2 %, 1 %"),
+    ));
+    out.push(fig(
+        w,
+        "warp-ratios-knot-870k.png",
+        Some("Fig. 9"),
+        ratios_caption(
+            "A (3, 5) torus-knot tube of 870,000 triangles, standing in for the paper's \
+             Dragon (871,414)",
+            "1 %, 0.4 %, 0.09 %",
+        ),
+    ));
+    out.push(fig(
+        w,
+        "warp-ratios-knot-1100k.png",
+        Some("Fig. 10"),
+        ratios_caption(
+            "A (2, 3) torus-knot tube of 1,100,000 triangles, standing in for the paper's \
+             Buddha (1,085,634)",
+            "0.6 %, 0.2 %, 0.07 %",
+        ),
+    ));
+    out.push(fig(
+        w,
+        "warp-sequence-bunny.png",
+        None,
+        "A warped sequence of the bunny (2 % proxy): a reference every 10 frames, drawn \
+         spread over the frames between; frames 1, 5, 9, 13, 17, 21.",
+    ));
+    out.push(fig(
+        w,
+        "warp-sequence-psnr-bunny.png",
+        None,
+        "PSNR of each of the sequence's 41 frames against the full render (grid every 5 dB \
+         from 15 to 50 dB, 30 dB in red; reference frames marked by blue lines).",
+    ));
+    out.push(fig(
+        w,
+        "warp-occlusion-knot.png",
+        Some("§3.4, Fig. 6"),
+        "Surfaces hidden by other polygons in a reference (§3.4's open problem). Top: a \
+         self-occluding knot turning 20° between references, seen halfway: full render, the \
+         paper's path, ours, and the differences from the full render (×4) of each. Bottom: \
+         a red square hides part of the knot in reference 0 only (first tile); the paper's \
+         pass projects it onto the knot, our reference depth test falls back to reference 1.",
+    ));
+    out
+}
+
+/// The before/after pairs of our departures from the papers.
+pub fn departures() -> Vec<Departure> {
+    let smooth = DirectionSource::default();
+    let mut out = vec![
+        Departure {
+            title: "Hatching stroke directions: raw principal directions vs the smooth field",
+            before: format!(
+                "hatching-directions-bunny-{}.png",
+                DirectionSource::Principal.name()
+            ),
+            before_label: "the paper: raw principal directions",
+            after: format!("hatching-directions-bunny-{}.png", smooth.name()),
+            after_label: "ours: smooth line field (Knöppel et al. 2013)",
+            caption: "The bunny, pen, 640×480, with outlines in both. The raw field turns by \
+                      more than 30° across about 10 % of the edges, the smooth one across \
+                      under 2 % (`cargo xtask bench hatching-directions`)."
+                .into(),
+        },
+        Departure {
+            title: "Outlines off vs on",
+            before: "hatching-fig2-spot-pen.png".into(),
+            before_label: "the paper: no outlines",
+            after: "hatching-outlines-spot-pen.png".into(),
+            after_label: "ours: silhouette and crease outlines (npr_gpu::outline)",
+            caption: "Spot, pen, 640×480. The figures that reproduce the papers draw no \
+                      outlines; our own figures and cel shading add them."
+                .into(),
+        },
+        Departure {
+            title: "Warping: the paper's path vs ours",
+            before: "warp-occlusion-knot-paper.png".into(),
+            before_label: "the paper's path (Departures::PAPER)",
+            after: "warp-occlusion-knot-ours.png".into(),
+            after_label: "ours (Departures::OURS)",
+            caption: "A self-occluding knot (5 % proxy) turning 20° between references, seen \
+                      halfway. Ours adds the reference depth test, coverage-normalised \
+                      lookups, conservative culling, the inflated proxy and the cosine ramp \
+                      with a time term; each is measured alone in `cargo xtask bench warp`."
+                .into(),
+        },
+    ];
+    for s in SIZING_SUBJECTS {
+        out.push(Departure {
+            title: "Highlight sizing: the paper's Eq. (8) vs the region N·H ≥ σ",
+            before: format!("specular-sizing-{s}-paper.png"),
+            before_label: "the paper: Eq. (8), s = min(2r, 2/|κ| · sqrt(1 − σ²)) (HighlightSizing::Paper)",
+            after: format!("specular-sizing-{s}-ours.png"),
+            after_label: "ours: fitted to the region N·H ≥ σ (HighlightSizing::Region)",
+            caption: format!(
+                "{s}, disc texture, σ = 0.9. On a scan, κ is noisy: Eq. (8) gives circles \
+                 capped at 2r and streaks, ours an ellipse fitted to the region each \
+                 highlight stylizes, with suppressed duplicates and normal-cone receivers \
+                 (`cargo xtask bench specular-fidelity` measures both)."
+            ),
+        });
+    }
+    out
+}
+
+/// Every file the demo writes (figures, their parts, the pairs), without repeats.
+pub fn files() -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for f in figures() {
+        out.insert(f.file);
+        out.extend(f.parts);
+    }
+    for d in departures() {
+        out.insert(d.before);
+        out.insert(d.after);
+    }
+    out
+}
+
+/// Escapes text for HTML.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The page: one HTML file, images by relative path.
+pub fn html() -> String {
+    let mut p = String::new();
+    p.push_str(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>npr: the papers' figures</title>\n<style>\n\
+         body { font-family: sans-serif; max-width: 1400px; margin: 2em auto; padding: 0 1em; }\n\
+         figure { margin: 1.5em 0; } img { max-width: 100%; border: 1px solid #ccc; }\n\
+         figcaption { max-width: 60em; } .parts { font-size: 0.85em; color: #555; }\n\
+         .pair { display: flex; gap: 1em; flex-wrap: wrap; } .pair figure { margin: 0; }\n\
+         </style>\n</head>\n<body>\n<h1>npr: the papers' figures</h1>\n\
+         <p>Written by <code>cargo xtask demo</code>. Each caption names the paper figure it \
+         reproduces (or says it is ours) and its parameters. Departures from the papers are \
+         shown as before/after pairs at the end.</p>\n",
+    );
+    let figures = figures();
+    p.push_str("<ul>\n");
+    for s in Section::ALL {
+        let _ = writeln!(p, "<li><a href=\"#{s:?}\">{}</a></li>", esc(s.title()));
+    }
+    p.push_str("<li><a href=\"#departures\">Departures: before and after</a></li>\n</ul>\n");
+    for s in Section::ALL {
+        let _ = writeln!(p, "<h2 id=\"{s:?}\">{}</h2>", esc(s.title()));
+        if !s.paper().is_empty() {
+            let _ = writeln!(p, "<p><em>{}</em></p>", esc(s.paper()));
+        }
+        for f in figures.iter().filter(|f| f.section == s) {
+            let label = match f.figure {
+                Some(n) => format!("{} {n}", s.short()),
+                None => "Ours".to_string(),
+            };
+            let _ = writeln!(
+                p,
+                "<figure>\n<img src=\"{}\" alt=\"{}\" loading=\"lazy\">\n\
+                 <figcaption><strong>{}.</strong> {}",
+                esc(&f.file),
+                esc(&f.file),
+                esc(&label),
+                esc(&f.caption)
+            );
+            if !f.parts.is_empty() {
+                p.push_str("<br><span class=\"parts\">Tiles alone:");
+                for part in &f.parts {
+                    let _ = write!(p, " <a href=\"{}\">{}</a>", esc(part), esc(part));
+                }
+                p.push_str("</span>");
+            }
+            p.push_str("</figcaption>\n</figure>\n");
+        }
+    }
+    p.push_str("<h2 id=\"departures\">Departures: before and after</h2>\n");
+    for d in departures() {
+        let _ = writeln!(p, "<h3>{}</h3>\n<div class=\"pair\">", esc(d.title));
+        for (file, label) in [(&d.before, d.before_label), (&d.after, d.after_label)] {
+            let _ = writeln!(
+                p,
+                "<figure><img src=\"{}\" alt=\"{}\" loading=\"lazy\">\
+                 <figcaption>{}</figcaption></figure>",
+                esc(file),
+                esc(label),
+                esc(label)
+            );
+        }
+        let _ = writeln!(p, "</div>\n<p>{}</p>", esc(&d.caption));
+    }
+    p.push_str("</body>\n</html>\n");
+    p
+}
+
+/// Checks that the demo wrote exactly the listed files into `dir` (each listed file was
+/// written this run and exists; nothing unlisted was written).
+///
+/// # Errors
+/// Names the missing and the unlisted files.
+pub fn check_written(dir: &Path, written: &[PathBuf]) -> anyhow::Result<()> {
+    let listed = files();
+    let names: BTreeSet<String> = written
+        .iter()
+        .filter_map(|p| {
+            p.strip_prefix(dir)
+                .ok()
+                .map(|r| r.to_string_lossy().into_owned())
+        })
+        .collect();
+    let missing: Vec<&String> = listed
+        .iter()
+        .filter(|f| !names.contains(*f) || !dir.join(f).is_file())
+        .collect();
+    let unlisted: Vec<&String> = names.iter().filter(|f| !listed.contains(*f)).collect();
+    if !missing.is_empty() || !unlisted.is_empty() || names.len() != written.len() {
+        anyhow::bail!(
+            "the gallery (xtask/src/gallery.rs) and the demo disagree: listed but not written: \
+             {missing:?}; written but not listed: {unlisted:?}"
+        );
+    }
+    Ok(())
+}
+
+/// Writes the page into `dir`; returns its path.
+///
+/// # Errors
+/// The write failing.
+pub fn write(dir: &Path) -> anyhow::Result<PathBuf> {
+    let path = dir.join(INDEX);
+    std::fs::write(&path, html())
+        .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))?;
+    Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every value of `attr="..."` in `html`.
+    fn attribute_values(html: &str, attr: &str) -> Vec<String> {
+        let key = format!("{attr}=\"");
+        html.match_indices(&key)
+            .filter_map(|(i, _)| {
+                let rest = &html[i + key.len()..];
+                rest.find('"').map(|end| rest[..end].to_string())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_image_the_page_names_is_written_by_the_demo() {
+        let page = html();
+        let listed = files();
+        let srcs = attribute_values(&page, "src");
+        assert!(srcs.len() >= figures().len(), "one img per figure at least");
+        let links: Vec<String> = attribute_values(&page, "href")
+            .into_iter()
+            .filter(|h| !h.starts_with('#'))
+            .collect();
+        for name in srcs.iter().chain(&links) {
+            assert!(
+                listed.contains(name),
+                "the page names {name}, which the demo does not write"
+            );
+            assert!(
+                !name.contains("..") && !name.starts_with('/'),
+                "{name} is not relative"
+            );
+        }
+        // And the page shows or links every file the demo writes.
+        let on_page: BTreeSet<&String> = srcs.iter().chain(&links).collect();
+        for f in &listed {
+            assert!(on_page.contains(f), "{f} is written but not on the page");
+        }
+    }
+
+    #[test]
+    fn every_figure_has_a_caption_and_each_missing_paper_figure_is_there() {
+        for f in figures() {
+            assert!(f.caption.len() > 20, "{} has no real caption", f.file);
+        }
+        let named = |section: Section, n: &str| {
+            figures()
+                .iter()
+                .any(|f| f.section == section && f.figure == Some(n))
+        };
+        for n in ["Fig. 2", "Fig. 4", "Fig. 5", "Fig. 6", "Fig. 7", "Fig. 8"] {
+            assert!(named(Section::Specular, n), "specular {n}");
+        }
+        for n in ["Fig. 1", "Fig. 2", "Fig. 3", "Fig. 4"] {
+            assert!(named(Section::Hatching, n), "hatching {n}");
+        }
+        for n in ["Fig. 8", "Fig. 9", "Fig. 10"] {
+            assert!(named(Section::Warp, n), "warp {n}");
+        }
+    }
+
+    #[test]
+    fn check_written_names_missing_and_unlisted_files() {
+        let dir = std::env::temp_dir().join(format!("npr-gallery-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut written = Vec::new();
+        for f in files() {
+            let p = dir.join(&f);
+            std::fs::write(&p, b"x").unwrap();
+            written.push(p);
+        }
+        assert!(check_written(&dir, &written).is_ok());
+        let extra = dir.join("not-listed.png");
+        std::fs::write(&extra, b"x").unwrap();
+        written.push(extra);
+        let e = check_written(&dir, &written).unwrap_err().to_string();
+        assert!(e.contains("not-listed.png"), "{e}");
+        written.pop();
+        let gone = written.remove(0);
+        std::fs::remove_file(&gone).unwrap();
+        let e = check_written(&dir, &written).unwrap_err().to_string();
+        let name = gone.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(e.contains(&name), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
