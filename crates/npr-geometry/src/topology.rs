@@ -179,7 +179,7 @@ impl Topology {
         // Sort every bucket by its larger vertex and group equal (smaller, larger) runs
         // into edges, buckets split into chunks in parallel; each chunk lists its edges,
         // their end offsets into `he` and the chunk-local edge of each of its half-edges.
-        let chunk_edges: Vec<(Vec<[u32; 2]>, Vec<u32>, Vec<u32>)> = {
+        let chunk_edges: Vec<ChunkEdges> = {
             let chunks = 64.min(nv.max(1));
             let mut rest: &mut [(u32, u32)] = &mut he;
             let mut pieces = Vec::with_capacity(chunks);
@@ -468,6 +468,10 @@ impl Topology {
         d
     }
 }
+
+/// One vertex chunk's edges: `[a, b]` pairs, their end offsets into the sorted
+/// half-edges, and the chunk-local edge of each of the chunk's half-edges.
+type ChunkEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
 
 /// Moves each vertex's filled slots `offsets[v]..fill[v]` together; the new offsets.
 fn compact(faces: &mut Vec<u32>, offsets: &[u32], fill: &[u32]) -> Vec<u32> {
