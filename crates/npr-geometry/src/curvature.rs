@@ -146,28 +146,9 @@ struct FaceData {
 /// Corrected-form face data split for the hot loop: bounding spheres (centroid, radius)
 /// scanned for every visited face, weights (`T_f` xx, xy, xz, yy, yz, zz, area, 0) read
 /// only for faces inside the ball.
-///
-/// The traversal reads one 32-byte node per visited face: its bounding sphere and its
-/// neighbours across edges inline (the common case of at most three), so the hot loop
-/// touches one cache line per face instead of three arrays.
 struct Packed {
-    node: Vec<Node>,
+    sphere: Vec<[f32; 4]>,
     weight: Vec<[glam::Vec4; 2]>,
-}
-
-/// Sentinel for an absent inline neighbour in [`Node::nb`].
-const NO_FACE: u32 = u32::MAX;
-
-/// A face as the corrected form's traversal sees it: bounding sphere (centroid, radius)
-/// and up to three neighbours inline, in [`Topology::face_neighbours`] order (unused slots
-/// [`NO_FACE`]); `spill` is set where the face has more (a non-manifold edge) and the
-/// traversal reads the topology's list instead.
-#[derive(Clone, Copy)]
-#[repr(C, align(32))]
-struct Node {
-    sphere: [f32; 4],
-    nb: [u32; 3],
-    spill: u32,
 }
 
 impl Packed {
@@ -177,17 +158,8 @@ impl Packed {
             .enumerate()
             .map(|(f, t)| {
                 let d = face_record(topo, f, t, CurvatureMethod::Corrected);
-                let ns = topo.face_neighbours(f);
-                let mut nb = [NO_FACE; 3];
-                for (slot, &g) in nb.iter_mut().zip(ns) {
-                    *slot = g;
-                }
                 (
-                    Node {
-                        sphere: [d.c[0], d.c[1], d.c[2], d.rad],
-                        nb,
-                        spill: u32::from(ns.len() > 3),
-                    },
+                    [d.c[0], d.c[1], d.c[2], d.rad],
                     [
                         glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
                         glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
@@ -199,9 +171,9 @@ impl Packed {
     }
 }
 
-impl From<(Vec<Node>, Vec<[glam::Vec4; 2]>)> for Packed {
-    fn from((node, weight): (Vec<Node>, Vec<[glam::Vec4; 2]>)) -> Self {
-        Self { node, weight }
+impl From<(Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)> for Packed {
+    fn from((sphere, weight): (Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)) -> Self {
+        Self { sphere, weight }
     }
 }
 
@@ -561,7 +533,7 @@ fn next_stamp(s: &mut Scratch, nf: usize, ne: usize) -> u32 {
 /// The corrected form's hot loop: `Σ w_f T_f` and `Σ w_f A_f` over the faces whose
 /// centroid lies in the ball, grown from the vertex's faces over face adjacency.
 fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratch) -> Frame {
-    let stamp = next_stamp(s, p.node.len(), 0);
+    let stamp = next_stamp(s, p.sphere.len(), 0);
     let pv = topo.positions[v];
     let r2 = r * r;
     let inv_r2 = 1.0 / r2;
@@ -573,8 +545,7 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
         s.stack.push(f);
     }
     while let Some(f) = s.stack.pop() {
-        let node = &p.node[f as usize];
-        let [cx, cy, cz, rad] = node.sphere;
+        let [cx, cy, cz, rad] = p.sphere[f as usize];
         let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
         let d2 = dx * dx + dy * dy + dz * dz;
         if d2 < r2 {
@@ -592,15 +563,7 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
                 continue;
             }
         }
-        let spilled = if node.spill != 0 {
-            topo.face_neighbours(f as usize)
-        } else {
-            &[][..]
-        };
-        for &g in node.nb.iter().chain(spilled.get(3..).unwrap_or(&[])) {
-            if g == NO_FACE {
-                break;
-            }
+        for &g in topo.face_neighbours(f as usize) {
             let m = &mut s.face_mark[g as usize];
             if *m != stamp {
                 *m = stamp;
