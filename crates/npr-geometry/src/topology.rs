@@ -128,18 +128,12 @@ impl Topology {
                 fill[i as usize] += 1;
             }
         }
-        // Compact away the slots left by repeated vertices.
-        let mut out = 0usize;
-        let mut new_offsets = vec![0u32; nv + 1];
-        for v in 0..nv {
-            for s in vertex_face_offsets[v]..fill[v] {
-                vertex_faces[out] = vertex_faces[s as usize];
-                out += 1;
-            }
-            new_offsets[v + 1] = out as u32;
-        }
-        vertex_faces.truncate(out);
-        let vertex_face_offsets = new_offsets;
+        // Compact away the slots left by repeated vertices (none in a clean mesh).
+        let vertex_face_offsets = if fill[..nv] == vertex_face_offsets[1..] {
+            vertex_face_offsets
+        } else {
+            compact(&mut vertex_faces, &vertex_face_offsets, &fill)
+        };
 
         // Area-weighted vertex normals, gathered per vertex in parallel.
         let vertex_normals: Vec<Vec3> = (0..nv)
@@ -182,8 +176,10 @@ impl Topology {
                 }
             }
         }
-        // Sort every bucket by its larger vertex, buckets split into chunks in parallel.
-        {
+        // Sort every bucket by its larger vertex and group equal (smaller, larger) runs
+        // into edges, buckets split into chunks in parallel; each chunk lists its edges,
+        // their end offsets into `he` and the chunk-local edge of each of its half-edges.
+        let chunk_edges: Vec<ChunkEdges> = {
             let chunks = 64.min(nv.max(1));
             let mut rest: &mut [(u32, u32)] = &mut he;
             let mut pieces = Vec::with_capacity(chunks);
@@ -198,46 +194,62 @@ impl Topology {
                 start_v = end_v;
             }
             let bucket = &bucket;
-            pieces.into_par_iter().for_each(|(sv, ev, piece)| {
-                let base = bucket[sv] as usize;
-                for lo in sv..ev {
-                    piece[bucket[lo] as usize - base..bucket[lo + 1] as usize - base]
-                        .sort_unstable();
-                }
-            });
-        }
-        let mut edges = Vec::with_capacity(nh / 2 + 1);
-        let mut edge_face_offsets = Vec::with_capacity(nh / 2 + 2);
-        let mut edge_faces = Vec::with_capacity(nh);
-        let mut face_edges = vec![[NO_EDGE; 3]; nf];
-        let mut edge_len_sum = 0f64;
-        let mut finite_edges = 0usize;
+            pieces
+                .into_par_iter()
+                .map(|(sv, ev, piece)| {
+                    let base = bucket[sv] as usize;
+                    let mut edges = Vec::with_capacity(piece.len() / 2 + 1);
+                    let mut ends = Vec::with_capacity(piece.len() / 2 + 1);
+                    let mut he_edge = Vec::with_capacity(piece.len());
+                    for lo in sv..ev {
+                        let (b0, b1) = (bucket[lo] as usize - base, bucket[lo + 1] as usize - base);
+                        let s = &mut piece[b0..b1];
+                        s.sort_unstable();
+                        let mut i = 0;
+                        while i < s.len() {
+                            let hi = s[i].0;
+                            let mut j = i;
+                            while j < s.len() && s[j].0 == hi {
+                                j += 1;
+                            }
+                            he_edge.extend(std::iter::repeat_n(edges.len() as u32, j - i));
+                            edges.push([lo as u32, hi]);
+                            ends.push((base + b0 + j) as u32);
+                            i = j;
+                        }
+                    }
+                    (edges, ends, he_edge)
+                })
+                .collect()
+        };
+        let ne: usize = chunk_edges.iter().map(|c| c.0.len()).sum();
+        let mut edges = Vec::with_capacity(ne);
+        let mut edge_face_offsets = Vec::with_capacity(ne + 1);
         edge_face_offsets.push(0u32);
-        for lo in 0..nv {
-            let s = &he[bucket[lo] as usize..bucket[lo + 1] as usize];
-            let mut i = 0;
-            while i < s.len() {
-                let hi = s[i].0;
-                let mut j = i;
-                while j < s.len() && s[j].0 == hi {
-                    j += 1;
-                }
-                let e = edges.len() as u32;
-                edges.push([lo as u32, hi]);
-                for &(_, h) in &s[i..j] {
-                    let (f, k) = ((h / 3) as usize, (h % 3) as usize);
-                    face_edges[f][k] = e;
-                    edge_faces.push(f as u32);
-                }
-                edge_face_offsets.push(edge_faces.len() as u32);
-                let (pa, pb) = (positions[lo].as_dvec3(), positions[hi as usize].as_dvec3());
-                let len = (pb - pa).length();
-                if len.is_finite() {
-                    edge_len_sum += len;
-                    finite_edges += 1;
-                }
-                i = j;
-            }
+        let mut he_edge = Vec::with_capacity(nh);
+        for (es, ends, hes) in chunk_edges {
+            let e0 = edges.len() as u32;
+            he_edge.extend(hes.into_iter().map(|e| e + e0));
+            edges.extend(es);
+            edge_face_offsets.extend(ends);
+        }
+        // One face per half-edge, in half-edge order, and each face corner's edge.
+        let edge_faces: Vec<u32> = he.par_iter().map(|&(_, h)| h / 3).collect();
+        let mut face_edges = vec![[NO_EDGE; 3]; nf];
+        for (&(_, h), &e) in he.iter().zip(&he_edge) {
+            face_edges[(h / 3) as usize][(h % 3) as usize] = e;
+        }
+        // Edge lengths in parallel, summed in edge order (the same sum as a serial loop).
+        let lengths: Vec<f64> = edges
+            .par_iter()
+            .map(|&[a, b]| {
+                (positions[b as usize].as_dvec3() - positions[a as usize].as_dvec3()).length()
+            })
+            .collect();
+        let (mut edge_len_sum, mut finite_edges) = (0f64, 0usize);
+        for len in lengths.into_iter().filter(|l| l.is_finite()) {
+            edge_len_sum += len;
+            finite_edges += 1;
         }
         // Signed dihedral angle per consistently oriented manifold edge, in parallel.
         let dihedral: Vec<f32> = (0..edges.len())
@@ -457,6 +469,26 @@ impl Topology {
     }
 }
 
+/// One vertex chunk's edges: `[a, b]` pairs, their end offsets into the sorted
+/// half-edges, and the chunk-local edge of each of the chunk's half-edges.
+type ChunkEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
+
+/// Moves each vertex's filled slots `offsets[v]..fill[v]` together; the new offsets.
+fn compact(faces: &mut Vec<u32>, offsets: &[u32], fill: &[u32]) -> Vec<u32> {
+    let nv = offsets.len() - 1;
+    let mut out = 0usize;
+    let mut new_offsets = vec![0u32; nv + 1];
+    for v in 0..nv {
+        for s in offsets[v]..fill[v] {
+            faces[out] = faces[s as usize];
+            out += 1;
+        }
+        new_offsets[v + 1] = out as u32;
+    }
+    faces.truncate(out);
+    new_offsets
+}
+
 fn prefix_sum(v: &mut [u32]) {
     for i in 1..v.len() {
         v[i] += v[i - 1];
@@ -515,5 +547,49 @@ mod tests {
         assert!(t.is_degenerate(5));
         assert!(t.is_isolated(5));
         assert!(t.edge_face_normals(e01).is_none());
+    }
+
+    /// The chunked parallel edge build against a plain ordered-map reference: same
+    /// edges in the same order, same faces per edge, same edge per face corner.
+    #[test]
+    fn edges_match_ordered_map_reference() {
+        use std::collections::BTreeMap;
+        let mut w = weld(&generate::icosphere(3, 1.0));
+        // Add odd faces: a duplicate, a repeated vertex, an out-of-range index.
+        let dup = w.indices[7];
+        w.indices
+            .extend_from_slice(&[dup, [0, 0, 5], [1, 2, 1 << 30]]);
+        let t = Topology::new(&w);
+        let nv = w.positions.len() as u32;
+        let mut map: BTreeMap<(u32, u32), Vec<(usize, usize)>> = BTreeMap::new();
+        for (f, tri) in w.indices.iter().enumerate() {
+            if tri.iter().any(|&i| i >= nv) {
+                continue;
+            }
+            for k in 0..3 {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                if a != b {
+                    map.entry((a.min(b), a.max(b))).or_default().push((f, k));
+                }
+            }
+        }
+        let want: Vec<[u32; 2]> = map.keys().map(|&(a, b)| [a, b]).collect();
+        assert_eq!(t.edges, want);
+        for (e, uses) in map.values().enumerate() {
+            let mut got = t.edge_faces(e).to_vec();
+            let mut exp: Vec<u32> = uses.iter().map(|&(f, _)| f as u32).collect();
+            got.sort_unstable();
+            exp.sort_unstable();
+            assert_eq!(got, exp, "edge {e}");
+            for &(f, k) in uses {
+                assert_eq!(t.face_edges[f][k], e as u32);
+            }
+        }
+        let lens: f64 = want
+            .iter()
+            .map(|&[a, b]| (w.positions[b as usize] - w.positions[a as usize]).length() as f64)
+            .sum();
+        let mean = lens / want.len() as f64;
+        assert!((f64::from(t.mean_edge_length) - mean).abs() < 1e-6 * mean);
     }
 }
