@@ -18,13 +18,18 @@ struct Hatch {
     // x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
     // z = map size - 1 (texel mask), w = tones.
     config: vec4<u32>,
+    // x = stroke space: 0 screen (the paper: Eq. (1) rotates the pixel position), 1 surface
+    // (Eq. (1) rotates the pixel's surface anchors, cross-faded; see `fs_hatch`); yzw unused.
+    space: vec4<u32>,
 };
 
 @group(0) @binding(0) var<uniform> hatch: Hatch;
 // The tonal art map, one R8Unorm layer per tone, light to dark; fetched nearest.
 @group(0) @binding(1) var tam: texture_2d_array<f32>;
-// The G-buffer: r = tone (1 = paper), g = theta in [0, pi).
+// The G-buffer: r = tone (1 = paper), g = theta in [0, pi), b = weight of anchor 1.
 @group(0) @binding(2) var gbuffer: texture_2d<f32>;
+// The surface anchors: xy = anchor 0, zw = anchor 1 (pixels at two reference views).
+@group(0) @binding(3) var anchors: texture_2d<f32>;
 
 struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
@@ -108,9 +113,32 @@ fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32) -> f32 {
     return 0.5 * blended(t, false, p, slice, a) + 0.5 * blended(t, true, p, slice, a);
 }
 
+// Coverage at the pixel's two surface anchors, cross-faded by w (the weight of anchor 1):
+// strokes drawn where the surface point was at a reference view move with the surface,
+// while θ, tone and the stroke scale stay screen-space (constant density; the reference
+// views are re-taken in turn, so the scale never drifts far). Mirrors
+// `CpuHatcher::anchored_coverage`.
+fn anchored_coverage(an: vec4<f32>, w: f32, tone: f32, theta: f32) -> f32 {
+    var c0 = 0.0;
+    var c1 = 0.0;
+    if w < 1.0 {
+        c0 = hatch_coverage(an.xy, tone, theta);
+    }
+    if w > 0.0 {
+        c1 = hatch_coverage(an.zw, tone, theta);
+    }
+    return c0 + (c1 - c0) * w;
+}
+
 @fragment
 fn fs_hatch(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let g = textureLoad(gbuffer, vec2<i32>(floor(in.clip.xy)), 0);
-    let c = hatch_coverage(in.clip.xy, g.r, g.g);
+    let pix = vec2<i32>(floor(in.clip.xy));
+    let g = textureLoad(gbuffer, pix, 0);
+    var c = 0.0;
+    if hatch.space.x == 0u {
+        c = hatch_coverage(in.clip.xy, g.r, g.g);
+    } else {
+        c = anchored_coverage(textureLoad(anchors, pix, 0), g.b, g.r, g.g);
+    }
     return vec4<f32>(hatch.paper.rgb + (hatch.ink.rgb - hatch.paper.rgb) * c, 1.0);
 }

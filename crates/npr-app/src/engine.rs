@@ -415,6 +415,7 @@ impl Renderer {
             mode: h.blend.into(),
             ink: h.ink,
             paper: h.paper,
+            ..HatchParams::default()
         };
         for style in [pencil] {
             if let std::collections::hash_map::Entry::Vacant(e) = self.tams.entry(style) {

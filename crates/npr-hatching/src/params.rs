@@ -41,6 +41,47 @@ impl BlendMode {
     }
 }
 
+/// Where the strokes are anchored: the coordinates that Eq. (1) rotates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum StrokeSpace {
+    /// The paper (§3.1): Eq. (1) rotates the pixel position, so the strokes stay fixed on
+    /// the screen while a moving surface slides beneath them (the "shower-door" effect the
+    /// paper names as a limit, §5). Still images and 2-D inputs are the same in both
+    /// spaces.
+    Screen,
+    /// Coherent hatching, the default: Eq. (1) rotates the pixel's *surface anchors*,
+    /// where its surface point was on the screen at two reference views that the
+    /// G-buffer pass re-takes in turn (every [`crate::ScenePasses::anchor_period`]
+    /// frames) and cross-fades (after Breslav et al. 2007, "Dynamic 2D Patterns for
+    /// Shading 3D Scenes", with per-pixel anchors instead of one similarity per object).
+    /// The strokes move with the surface; θ, tone and stroke scale stay screen-space, so
+    /// the density stays the paper's under dolly. Pixels stay independent (one pass).
+    /// Inputs without anchors ([`crate::HatchInputs`] from images) hatch as
+    /// [`StrokeSpace::Screen`].
+    #[default]
+    Surface,
+}
+
+impl StrokeSpace {
+    /// Both spaces, the paper's first.
+    pub const ALL: [StrokeSpace; 2] = [Self::Screen, Self::Surface];
+
+    /// Lower-case name, for tables and file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Screen => "screen",
+            Self::Surface => "surface",
+        }
+    }
+
+    fn code(self) -> u32 {
+        match self {
+            Self::Screen => 0,
+            Self::Surface => 1,
+        }
+    }
+}
+
 /// Parameters of the hatching pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HatchParams {
@@ -55,10 +96,13 @@ pub struct HatchParams {
     pub ink: [f32; 3],
     /// Linear RGB of the paper.
     pub paper: [f32; 3],
+    /// Screen (the paper) or surface-anchored (coherent) strokes.
+    pub space: StrokeSpace,
 }
 
 impl Default for HatchParams {
-    /// 16 bins, 1 pixel per texel, offset partition, black ink on white paper.
+    /// 16 bins, 1 pixel per texel, offset partition, black ink on white paper,
+    /// surface-anchored strokes.
     fn default() -> Self {
         Self {
             bins: 16,
@@ -66,6 +110,7 @@ impl Default for HatchParams {
             mode: BlendMode::OffsetPartition,
             ink: [0.0; 3],
             paper: [1.0; 3],
+            space: StrokeSpace::Surface,
         }
     }
 }
@@ -108,7 +153,7 @@ pub const MIN_BINS: u32 = 12;
 /// Most direction bins.
 pub const MAX_BINS: u32 = 24;
 
-/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 448 bytes),
+/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 480 bytes),
 /// also read by the CPU reference so both use the very same constants.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -126,6 +171,8 @@ pub struct HatchUniforms {
     /// x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
     /// z = map size − 1 (texel mask), w = tones.
     pub config: [u32; 4],
+    /// x = stroke space (0 screen, 1 surface), y..w unused.
+    pub space: [u32; 4],
 }
 
 impl HatchUniforms {
@@ -156,6 +203,7 @@ impl HatchUniforms {
             paper: [pr, pg, pb, tam.max_coverage()],
             tone: [(tam.tones() - 1) as f32 / tam.max_coverage(), 0.0, 0.0, 0.0],
             config: [params.bins, params.mode.code(), tam.size() - 1, tam.tones()],
+            space: [params.space.code(), 0, 0, 0],
         })
     }
 }
@@ -167,7 +215,7 @@ mod tests {
     #[test]
     fn uniform_layout_matches_wgsl() {
         // Size and member offsets read from `hatching.wgsl` by naga.
-        npr_gpu::assert_wgsl_layout!(HatchUniforms, "Hatch", [bins, ink, paper, tone, config]);
+        npr_gpu::assert_wgsl_layout!(HatchUniforms, "Hatch", [bins, ink, paper, tone, config, space]);
     }
 
     #[test]

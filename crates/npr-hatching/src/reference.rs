@@ -13,7 +13,7 @@
 //! deciding which texel a coordinate lands in.
 
 use crate::inputs::pixel_count;
-use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
+use crate::{Anchor, HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
 use rayon::prelude::*;
 
 /// Entries of the coverage → sRGB lookup table of [`CpuHatcher::hatch_rgba8`].
@@ -187,6 +187,25 @@ impl CpuHatcher {
         }
     }
 
+    /// Ink coverage of a pixel with surface anchors ([`crate::StrokeSpace::Surface`]):
+    /// [`CpuHatcher::coverage`] at the two anchors, cross-faded by `anchor.weight_b`.
+    /// Mirrors WGSL `anchored_coverage`.
+    #[inline]
+    pub fn anchored_coverage(&self, anchor: &Anchor, tone: f32, theta: f32) -> f32 {
+        let w = anchor.weight_b;
+        let c0 = if w < 1.0 {
+            self.coverage(anchor.a[0], anchor.a[1], tone, theta)
+        } else {
+            0.0
+        };
+        let c1 = if w > 0.0 {
+            self.coverage(anchor.b[0], anchor.b[1], tone, theta)
+        } else {
+            0.0
+        };
+        c0 + (c1 - c0) * w
+    }
+
     /// [`CpuHatcher::coverage`] for `LANES` consecutive pixels of row `py` starting at
     /// pixel `x0`: the same operations in the same order (so bit-identical results), laid
     /// out lane by lane so that the arithmetic vectorizes; only the lookups stay scalar.
@@ -309,17 +328,25 @@ impl CpuHatcher {
         o
     }
 
-    /// One row of coverages, handed to `emit(x, coverage)`: runs of `LANES` pixels
-    /// through the batched path, the remainder one by one.
+    /// One row of coverages, handed to `emit(x, coverage)`: with surface anchors (and
+    /// the surface space) pixel by pixel through [`CpuHatcher::anchored_coverage`];
+    /// otherwise runs of `LANES` pixels through the batched path, the remainder one by one.
     fn coverage_row(
         &self,
         y: usize,
         tone: &[f32],
         theta: &[f32],
+        anchors: Option<&[Anchor]>,
         mut emit: impl FnMut(usize, f32),
     ) {
         let py = y as f32 + 0.5;
         let n = tone.len().min(theta.len());
+        if let Some(anchors) = anchors.filter(|_| self.uniforms.space[0] == 1) {
+            for (i, an) in anchors.iter().enumerate().take(n) {
+                emit(i, self.anchored_coverage(an, tone[i], theta[i]));
+            }
+            return;
+        }
         // The batched path's floor is exact below 2²² texels from the origin; beyond
         // (absurd sizes or scales) every pixel takes the scalar path.
         let reach = (n as f32 + py)
@@ -360,7 +387,8 @@ impl CpuHatcher {
                 &inputs.tone()[y * w..(y + 1) * w],
                 &inputs.theta()[y * w..(y + 1) * w],
             );
-            self.coverage_row(y, tone, theta, |x, c| {
+            let anchors = inputs.anchors().map(|a| &a[y * w..(y + 1) * w]);
+            self.coverage_row(y, tone, theta, anchors, |x, c| {
                 if let Some(o) = row.get_mut(x) {
                     *o = c;
                 }
@@ -388,7 +416,8 @@ impl CpuHatcher {
                     &inputs.tone()[y * w..(y + 1) * w],
                     &inputs.theta()[y * w..(y + 1) * w],
                 );
-                self.coverage_row(y, tone, theta, |x, c| {
+                let anchors = inputs.anchors().map(|a| &a[y * w..(y + 1) * w]);
+                self.coverage_row(y, tone, theta, anchors, |x, c| {
                     let i = ((c * scale + 0.5) as usize).min(LUT_SIZE - 1);
                     if let (Some(o), Some(rgba)) = (row.get_mut(4 * x..4 * x + 4), self.lut.get(i))
                     {

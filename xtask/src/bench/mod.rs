@@ -2,6 +2,7 @@
 
 pub mod curvature;
 pub mod hatching;
+pub mod hatching_coherence;
 pub mod hatching_directions;
 pub mod specular;
 pub mod table;
@@ -28,11 +29,12 @@ pub const NAMES: &[&str] = &[
     "specular",
     "hatching",
     "hatching-directions",
+    "hatching-coherence",
     "warp",
 ];
 
 /// The benchmarks that take `--mesh`.
-const TAKE_MESHES: &[&str] = &["hatching-directions"];
+const TAKE_MESHES: &[&str] = &["hatching-directions", "hatching-coherence"];
 
 /// Runs benchmark `name` (on `meshes` instead of its defaults, where it takes them).
 pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
@@ -44,6 +46,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
     }
     match name {
         "hatching-directions" => hatching_directions::run(meshes, json),
+        "hatching-coherence" => hatching_coherence::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(json),
         "hatching" => hatching::run(json),
