@@ -130,15 +130,16 @@ pub fn phase_correlation(a: &[f32], b: &[f32], n: usize) -> Option<[f32; 2]> {
     Some([wrap(bx) + dx, wrap(by) + dy])
 }
 
-/// Screen-space stroke density of an ink image over `mask`: the share of horizontally or
-/// vertically adjacent pixel pairs, both in `mask`, across which the ink changes by more
-/// than ½ (stroke edges per pixel step). Strokes twice as far apart and twice as wide
-/// halve it, at the same ink coverage. `None` when the mask holds no adjacent pair.
+/// Screen-space stroke density of an ink image over `mask`: the mean absolute ink change
+/// between horizontally or vertically adjacent pixels, both in `mask` (the image's total
+/// variation per pixel step; each stroke edge contributes its contrast). Strokes twice as
+/// far apart and twice as wide halve it, at the same ink coverage. `None` when the mask
+/// holds no adjacent pair.
 pub fn stroke_density(ink: &[f32], mask: &[bool], width: usize) -> Option<f32> {
     if width == 0 || ink.len() != mask.len() {
         return None;
     }
-    let (mut pairs, mut edges) = (0usize, 0usize);
+    let (mut pairs, mut variation) = (0usize, 0f64);
     for i in 0..ink.len() {
         if !mask[i] {
             continue;
@@ -148,12 +149,10 @@ pub fn stroke_density(ink: &[f32], mask: &[bool], width: usize) -> Option<f32> {
                 continue;
             }
             pairs += 1;
-            if (ink[i] - ink[j]).abs() > 0.5 {
-                edges += 1;
-            }
+            variation += f64::from((ink[i] - ink[j]).abs());
         }
     }
-    (pairs > 0).then(|| edges as f32 / pairs as f32)
+    (pairs > 0).then(|| (variation / pairs as f64) as f32)
 }
 
 /// Bilinear sample of a row-major image at pixel-centre coordinates (`(x, y)` = centre of

@@ -19,7 +19,7 @@
 //!
 //! Columns: `sliding` = median |d_pattern − d_surface| / median |d_surface| (the paper's
 //! method: about 1; 0 = strokes glued to the surface). `density_change` = |ρ_last / ρ_first
-//! − 1| of the screen-space stroke density ρ (stroke edges per pixel step,
+//! − 1| of the screen-space stroke density ρ (mean absolute ink change per pixel step,
 //! `coherence::stroke_density`) over the object with its tone set constant (0.55), first
 //! frame against last (the 2× dolly); `coverage_change` the same for the mean ink
 //! coverage (which a magnified texture keeps, hence ρ as the density measure).
