@@ -54,7 +54,11 @@ fn fft(re: &mut [f32], im: &mut [f32], inverse: bool) {
 /// 2-D FFT of an `n × n` row-major image (rows, then columns).
 fn fft2(re: &mut [f32], im: &mut [f32], n: usize, inverse: bool) {
     for r in 0..n {
-        fft(&mut re[r * n..(r + 1) * n], &mut im[r * n..(r + 1) * n], inverse);
+        fft(
+            &mut re[r * n..(r + 1) * n],
+            &mut im[r * n..(r + 1) * n],
+            inverse,
+        );
     }
     let (mut cr, mut ci) = (vec![0.0; n], vec![0.0; n]);
     for c in 0..n {
@@ -126,7 +130,13 @@ pub fn phase_correlation(a: &[f32], b: &[f32], n: usize) -> Option<[f32; 2]> {
     };
     let dx = refine(at(bx + n - 1, by), best, at(bx + 1, by));
     let dy = refine(at(bx, by + n - 1), best, at(bx, by + 1));
-    let wrap = |i: usize| if i > n / 2 { i as f32 - n as f32 } else { i as f32 };
+    let wrap = |i: usize| {
+        if i > n / 2 {
+            i as f32 - n as f32
+        } else {
+            i as f32
+        }
+    };
     Some([wrap(bx) + dx, wrap(by) + dy])
 }
 
@@ -218,7 +228,13 @@ mod tests {
         let (w, h) = (64, 64);
         let lines = |period: usize| -> Vec<f32> {
             (0..w * h)
-                .map(|i| if (i % w) % period < period / 2 { 1.0 } else { 0.0 })
+                .map(|i| {
+                    if (i % w) % period < period / 2 {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                })
                 .collect()
         };
         let mask = vec![true; w * h];

@@ -286,11 +286,21 @@ impl HatchInputs {
             .enumerate()
             .map(|(i, an)| {
                 let centre = [(i % w) as f32 + 0.5, (i / w) as f32 + 0.5];
-                let pos = |p: [f32; 2]| if p[0].is_finite() && p[1].is_finite() { p } else { centre };
+                let pos = |p: [f32; 2]| {
+                    if p[0].is_finite() && p[1].is_finite() {
+                        p
+                    } else {
+                        centre
+                    }
+                };
                 Anchor {
                     a: pos(an.a),
                     b: pos(an.b),
-                    weight_b: if an.weight_b.is_nan() { 0.0 } else { an.weight_b.clamp(0.0, 1.0) },
+                    weight_b: if an.weight_b.is_nan() {
+                        0.0
+                    } else {
+                        an.weight_b.clamp(0.0, 1.0)
+                    },
                 }
             })
             .collect();

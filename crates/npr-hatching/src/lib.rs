@@ -65,8 +65,10 @@ pub use directions::{DirectionSource, StrokeDirection, principal_directions, str
 pub use error::HatchError;
 pub use frame::HatchFrame;
 pub use inputs::{Anchor, HatchInputs};
-pub use params::{BlendMode, HatchParams, StrokeSpace, HatchUniforms, MAX_BINS, MIN_BINS};
+pub use params::{BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeSpace};
 pub use pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
 pub use reference::{CpuHatcher, hatch_cpu};
-pub use scene::{DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings};
+pub use scene::{
+    DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings,
+};
 pub use tam::{TamParams, TamStyle, TonalArtMap};

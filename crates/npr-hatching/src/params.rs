@@ -215,7 +215,11 @@ mod tests {
     #[test]
     fn uniform_layout_matches_wgsl() {
         // Size and member offsets read from `hatching.wgsl` by naga.
-        npr_gpu::assert_wgsl_layout!(HatchUniforms, "Hatch", [bins, ink, paper, tone, config, space]);
+        npr_gpu::assert_wgsl_layout!(
+            HatchUniforms,
+            "Hatch",
+            [bins, ink, paper, tone, config, space]
+        );
     }
 
     #[test]

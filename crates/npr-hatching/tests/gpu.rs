@@ -684,7 +684,10 @@ fn surface_hatching_follows_a_turning_sphere() {
                 )
                 .unwrap();
                 let (mean, frac) = compare(&gpu, &cpu);
-                assert!(mean <= 0.25 && frac <= 0.005, "mean {mean}, fraction {frac}");
+                assert!(
+                    mean <= 0.25 && frac <= 0.005,
+                    "mean {mean}, fraction {frac}"
+                );
             }
             prev = ink;
         }
@@ -707,7 +710,10 @@ fn surface_hatching_keeps_density_under_dolly() {
     };
     let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
     let frames = 24;
-    for (period, bounded) in [(npr_hatching::DEFAULT_ANCHOR_PERIOD, true), (u32::MAX, false)] {
+    for (period, bounded) in [
+        (npr_hatching::DEFAULT_ANCHOR_PERIOD, true),
+        (u32::MAX, false),
+    ] {
         let rig = sphere_rig(&ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
         let mut measured = Vec::new();
         for t in 0..=frames {

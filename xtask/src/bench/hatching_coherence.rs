@@ -32,8 +32,8 @@ use super::table::{Cell, Table, emit};
 use crate::demo::framing_camera;
 use crate::demo_hatching::{demo_directions, demo_knot};
 use glam::{Mat4, Vec3};
-use npr_geometry::stats::median;
 use npr_geometry::Mesh;
+use npr_geometry::stats::median;
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
 use npr_hatching::coherence::{ink_image, phase_correlation, sample_bilinear, stroke_density};
 use npr_hatching::{
@@ -68,8 +68,16 @@ struct Measured {
 
 /// The modes measured: name, stroke space, anchor period.
 const MODES: [(&str, StrokeSpace, u32); 3] = [
-    ("screen", StrokeSpace::Screen, npr_hatching::DEFAULT_ANCHOR_PERIOD),
-    ("surface", StrokeSpace::Surface, npr_hatching::DEFAULT_ANCHOR_PERIOD),
+    (
+        "screen",
+        StrokeSpace::Screen,
+        npr_hatching::DEFAULT_ANCHOR_PERIOD,
+    ),
+    (
+        "surface",
+        StrokeSpace::Surface,
+        npr_hatching::DEFAULT_ANCHOR_PERIOD,
+    ),
     ("surface-no-refresh", StrokeSpace::Surface, u32::MAX),
 ];
 
@@ -188,7 +196,9 @@ fn density_at_constant_tone(
         .iter()
         .zip(&mask)
         .filter(|(_, m)| **m)
-        .fold((0.0f64, 0usize), |(s, n), (i, _)| (s + f64::from(*i), n + 1));
+        .fold((0.0f64, 0usize), |(s, n), (i, _)| {
+            (s + f64::from(*i), n + 1)
+        });
     Ok((f64::from(rho), sum / n.max(1) as f64))
 }
 
@@ -280,7 +290,13 @@ fn measure(
                 surface.push(d_surface[0].hypot(d_surface[1]));
             }
         }
-        let ratio = |l: f64, f: f64| if f > 0.0 { (l / f - 1.0).abs() } else { f64::NAN };
+        let ratio = |l: f64, f: f64| {
+            if f > 0.0 {
+                (l / f - 1.0).abs()
+            } else {
+                f64::NAN
+            }
+        };
         out.push(Measured {
             mode,
             sliding: median(errors.iter().copied()) / median(surface.iter().copied()).max(1e-9),
