@@ -19,9 +19,9 @@ use wgpu::util::DeviceExt;
 /// Default frames between re-takes of a surface anchor's reference view
 /// ([`ScenePasses::anchor_period`]). Shorter periods track zoom more closely (the visible
 /// pattern's reference view is on average one period old, so its stroke density lags the
-/// screen scale by one period of zoom) but cross-fade faster; on the benchmark's 2×
-/// dolly over 24 frames, 12 frames left the stroke density 42–55 % off, 6 frames 28 %,
-/// 4 frames 15 % (Spot), with less flicker than the paper's mode in all three.
+/// screen scale by one period of zoom) but cross-fade faster. On the benchmark's 2× dolly
+/// over 24 frames, 4 frames keep the stroke density within about 10 % with no more
+/// flicker than the paper's mode (`cargo xtask bench hatching-coherence`).
 pub const DEFAULT_ANCHOR_PERIOD: u32 = 4;
 
 /// Size of `Anchor` in `hatching_scene.wgsl`: two clip-from-world and two

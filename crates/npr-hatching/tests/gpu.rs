@@ -648,11 +648,11 @@ fn surface_hatching_follows_a_turning_sphere() {
     let expected = sphere_tile_motion(&camera, x0, y0, n, step);
     assert!(expected[0] > 2.0, "surface motion {expected:?}");
     for space in npr_hatching::StrokeSpace::ALL {
-        let rig = sphere_rig(&ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
-        let mut prev = rig.render(&ctx, &camera, 0.0);
+        let rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
+        let mut prev = rig.render(ctx, &camera, 0.0);
         let mut worst = 0.0f32;
         for t in 1..=8 {
-            let ink = rig.render(&ctx, &camera, step * t as f32);
+            let ink = rig.render(ctx, &camera, step * t as f32);
             let d = npr_hatching::coherence::phase_correlation(
                 &tile(&prev, x0, y0, n),
                 &tile(&ink, x0, y0, n),
@@ -714,12 +714,12 @@ fn surface_hatching_keeps_density_under_dolly() {
         (npr_hatching::DEFAULT_ANCHOR_PERIOD, true),
         (u32::MAX, false),
     ] {
-        let rig = sphere_rig(&ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
+        let rig = sphere_rig(ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
         let mut measured = Vec::new();
         for t in 0..=frames {
             let dist = 6.0 * 0.5f32.powf(t as f32 / frames as f32);
             let camera = Camera::look_at(Vec3::new(0.0, 0.0, dist), Vec3::ZERO, 1.0);
-            rig.render(&ctx, &camera, (t as f32).to_radians());
+            rig.render(ctx, &camera, (t as f32).to_radians());
             if t == 0 || t == frames {
                 let mut gb = rig.frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
                 let mask = rig
