@@ -11,6 +11,7 @@
 //! `DirectionSource::Smooth`), falling back to the parallels `y × n` on umbilic and flat
 //! objects (a sphere, the ground plane).
 
+use crate::bench::hatching_coherence::{rig, uniforms};
 use crate::demo::{demo_meshes, framing_camera, save, sheet};
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{Mesh, generate};
@@ -393,31 +394,13 @@ fn coherence_gif(
     };
     let directions = demo_directions(name, &mesh);
     let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh)?;
-    let uniforms = |m: Mat4| ObjectUniforms::new(m, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0);
-    let mut rigs = Vec::new();
-    for space in StrokeSpace::ALL {
-        let params = HatchParams {
-            space,
-            ..Default::default()
-        };
-        let frame = HatchFrame::new(
-            &ctx.device,
-            &ctx.queue,
-            tam,
-            &params,
-            VsmSettings::default(),
-            npr_gpu::COLOR_FORMAT,
-            w,
-            h,
-        )?;
-        let object = frame.scene.create_object(
-            &ctx.device,
-            &gpu_mesh,
-            &uniforms(world_from_object),
-            &directions,
-        )?;
-        rigs.push((frame, object));
-    }
+    let rigs = StrokeSpace::ALL
+        .into_iter()
+        .map(|space| {
+            let period = npr_hatching::DEFAULT_ANCHOR_PERIOD;
+            rig(ctx, tam, (space, period), &gpu_mesh, &directions, (w, h))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
     let mut frames = Vec::with_capacity(COHERENCE_FRAMES);
     for t in 0..COHERENCE_FRAMES {
         // Distance: twice the framing distance → the framing distance → back (a 2× dolly).
@@ -429,10 +412,15 @@ fn coherence_gif(
         );
         let turn = Mat4::from_rotation_y((t as f32 * COHERENCE_STEP_DEG).to_radians());
         let mut tiles = Vec::new();
-        for (frame, object) in &rigs {
-            object.update(&ctx.queue, &uniforms(turn * world_from_object));
-            frame.set_view(&ctx.queue, &camera, &light);
-            tiles.push(frame.render_hatched(&ctx.device, &ctx.queue, &[(&gpu_mesh, object)])?);
+        for r in &rigs {
+            r.object
+                .update(&ctx.queue, &uniforms(turn * world_from_object));
+            r.frame.set_view(&ctx.queue, &camera, &light);
+            tiles.push(r.frame.render_hatched(
+                &ctx.device,
+                &ctx.queue,
+                &[(&gpu_mesh, &r.object)],
+            )?);
         }
         frames.push(sheet(&tiles, 2));
     }

@@ -50,10 +50,12 @@ const TILE: usize = 32;
 /// The constant tone of the density measurement.
 const DENSITY_TONE: f32 = 0.55;
 
-/// A hatching rig of one mode: frame passes, the object, its mesh.
-struct Rig {
-    frame: HatchFrame,
-    object: HatchObject,
+/// A hatching rig of one mode: frame passes and the object.
+pub struct Rig {
+    /// The frame passes.
+    pub frame: HatchFrame,
+    /// The object (material of [`uniforms`]).
+    pub object: HatchObject,
 }
 
 /// One mode's measurements.
@@ -100,17 +102,19 @@ pub fn light() -> ShadowLight {
     }
 }
 
-fn uniforms(world_from_object: Mat4) -> ObjectUniforms {
+/// The object material of the sequence, at `world_from_object`.
+pub fn uniforms(world_from_object: Mat4) -> ObjectUniforms {
     ObjectUniforms::new(world_from_object, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0)
 }
 
-fn rig(
+/// A `size` rig hatching `mesh` in `space` with anchors re-taken every `period` frames.
+pub fn rig(
     ctx: &GpuContext,
     tam: &TonalArtMap,
-    space: StrokeSpace,
-    period: u32,
+    (space, period): (StrokeSpace, u32),
     mesh: &GpuMesh,
     directions: &[Vec3],
+    (width, height): (u32, u32),
 ) -> anyhow::Result<Rig> {
     let params = HatchParams {
         space,
@@ -123,8 +127,8 @@ fn rig(
         &params,
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        WIDTH,
-        HEIGHT,
+        width,
+        height,
     )?;
     frame.scene.set_anchor_period(period)?;
     let object =
@@ -239,7 +243,15 @@ fn measure(
     let gpu_mesh = GpuMesh::upload(&ctx.device, mesh)?;
     let directions = demo_directions(name, mesh);
     // Reprojection rig: anchors re-taken every frame.
-    let motion = rig(ctx, tam, StrokeSpace::Surface, 1, &gpu_mesh, &directions)?;
+    let size = (WIDTH, HEIGHT);
+    let motion = rig(
+        ctx,
+        tam,
+        (StrokeSpace::Surface, 1),
+        &gpu_mesh,
+        &directions,
+        size,
+    )?;
     let mut prev_pos = Vec::with_capacity(FRAMES);
     let mut masks = Vec::with_capacity(FRAMES);
     for t in 0..FRAMES {
@@ -251,7 +263,7 @@ fn measure(
     let (w, h) = (WIDTH as usize, HEIGHT as usize);
     let mut out = Vec::new();
     for (mode, space, period) in MODES {
-        let r = rig(ctx, tam, space, period, &gpu_mesh, &directions)?;
+        let r = rig(ctx, tam, (space, period), &gpu_mesh, &directions, size)?;
         let mut inks = Vec::with_capacity(FRAMES);
         let (mut first, mut last) = ((0.0, 0.0), (0.0, 0.0));
         for t in 0..FRAMES {
