@@ -199,19 +199,24 @@ fn shade(in: SceneOut) -> vec3<f32> {
 }
 
 struct GBufferOut {
-    // r = tone, g = theta, b = weight of anchor 1, a = 1 (surface).
+    // r = tone, g = theta, b = weight of anchor 1, a = 1 + turn rate (rad/pixel).
     @location(0) main: vec4<f32>,
     // xy = anchor 0, zw = anchor 1, in pixels.
     @location(1) anchors: vec4<f32>,
 };
 
 // G-buffer: r = tone (linear luminance of the shaded colour, 1 = paper), g = theta in
-// [0, pi) counter-clockwise from +x on screen, b = anchor 1's weight, a = 1; and the two
+// [0, pi) counter-clockwise from +x on screen, b = anchor 1's weight, a = 1 + the turn rate; and the two
 // anchors (the pixel's surface point at the two reference views, in pixels).
 @fragment
 fn fs_gbuffer(in: SceneOut) -> GBufferOut {
     let c = shade(in);
     let tone = clamp(dot(c, vec3<f32>(0.2126, 0.7152, 0.0722)), 0.0, 1.0);
+    // How fast the stroke direction turns on the screen: for the unit line vector
+    // (cos 2theta, sin 2theta), |d theta| = |d line| / 2 (derivatives in uniform control
+    // flow, before any branch).
+    let ln = in.line * inverseSqrt(max(dot(in.line, in.line), 1e-20));
+    let turn = 0.5 * max(length(dpdx(ln)), length(dpdy(ln)));
     var theta = 0.0;
     if dot(in.line, in.line) > 1e-12 {
         theta = 0.5 * atan2(in.line.y, in.line.x);
@@ -221,7 +226,7 @@ fn fs_gbuffer(in: SceneOut) -> GBufferOut {
         theta = clamp(theta, 0.0, 3.1415925);
     }
     var out: GBufferOut;
-    out.main = vec4<f32>(tone, theta, coherence.weights.x, 1.0);
+    out.main = vec4<f32>(tone, theta, coherence.weights.x, 1.0 + min(turn, 1e3));
     out.anchors = vec4<f32>(anchor_pixel(in.ref0, in.clip.xy), anchor_pixel(in.ref1, in.clip.xy));
     return out;
 }

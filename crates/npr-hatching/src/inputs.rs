@@ -45,6 +45,7 @@ pub struct HatchInputs {
     tone: Vec<f32>,
     theta: Vec<f32>,
     anchors: Option<Vec<Anchor>>,
+    turn: Option<Vec<f32>>,
 }
 
 /// Reduces an angle to [0, π); non-finite angles become 0.
@@ -107,6 +108,7 @@ impl HatchInputs {
             tone: tone.iter().map(|&t| sanitize_tone(t)).collect(),
             theta: theta.iter().map(|&t| wrap_theta(t)).collect(),
             anchors: None,
+            turn: None,
         })
     }
 
@@ -122,6 +124,7 @@ impl HatchInputs {
             tone: vec![sanitize_tone(tone); n],
             theta: vec![wrap_theta(theta); n],
             anchors: None,
+            turn: None,
         })
     }
 
@@ -149,6 +152,7 @@ impl HatchInputs {
             tone,
             theta,
             anchors: None,
+            turn: None,
         })
     }
 
@@ -207,6 +211,7 @@ impl HatchInputs {
             tone,
             theta,
             anchors: None,
+            turn: None,
         })
     }
 
@@ -263,6 +268,7 @@ impl HatchInputs {
             tone: pairs.iter().map(|p| sanitize_tone(p[0])).collect(),
             theta: pairs.iter().map(|p| wrap_theta(p[1])).collect(),
             anchors: None,
+            turn: None,
         })
     }
 
@@ -306,6 +312,32 @@ impl HatchInputs {
             .collect();
         self.anchors = Some(clean);
         Ok(self)
+    }
+
+    /// These inputs with the stroke direction's turn rate per pixel (radians per pixel,
+    /// row-major; [`crate::StrokeLength`]); non-finite or negative values become 0.
+    ///
+    /// # Errors
+    /// [`HatchError::LengthMismatch`] when `turn` does not have one entry per pixel.
+    pub fn with_turn(mut self, turn: Vec<f32>) -> Result<Self, HatchError> {
+        if turn.len() != self.tone.len() {
+            return Err(HatchError::LengthMismatch {
+                what: "turn-rate image",
+                expected: self.tone.len(),
+                actual: turn.len(),
+            });
+        }
+        self.turn = Some(
+            turn.into_iter()
+                .map(|t| if t.is_finite() { t.max(0.0) } else { 0.0 })
+                .collect(),
+        );
+        Ok(self)
+    }
+
+    /// The turn rate of the stroke direction per pixel (rad/pixel), if any.
+    pub fn turn(&self) -> Option<&[f32]> {
+        self.turn.as_deref()
     }
 
     /// The surface anchors (row-major), if any.

@@ -65,7 +65,9 @@ pub use directions::{DirectionSource, StrokeDirection, principal_directions, str
 pub use error::HatchError;
 pub use frame::HatchFrame;
 pub use inputs::{Anchor, HatchInputs};
-pub use params::{BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeSpace};
+pub use params::{
+    BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeLength, StrokeSpace,
+};
 pub use pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
 pub use reference::{CpuHatcher, hatch_cpu};
 pub use scene::{

@@ -82,6 +82,34 @@ impl StrokeSpace {
     }
 }
 
+/// Short strokes where the stroke direction turns fast (issue 11 §3, beyond the paper's
+/// §5, which suggests short strokes where curvature varies quickly): two fixed stroke
+/// lengths blended per pixel by the G-buffer's turn rate of the direction field, like the
+/// direction bins of Eq. (2)–(3) (a per-pixel scale of the texture coordinates would tear
+/// the texture). The strokes of the map run along its u axis; the short ones are the map
+/// compressed `shorten` times along u (so cross-hatching along v gets denser there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeLength {
+    /// How many times shorter the short strokes are (> 1).
+    pub shorten: f32,
+    /// Turn rate (radians of stroke direction per pixel) up to which strokes are long.
+    pub calm: f32,
+    /// Turn rate from which strokes are all short (> `calm`).
+    pub busy: f32,
+}
+
+impl Default for StrokeLength {
+    /// Half-length strokes from 0.1 rad/pixel (a 6° turn per pixel); full length below
+    /// 0.02 rad/pixel.
+    fn default() -> Self {
+        Self {
+            shorten: 2.0,
+            calm: 0.02,
+            busy: 0.1,
+        }
+    }
+}
+
 /// Parameters of the hatching pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HatchParams {
@@ -98,6 +126,9 @@ pub struct HatchParams {
     pub paper: [f32; 3],
     /// Screen (the paper) or surface-anchored (coherent) strokes.
     pub space: StrokeSpace,
+    /// Short strokes where the direction field turns; `None` (the default) keeps one
+    /// stroke length, as the paper.
+    pub stroke_length: Option<StrokeLength>,
 }
 
 impl Default for HatchParams {
@@ -111,6 +142,7 @@ impl Default for HatchParams {
             ink: [0.0; 3],
             paper: [1.0; 3],
             space: StrokeSpace::Surface,
+            stroke_length: None,
         }
     }
 }
@@ -133,6 +165,19 @@ impl HatchParams {
                 reason: format!("finite and > 0, got {}", self.stroke_scale),
             });
         }
+        if let Some(l) = self.stroke_length
+            && !(l.shorten.is_finite()
+                && l.shorten > 1.0
+                && l.calm.is_finite()
+                && l.calm >= 0.0
+                && l.busy.is_finite()
+                && l.busy > l.calm)
+        {
+            return Err(HatchError::InvalidParams {
+                what: "stroke_length",
+                reason: format!("shorten > 1, 0 ≤ calm < busy, all finite; got {l:?}"),
+            });
+        }
         if !self.ink.iter().chain(&self.paper).all(|c| c.is_finite()) {
             return Err(HatchError::InvalidParams {
                 what: "ink/paper",
@@ -153,7 +198,7 @@ pub const MIN_BINS: u32 = 12;
 /// Most direction bins.
 pub const MAX_BINS: u32 = 24;
 
-/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 480 bytes),
+/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 496 bytes),
 /// also read by the CPU reference so both use the very same constants.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -173,6 +218,9 @@ pub struct HatchUniforms {
     pub config: [u32; 4],
     /// x = stroke space (0 screen, 1 surface), y..w unused.
     pub space: [u32; 4],
+    /// Short strokes ([`StrokeLength`]): x = shorten, y = calm, z = 1 / (busy − calm),
+    /// w = 1 when on, 0 off.
+    pub length: [f32; 4],
 }
 
 impl HatchUniforms {
@@ -204,6 +252,10 @@ impl HatchUniforms {
             tone: [(tam.tones() - 1) as f32 / tam.max_coverage(), 0.0, 0.0, 0.0],
             config: [params.bins, params.mode.code(), tam.size() - 1, tam.tones()],
             space: [params.space.code(), 0, 0, 0],
+            length: match params.stroke_length {
+                Some(l) => [l.shorten, l.calm, 1.0 / (l.busy - l.calm), 1.0],
+                None => [1.0, 0.0, 0.0, 0.0],
+            },
         })
     }
 }
@@ -218,7 +270,7 @@ mod tests {
         npr_gpu::assert_wgsl_layout!(
             HatchUniforms,
             "Hatch",
-            [bins, ink, paper, tone, config, space]
+            [bins, ink, paper, tone, config, space, length]
         );
     }
 

@@ -12,7 +12,7 @@ use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
 use wgpu::util::DeviceExt;
 
 /// Format of the G-buffer: r = tone, g = θ, b = weight of the second surface anchor,
-/// a = 1 on surfaces (0 on the background), full 32-bit floats (so θ's bin and the
+/// a = 1 + the stroke direction's turn rate (rad/pixel) on surfaces, 0 on the background, full 32-bit floats (so θ's bin and the
 /// tone's slice are decided on exactly the values the CPU reference sees).
 pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
@@ -112,7 +112,10 @@ impl GBuffer {
             .interleaved()
             .iter()
             .enumerate()
-            .map(|(i, &[t, a])| [t, a, anchor(i).weight_b, 1.0])
+            .map(|(i, &[t, a])| {
+                let turn = inputs.turn().and_then(|v| v.get(i)).copied().unwrap_or(0.0);
+                [t, a, anchor(i).weight_b, 1.0 + turn]
+            })
             .collect();
         let anchors: Vec<[f32; 4]> = (0..main.len())
             .map(|i| {
@@ -185,7 +188,10 @@ impl GBuffer {
                 weight_b: m[2],
             })
             .collect();
-        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)?.with_anchors(anchors)
+        let turn = main.iter().map(|m| (m[3] - 1.0).max(0.0)).collect();
+        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)?
+            .with_anchors(anchors)?
+            .with_turn(turn)
     }
 
     /// Reads back which pixels a surface covers (the G-buffer's alpha; submits and waits).

@@ -31,7 +31,7 @@ fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64) {
 }
 
 /// GPU = CPU on the same inputs: a tone ramp with a swirling θ field, both styles, all
-/// three modes, a coloured ink and paper. Bound: mean |difference| ≤ 0.25 code values and
+/// three modes, a coloured ink and paper, short strokes (`stroke_length`) on for pen. Bound: mean |difference| ≤ 0.25 code values and
 /// at most 0.5 % of pixels differing by more than 2 code values (float rounding, e.g.
 /// fused multiply-adds, can move a rotated coordinate across a texel edge).
 #[test]
@@ -45,6 +45,14 @@ fn gpu_hatching_equals_cpu_reference() {
         let theta = 0.02 * x + 0.015 * y + (0.03 * y).sin();
         (tone, theta)
     })
+    .unwrap()
+    // Turn rate rising down the image: 0 to 0.15 rad/pixel (StrokeLength's calm 0.02 and
+    // busy 0.1 in between).
+    .with_turn(
+        (0..w * h)
+            .map(|i| 0.15 * (i / w) as f32 / h as f32)
+            .collect(),
+    )
     .unwrap();
     for style in [TamStyle::Pen, TamStyle::Pencil] {
         let tam = TonalArtMap::generate(&TamParams::for_style(style)).unwrap();
@@ -55,6 +63,9 @@ fn gpu_hatching_equals_cpu_reference() {
                 stroke_scale: 1.5,
                 ink: [0.05, 0.02, 0.1],
                 paper: [0.95, 0.9, 0.8],
+                // Short strokes on for the pen map: the turn field below spans calm,
+                // blended and all-short pixels.
+                stroke_length: (style == TamStyle::Pen).then(Default::default),
                 ..Default::default()
             };
             let gpu = hatch_image_gpu(&ctx.device, &ctx.queue, &inputs, &tam, &params).unwrap();
