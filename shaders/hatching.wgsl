@@ -28,6 +28,11 @@ struct Hatch {
 };
 
 @group(0) @binding(0) var<uniform> hatch: Hatch;
+// Pipeline constants mirroring `hatch.space.x` and `hatch.length.w > 0`, so that each
+// pipeline variant compiles only the lookups it uses (a software rasterizer may run both
+// sides of a uniform branch). `HatchPass` builds the four variants and picks one.
+override SURFACE: bool = false;
+override SHORT_STROKES: bool = false;
 // The tonal art map, one R8Unorm layer per tone, light to dark; fetched nearest.
 @group(0) @binding(1) var tam: texture_2d_array<f32>;
 // The G-buffer: r = tone (1 = paper), g = theta in [0, pi), b = weight of anchor 1,
@@ -125,7 +130,7 @@ fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32, k: f32) -> f32 {
 // texture). Mirrors `CpuHatcher::length_blended`.
 fn length_blended(p: vec2<f32>, tone: f32, theta: f32, turn: f32) -> f32 {
     var w = 0.0;
-    if hatch.length.w > 0.0 {
+    if SHORT_STROKES && hatch.length.w > 0.0 {
         w = clamp((turn - hatch.length.y) * hatch.length.z, 0.0, 1.0);
     }
     var c0 = 0.0;
@@ -162,7 +167,7 @@ fn fs_hatch(in: FullscreenOut) -> @location(0) vec4<f32> {
     let g = textureLoad(gbuffer, pix, 0);
     let turn = max(g.a - 1.0, 0.0);
     var c = 0.0;
-    if hatch.space.x == 0u {
+    if !SURFACE || hatch.space.x == 0u {
         c = length_blended(in.clip.xy, g.r, g.g, turn);
     } else {
         c = anchored_coverage(textureLoad(anchors, pix, 0), g.b, g.r, g.g, turn);

@@ -217,7 +217,8 @@ impl GBuffer {
 /// caller's pass).
 #[derive(Debug)]
 pub struct HatchPass {
-    pipeline: wgpu::RenderPipeline,
+    /// Variants by (surface space, short strokes): index `2·surface + short`.
+    pipelines: Vec<wgpu::RenderPipeline>,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     tam_view: wgpu::TextureView,
@@ -261,27 +262,42 @@ impl HatchPass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr hatching fs_hatch"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_hatch"),
-                compilation_options: Default::default(),
-                targets: &[Some(target_format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let variant = |surface: bool, short: bool| {
+            let constants = [
+                ("SURFACE", f64::from(u8::from(surface))),
+                ("SHORT_STROKES", f64::from(u8::from(short))),
+            ];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("npr hatching fs_hatch"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_hatch"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        ..Default::default()
+                    },
+                    targets: &[Some(target_format.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipelines = vec![
+            variant(false, false),
+            variant(false, true),
+            variant(true, false),
+            variant(true, true),
+        ];
         let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr hatching uniforms"),
             contents: bytemuck::bytes_of(&u),
@@ -294,7 +310,7 @@ impl HatchPass {
                 ..Default::default()
             });
         Ok(Self {
-            pipeline,
+            pipelines,
             layout,
             uniforms,
             tam_view,
@@ -382,7 +398,15 @@ impl HatchPass {
     /// Records the full-screen hatching draw into the caller's render pass (whose colour
     /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
-        pass.set_pipeline(&self.pipeline);
+        let surface = self.params.space == crate::StrokeSpace::Surface;
+        let short = self.params.stroke_length.is_some();
+        let Some(pipeline) = self
+            .pipelines
+            .get(2 * usize::from(surface) + usize::from(short))
+        else {
+            return;
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
