@@ -18,13 +18,28 @@ struct Hatch {
     // x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
     // z = map size - 1 (texel mask), w = tones.
     config: vec4<u32>,
+    // x = stroke space: 0 screen (the paper: Eq. (1) rotates the pixel position), 1 surface
+    // (Eq. (1) rotates the pixel's surface anchors, cross-faded; see `fs_hatch`); yzw unused.
+    space: vec4<u32>,
+    // Short strokes where the direction field turns (off when w = 0): x = how many times
+    // shorter the short strokes are, y = turn rate (rad/pixel) below which strokes are
+    // long, z = 1 / (turn rate of all-short strokes - y), w = 1 when on.
+    length: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> hatch: Hatch;
+// Pipeline constants mirroring `hatch.space.x` and `hatch.length.w > 0`, so that each
+// pipeline variant compiles only the lookups it uses (a software rasterizer may run both
+// sides of a uniform branch). `HatchPass` builds the four variants and picks one.
+override SURFACE: bool = false;
+override SHORT_STROKES: bool = false;
 // The tonal art map, one R8Unorm layer per tone, light to dark; fetched nearest.
 @group(0) @binding(1) var tam: texture_2d_array<f32>;
-// The G-buffer: r = tone (1 = paper), g = theta in [0, pi).
+// The G-buffer: r = tone (1 = paper), g = theta in [0, pi), b = weight of anchor 1,
+// a = 1 + the direction field's turn rate in rad/pixel on surfaces, 0 elsewhere.
 @group(0) @binding(2) var gbuffer: texture_2d<f32>;
+// The surface anchors: xy = anchor 0, zw = anchor 1 (pixels at two reference views).
+@group(0) @binding(3) var anchors: texture_2d<f32>;
 
 struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
@@ -43,8 +58,9 @@ fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
 // f(u_k, v_k) of Eq. (2): the pixel (x, y) rotated by theta_k (Eq. (1), §3.1), read from
 // the map nearest with wrap-around, blended between slices `slice` and `slice + 1` by `a`.
 // `cs` = (cos theta_k, sin theta_k) / stroke scale. Mirrors `CpuHatcher::stroke_texel`.
-fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32) -> f32 {
-    let u = cs.x * p.x - cs.y * p.y;
+// `k` shortens the strokes (which run along u) k times.
+fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32, k: f32) -> f32 {
+    let u = (cs.x * p.x - cs.y * p.y) * k;
     let v = cs.y * p.x + cs.x * p.y;
     let mask = i32(hatch.config.z);
     let t = vec2<i32>(i32(floor(u)) & mask, i32(floor(v)) & mask);
@@ -66,7 +82,7 @@ fn bin_cs(k: i32, offset: bool) -> vec2<f32> {
 // partition offset by `offset` (0 or 1/2 bin, §3.3). Only the nearest bin and its
 // neighbour on theta's side have non-zero weight (1 - |d| and |d|). Mirrors
 // `CpuHatcher::blended`.
-fn blended(t: f32, offset: bool, p: vec2<f32>, slice: i32, a: f32) -> f32 {
+fn blended(t: f32, offset: bool, p: vec2<f32>, slice: i32, a: f32, k: f32) -> f32 {
     var tt = t;
     if offset {
         tt = t - 0.5;
@@ -79,15 +95,15 @@ fn blended(t: f32, offset: bool, p: vec2<f32>, slice: i32, a: f32) -> f32 {
         k1 = q + 1;
         w1 = d;
     }
-    let f0 = stroke_texel(bin_cs(q, offset), p, slice, a);
-    let f1 = stroke_texel(bin_cs(k1, offset), p, slice, a);
+    let f0 = stroke_texel(bin_cs(q, offset), p, slice, a, k);
+    let f1 = stroke_texel(bin_cs(k1, offset), p, slice, a, k);
     return (1.0 - w1) * f0 + w1 * f1;
 }
 
 // Ink coverage of the pixel centred at p for a tone in [0, 1] and theta in [0, pi):
 // Eq. (1) (mode 0), Eq. (2)-(3) (mode 1), or §3.3 offset partition mixed 50/50 (mode 2),
 // the tone interpolated between the two nearest slices. Mirrors `CpuHatcher::coverage`.
-fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32) -> f32 {
+fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32, k: f32) -> f32 {
     let max_cov = hatch.paper.a;
     let c = clamp(1.0 - tone, 0.0, max_cov);
     // Slice 0 is blank paper: no lookups needed (they would all read 0).
@@ -100,17 +116,61 @@ fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32) -> f32 {
     let t = theta * hatch.ink.a;
     if hatch.config.y == 0u {
         let q = i32(floor(t + 0.5));
-        return stroke_texel(bin_cs(q, false), p, slice, a);
+        return stroke_texel(bin_cs(q, false), p, slice, a, k);
     }
     if hatch.config.y == 1u {
-        return blended(t, false, p, slice, a);
+        return blended(t, false, p, slice, a, k);
     }
-    return 0.5 * blended(t, false, p, slice, a) + 0.5 * blended(t, true, p, slice, a);
+    return 0.5 * blended(t, false, p, slice, a, k) + 0.5 * blended(t, true, p, slice, a, k);
+}
+
+// Two fixed stroke lengths blended by the direction field's turn rate (issue 11 §3,
+// beyond the paper's §5): long strokes where the field is calm, `length.x` times shorter
+// where it turns fast, blended like the direction bins (a per-pixel scale would tear the
+// texture). Mirrors `CpuHatcher::length_blended`.
+fn length_blended(p: vec2<f32>, tone: f32, theta: f32, turn: f32) -> f32 {
+    var w = 0.0;
+    if SHORT_STROKES && hatch.length.w > 0.0 {
+        w = clamp((turn - hatch.length.y) * hatch.length.z, 0.0, 1.0);
+    }
+    var c0 = 0.0;
+    var c1 = 0.0;
+    if w < 1.0 {
+        c0 = hatch_coverage(p, tone, theta, 1.0);
+    }
+    if w > 0.0 {
+        c1 = hatch_coverage(p, tone, theta, hatch.length.x);
+    }
+    return c0 + (c1 - c0) * w;
+}
+
+// Coverage at the pixel's two surface anchors, cross-faded by w (the weight of anchor 1):
+// strokes drawn where the surface point was at a reference view move with the surface,
+// while θ, tone and the stroke scale stay screen-space (constant density; the reference
+// views are re-taken in turn, so the scale never drifts far). Mirrors
+// `CpuHatcher::anchored_coverage`.
+fn anchored_coverage(an: vec4<f32>, w: f32, tone: f32, theta: f32, turn: f32) -> f32 {
+    var c0 = 0.0;
+    var c1 = 0.0;
+    if w < 1.0 {
+        c0 = length_blended(an.xy, tone, theta, turn);
+    }
+    if w > 0.0 {
+        c1 = length_blended(an.zw, tone, theta, turn);
+    }
+    return c0 + (c1 - c0) * w;
 }
 
 @fragment
 fn fs_hatch(in: FullscreenOut) -> @location(0) vec4<f32> {
-    let g = textureLoad(gbuffer, vec2<i32>(floor(in.clip.xy)), 0);
-    let c = hatch_coverage(in.clip.xy, g.r, g.g);
+    let pix = vec2<i32>(floor(in.clip.xy));
+    let g = textureLoad(gbuffer, pix, 0);
+    let turn = max(g.a - 1.0, 0.0);
+    var c = 0.0;
+    if !SURFACE || hatch.space.x == 0u {
+        c = length_blended(in.clip.xy, g.r, g.g, turn);
+    } else {
+        c = anchored_coverage(textureLoad(anchors, pix, 0), g.b, g.r, g.g, turn);
+    }
     return vec4<f32>(hatch.paper.rgb + (hatch.ink.rgb - hatch.paper.rgb) * c, 1.0);
 }

@@ -20,9 +20,26 @@ struct Scene {
     viewport: vec4<f32>,
 };
 
+// Surface anchoring (coherent hatching, beyond the paper's §5 shower-door limit): two
+// reference views per object, re-taken in turn; a surface point's anchor is where it was
+// on the screen at that reference view. Written by `ScenePasses::record_gbuffer` (buffer
+// copies of the frame's and the object's matrices at the reference frame).
+struct Anchor {
+    clip_from_world: array<mat4x4<f32>, 2>,
+    world_from_object: array<mat4x4<f32>, 2>,
+};
+
+// x = weight of anchor 1 (anchor 0 gets 1 - x), the cross-fade between the two reference
+// views; yzw unused.
+struct Coherence {
+    weights: vec4<f32>,
+};
+
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> scene: Scene;
+@group(0) @binding(2) var<uniform> coherence: Coherence;
 @group(1) @binding(0) var<uniform> object: Object;
+@group(1) @binding(1) var<uniform> anchor: Anchor;
 // Moments (E[d], E[d^2]) of light depth, Rg32Float, filtered by hand.
 @group(2) @binding(0) var shadow_moments: texture_2d<f32>;
 
@@ -115,6 +132,9 @@ struct SceneOut {
     // The screen stroke direction as a line field: (cos 2theta, sin 2theta) scaled by
     // nothing, so that d and -d agree and interpolation does not cancel opposite signs.
     @location(2) line: vec2<f32>,
+    // The point in the clip space of the two reference views (anchors, see `Anchor`).
+    @location(3) ref0: vec4<f32>,
+    @location(4) ref1: vec4<f32>,
 };
 
 // Projects the per-vertex surface direction to the screen (§2: "a principal curvature
@@ -147,7 +167,20 @@ fn vs_scene(v: VertexIn, @location(3) dir: vec3<f32>) -> SceneOut {
     out.clip = frame.clip_from_world * world;
     out.normal = normalize(object.normal_from_object * v.normal);
     out.line = screen_line(world.xyz, out.clip, dir);
+    let p = vec4<f32>(v.position, 1.0);
+    out.ref0 = anchor.clip_from_world[0] * (anchor.world_from_object[0] * p);
+    out.ref1 = anchor.clip_from_world[1] * (anchor.world_from_object[1] * p);
     return out;
+}
+
+// Pixel position (y down, the convention of @builtin(position)) of a reference clip-space
+// point; the current pixel where the point was behind the reference camera.
+fn anchor_pixel(r: vec4<f32>, here: vec2<f32>) -> vec2<f32> {
+    if !(r.w > 1e-8) {
+        return here;
+    }
+    let ndc = r.xy / r.w;
+    return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5) * scene.viewport.xy;
 }
 
 // Blinn-Phong (common.wgsl) with the direct light attenuated by the VSM visibility and,
@@ -165,12 +198,25 @@ fn shade(in: SceneOut) -> vec3<f32> {
     return ambient + (lit - ambient) * vis;
 }
 
+struct GBufferOut {
+    // r = tone, g = theta, b = weight of anchor 1, a = 1 + turn rate (rad/pixel).
+    @location(0) main: vec4<f32>,
+    // xy = anchor 0, zw = anchor 1, in pixels.
+    @location(1) anchors: vec4<f32>,
+};
+
 // G-buffer: r = tone (linear luminance of the shaded colour, 1 = paper), g = theta in
-// [0, pi) counter-clockwise from +x on screen.
+// [0, pi) counter-clockwise from +x on screen, b = anchor 1's weight, a = 1 + the turn rate; and the two
+// anchors (the pixel's surface point at the two reference views, in pixels).
 @fragment
-fn fs_gbuffer(in: SceneOut) -> @location(0) vec4<f32> {
+fn fs_gbuffer(in: SceneOut) -> GBufferOut {
     let c = shade(in);
     let tone = clamp(dot(c, vec3<f32>(0.2126, 0.7152, 0.0722)), 0.0, 1.0);
+    // How fast the stroke direction turns on the screen: for the unit line vector
+    // (cos 2theta, sin 2theta), |d theta| = |d line| / 2 (derivatives in uniform control
+    // flow, before any branch).
+    let ln = in.line * inverseSqrt(max(dot(in.line, in.line), 1e-20));
+    let turn = 0.5 * max(length(dpdx(ln)), length(dpdy(ln)));
     var theta = 0.0;
     if dot(in.line, in.line) > 1e-12 {
         theta = 0.5 * atan2(in.line.y, in.line.x);
@@ -179,7 +225,10 @@ fn fs_gbuffer(in: SceneOut) -> @location(0) vec4<f32> {
         }
         theta = clamp(theta, 0.0, 3.1415925);
     }
-    return vec4<f32>(tone, theta, 0.0, 1.0);
+    var out: GBufferOut;
+    out.main = vec4<f32>(tone, theta, coherence.weights.x, 1.0 + min(turn, 1e3));
+    out.anchors = vec4<f32>(anchor_pixel(in.ref0, in.clip.xy), anchor_pixel(in.ref1, in.clip.xy));
+    return out;
 }
 
 // The comparison frame: the same Phong shading with the same VSM, as colour.

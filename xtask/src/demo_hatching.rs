@@ -1,8 +1,9 @@
 //! Demo figures of the image-space hatching paper (Kim & Lee 2008, `npr-hatching`):
 //! Fig. 1 (cut-and-paste, blended, offset partition), Fig. 2 (pen and pencil on single
 //! objects), a multi-object scene like Fig. 3 with its Phong + VSM baseline, the complex
-//! scene of Fig. 4 (about 1.1M triangles at 1280×480), a 2-D flow
-//! field (§5), and the tonal art maps themselves. Our own figures (the scene under a spot
+//! scene of Fig. 4 (about 1.1M triangles at 1280×480), a 2-D flow field (§5), the tonal art
+//! maps themselves, and GIFs of screen-space (the paper) against surface-anchored strokes
+//! on turning objects (`hatching-coherence-*.gif`). Our own figures (the scene under a spot
 //! light, raw against smooth stroke directions on the bunny) add ink outlines
 //! (`npr_gpu::outline`); those that reproduce the paper's figures do not.
 //!
@@ -11,13 +12,14 @@
 //! `DirectionSource::Smooth`), falling back to the parallels `y × n` on umbilic and flat
 //! objects (a sphere, the ground plane).
 
+use crate::bench::hatching_coherence::{rig, uniforms};
 use crate::demo::{demo_meshes, framing_camera, save, sheet};
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
 use npr_hatching::{
-    BlendMode, HatchFrame, HatchInputs, HatchParams, ShadowLight, TamParams, TamStyle, TonalArtMap,
-    VsmSettings, hatch_cpu, hatch_image_gpu,
+    BlendMode, HatchFrame, HatchInputs, HatchParams, ShadowLight, StrokeSpace, TamParams, TamStyle,
+    TonalArtMap, VsmSettings, hatch_cpu, hatch_image_gpu,
 };
 use std::path::{Path, PathBuf};
 
@@ -391,6 +393,12 @@ pub fn run(
         &mut written,
     )?;
 
+    // Beyond §5: the paper's screen-space strokes against surface-anchored ones on a
+    // turning object (issue 14), side by side.
+    for name in crate::gallery::COHERENCE_SUBJECTS {
+        written.extend(coherence_gif(ctx, dir, name, &pen)?);
+    }
+
     // §5: 2-D flow visualisation, GPU and CPU.
     let flow = flow_inputs(640, 480)?;
     let params = HatchParams::default();
@@ -402,6 +410,84 @@ pub fn run(
         &dir.join("hatching-flow-cpu-pencil.png"),
         &mut written,
     )?;
+    Ok(written)
+}
+
+/// Frames of the coherence GIFs, and the turn per frame.
+const COHERENCE_FRAMES: usize = 48;
+const COHERENCE_STEP_DEG: f32 = 2.0;
+
+/// `hatching-coherence-NAME.gif`: the object turning 2° per frame while the camera dollies
+/// in by 2× and back, hatched in screen space (left, the paper: the strokes stay on the
+/// screen, the surface slides beneath) and surface space (right, the default: the strokes
+/// move with the surface at constant density); and a strip of every 12th frame.
+fn coherence_gif(
+    ctx: &GpuContext,
+    dir: &Path,
+    name: &str,
+    tam: &TonalArtMap,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let mesh = if name == "knot" {
+        demo_knot()
+    } else {
+        npr_geometry::load_obj(crate::fixture_mesh(&format!("{name}.obj")))?
+    };
+    let (w, h) = (320u32, 240u32);
+    let (camera0, world_from_object) = framing_camera(&mesh, w as f32 / h as f32);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::new(-1.0, 1.6, 1.2),
+        center: Vec3::ZERO,
+        radius: 1.05,
+    };
+    let directions = demo_directions(name, &mesh);
+    let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh)?;
+    let rigs = StrokeSpace::ALL
+        .into_iter()
+        .map(|space| {
+            let period = npr_hatching::DEFAULT_ANCHOR_PERIOD;
+            rig(ctx, tam, (space, period), &gpu_mesh, &directions, (w, h))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let mut frames = Vec::with_capacity(COHERENCE_FRAMES);
+    for t in 0..COHERENCE_FRAMES {
+        // Distance: twice the framing distance → the framing distance → back (a 2× dolly).
+        let phase = (t as f32 / COHERENCE_FRAMES as f32 * std::f32::consts::TAU).cos();
+        let camera = Camera::look_at(
+            camera0.eye * 2f32.powf(0.5 + 0.5 * phase),
+            Vec3::ZERO,
+            w as f32 / h as f32,
+        );
+        let turn = Mat4::from_rotation_y((t as f32 * COHERENCE_STEP_DEG).to_radians());
+        let mut tiles = Vec::new();
+        for r in &rigs {
+            r.object
+                .update(&ctx.queue, &uniforms(turn * world_from_object));
+            r.frame.set_view(&ctx.queue, &camera, &light);
+            tiles.push(r.frame.render_hatched(
+                &ctx.device,
+                &ctx.queue,
+                &[(&gpu_mesh, &r.object)],
+            )?);
+        }
+        frames.push(sheet(&tiles, 2));
+    }
+    let mut written = Vec::new();
+    let strip: Vec<_> = frames.iter().step_by(12).cloned().collect();
+    save(
+        &sheet(&strip, 1),
+        &dir.join(format!("hatching-coherence-{name}-strip.png")),
+        &mut written,
+    )?;
+    let gif_path = dir.join(format!("hatching-coherence-{name}.gif"));
+    let file = std::fs::File::create(&gif_path)?;
+    let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
+    encoder.set_repeat(image::codecs::gif::Repeat::Infinite)?;
+    encoder.encode_frames(
+        frames
+            .into_iter()
+            .map(|f| image::Frame::from_parts(f, 0, 0, image::Delay::from_numer_denom_ms(80, 1))),
+    )?;
+    written.push(gif_path);
     Ok(written)
 }
 

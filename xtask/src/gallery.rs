@@ -107,6 +107,9 @@ pub struct Figure {
     pub parts: Vec<String>,
 }
 
+/// The objects of the coherence GIFs (`hatching-coherence-NAME.gif`).
+pub const COHERENCE_SUBJECTS: [&str; 2] = ["stanford-bunny", "knot"];
+
 /// A before/after pair: the paper's way, then ours.
 #[derive(Clone, Debug)]
 pub struct Departure {
@@ -328,6 +331,23 @@ pub fn figures() -> Vec<Figure> {
             .push(format!("hatching-directions-bunny-{}.png", source.name()));
     }
     out.push(dirs);
+    for name in COHERENCE_SUBJECTS {
+        let mut gif = fig(
+            h,
+            &format!("hatching-coherence-{name}.gif"),
+            None,
+            &format!(
+                "Beyond §5's shower-door limit: the {name} turning 2° per frame while the \
+                 camera dollies in by 2× and back, pen; (left) the paper's screen-space \
+                 strokes stay on the screen while the surface slides beneath, (right) our \
+                 surface-anchored strokes (StrokeSpace::Surface) move with it at constant \
+                 density. `cargo xtask bench hatching-coherence` measures both."
+            ),
+        );
+        gif.parts
+            .push(format!("hatching-coherence-{name}-strip.png"));
+        out.push(gif);
+    }
     out.push(fig(
         h,
         "hatching-flow-gpu.png",

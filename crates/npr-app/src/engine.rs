@@ -464,6 +464,8 @@ impl Renderer {
             mode: h.blend.into(),
             ink: h.ink,
             paper: h.paper,
+            space: h.space.into(),
+            ..HatchParams::default()
         };
         for style in [pencil] {
             if let std::collections::hash_map::Entry::Vacant(e) = self.tams.entry(style) {

@@ -335,6 +335,27 @@ impl From<BlendPreset> for npr_hatching::BlendMode {
     }
 }
 
+/// Where hatching strokes live (SPEC §3 and beyond).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SpacePreset {
+    /// Surface-anchored strokes that move with the object at constant screen density
+    /// (the default: no shower-door sliding).
+    #[default]
+    Surface,
+    /// The paper's screen-space strokes.
+    Screen,
+}
+
+impl From<SpacePreset> for npr_hatching::StrokeSpace {
+    fn from(s: SpacePreset) -> Self {
+        match s {
+            SpacePreset::Surface => Self::Surface,
+            SpacePreset::Screen => Self::Screen,
+        }
+    }
+}
+
 /// Image-space hatching (npr-hatching).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -349,6 +370,8 @@ pub struct HatchingPreset {
     pub shadows: bool,
     /// Stroke direction source.
     pub direction: DirectionPreset,
+    /// Surface-anchored (coherent) or the paper's screen-space strokes.
+    pub space: SpacePreset,
     /// Linear ink colour.
     pub ink: [f32; 3],
     /// Linear paper colour.
@@ -364,6 +387,7 @@ impl Default for HatchingPreset {
             blend: BlendPreset::Offset,
             shadows: true,
             direction: DirectionPreset::Smooth,
+            space: SpacePreset::Surface,
             ink: p.ink,
             paper: p.paper,
         }

@@ -41,7 +41,7 @@ impl HatchFrame {
         let scene = ScenePasses::new(device, color_format, vsm)?;
         let hatch = HatchPass::new(device, queue, tam, params, color_format)?;
         let gbuffer = GBuffer::new(device, width, height)?;
-        let hatch_group = hatch.bind(device, &gbuffer.view);
+        let hatch_group = hatch.bind(device, &gbuffer);
         Ok(Self {
             scene,
             hatch,
@@ -61,7 +61,7 @@ impl HatchFrame {
         tam: &TonalArtMap,
     ) -> Result<(), HatchError> {
         self.hatch.set_tam(device, queue, tam)?;
-        self.hatch_group = self.hatch.bind(device, &self.gbuffer.view);
+        self.hatch_group = self.hatch.bind(device, &self.gbuffer);
         Ok(())
     }
 

@@ -11,14 +11,41 @@
 use crate::HatchError;
 use std::f32::consts::PI;
 
+/// A pixel's surface anchors ([`crate::StrokeSpace::Surface`]): where its surface point
+/// was on the screen (pixels, y down) at the two reference views, and the cross-fade
+/// weight of the second.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Anchor {
+    /// Position at reference view 0.
+    pub a: [f32; 2],
+    /// Position at reference view 1.
+    pub b: [f32; 2],
+    /// Weight of `b` in [0, 1] (`a` gets `1 − weight_b`).
+    pub weight_b: f32,
+}
+
+impl Anchor {
+    /// The anchor of a pixel that does not move: its own centre, twice.
+    pub fn fixed(x: f32, y: f32) -> Self {
+        Self {
+            a: [x, y],
+            b: [x, y],
+            weight_b: 0.0,
+        }
+    }
+}
+
 /// Tone and direction images of one size, sanitized: tone in [0, 1] (NaN → 1, paper),
-/// θ in [0, π) (NaN or infinite → 0).
+/// θ in [0, π) (NaN or infinite → 0); optionally surface anchors per pixel (from the
+/// G-buffer pass, [`crate::GBuffer::read`]).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct HatchInputs {
     width: u32,
     height: u32,
     tone: Vec<f32>,
     theta: Vec<f32>,
+    anchors: Option<Vec<Anchor>>,
+    turn: Option<Vec<f32>>,
 }
 
 /// Reduces an angle to [0, π); non-finite angles become 0.
@@ -80,6 +107,8 @@ impl HatchInputs {
             height,
             tone: tone.iter().map(|&t| sanitize_tone(t)).collect(),
             theta: theta.iter().map(|&t| wrap_theta(t)).collect(),
+            anchors: None,
+            turn: None,
         })
     }
 
@@ -94,6 +123,8 @@ impl HatchInputs {
             height,
             tone: vec![sanitize_tone(tone); n],
             theta: vec![wrap_theta(theta); n],
+            anchors: None,
+            turn: None,
         })
     }
 
@@ -120,6 +151,8 @@ impl HatchInputs {
             height,
             tone,
             theta,
+            anchors: None,
+            turn: None,
         })
     }
 
@@ -177,6 +210,8 @@ impl HatchInputs {
             height,
             tone,
             theta,
+            anchors: None,
+            turn: None,
         })
     }
 
@@ -232,7 +267,93 @@ impl HatchInputs {
             height,
             tone: pairs.iter().map(|p| sanitize_tone(p[0])).collect(),
             theta: pairs.iter().map(|p| wrap_theta(p[1])).collect(),
+            anchors: None,
+            turn: None,
         })
+    }
+
+    /// These inputs with surface anchors, one per pixel (row-major); non-finite positions
+    /// become the pixel's centre, weights are clamped to [0, 1] (NaN → 0).
+    ///
+    /// # Errors
+    /// [`HatchError::LengthMismatch`] when `anchors` does not have one entry per pixel.
+    pub fn with_anchors(mut self, anchors: Vec<Anchor>) -> Result<Self, HatchError> {
+        let n = self.tone.len();
+        if anchors.len() != n {
+            return Err(HatchError::LengthMismatch {
+                what: "anchor image",
+                expected: n,
+                actual: anchors.len(),
+            });
+        }
+        let w = self.width as usize;
+        let clean = anchors
+            .into_iter()
+            .enumerate()
+            .map(|(i, an)| {
+                let centre = [(i % w) as f32 + 0.5, (i / w) as f32 + 0.5];
+                let pos = |p: [f32; 2]| {
+                    if p[0].is_finite() && p[1].is_finite() {
+                        p
+                    } else {
+                        centre
+                    }
+                };
+                Anchor {
+                    a: pos(an.a),
+                    b: pos(an.b),
+                    weight_b: if an.weight_b.is_nan() {
+                        0.0
+                    } else {
+                        an.weight_b.clamp(0.0, 1.0)
+                    },
+                }
+            })
+            .collect();
+        self.anchors = Some(clean);
+        Ok(self)
+    }
+
+    /// These inputs with the stroke direction's turn rate per pixel (radians per pixel,
+    /// row-major; [`crate::StrokeLength`]); non-finite or negative values become 0.
+    ///
+    /// # Errors
+    /// [`HatchError::LengthMismatch`] when `turn` does not have one entry per pixel.
+    pub fn with_turn(mut self, turn: Vec<f32>) -> Result<Self, HatchError> {
+        if turn.len() != self.tone.len() {
+            return Err(HatchError::LengthMismatch {
+                what: "turn-rate image",
+                expected: self.tone.len(),
+                actual: turn.len(),
+            });
+        }
+        self.turn = Some(
+            turn.into_iter()
+                .map(|t| if t.is_finite() { t.max(0.0) } else { 0.0 })
+                .collect(),
+        );
+        Ok(self)
+    }
+
+    /// The turn rate of the stroke direction per pixel (rad/pixel), if any.
+    pub fn turn(&self) -> Option<&[f32]> {
+        self.turn.as_deref()
+    }
+
+    /// The surface anchors (row-major), if any.
+    pub fn anchors(&self) -> Option<&[Anchor]> {
+        self.anchors.as_deref()
+    }
+
+    /// Sets the tone of every pixel whose index `select` accepts to `tone` (e.g. a
+    /// constant tone over an object, for measuring stroke density).
+    pub fn set_tone_where(&mut self, tone: f32, mut select: impl FnMut(usize) -> bool) {
+        let t = sanitize_tone(tone);
+        for (i, v) in self.tone.iter_mut().enumerate() {
+            if select(i) {
+                *v = t;
+            }
+        }
     }
 }
 

@@ -25,6 +25,13 @@
 //! - [`scene`]: variance shadow maps (Donnelly & Lauritzen 2006) and the G-buffer pass
 //!   for 3-D scenes, with per-vertex stroke directions from the caller.
 //! - [`frame`]: the whole frame (shadow → G-buffer → hatching) and its Phong baseline.
+//! - Coherent hatching (beyond the paper, whose §5 names the "shower-door" effect as a
+//!   limit): with [`StrokeSpace::Surface`] (the default) the G-buffer pass also writes
+//!   per-pixel *surface anchors*, where the pixel's surface point was on the screen at two
+//!   reference views re-taken in turn and cross-faded ([`ScenePasses::anchor_period`]);
+//!   Eq. (1) rotates those instead of the pixel position, so strokes move with the
+//!   surface while their screen-space density stays the paper's. [`coherence`] holds the
+//!   measurements (`cargo xtask bench hatching-coherence`).
 //!
 //! Passes record into the caller's `wgpu::CommandEncoder` and views; only the helpers
 //! named for it ([`hatch_image_gpu`], [`HatchFrame::render_hatched`]) submit and read back.
@@ -43,6 +50,7 @@
 //! ```
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
+pub mod coherence;
 pub mod directions;
 mod error;
 pub mod frame;
@@ -56,9 +64,13 @@ pub mod tam;
 pub use directions::{DirectionSource, StrokeDirection, principal_directions, stroke_directions};
 pub use error::HatchError;
 pub use frame::HatchFrame;
-pub use inputs::HatchInputs;
-pub use params::{BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS};
-pub use pass::{GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
+pub use inputs::{Anchor, HatchInputs};
+pub use params::{
+    BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeLength, StrokeSpace,
+};
+pub use pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
 pub use reference::{CpuHatcher, hatch_cpu};
-pub use scene::{HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings};
+pub use scene::{
+    DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings,
+};
 pub use tam::{TamParams, TamStyle, TonalArtMap};

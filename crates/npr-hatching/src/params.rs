@@ -41,6 +41,75 @@ impl BlendMode {
     }
 }
 
+/// Where the strokes are anchored: the coordinates that Eq. (1) rotates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum StrokeSpace {
+    /// The paper (§3.1): Eq. (1) rotates the pixel position, so the strokes stay fixed on
+    /// the screen while a moving surface slides beneath them (the "shower-door" effect the
+    /// paper names as a limit, §5). Still images and 2-D inputs are the same in both
+    /// spaces.
+    Screen,
+    /// Coherent hatching, the default: Eq. (1) rotates the pixel's *surface anchors*,
+    /// where its surface point was on the screen at two reference views that the
+    /// G-buffer pass re-takes in turn (every [`crate::ScenePasses::anchor_period`]
+    /// frames) and cross-fades (after Breslav et al. 2007, "Dynamic 2D Patterns for
+    /// Shading 3D Scenes", with per-pixel anchors instead of one similarity per object).
+    /// The strokes move with the surface; θ, tone and stroke scale stay screen-space, so
+    /// the density stays the paper's under dolly. Pixels stay independent (one pass).
+    /// Inputs without anchors ([`crate::HatchInputs`] from images) hatch as
+    /// [`StrokeSpace::Screen`].
+    #[default]
+    Surface,
+}
+
+impl StrokeSpace {
+    /// Both spaces, the paper's first.
+    pub const ALL: [StrokeSpace; 2] = [Self::Screen, Self::Surface];
+
+    /// Lower-case name, for tables and file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Screen => "screen",
+            Self::Surface => "surface",
+        }
+    }
+
+    fn code(self) -> u32 {
+        match self {
+            Self::Screen => 0,
+            Self::Surface => 1,
+        }
+    }
+}
+
+/// Short strokes where the stroke direction turns fast (issue 11 §3, beyond the paper's
+/// §5, which suggests short strokes where curvature varies quickly): two fixed stroke
+/// lengths blended per pixel by the G-buffer's turn rate of the direction field, like the
+/// direction bins of Eq. (2)–(3) (a per-pixel scale of the texture coordinates would tear
+/// the texture). The strokes of the map run along its u axis; the short ones are the map
+/// compressed `shorten` times along u (so cross-hatching along v gets denser there).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeLength {
+    /// How many times shorter the short strokes are (> 1).
+    pub shorten: f32,
+    /// Turn rate (radians of stroke direction per pixel) up to which strokes are long.
+    pub calm: f32,
+    /// Turn rate from which strokes are all short (> `calm`).
+    pub busy: f32,
+}
+
+impl Default for StrokeLength {
+    /// Half-length strokes from 0.1 rad/pixel (a 6° turn per pixel); full length below
+    /// 0.02 rad/pixel.
+    fn default() -> Self {
+        Self {
+            shorten: 2.0,
+            calm: 0.02,
+            busy: 0.1,
+        }
+    }
+}
+
 /// Parameters of the hatching pass.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HatchParams {
@@ -55,10 +124,16 @@ pub struct HatchParams {
     pub ink: [f32; 3],
     /// Linear RGB of the paper.
     pub paper: [f32; 3],
+    /// Screen (the paper) or surface-anchored (coherent) strokes.
+    pub space: StrokeSpace,
+    /// Short strokes where the direction field turns; `None` (the default) keeps one
+    /// stroke length, as the paper.
+    pub stroke_length: Option<StrokeLength>,
 }
 
 impl Default for HatchParams {
-    /// 16 bins, 1 pixel per texel, offset partition, black ink on white paper.
+    /// 16 bins, 1 pixel per texel, offset partition, black ink on white paper,
+    /// surface-anchored strokes.
     fn default() -> Self {
         Self {
             bins: 16,
@@ -66,6 +141,8 @@ impl Default for HatchParams {
             mode: BlendMode::OffsetPartition,
             ink: [0.0; 3],
             paper: [1.0; 3],
+            space: StrokeSpace::Surface,
+            stroke_length: None,
         }
     }
 }
@@ -88,6 +165,19 @@ impl HatchParams {
                 reason: format!("finite and > 0, got {}", self.stroke_scale),
             });
         }
+        if let Some(l) = self.stroke_length
+            && !(l.shorten.is_finite()
+                && l.shorten > 1.0
+                && l.calm.is_finite()
+                && l.calm >= 0.0
+                && l.busy.is_finite()
+                && l.busy > l.calm)
+        {
+            return Err(HatchError::InvalidParams {
+                what: "stroke_length",
+                reason: format!("shorten > 1, 0 ≤ calm < busy, all finite; got {l:?}"),
+            });
+        }
         if !self.ink.iter().chain(&self.paper).all(|c| c.is_finite()) {
             return Err(HatchError::InvalidParams {
                 what: "ink/paper",
@@ -108,7 +198,7 @@ pub const MIN_BINS: u32 = 12;
 /// Most direction bins.
 pub const MAX_BINS: u32 = 24;
 
-/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 448 bytes),
+/// The hatching pass's uniform block (`Hatch` in `shaders/hatching.wgsl`, 496 bytes),
 /// also read by the CPU reference so both use the very same constants.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -126,6 +216,11 @@ pub struct HatchUniforms {
     /// x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
     /// z = map size − 1 (texel mask), w = tones.
     pub config: [u32; 4],
+    /// x = stroke space (0 screen, 1 surface), y..w unused.
+    pub space: [u32; 4],
+    /// Short strokes ([`StrokeLength`]): x = shorten, y = calm, z = 1 / (busy − calm),
+    /// w = 1 when on, 0 off.
+    pub length: [f32; 4],
 }
 
 impl HatchUniforms {
@@ -156,6 +251,11 @@ impl HatchUniforms {
             paper: [pr, pg, pb, tam.max_coverage()],
             tone: [(tam.tones() - 1) as f32 / tam.max_coverage(), 0.0, 0.0, 0.0],
             config: [params.bins, params.mode.code(), tam.size() - 1, tam.tones()],
+            space: [params.space.code(), 0, 0, 0],
+            length: match params.stroke_length {
+                Some(l) => [l.shorten, l.calm, 1.0 / (l.busy - l.calm), 1.0],
+                None => [1.0, 0.0, 0.0, 0.0],
+            },
         })
     }
 }
@@ -167,7 +267,11 @@ mod tests {
     #[test]
     fn uniform_layout_matches_wgsl() {
         // Size and member offsets read from `hatching.wgsl` by naga.
-        npr_gpu::assert_wgsl_layout!(HatchUniforms, "Hatch", [bins, ink, paper, tone, config]);
+        npr_gpu::assert_wgsl_layout!(
+            HatchUniforms,
+            "Hatch",
+            [bins, ink, paper, tone, config, space, length]
+        );
     }
 
     #[test]

@@ -11,19 +11,33 @@ use crate::inputs::pixel_count;
 use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
 use wgpu::util::DeviceExt;
 
-/// Format of the G-buffer: r = tone, g = θ, full 32-bit floats (so θ's bin and the tone's
-/// slice are decided on exactly the values the CPU reference sees).
-pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+/// Format of the G-buffer: r = tone, g = θ, b = weight of the second surface anchor,
+/// a = 1 + the stroke direction's turn rate (rad/pixel) on surfaces, 0 on the background, full 32-bit floats (so θ's bin and the
+/// tone's slice are decided on exactly the values the CPU reference sees).
+pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-/// A tone/θ G-buffer ([`GBUFFER_FORMAT`]) with its depth buffer
-/// ([`npr_gpu::DEPTH_FORMAT`]), written by [`crate::ScenePasses::record_gbuffer`] or
-/// uploaded from CPU images with [`GBuffer::from_inputs`].
+/// Format of the surface anchors: xy = anchor 0, zw = anchor 1, in pixels
+/// ([`crate::StrokeSpace::Surface`]).
+pub const ANCHOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Bytes per texel of [`GBUFFER_FORMAT`] and [`ANCHOR_FORMAT`].
+const TEXEL_BYTES: u32 = 16;
+
+/// A tone/θ G-buffer ([`GBUFFER_FORMAT`]) with its surface anchors ([`ANCHOR_FORMAT`])
+/// and depth buffer ([`npr_gpu::DEPTH_FORMAT`]), written by
+/// [`crate::ScenePasses::record_gbuffer`] or uploaded from CPU images with
+/// [`GBuffer::from_inputs`].
 #[derive(Debug)]
 pub struct GBuffer {
-    /// The `Rg32Float` texture (render attachment, texture binding, copy source/dest).
+    /// The [`GBUFFER_FORMAT`] texture (render attachment, texture binding, copy
+    /// source/dest).
     pub texture: wgpu::Texture,
     /// Its default view.
     pub view: wgpu::TextureView,
+    /// The [`ANCHOR_FORMAT`] texture (same usages).
+    pub anchors: wgpu::Texture,
+    /// Its default view.
+    pub anchors_view: wgpu::TextureView,
     /// Depth texture for drawing the scene into it.
     pub depth: wgpu::Texture,
     /// View of `depth`.
@@ -47,14 +61,12 @@ impl GBuffer {
         }
         let make =
             |label, format, usage| npr_gpu::texture_2d(device, label, width, height, format, usage);
-        let texture = make(
-            "npr hatching g-buffer",
-            GBUFFER_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::TEXTURE_BINDING
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::COPY_DST,
-        );
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST;
+        let texture = make("npr hatching g-buffer", GBUFFER_FORMAT, usage);
+        let anchors = make("npr hatching anchors", ANCHOR_FORMAT, usage);
         let depth = make(
             "npr hatching g-buffer depth",
             npr_gpu::DEPTH_FORMAT,
@@ -62,6 +74,8 @@ impl GBuffer {
         );
         Ok(Self {
             view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
+            anchors_view: anchors.create_view(&wgpu::TextureViewDescriptor::default()),
+            anchors,
             depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
             texture,
             depth,
@@ -84,30 +98,52 @@ impl GBuffer {
     }
 
     /// Overwrites the G-buffer with `inputs` (which must have its size; a different size
-    /// writes the overlapping part only).
+    /// writes the overlapping part only). Inputs without anchors get each pixel's centre
+    /// as both anchors ([`crate::Anchor::fixed`]): they hatch as in screen space.
     pub fn write(&self, queue: &wgpu::Queue, inputs: &HatchInputs) {
         let width = inputs.width().min(self.width());
         let height = inputs.height().min(self.height());
-        let data = inputs.interleaved();
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(&data),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(inputs.width() * 8),
-                rows_per_image: Some(inputs.height()),
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
+        let w = inputs.width() as usize;
+        let anchor = |i: usize| match inputs.anchors().and_then(|a| a.get(i)) {
+            Some(a) => *a,
+            None => crate::Anchor::fixed((i % w) as f32 + 0.5, (i / w) as f32 + 0.5),
+        };
+        let main: Vec<[f32; 4]> = inputs
+            .interleaved()
+            .iter()
+            .enumerate()
+            .map(|(i, &[t, a])| {
+                let turn = inputs.turn().and_then(|v| v.get(i)).copied().unwrap_or(0.0);
+                [t, a, anchor(i).weight_b, 1.0 + turn]
+            })
+            .collect();
+        let anchors: Vec<[f32; 4]> = (0..main.len())
+            .map(|i| {
+                let an = anchor(i);
+                [an.a[0], an.a[1], an.b[0], an.b[1]]
+            })
+            .collect();
+        for (texture, data) in [(&self.texture, &main), (&self.anchors, &anchors)] {
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(data),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(inputs.width() * TEXEL_BYTES),
+                    rows_per_image: Some(inputs.height()),
+                },
+                wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
     }
 
     /// Width in pixels.
@@ -120,7 +156,8 @@ impl GBuffer {
         self.texture.height()
     }
 
-    /// Reads the G-buffer back as [`HatchInputs`] (submits and waits: outside a frame).
+    /// Reads the G-buffer back as [`HatchInputs`] with its surface anchors (submits and
+    /// waits: outside a frame).
     ///
     /// # Errors
     /// [`HatchError::Gpu`] when readback fails.
@@ -129,15 +166,48 @@ impl GBuffer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<HatchInputs, HatchError> {
-        let bytes = npr_gpu::readback_texture(device, queue, &self.texture)?;
-        let pairs: Vec<[f32; 2]> = bytes
-            .chunks_exact(8)
-            .map(|c| {
-                let f = |o: usize| f32::from_le_bytes([c[o], c[o + 1], c[o + 2], c[o + 3]]);
-                [f(0), f(4)]
+        let texels = |t: &wgpu::Texture| -> Result<Vec<[f32; 4]>, HatchError> {
+            let bytes = npr_gpu::readback_texture(device, queue, t)?;
+            Ok(bytes
+                .chunks_exact(TEXEL_BYTES as usize)
+                .map(|c| {
+                    let f = |o: usize| f32::from_le_bytes([c[o], c[o + 1], c[o + 2], c[o + 3]]);
+                    [f(0), f(4), f(8), f(12)]
+                })
+                .collect())
+        };
+        let main = texels(&self.texture)?;
+        let anchors = texels(&self.anchors)?;
+        let pairs: Vec<[f32; 2]> = main.iter().map(|m| [m[0], m[1]]).collect();
+        let anchors = main
+            .iter()
+            .zip(&anchors)
+            .map(|(m, a)| crate::Anchor {
+                a: [a[0], a[1]],
+                b: [a[2], a[3]],
+                weight_b: m[2],
             })
             .collect();
-        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)
+        let turn = main.iter().map(|m| (m[3] - 1.0).max(0.0)).collect();
+        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)?
+            .with_anchors(anchors)?
+            .with_turn(turn)
+    }
+
+    /// Reads back which pixels a surface covers (the G-buffer's alpha; submits and waits).
+    ///
+    /// # Errors
+    /// [`HatchError::Gpu`] when readback fails.
+    pub fn read_surface_mask(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<bool>, HatchError> {
+        let bytes = npr_gpu::readback_texture(device, queue, &self.texture)?;
+        Ok(bytes
+            .chunks_exact(TEXEL_BYTES as usize)
+            .map(|c| f32::from_le_bytes([c[12], c[13], c[14], c[15]]) > 0.5)
+            .collect())
     }
 }
 
@@ -147,7 +217,8 @@ impl GBuffer {
 /// caller's pass).
 #[derive(Debug)]
 pub struct HatchPass {
-    pipeline: wgpu::RenderPipeline,
+    /// Variants by (surface space, short strokes): index `2·surface + short`.
+    pipelines: Vec<wgpu::RenderPipeline>,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     tam_view: wgpu::TextureView,
@@ -183,6 +254,7 @@ impl HatchPass {
                 uniform_entry(0),
                 texture_entry(1, wgpu::TextureViewDimension::D2Array),
                 texture_entry(2, wgpu::TextureViewDimension::D2),
+                texture_entry(3, wgpu::TextureViewDimension::D2),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -190,27 +262,42 @@ impl HatchPass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr hatching fs_hatch"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_hatch"),
-                compilation_options: Default::default(),
-                targets: &[Some(target_format.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let variant = |surface: bool, short: bool| {
+            let constants = [
+                ("SURFACE", f64::from(u8::from(surface))),
+                ("SHORT_STROKES", f64::from(u8::from(short))),
+            ];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("npr hatching fs_hatch"),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_hatch"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &constants,
+                        ..Default::default()
+                    },
+                    targets: &[Some(target_format.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipelines = vec![
+            variant(false, false),
+            variant(false, true),
+            variant(true, false),
+            variant(true, true),
+        ];
         let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr hatching uniforms"),
             contents: bytemuck::bytes_of(&u),
@@ -223,7 +310,7 @@ impl HatchPass {
                 ..Default::default()
             });
         Ok(Self {
-            pipeline,
+            pipelines,
             layout,
             uniforms,
             tam_view,
@@ -282,8 +369,8 @@ impl HatchPass {
         &self.tam
     }
 
-    /// A bind group reading `gbuffer_view` (a view of a [`GBUFFER_FORMAT`] texture).
-    pub fn bind(&self, device: &wgpu::Device, gbuffer_view: &wgpu::TextureView) -> wgpu::BindGroup {
+    /// A bind group reading `gbuffer` (its tone/θ texture and its surface anchors).
+    pub fn bind(&self, device: &wgpu::Device, gbuffer: &GBuffer) -> wgpu::BindGroup {
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr hatching"),
             layout: &self.layout,
@@ -298,7 +385,11 @@ impl HatchPass {
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
-                    resource: wgpu::BindingResource::TextureView(gbuffer_view),
+                    resource: wgpu::BindingResource::TextureView(&gbuffer.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&gbuffer.anchors_view),
                 },
             ],
         })
@@ -307,7 +398,15 @@ impl HatchPass {
     /// Records the full-screen hatching draw into the caller's render pass (whose colour
     /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
-        pass.set_pipeline(&self.pipeline);
+        let surface = self.params.space == crate::StrokeSpace::Surface;
+        let short = self.params.stroke_length.is_some();
+        let Some(pipeline) = self
+            .pipelines
+            .get(2 * usize::from(surface) + usize::from(short))
+        else {
+            return;
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.draw(0..3, 0..1);
     }
@@ -356,7 +455,7 @@ pub fn hatch_image_gpu(
     let pass = HatchPass::new(device, queue, tam, params, npr_gpu::COLOR_FORMAT)?;
     let gbuffer = GBuffer::from_inputs(device, queue, inputs)?;
     let target = npr_gpu::OffscreenTarget::new(device, inputs.width(), inputs.height())?;
-    let bind = pass.bind(device, &gbuffer.view);
+    let bind = pass.bind(device, &gbuffer);
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("npr hatch_image_gpu"),
     });

@@ -13,7 +13,7 @@
 //! deciding which texel a coordinate lands in.
 
 use crate::inputs::pixel_count;
-use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
+use crate::{Anchor, HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
 use rayon::prelude::*;
 
 /// Entries of the coverage → sRGB lookup table of [`CpuHatcher::hatch_rgba8`].
@@ -113,10 +113,11 @@ impl CpuHatcher {
 
     /// `f(u_k, v_k)` of Eq. (2): the map at the rotated pixel (Eq. (1)), nearest texel with
     /// wrap-around, blended between slices `slice` and `slice + 1` by `a`. `cs` = (cos θ_k,
-    /// sin θ_k) / stroke_scale. Mirrors WGSL `stroke_texel`.
+    /// sin θ_k) / stroke_scale; `k` shortens the strokes (along u) k times. Mirrors WGSL
+    /// `stroke_texel`.
     #[inline(always)]
-    fn stroke_texel(&self, cs: (f32, f32), x: f32, y: f32, slice: usize, a: f32) -> f32 {
-        let u = cs.0 * x - cs.1 * y;
+    fn stroke_texel(&self, cs: (f32, f32), x: f32, y: f32, slice: usize, a: f32, k: f32) -> f32 {
+        let u = (cs.0 * x - cs.1 * y) * k;
         let v = cs.1 * x + cs.0 * y;
         let tx = (floor_i32(u) & self.mask) as usize;
         let ty = (floor_i32(v) & self.mask) as usize;
@@ -142,22 +143,30 @@ impl CpuHatcher {
     /// θ^0 and the neighbour on θ's side have a non-zero weight (`1 − |d|` and `|d|`, d =
     /// (θ − θ^0)/Δθ), so only those two are fetched. Mirrors WGSL `blended`.
     #[inline(always)]
-    fn blended(&self, t: f32, offset: bool, x: f32, y: f32, slice: usize, a: f32) -> f32 {
+    #[allow(clippy::too_many_arguments)]
+    fn blended(&self, t: f32, offset: bool, x: f32, y: f32, slice: usize, a: f32, k: f32) -> f32 {
         let tt = if offset { t - 0.5 } else { t };
         let q = floor_i32(tt + 0.5);
         let d = tt - q as f32;
         let (k1, w1) = if d >= 0.0 { (q + 1, d) } else { (q - 1, -d) };
-        let f0 = self.stroke_texel(self.bin_cs(q, offset), x, y, slice, a);
-        let f1 = self.stroke_texel(self.bin_cs(k1, offset), x, y, slice, a);
+        let f0 = self.stroke_texel(self.bin_cs(q, offset), x, y, slice, a, k);
+        let f1 = self.stroke_texel(self.bin_cs(k1, offset), x, y, slice, a, k);
         (1.0 - w1) * f0 + w1 * f1
     }
 
     /// Ink coverage (0 = paper, 1 = ink) of the pixel whose centre is `(x, y)` (pixel
     /// coordinates, y down, centres at `i + ½`), for a tone in [0, 1] and θ in [0, π)
     /// (use [`crate::inputs::sanitize_tone`] / [`crate::inputs::wrap_theta`] first for raw
-    /// values). Mirrors WGSL `hatch_coverage`.
+    /// values). Mirrors WGSL `hatch_coverage` with k = 1.
     #[inline]
     pub fn coverage(&self, x: f32, y: f32, tone: f32, theta: f32) -> f32 {
+        self.coverage_k(x, y, tone, theta, 1.0)
+    }
+
+    /// [`CpuHatcher::coverage`] with strokes shortened `k` times. Mirrors WGSL
+    /// `hatch_coverage`.
+    #[inline]
+    fn coverage_k(&self, x: f32, y: f32, tone: f32, theta: f32, k: f32) -> f32 {
         // Tone → the two nearest slices: coverage c = 1 − tone, slice position c·(n−1)/c_max.
         let max_cov = self.uniforms.paper[3];
         let c = (1.0 - tone).clamp(0.0, max_cov);
@@ -175,16 +184,59 @@ impl CpuHatcher {
             // Eq. (1), §3.1: the nearest bin only.
             0 => {
                 let q = floor_i32(t + 0.5);
-                self.stroke_texel(self.bin_cs(q, false), x, y, slice, a)
+                self.stroke_texel(self.bin_cs(q, false), x, y, slice, a, k)
             }
             // Eq. (2)–(3), §3.2.
-            1 => self.blended(t, false, x, y, slice, a),
+            1 => self.blended(t, false, x, y, slice, a, k),
             // §3.3: the offset partition, mixed 50/50.
             _ => {
-                0.5 * self.blended(t, false, x, y, slice, a)
-                    + 0.5 * self.blended(t, true, x, y, slice, a)
+                0.5 * self.blended(t, false, x, y, slice, a, k)
+                    + 0.5 * self.blended(t, true, x, y, slice, a, k)
             }
         }
+    }
+
+    /// Ink coverage at `(x, y)` with two stroke lengths blended by the direction field's
+    /// `turn` rate (rad/pixel, [`crate::StrokeLength`]; one length when it is off).
+    /// Mirrors WGSL `length_blended`.
+    #[inline]
+    pub fn length_blended(&self, x: f32, y: f32, tone: f32, theta: f32, turn: f32) -> f32 {
+        let l = self.uniforms.length;
+        let w = if l[3] > 0.0 {
+            ((turn - l[1]) * l[2]).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let c0 = if w < 1.0 {
+            self.coverage_k(x, y, tone, theta, 1.0)
+        } else {
+            0.0
+        };
+        let c1 = if w > 0.0 {
+            self.coverage_k(x, y, tone, theta, l[0])
+        } else {
+            0.0
+        };
+        c0 + (c1 - c0) * w
+    }
+
+    /// Ink coverage of a pixel with surface anchors ([`crate::StrokeSpace::Surface`]):
+    /// [`CpuHatcher::length_blended`] at the two anchors, cross-faded by
+    /// `anchor.weight_b`. Mirrors WGSL `anchored_coverage`.
+    #[inline]
+    pub fn anchored_coverage(&self, anchor: &Anchor, tone: f32, theta: f32, turn: f32) -> f32 {
+        let w = anchor.weight_b;
+        let c0 = if w < 1.0 {
+            self.length_blended(anchor.a[0], anchor.a[1], tone, theta, turn)
+        } else {
+            0.0
+        };
+        let c1 = if w > 0.0 {
+            self.length_blended(anchor.b[0], anchor.b[1], tone, theta, turn)
+        } else {
+            0.0
+        };
+        c0 + (c1 - c0) * w
     }
 
     /// [`CpuHatcher::coverage`] for `LANES` consecutive pixels of row `py` starting at
@@ -309,17 +361,31 @@ impl CpuHatcher {
         o
     }
 
-    /// One row of coverages, handed to `emit(x, coverage)`: runs of `LANES` pixels
-    /// through the batched path, the remainder one by one.
+    /// One row of coverages, handed to `emit(x, coverage)`: with surface anchors (and
+    /// the surface space) pixel by pixel through [`CpuHatcher::anchored_coverage`];
+    /// otherwise runs of `LANES` pixels through the batched path, the remainder one by one.
     fn coverage_row(
         &self,
         y: usize,
         tone: &[f32],
         theta: &[f32],
+        (anchors, turn): (Option<&[Anchor]>, Option<&[f32]>),
         mut emit: impl FnMut(usize, f32),
     ) {
         let py = y as f32 + 0.5;
         let n = tone.len().min(theta.len());
+        let anchors = anchors.filter(|_| self.uniforms.space[0] == 1);
+        if anchors.is_some() || self.uniforms.length[3] > 0.0 {
+            for i in 0..n {
+                let tr = turn.and_then(|t| t.get(i)).copied().unwrap_or(0.0);
+                let c = match anchors.and_then(|a| a.get(i)) {
+                    Some(an) => self.anchored_coverage(an, tone[i], theta[i], tr),
+                    None => self.length_blended(i as f32 + 0.5, py, tone[i], theta[i], tr),
+                };
+                emit(i, c);
+            }
+            return;
+        }
         // The batched path's floor is exact below 2²² texels from the origin; beyond
         // (absurd sizes or scales) every pixel takes the scalar path.
         let reach = (n as f32 + py)
@@ -360,7 +426,9 @@ impl CpuHatcher {
                 &inputs.tone()[y * w..(y + 1) * w],
                 &inputs.theta()[y * w..(y + 1) * w],
             );
-            self.coverage_row(y, tone, theta, |x, c| {
+            let anchors = inputs.anchors().map(|a| &a[y * w..(y + 1) * w]);
+            let turn = inputs.turn().map(|t| &t[y * w..(y + 1) * w]);
+            self.coverage_row(y, tone, theta, (anchors, turn), |x, c| {
                 if let Some(o) = row.get_mut(x) {
                     *o = c;
                 }
@@ -388,7 +456,9 @@ impl CpuHatcher {
                     &inputs.tone()[y * w..(y + 1) * w],
                     &inputs.theta()[y * w..(y + 1) * w],
                 );
-                self.coverage_row(y, tone, theta, |x, c| {
+                let anchors = inputs.anchors().map(|a| &a[y * w..(y + 1) * w]);
+                let turn = inputs.turn().map(|t| &t[y * w..(y + 1) * w]);
+                self.coverage_row(y, tone, theta, (anchors, turn), |x, c| {
                     let i = ((c * scale + 0.5) as usize).min(LUT_SIZE - 1);
                     if let (Some(o), Some(rgba)) = (row.get_mut(4 * x..4 * x + 4), self.lut.get(i))
                     {

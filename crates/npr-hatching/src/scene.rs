@@ -10,10 +10,28 @@
 //! benchmark compares the hatching frame against.
 
 use crate::HatchError;
-use crate::pass::{GBUFFER_FORMAT, GBuffer};
+use crate::pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer};
 use glam::{Mat4, Vec3};
 use npr_gpu::{Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, Vertex};
+use std::sync::atomic::{AtomicU64, Ordering};
 use wgpu::util::DeviceExt;
+
+/// Default frames between re-takes of a surface anchor's reference view
+/// ([`ScenePasses::anchor_period`]). Shorter periods track zoom more closely (the visible
+/// pattern's reference view is on average one period old, so its stroke density lags the
+/// screen scale by one period of zoom) but cross-fade faster. On the benchmark's 2× dolly
+/// over 24 frames, 4 frames keep the stroke density within about 10 % with no more
+/// flicker than the paper's mode (`cargo xtask bench hatching-coherence`).
+pub const DEFAULT_ANCHOR_PERIOD: u32 = 4;
+
+/// Size of `Anchor` in `hatching_scene.wgsl`: two clip-from-world and two
+/// world-from-object matrices.
+const ANCHOR_BYTES: u64 = 4 * 64;
+/// Size of one `mat4x4<f32>`; both `FrameUniforms::clip_from_world` and
+/// `ObjectUniforms::world_from_object` sit at offset 0 of their buffers.
+const MAT4_BYTES: u64 = 64;
+/// "Never anchored" in [`HatchObject`]'s reference-frame slots.
+const UNANCHORED: u64 = u64::MAX;
 
 /// Format of the variance shadow map's moments.
 pub const MOMENTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
@@ -136,14 +154,18 @@ struct SceneUniforms {
     viewport: [f32; 4],
 }
 
-/// One object of a hatched scene: its uniform buffer and bind group, and its per-vertex
-/// stroke directions as a second vertex buffer (`@location(3)`).
+/// One object of a hatched scene: its uniform buffer and bind group, its per-vertex
+/// stroke directions as a second vertex buffer (`@location(3)`), and its two surface
+/// anchors' reference views ([`crate::StrokeSpace::Surface`]).
 #[derive(Debug)]
 pub struct HatchObject {
     uniforms: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     directions: wgpu::Buffer,
     vertex_count: u32,
+    anchor: wgpu::Buffer,
+    /// The frame index each anchor slot's reference view was taken at.
+    anchored: [AtomicU64; 2],
 }
 
 impl HatchObject {
@@ -172,6 +194,10 @@ pub struct ScenePasses {
     object_layout: wgpu::BindGroupLayout,
     frame_buffer: wgpu::Buffer,
     scene_buffer: wgpu::Buffer,
+    coherence_buffer: wgpu::Buffer,
+    /// Frames set so far ([`ScenePasses::set_frame`] calls).
+    frames: AtomicU64,
+    anchor_period: u32,
     frame_group: wgpu::BindGroup,
     moments_group: wgpu::BindGroup,
     blur_from_moments: wgpu::BindGroup,
@@ -244,11 +270,15 @@ impl ScenePasses {
             entries: &[
                 npr_gpu::layout::uniform_entry(0),
                 npr_gpu::layout::uniform_entry(1),
+                npr_gpu::layout::uniform_entry(2),
             ],
         });
         let object_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching object"),
-            entries: &[npr_gpu::layout::uniform_entry(0)],
+            entries: &[
+                npr_gpu::layout::uniform_entry(0),
+                npr_gpu::layout::uniform_entry(1),
+            ],
         });
         let moments_layout = texture_layout(device, "npr vsm moments");
         let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -286,7 +316,7 @@ impl ScenePasses {
                              layout: &wgpu::PipelineLayout,
                              vs: &str,
                              fs: &str,
-                             format: wgpu::TextureFormat,
+                             targets: &[Option<wgpu::ColorTargetState>],
                              buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
                              cull: Option<wgpu::Face>| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -308,7 +338,7 @@ impl ScenePasses {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(format.into())],
+                    targets,
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -321,7 +351,7 @@ impl ScenePasses {
             &shadow_layout,
             "vs_shadow",
             "fs_shadow",
-            MOMENTS_FORMAT,
+            &[Some(MOMENTS_FORMAT.into())],
             &[Some(Vertex::layout())],
             None,
         );
@@ -330,7 +360,7 @@ impl ScenePasses {
             &shade_layout,
             "vs_scene",
             "fs_gbuffer",
-            GBUFFER_FORMAT,
+            &[Some(GBUFFER_FORMAT.into()), Some(ANCHOR_FORMAT.into())],
             &scene_buffers,
             Some(wgpu::Face::Back),
         );
@@ -339,7 +369,7 @@ impl ScenePasses {
             &shade_layout,
             "vs_scene",
             "fs_phong_vsm",
-            color_format,
+            &[Some(color_format.into())],
             &scene_buffers,
             Some(wgpu::Face::Back),
         );
@@ -369,12 +399,20 @@ impl ScenePasses {
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr hatching frame"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::UNIFORM
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr hatching scene"),
             size: std::mem::size_of::<SceneUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let coherence_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr hatching coherence"),
+            size: 16,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -389,6 +427,10 @@ impl ScenePasses {
                 wgpu::BindGroupEntry {
                     binding: 1,
                     resource: scene_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: coherence_buffer.as_entire_binding(),
                 },
             ],
         });
@@ -417,6 +459,9 @@ impl ScenePasses {
             object_layout,
             frame_buffer,
             scene_buffer,
+            coherence_buffer,
+            frames: AtomicU64::new(0),
+            anchor_period: DEFAULT_ANCHOR_PERIOD,
             moments_view,
             scratch_view,
             shadow_depth_view,
@@ -465,26 +510,81 @@ impl ScenePasses {
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr hatching object"),
             contents: bytemuck::bytes_of(uniforms),
+            usage: wgpu::BufferUsages::UNIFORM
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+        });
+        let anchor = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr hatching anchor"),
+            size: ANCHOR_BYTES,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr hatching object"),
             layout: &self.object_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: anchor.as_entire_binding(),
+                },
+            ],
         });
         Ok(HatchObject {
             uniforms: buffer,
             bind_group,
             directions,
             vertex_count: mesh.vertex_count,
+            anchor,
+            anchored: [AtomicU64::new(UNANCHORED), AtomicU64::new(UNANCHORED)],
         })
     }
 
+    /// Frames between re-takes of each surface anchor's reference view (default
+    /// [`DEFAULT_ANCHOR_PERIOD`]). The two anchors are re-taken in turn, each living two
+    /// periods and cross-faded linearly, so a stroke pattern is never more than two periods
+    /// old and never pops (its weight is 0 when it is re-taken).
+    pub fn anchor_period(&self) -> u32 {
+        self.anchor_period
+    }
+
+    /// Sets [`ScenePasses::anchor_period`].
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] for 0.
+    pub fn set_anchor_period(&mut self, frames: u32) -> Result<(), HatchError> {
+        if frames == 0 {
+            return Err(HatchError::InvalidParams {
+                what: "anchor_period",
+                reason: "at least 1 frame".to_string(),
+            });
+        }
+        self.anchor_period = frames;
+        Ok(())
+    }
+
+    /// Index of the frame last set by [`ScenePasses::set_frame`] (0 for the first).
+    pub fn frame_index(&self) -> u64 {
+        self.frames.load(Ordering::Relaxed).saturating_sub(1)
+    }
+
+    /// The anchor slot re-taken most recently at frame `c`, the frame it was taken at, and
+    /// its weight (the other slot, taken one period earlier, gets 1 − weight).
+    fn anchor_phase(&self, c: u64) -> (usize, u64, f32) {
+        let n = u64::from(self.anchor_period);
+        let slot = ((c / n) % 2) as usize;
+        let taken = c - c % n;
+        (slot, taken, (c % n) as f32 / n as f32)
+    }
+
     /// Writes the frame's camera, light and viewport size (pixels of the G-buffer or
-    /// colour target drawn next).
+    /// colour target drawn next), and advances the frame counter that schedules the
+    /// surface anchors' reference views ([`ScenePasses::anchor_period`]): call once per
+    /// displayed frame.
     pub fn set_frame(
         &self,
         queue: &wgpu::Queue,
@@ -492,6 +592,14 @@ impl ScenePasses {
         light: &ShadowLight,
         viewport: (u32, u32),
     ) {
+        let c = self.frames.fetch_add(1, Ordering::Relaxed);
+        let (slot, _, w) = self.anchor_phase(c);
+        let weight_b = if slot == 1 { w } else { 1.0 - w };
+        queue.write_buffer(
+            &self.coherence_buffer,
+            0,
+            bytemuck::bytes_of(&[weight_b, 0.0, 0.0, 0.0]),
+        );
         let frame = FrameUniforms::new(camera, &light.light());
         let (light_pos, spot, inner) = match *light {
             ShadowLight::Directional { .. } => ([0.0; 4], [0.0, 0.0, 0.0, -2.0], -1.0),
@@ -612,30 +720,77 @@ impl ScenePasses {
         }
     }
 
-    /// Records the G-buffer pass: tone and θ of every object into `gbuffer`, cleared to
-    /// tone 1 (paper) and θ 0. Record [`ScenePasses::record_shadow`] first.
+    /// Re-takes the reference views that the current frame's anchor slots need and do
+    /// not hold yet: copies of this frame's camera and the object's transform (buffer
+    /// copies recorded into `encoder`, so they see the values written for this frame).
+    fn record_anchors(&self, encoder: &mut wgpu::CommandEncoder, object: &HatchObject) {
+        let c = self.frame_index();
+        let (slot, taken, _) = self.anchor_phase(c);
+        let n = u64::from(self.anchor_period);
+        // The other slot was taken one period earlier (none before the first period: it
+        // is then taken now, once).
+        let other_taken = taken.checked_sub(n);
+        for (s, want) in [(slot, Some(taken)), (1 - slot, other_taken)] {
+            let have = object.anchored[s].load(Ordering::Relaxed);
+            let stale = match want {
+                Some(t) => have != t,
+                None => have == UNANCHORED,
+            };
+            if !stale {
+                continue;
+            }
+            let o = s as u64 * MAT4_BYTES;
+            encoder.copy_buffer_to_buffer(&self.frame_buffer, 0, &object.anchor, o, MAT4_BYTES);
+            encoder.copy_buffer_to_buffer(
+                &object.uniforms,
+                0,
+                &object.anchor,
+                2 * MAT4_BYTES + o,
+                MAT4_BYTES,
+            );
+            object.anchored[s].store(want.unwrap_or(c), Ordering::Relaxed);
+        }
+    }
+
+    /// Records the G-buffer pass: tone, θ and surface anchors of every object into
+    /// `gbuffer`, cleared to tone 1 (paper), θ 0, no surface. Record
+    /// [`ScenePasses::record_shadow`] first.
     pub fn record_gbuffer(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         gbuffer: &GBuffer,
         objects: &[(&GpuMesh, &HatchObject)],
     ) {
+        for (_, object) in objects {
+            self.record_anchors(encoder, object);
+        }
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("npr hatching g-buffer"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &gbuffer.view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: 1.0,
-                        g: 0.0,
-                        b: 0.0,
-                        a: 1.0,
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &gbuffer.view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 1.0,
+                            g: 0.0,
+                            b: 0.0,
+                            a: 0.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &gbuffer.anchors_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+            ],
             depth_stencil_attachment: Some(depth_attachment(&gbuffer.depth_view)),
             timestamp_writes: None,
             occlusion_query_set: None,

@@ -356,3 +356,70 @@ fn flow_field_strokes_follow_the_field() {
         );
     }
 }
+
+/// Mean length of the horizontal runs of ink (coverage > ½) in columns `x0..x1`.
+fn mean_run(cov: &[f32], w: usize, x0: usize, x1: usize) -> f32 {
+    let (mut runs, mut total, mut len) = (0usize, 0usize, 0usize);
+    for row in cov.chunks_exact(w) {
+        for &c in &row[x0..x1] {
+            if c > 0.5 {
+                len += 1;
+            } else if len > 0 {
+                runs += 1;
+                total += len;
+                len = 0;
+            }
+        }
+        if len > 0 {
+            runs += 1;
+            total += len;
+            len = 0;
+        }
+    }
+    total as f32 / runs.max(1) as f32
+}
+
+/// Issue 11 §3: with `stroke_length` on, strokes where the direction field turns fast
+/// (right half, 0.5 rad/pixel) are about half as long (`shorten` = 2) as where it is calm
+/// (left half); with it off both halves have the same stroke length.
+#[test]
+fn strokes_shorten_where_the_field_turns() {
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let (w, h) = (256usize, 256usize);
+    let turn: Vec<f32> = (0..w * h)
+        .map(|i| if i % w < w / 2 { 0.0 } else { 0.5 })
+        .collect();
+    let inputs = npr_hatching::HatchInputs::constant(w as u32, h as u32, 0.75, 0.0)
+        .unwrap()
+        .with_turn(turn)
+        .unwrap();
+    for (length, lo, hi) in [
+        (None, 0.8, 1.25),
+        (Some(npr_hatching::StrokeLength::default()), 0.35, 0.7),
+    ] {
+        let params = HatchParams {
+            mode: npr_hatching::BlendMode::Blended,
+            stroke_length: length,
+            ..Default::default()
+        };
+        let cov = CpuHatcher::new(&tam, &params)
+            .unwrap()
+            .hatch_coverage(&inputs)
+            .unwrap();
+        let (calm, busy) = (mean_run(&cov, w, 0, w / 2), mean_run(&cov, w, w / 2, w));
+        eprintln!("{length:?}: calm runs {calm:.1} px, busy runs {busy:.1} px");
+        let r = busy / calm;
+        assert!(r >= lo && r <= hi, "{length:?}: ratio {r}");
+    }
+    let bad = HatchParams {
+        stroke_length: Some(npr_hatching::StrokeLength {
+            shorten: 0.5,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    assert!(matches!(
+        CpuHatcher::new(&tam, &bad),
+        Err(npr_hatching::HatchError::InvalidParams { .. })
+    ));
+}

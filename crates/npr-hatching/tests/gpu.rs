@@ -31,7 +31,7 @@ fn compare(a: &image::RgbaImage, b: &image::RgbaImage) -> (f64, f64) {
 }
 
 /// GPU = CPU on the same inputs: a tone ramp with a swirling θ field, both styles, all
-/// three modes, a coloured ink and paper. Bound: mean |difference| ≤ 0.25 code values and
+/// three modes, a coloured ink and paper, short strokes (`stroke_length`) on for pen. Bound: mean |difference| ≤ 0.25 code values and
 /// at most 0.5 % of pixels differing by more than 2 code values (float rounding, e.g.
 /// fused multiply-adds, can move a rotated coordinate across a texel edge).
 #[test]
@@ -45,6 +45,14 @@ fn gpu_hatching_equals_cpu_reference() {
         let theta = 0.02 * x + 0.015 * y + (0.03 * y).sin();
         (tone, theta)
     })
+    .unwrap()
+    // Turn rate rising down the image: 0 to 0.15 rad/pixel (StrokeLength's calm 0.02 and
+    // busy 0.1 in between).
+    .with_turn(
+        (0..w * h)
+            .map(|i| 0.15 * (i / w) as f32 / h as f32)
+            .collect(),
+    )
     .unwrap();
     for style in [TamStyle::Pen, TamStyle::Pencil] {
         let tam = TonalArtMap::generate(&TamParams::for_style(style)).unwrap();
@@ -55,6 +63,10 @@ fn gpu_hatching_equals_cpu_reference() {
                 stroke_scale: 1.5,
                 ink: [0.05, 0.02, 0.1],
                 paper: [0.95, 0.9, 0.8],
+                // Short strokes on for the pen map: the turn field below spans calm,
+                // blended and all-short pixels.
+                stroke_length: (style == TamStyle::Pen).then(Default::default),
+                ..Default::default()
             };
             let gpu = hatch_image_gpu(&ctx.device, &ctx.queue, &inputs, &tam, &params).unwrap();
             let cpu = CpuHatcher::new(&tam, &params)
@@ -512,5 +524,245 @@ fn gbuffer_theta_is_counter_clockwise_on_screen() {
             "{dir_world}: θ {theta}, want {want}"
         );
         // θ = 0 (the background) would fail above, so the quad was drawn.
+    }
+}
+
+/// A sphere rig for the coherence tests: unit sphere at the origin, meridian strokes,
+/// a 256² frame in `space`, the given anchor period.
+struct SphereRig {
+    frame: HatchFrame,
+    mesh: GpuMesh,
+    object: npr_hatching::HatchObject,
+}
+
+const RIG: u32 = 256;
+
+fn sphere_rig(
+    ctx: &npr_gpu::GpuContext,
+    tam: &TonalArtMap,
+    space: npr_hatching::StrokeSpace,
+    period: u32,
+) -> SphereRig {
+    let mesh = npr_geometry::generate::icosphere(5, 1.0);
+    let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let params = HatchParams {
+        space,
+        ..Default::default()
+    };
+    let mut frame = HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        tam,
+        &params,
+        VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        RIG,
+        RIG,
+    )
+    .unwrap();
+    frame.scene.set_anchor_period(period).unwrap();
+    let object = frame
+        .scene
+        .create_object(
+            &ctx.device,
+            &gpu_mesh,
+            &sphere_uniforms(Mat4::IDENTITY),
+            &meridian_directions(&mesh),
+        )
+        .unwrap();
+    SphereRig {
+        frame,
+        mesh: gpu_mesh,
+        object,
+    }
+}
+
+fn sphere_uniforms(world_from_object: Mat4) -> ObjectUniforms {
+    ObjectUniforms::new(world_from_object, Vec3::splat(0.6), 0.0, Vec3::ZERO, 1.0)
+}
+
+fn sphere_light() -> ShadowLight {
+    ShadowLight::Directional {
+        towards_light: Vec3::new(-0.5, 0.4, 1.0),
+        center: Vec3::ZERO,
+        radius: 1.5,
+    }
+}
+
+impl SphereRig {
+    fn render(&self, ctx: &npr_gpu::GpuContext, camera: &Camera, turn_rad: f32) -> Vec<f32> {
+        self.object.update(
+            &ctx.queue,
+            &sphere_uniforms(Mat4::from_rotation_y(turn_rad)),
+        );
+        self.frame.set_view(&ctx.queue, camera, &sphere_light());
+        let image = self
+            .frame
+            .render_hatched(&ctx.device, &ctx.queue, &[(&self.mesh, &self.object)])
+            .unwrap();
+        npr_hatching::coherence::ink_image(&image)
+    }
+}
+
+/// Analytic mean screen motion (pixels, y down) of the unit sphere's visible surface over
+/// the `n × n` tile at `(x0, y0)` when it turns by `d_rad` about +y: ray-cast each pixel
+/// centre, turn the hit point, project it.
+fn sphere_tile_motion(camera: &Camera, x0: u32, y0: u32, n: u32, d_rad: f32) -> [f32; 2] {
+    let m = camera.clip_from_world();
+    let inv = m.inverse();
+    let turn = Mat4::from_rotation_y(d_rad);
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for y in y0..y0 + n {
+        for x in x0..x0 + n {
+            let px = [x as f32 + 0.5, y as f32 + 0.5];
+            let ndc = Vec3::new(
+                px[0] / RIG as f32 * 2.0 - 1.0,
+                1.0 - px[1] / RIG as f32 * 2.0,
+                0.0,
+            );
+            let near = inv.project_point3(ndc);
+            let d = (inv.project_point3(ndc.with_z(1.0)) - near).normalize();
+            let o = camera.eye;
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 1.0);
+            assert!(disc > 0.0, "tile pixel ({x}, {y}) misses the sphere");
+            let hit = o + d * (-b - disc.sqrt());
+            let q = m.project_point3(turn.transform_point3(hit));
+            sx += (q.x * 0.5 + 0.5) * RIG as f32 - px[0];
+            sy += (0.5 - q.y * 0.5) * RIG as f32 - px[1];
+        }
+    }
+    let k = (n * n) as f32;
+    [sx / k, sy / k]
+}
+
+fn tile(img: &[f32], x0: u32, y0: u32, n: u32) -> Vec<f32> {
+    (0..n * n)
+        .map(|i| img[((y0 + i / n) * RIG + x0 + i % n) as usize])
+        .collect()
+}
+
+/// Issue 14: on a sphere turning 2° per frame, the hatching pattern's phase-correlation
+/// shift over a central 64² tile follows the analytic surface motion to within 25 % of it
+/// in surface space (every frame pair over two anchor periods); the paper's screen space
+/// does not (its pattern stays put, an error of about 100 %). The coherent frame also
+/// matches the CPU reference on its G-buffer with anchors mid-cross-fade.
+#[test]
+fn surface_hatching_follows_a_turning_sphere() {
+    let Some(ctx) = testing::context_or_skip("surface_hatching_follows_a_turning_sphere") else {
+        return;
+    };
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 1.0);
+    let step = 2f32.to_radians();
+    let (x0, y0, n) = (RIG / 2 - 32, RIG / 2 - 32, 64);
+    let expected = sphere_tile_motion(&camera, x0, y0, n, step);
+    assert!(expected[0] > 2.0, "surface motion {expected:?}");
+    for space in npr_hatching::StrokeSpace::ALL {
+        let rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
+        let mut prev = rig.render(ctx, &camera, 0.0);
+        let mut worst = 0.0f32;
+        for t in 1..=8 {
+            let ink = rig.render(ctx, &camera, step * t as f32);
+            let d = npr_hatching::coherence::phase_correlation(
+                &tile(&prev, x0, y0, n),
+                &tile(&ink, x0, y0, n),
+                n as usize,
+            )
+            .unwrap();
+            let err = (d[0] - expected[0]).hypot(d[1] - expected[1]);
+            eprintln!("{space:?} frame {t}: pattern {d:?}, surface {expected:?}");
+            worst = worst.max(err / expected[0].hypot(expected[1]));
+            if space == npr_hatching::StrokeSpace::Surface && t == 6 {
+                // Mid-fade (weight 1/2 at period 4): GPU = CPU reference on the G-buffer.
+                let gb = rig.frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+                let w = gb.anchors().unwrap()[(RIG * RIG / 2 + RIG / 2) as usize].weight_b;
+                assert!(w > 0.2 && w < 0.8, "weight {w}");
+                let params = *rig.frame.hatch.params();
+                let cpu = CpuHatcher::new(&tam, &params)
+                    .unwrap()
+                    .hatch_rgba8(&gb)
+                    .unwrap();
+                let gpu = image::RgbaImage::from_raw(
+                    RIG,
+                    RIG,
+                    ink.iter()
+                        .flat_map(|i| {
+                            let v = ((1.0 - i) * 255.0).round() as u8;
+                            [v, v, v, 255]
+                        })
+                        .collect(),
+                )
+                .unwrap();
+                let (mean, frac) = compare(&gpu, &cpu);
+                assert!(
+                    mean <= 0.25 && frac <= 0.005,
+                    "mean {mean}, fraction {frac}"
+                );
+            }
+            prev = ink;
+        }
+        eprintln!("{space:?}: worst relative error {worst:.3}");
+        match space {
+            npr_hatching::StrokeSpace::Surface => assert!(worst <= 0.25, "{worst}"),
+            npr_hatching::StrokeSpace::Screen => assert!(worst > 0.75, "{worst}"),
+        }
+    }
+}
+
+/// Issue 14: over a 2× dolly (camera distance 6 → 3 in 24 frames, the sphere turning 1°
+/// per frame), the ink coverage at constant tone and the screen-space stroke density stay
+/// within 25 % in surface space; a surface texture that is never re-anchored (no
+/// re-anchoring: strokes magnified with the sphere) loses more than 25 % of its density.
+#[test]
+fn surface_hatching_keeps_density_under_dolly() {
+    let Some(ctx) = testing::context_or_skip("surface_hatching_keeps_density_under_dolly") else {
+        return;
+    };
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let frames = 24;
+    for (period, bounded) in [
+        (npr_hatching::DEFAULT_ANCHOR_PERIOD, true),
+        (u32::MAX, false),
+    ] {
+        let rig = sphere_rig(ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
+        let mut measured = Vec::new();
+        for t in 0..=frames {
+            let dist = 6.0 * 0.5f32.powf(t as f32 / frames as f32);
+            let camera = Camera::look_at(Vec3::new(0.0, 0.0, dist), Vec3::ZERO, 1.0);
+            rig.render(ctx, &camera, (t as f32).to_radians());
+            if t == 0 || t == frames {
+                let mut gb = rig.frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
+                let mask = rig
+                    .frame
+                    .gbuffer
+                    .read_surface_mask(&ctx.device, &ctx.queue)
+                    .unwrap();
+                gb.set_tone_where(0.55, |i| mask[i]);
+                let img =
+                    hatch_image_gpu(&ctx.device, &ctx.queue, &gb, &tam, rig.frame.hatch.params())
+                        .unwrap();
+                let ink = npr_hatching::coherence::ink_image(&img);
+                let inside: Vec<f32> = ink
+                    .iter()
+                    .zip(&mask)
+                    .filter(|(_, m)| **m)
+                    .map(|(i, _)| *i)
+                    .collect();
+                let coverage = inside.iter().sum::<f32>() / inside.len() as f32;
+                let density =
+                    npr_hatching::coherence::stroke_density(&ink, &mask, RIG as usize).unwrap();
+                measured.push((coverage, density));
+            }
+        }
+        let (c0, d0) = measured[0];
+        let (c1, d1) = measured[1];
+        eprintln!("period {period}: coverage {c0:.3} → {c1:.3}, density {d0:.3} → {d1:.3}");
+        assert!((c1 / c0 - 1.0).abs() <= 0.25, "coverage {c0} → {c1}");
+        if bounded {
+            assert!((d1 / d0 - 1.0).abs() <= 0.25, "density {d0} → {d1}");
+        } else {
+            assert!((d1 / d0 - 1.0).abs() > 0.25, "density {d0} → {d1}");
+        }
     }
 }

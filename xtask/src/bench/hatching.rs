@@ -208,7 +208,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         };
         let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
         let mut passes_t: [Vec<Duration>; 4] = Default::default();
-        let hatch_group = frame.hatch.bind(&ctx.device, &frame.gbuffer.view);
+        let hatch_group = frame.hatch.bind(&ctx.device, &frame.gbuffer);
         // Records with `record`, submits, waits: the wall time of that work alone.
         let timed = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> anyhow::Result<Duration> {
             let t = Instant::now();

@@ -2,6 +2,7 @@
 
 pub mod curvature;
 pub mod hatching;
+pub mod hatching_coherence;
 pub mod hatching_directions;
 pub mod specular;
 pub mod specular_fidelity;
@@ -30,11 +31,17 @@ pub const NAMES: &[&str] = &[
     "specular-fidelity",
     "hatching",
     "hatching-directions",
+    "hatching-coherence",
     "warp",
 ];
 
 /// The benchmarks that take `--mesh`.
-const TAKE_MESHES: &[&str] = &["hatching-directions", "specular", "specular-fidelity"];
+const TAKE_MESHES: &[&str] = &[
+    "hatching-directions",
+    "hatching-coherence",
+    "specular",
+    "specular-fidelity",
+];
 
 /// Runs benchmark `name` (on `meshes`, added to or instead of its defaults, where it
 /// takes them).
@@ -47,6 +54,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
     }
     match name {
         "hatching-directions" => hatching_directions::run(meshes, json),
+        "hatching-coherence" => hatching_coherence::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(meshes, json),
         "specular-fidelity" => specular_fidelity::run(json, meshes),

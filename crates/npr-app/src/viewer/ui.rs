@@ -300,6 +300,11 @@ pub fn panel(
                         });
                         ui.checkbox(&mut p.hatching.shadows, "shadows");
                         ui.horizontal(|ui| {
+                            ui.label("strokes");
+                            ui.radio_value(&mut p.hatching.space, crate::preset::SpacePreset::Surface, "move with the surface");
+                            ui.radio_value(&mut p.hatching.space, crate::preset::SpacePreset::Screen, "screen (paper)");
+                        });
+                        ui.horizontal(|ui| {
                             ui.label("direction");
                             ui.radio_value(&mut p.hatching.direction, DirectionPreset::Smooth, "smooth");
                             ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "raw k_max");
