@@ -479,14 +479,7 @@ fn coherence_gif(
         &mut written,
     )?;
     let gif_path = dir.join(format!("hatching-coherence-{name}.gif"));
-    let file = std::fs::File::create(&gif_path)?;
-    let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
-    encoder.set_repeat(image::codecs::gif::Repeat::Infinite)?;
-    encoder.encode_frames(
-        frames
-            .into_iter()
-            .map(|f| image::Frame::from_parts(f, 0, 0, image::Delay::from_numer_denom_ms(80, 1))),
-    )?;
+    npr_app::output::save_gif(&gif_path, &frames, 80)?;
     written.push(gif_path);
     Ok(written)
 }

@@ -389,14 +389,7 @@ pub fn run(
     let strip: Vec<_> = frames.iter().step_by(9).cloned().collect();
     save(&sheet(&strip), "specular-fig8-knot-strip.png")?;
     let gif_path = dir.join("specular-fig8-knot.gif");
-    let file = std::fs::File::create(&gif_path)?;
-    let mut encoder = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
-    encoder.set_repeat(image::codecs::gif::Repeat::Infinite)?;
-    encoder.encode_frames(
-        frames
-            .into_iter()
-            .map(|f| image::Frame::from_parts(f, 0, 0, image::Delay::from_numer_denom_ms(60, 1))),
-    )?;
+    npr_app::output::save_gif(&gif_path, &frames, 60)?;
     written.push(gif_path);
     Ok(written)
 }

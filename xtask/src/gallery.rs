@@ -334,9 +334,9 @@ pub fn figures() -> Vec<Figure> {
     for name in COHERENCE_SUBJECTS {
         let mut gif = fig(
             h,
-            &format!("hatching-coherence-{name}.gif"),
+            format!("hatching-coherence-{name}.gif"),
             None,
-            &format!(
+            format!(
                 "Beyond §5's shower-door limit: the {name} turning 2° per frame while the \
                  camera dollies in by 2× and back, pen; (left) the paper's screen-space \
                  strokes stay on the screen while the surface slides beneath, (right) our \

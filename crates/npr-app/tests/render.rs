@@ -80,6 +80,38 @@ fn multi_node_glb(mesh: &npr_geometry::Mesh) -> Vec<u8> {
 
 /// An OBJ, a binary PLY scan (the bunny) and a multi-node GLB (Spot), the latter two
 /// written into `dir`.
+/// `npr render MODEL --effect E --size SIZE --out OUT` (for warp, a 36-frame turntable
+/// in 10° steps, a reference every 10 frames); asserts success and returns the image to
+/// look at (for warp, frame 1: a warped one).
+fn render_effect(model: &Path, effect: Effect, size: &str, out: &Path) -> PathBuf {
+    let mut args = vec![
+        "render",
+        model.to_str().unwrap(),
+        "--effect",
+        effect.name(),
+        "--size",
+        size,
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    if effect == Effect::Warp {
+        args.extend(["--turntable", "36", "--json", "/dev/null"]);
+    }
+    let o = npr(&args);
+    assert!(
+        o.status.success(),
+        "{} {}: {}",
+        model.display(),
+        effect.name(),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    if effect == Effect::Warp {
+        npr_app::output::frame_path(out, 1)
+    } else {
+        out.to_path_buf()
+    }
+}
+
 fn models(dir: &Path) -> Vec<PathBuf> {
     let bunny = npr_geometry::io::load(root().join("fixtures/meshes/stanford-bunny.obj"))
         .unwrap()
@@ -117,35 +149,7 @@ fn every_effect_shows_the_object_on_every_model() {
                 model.file_stem().unwrap().to_string_lossy(),
                 effect.name()
             ));
-            // Warp: a turntable in 10° steps (a reference every 10 frames); frame 1 is
-            // warped.
-            let warp_args = ["--turntable", "36", "--json", "/dev/null"];
-            let mut args = vec![
-                "render",
-                model.to_str().unwrap(),
-                "--effect",
-                effect.name(),
-                "--size",
-                "160x120",
-                "--out",
-                out.to_str().unwrap(),
-            ];
-            if effect == Effect::Warp {
-                args.extend(warp_args);
-            }
-            let o = npr(&args);
-            assert!(
-                o.status.success(),
-                "{} {}: {}",
-                model.display(),
-                effect.name(),
-                String::from_utf8_lossy(&o.stderr)
-            );
-            let out = if effect == Effect::Warp {
-                npr_app::output::frame_path(&out, 1)
-            } else {
-                out
-            };
+            let out = render_effect(&model, effect, "160x120", &out);
             let img = image::open(&out).unwrap().to_rgba8();
             assert_eq!(img.dimensions(), (160, 120));
             let (share, centre) = object_coverage(&img);
@@ -487,32 +491,12 @@ f 1 2 11\nf 1 2 12\nf 2 1 13\n";
     let path = dir.join("messy.obj");
     std::fs::write(&path, obj).unwrap();
     for effect in Effect::ALL {
-        let out = dir.join(format!("{}.png", effect.name()));
-        let mut args = vec![
-            "render",
-            path.to_str().unwrap(),
-            "--effect",
-            effect.name(),
-            "--size",
+        let out = render_effect(
+            &path,
+            effect,
             "96x72",
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        if effect == Effect::Warp {
-            args.extend(["--turntable", "36"]);
-        }
-        let o = npr(&args);
-        assert!(
-            o.status.success(),
-            "{}: {}",
-            effect.name(),
-            String::from_utf8_lossy(&o.stderr)
+            &dir.join(format!("{}.png", effect.name())),
         );
-        let out = if effect == Effect::Warp {
-            npr_app::output::frame_path(&out, 1)
-        } else {
-            out
-        };
         let (share, _) = object_coverage(&image::open(&out).unwrap().to_rgba8());
         assert!(share > 0.01, "{}: nothing drawn ({share})", effect.name());
     }
