@@ -309,6 +309,14 @@ mod tests {
             ),
             ("WarpObject", "npr-warp pass::tests (assert_wgsl_layout!)"),
             (
+                "Anchor",
+                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
+            ),
+            (
+                "Coherence",
+                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
+            ),
+            (
                 "OutlineCamera",
                 "npr-gpu outline::tests::uniform_layouts_match_wgsl",
             ),

@@ -26,7 +26,24 @@ pub const DEFAULT_ANCHOR_PERIOD: u32 = 4;
 
 /// Size of `Anchor` in `hatching_scene.wgsl`: two clip-from-world and two
 /// world-from-object matrices.
-const ANCHOR_BYTES: u64 = 4 * 64;
+const ANCHOR_BYTES: u64 = std::mem::size_of::<AnchorUniforms>() as u64;
+
+/// `Anchor` in `hatching_scene.wgsl`: the two reference views' clip-from-world, then the
+/// object's world-from-object at each (filled by buffer copies, see
+/// [`ScenePasses::record_gbuffer`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct AnchorUniforms {
+    clip_from_world: [[[f32; 4]; 4]; 2],
+    world_from_object: [[[f32; 4]; 4]; 2],
+}
+
+/// `Coherence` in `hatching_scene.wgsl`: x = weight of anchor 1 in the cross-fade.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct CoherenceUniforms {
+    weights: [f32; 4],
+}
 /// Size of one `mat4x4<f32>`; both `FrameUniforms::clip_from_world` and
 /// `ObjectUniforms::world_from_object` sit at offset 0 of their buffers.
 const MAT4_BYTES: u64 = 64;
@@ -412,7 +429,7 @@ impl ScenePasses {
         });
         let coherence_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr hatching coherence"),
-            size: 16,
+            size: std::mem::size_of::<CoherenceUniforms>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -598,7 +615,9 @@ impl ScenePasses {
         queue.write_buffer(
             &self.coherence_buffer,
             0,
-            bytemuck::bytes_of(&[weight_b, 0.0, 0.0, 0.0]),
+            bytemuck::bytes_of(&CoherenceUniforms {
+                weights: [weight_b, 0.0, 0.0, 0.0],
+            }),
         );
         let frame = FrameUniforms::new(camera, &light.light());
         let (light_pos, spot, inner) = match *light {
@@ -740,12 +759,20 @@ impl ScenePasses {
                 continue;
             }
             let o = s as u64 * MAT4_BYTES;
-            encoder.copy_buffer_to_buffer(&self.frame_buffer, 0, &object.anchor, o, MAT4_BYTES);
+            let clip = std::mem::offset_of!(AnchorUniforms, clip_from_world) as u64;
+            let world = std::mem::offset_of!(AnchorUniforms, world_from_object) as u64;
+            encoder.copy_buffer_to_buffer(
+                &self.frame_buffer,
+                0,
+                &object.anchor,
+                clip + o,
+                MAT4_BYTES,
+            );
             encoder.copy_buffer_to_buffer(
                 &object.uniforms,
                 0,
                 &object.anchor,
-                2 * MAT4_BYTES + o,
+                world + o,
                 MAT4_BYTES,
             );
             object.anchored[s].store(want.unwrap_or(c), Ordering::Relaxed);
@@ -858,6 +885,12 @@ mod tests {
             "Scene",
             [light_clip_from_world, light_pos, spot, vsm, viewport]
         );
+        npr_gpu::assert_wgsl_layout!(
+            AnchorUniforms,
+            "Anchor",
+            [clip_from_world, world_from_object]
+        );
+        npr_gpu::assert_wgsl_layout!(CoherenceUniforms, "Coherence", [weights]);
     }
 
     #[test]
