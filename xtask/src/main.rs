@@ -43,7 +43,7 @@ enum Command {
     },
     /// Regenerate fixtures/ from the code that defines them.
     Fixtures,
-    /// Find (and on Debian/Ubuntu as root, install) a GPU adapter and print it.
+    /// Find (and on Debian/Ubuntu as root, install) a GPU adapter and Xvfb; print them.
     Doctor,
     /// Per-vertex principal curvatures of a model, as CSV (an alias of `npr curvature`).
     Curvature(npr_app::curvature::CurvatureArgs),
@@ -68,6 +68,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Fixtures => fixtures::run(),
         Command::Doctor => {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);
+            gpu_setup::ensure_xvfb()?;
+            println!("xvfb-run: found (the windowed `npr view` test runs under it)");
             Ok(())
         }
         Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
