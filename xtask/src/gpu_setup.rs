@@ -7,8 +7,32 @@ use std::process::Command;
 /// The exact command that installs the software Vulkan driver.
 pub const INSTALL_HINT: &str = "apt-get install -y mesa-vulkan-drivers libvulkan1";
 
-/// The exact command that installs the virtual X server the windowed `npr view` test uses.
-pub const XVFB_HINT: &str = "apt-get install -y xvfb xauth";
+/// The Debian packages the windowed `npr view` test needs: the virtual X server and the X
+/// client libraries winit loads at run time (it `dlopen`s them, so the build does not
+/// need them and a missing one only shows when a window opens).
+const XVFB_PACKAGES: [&str; 7] = [
+    "xvfb",
+    "xauth",
+    "libxkbcommon-x11-0",
+    "libx11-xcb1",
+    "libxcursor1",
+    "libxrandr2",
+    "libxi6",
+];
+
+/// The exact command that installs them.
+pub const XVFB_HINT: &str = "apt-get install -y xvfb xauth libxkbcommon-x11-0 libx11-xcb1 \
+     libxcursor1 libxrandr2 libxi6";
+
+/// The shared libraries of [`XVFB_PACKAGES`] that winit opens.
+const X_CLIENT_LIBS: [&str; 6] = [
+    "libX11.so.6",
+    "libX11-xcb.so.1",
+    "libXcursor.so.1",
+    "libXrandr.so.2",
+    "libXi.so.6",
+    "libxkbcommon-x11.so.0",
+];
 
 /// See [`npr_app::ensure_runtime_dir`] (shared with the `npr` binary).
 pub fn ensure_runtime_dir() -> anyhow::Result<()> {
@@ -75,8 +99,15 @@ pub fn ensure_adapter() -> anyhow::Result<String> {
     })
 }
 
+/// Whether `xvfb-run` and every X client library winit opens are present.
 fn has_xvfb() -> bool {
+    let libs = Command::new("ldconfig")
+        .arg("-p")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default();
     Command::new("xvfb-run").arg("--help").output().is_ok()
+        && X_CLIENT_LIBS.iter().all(|l| libs.contains(l))
 }
 
 /// Makes sure `xvfb-run` exists for the windowed `npr view` test, installing Xvfb on
@@ -90,17 +121,22 @@ pub fn ensure_xvfb() -> anyhow::Result<()> {
     }
     if !(is_debian_like() && is_root()) {
         bail!(
-            "xvfb-run not found: the windowed `npr view` test needs a virtual X server. On \
-             Debian/Ubuntu run as root:\n    {XVFB_HINT}\nthen run `cargo xtask test` again."
+            "xvfb-run or an X client library is missing: the windowed `npr view` test needs a \
+             virtual X server. On Debian/Ubuntu run as root:\n    {XVFB_HINT}\nthen run \
+             `cargo xtask test` again."
         );
     }
     eprintln!("xtask: installing Xvfb so the windowed `npr view` test can run: {XVFB_HINT}");
-    if apt(&["install", "-y", "-qq", "xvfb", "xauth"]).is_err() {
+    let install: Vec<&str> = ["install", "-y", "-qq"]
+        .into_iter()
+        .chain(XVFB_PACKAGES)
+        .collect();
+    if apt(&install).is_err() {
         apt(&["update", "-qq"])?;
-        apt(&["install", "-y", "-qq", "xvfb", "xauth"])?;
+        apt(&install)?;
     }
     if !has_xvfb() {
-        bail!("still no xvfb-run after installing it; try: {XVFB_HINT}");
+        bail!("still no xvfb-run or X client libraries after installing them; try: {XVFB_HINT}");
     }
     Ok(())
 }

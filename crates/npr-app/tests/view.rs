@@ -95,7 +95,7 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
         }
         panic!(
             "{test}: no display and no xvfb-run; `cargo xtask test` installs Xvfb \
-             (apt-get install -y xvfb xauth), or set NPR_SKIP_GPU=1 to skip"
+             (xvfb, xauth and the X client libraries; see `cargo xtask doctor`), or set NPR_SKIP_GPU=1 to skip"
         );
     };
     let dir = out_dir("script");
