@@ -339,7 +339,7 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     } else {
         meshes
             .iter()
-            .map(|p| Ok((p.display().to_string(), npr_geometry::load_obj(p)?)))
+            .map(|p| Ok((p.display().to_string(), npr_geometry::io::load(p)?.mesh)))
             .collect::<anyhow::Result<_>>()?
     };
     let ctx = GpuContext::new()?;
