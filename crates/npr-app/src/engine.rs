@@ -165,18 +165,16 @@ pub fn global_controls(preset: &Preset, layer: u32) -> ProjectorControls {
     }
 }
 
+/// How far (object units) an edit's anchor may be from a highlight's found centre to
+/// apply to it: 15 % of the model's bounding radius.
+pub fn anchor_reach(framing: &crate::view::Framing) -> f32 {
+    0.15 * framing.radius
+}
+
 /// The id each of the preset's edits applies to: an edit with an anchor goes to the
-/// highlight whose found centre (object space) is nearest the anchor, within 15 % of the
-/// model's bounding radius; otherwise (or when none is that near) to its own id.
-pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset) -> Vec<u64> {
-    let positions = &set.topology().positions;
-    let framing_radius = {
-        let c = positions.iter().fold(Vec3::ZERO, |a, p| a + *p) / positions.len().max(1) as f32;
-        positions
-            .iter()
-            .map(|p| p.distance(c))
-            .fold(0.0f32, f32::max)
-    };
+/// highlight whose found centre (object space) is nearest the anchor, within `reach`
+/// (see [`anchor_reach`]); otherwise (or when none is that near) to its own id.
+pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset, reach: f32) -> Vec<u64> {
     preset
         .specular
         .edits
@@ -188,7 +186,7 @@ pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset) -> Vec<u64> {
             set.highlights()
                 .iter()
                 .map(|h| (h.id, h.centre.position_object.distance(anchor)))
-                .filter(|(_, d)| *d <= 0.15 * framing_radius)
+                .filter(|(_, d)| *d <= reach)
                 .min_by(|a, b| a.1.total_cmp(&b.1))
                 .map_or(e.id, |(id, _)| id)
         })
@@ -196,11 +194,11 @@ pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset) -> Vec<u64> {
 }
 
 /// Applies the preset's global controls and per-highlight edits to a set (edits with an
-/// anchor go to the highlight nearest it among the set's current highlights, see
-/// [`resolve_edit_ids`]).
-pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32) {
+/// anchor go to the highlight nearest it among the set's current highlights, within
+/// `reach`, see [`resolve_edit_ids`]).
+pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32, reach: f32) {
     set.global = global_controls(preset, layer);
-    let ids = resolve_edit_ids(set, preset);
+    let ids = resolve_edit_ids(set, preset, reach);
     for (e, id) in preset.specular.edits.iter().zip(ids) {
         *set.controls_mut(id) = HighlightControls {
             translate: Vec2::from(e.translate),
@@ -467,15 +465,13 @@ impl Renderer {
             space: h.space.into(),
             ..HatchParams::default()
         };
-        for style in [pencil] {
-            if let std::collections::hash_map::Entry::Vacant(e) = self.tams.entry(style) {
-                let p = if style {
-                    TamParams::pencil()
-                } else {
-                    TamParams::pen()
-                };
-                e.insert(TonalArtMap::generate(&p)?);
-            }
+        if let std::collections::hash_map::Entry::Vacant(e) = self.tams.entry(pencil) {
+            let p = if pencil {
+                TamParams::pencil()
+            } else {
+                TamParams::pen()
+            };
+            e.insert(TonalArtMap::generate(&p)?);
         }
         let size = self.size();
         let rebuild = self
@@ -582,6 +578,7 @@ impl Renderer {
                     .as_mut()
                     .filter(|_| effect == Effect::Specular)
                 {
+                    let reach = anchor_reach(&self.model.framing);
                     let started = Instant::now();
                     if s.set.highlights().is_empty()
                         && preset.specular.edits.iter().any(|e| e.anchor.is_some())
@@ -592,7 +589,7 @@ impl Renderer {
                         // opacity), now with the edits applied.
                         s.set.update(view.light_eye(), view.world_from_object);
                     }
-                    apply_controls(&mut s.set, preset, s.layer);
+                    apply_controls(&mut s.set, preset, s.layer, reach);
                     s.set.update(view.light_eye(), view.world_from_object);
                     stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
                     let st = s.set.stats();

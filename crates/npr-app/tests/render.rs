@@ -196,7 +196,12 @@ fn specular_equals_the_library_snapshot_helper() {
     )
     .unwrap();
     let layer = engine::builtin_shape("star").unwrap().layer();
-    engine::apply_controls(&mut set, &preset, layer);
+    engine::apply_controls(
+        &mut set,
+        &preset,
+        layer,
+        engine::anchor_reach(&model.framing),
+    );
     set.update(view.light_eye(), view.world_from_object);
     assert!(
         !set.highlights().is_empty(),

@@ -619,7 +619,7 @@ mod tests {
             scale: [2.0, 2.0],
             ..HighlightEdit::default()
         });
-        crate::engine::apply_controls(&mut set, &preset, 0);
+        crate::engine::apply_controls(&mut set, &preset, 0, 0.15);
         set.update(le(0.02), glam::Mat4::IDENTITY);
         let h = set
             .highlights()
