@@ -69,8 +69,27 @@ pub struct RegionGrower {
     vertex_frame: Vec<u32>,
     vertex_world: Vec<Vec3>,
     vertex_normal: Vec<Vec3>,
+    /// Unit `H(p_v)` at the vertex (world frame).
+    vertex_h: Vec<Vec3>,
+    /// `N_v·H(p_v)` at the vertex.
+    vertex_nh: Vec<f32>,
     face_visit: Vec<u32>,
     queue: VecDeque<(u32, u32)>,
+    /// Faces classified whole (inside or outside) and on the sub-grid, last frame.
+    counts: RegionCounts,
+}
+
+/// How [`RegionGrower::grow_all`] classified the faces it looked at in its last frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RegionCounts {
+    /// Faces proved inside the region from their vertices alone (added whole).
+    pub inside: usize,
+    /// Faces proved outside from their vertices alone (skipped).
+    pub outside: usize,
+    /// Faces the boundary crosses, clipped once by their vertex values.
+    pub linear: usize,
+    /// Faces the boundary may cross where the field is curved, clipped on the sub-grid.
+    pub grid: usize,
 }
 
 /// Everything of the current frame the growth needs.
@@ -99,6 +118,8 @@ impl RegionGrower {
                 vertex_frame: vec![0; nv],
                 vertex_world: vec![Vec3::ZERO; nv],
                 vertex_normal: vec![Vec3::ZERO; nv],
+                vertex_h: vec![Vec3::ZERO; nv],
+                vertex_nh: vec![0.0; nv],
                 face_visit: vec![0; nf],
                 ..Self::default()
             };
@@ -111,18 +132,33 @@ impl RegionGrower {
         }
     }
 
-    /// World position and unit world normal of vertex `v` (cached for the frame).
-    fn vertex(&mut self, f: &RegionFrame<'_>, normal_from_object: Mat3, v: usize) -> (Vec3, Vec3) {
+    /// World position, unit world normal and `N·H` of vertex `v` (cached for the frame).
+    fn vertex(
+        &mut self,
+        f: &RegionFrame<'_>,
+        normal_from_object: Mat3,
+        v: usize,
+    ) -> (Vec3, Vec3, f32) {
         if self.vertex_frame[v] != self.frame {
             self.vertex_frame[v] = self.frame;
-            self.vertex_world[v] = f
+            let p = f
                 .world_from_object
                 .transform_point3(f.topology.positions[v]);
-            self.vertex_normal[v] = (normal_from_object
-                * f.normals.get(v).copied().unwrap_or(Vec3::ZERO))
-            .normalize_or_zero();
+            let n = (normal_from_object * f.normals.get(v).copied().unwrap_or(Vec3::ZERO))
+                .normalize_or_zero();
+            let h = half_vector(f.light_eye, p);
+            let nh = n.dot(h);
+            self.vertex_world[v] = p;
+            self.vertex_h[v] = h;
+            self.vertex_normal[v] = n;
+            self.vertex_nh[v] = if nh.is_finite() { nh } else { -1.0 };
         }
-        (self.vertex_world[v], self.vertex_normal[v])
+        (self.vertex_world[v], self.vertex_normal[v], self.vertex_nh[v])
+    }
+
+    /// How the faces of the last [`RegionGrower::grow_all`] were classified.
+    pub fn counts(&self) -> RegionCounts {
+        self.counts
     }
 
     /// Grows the regions `N·H ≥ σ` of all `seeds` (centre in world frame as the search
@@ -171,6 +207,7 @@ impl RegionGrower {
             self.queue.push_back((start as u32, k as u32));
         }
         let mut total = 0usize;
+        self.counts = RegionCounts::default();
         while let Some((face, k)) = self.queue.pop_front() {
             let fi = face as usize;
             let part = &parts[k as usize];
@@ -181,36 +218,76 @@ impl RegionGrower {
             }
             let tri = topo.triangles[fi];
             let vs = tri.map(|v| self.vertex(f, normal_from_object, v as usize));
-            // The face on a sub-grid, as the GPU shades it: interpolated and normalised
-            // normal, H at the point; `N·H − σ` linear on each sub-triangle.
-            let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
-            let mut any = false;
-            let mut cone = 1f32;
-            let mut g = 0;
-            for i in 0..=SUB {
-                for j in 0..=SUB - i {
-                    let (b1, b2) = (i as f32 / SUB as f32, j as f32 / SUB as f32);
-                    let b0 = 1.0 - b1 - b2;
-                    let p = vs[0].0 * b0 + vs[1].0 * b1 + vs[2].0 * b2;
-                    let nn = (vs[0].1 * b0 + vs[1].1 * b1 + vs[2].1 * b2).normalize_or_zero();
-                    let d = nn.dot(half_vector(f.light_eye, p)) - part.sigma;
-                    let d = if d.is_finite() { d } else { -1.0 };
-                    if d >= 0.0 {
-                        any = true;
-                        cone = cone.min(nn.dot(n));
+            let (sigma, origin) = (part.sigma, part.origin);
+            let project = |p: Vec3| {
+                let q = p - origin;
+                Vec2::new(q.dot(e_u), q.dot(e_v))
+            };
+            let class = classify(f.light_eye, &vs, sigma);
+            let part = &mut parts[k as usize];
+            match class {
+                FaceClass::Outside => {
+                    self.counts.outside += 1;
+                    continue;
+                }
+                FaceClass::Inside => {
+                    // The whole face: its moments at once; the normalised interpolant's
+                    // cos with the axis is at least the vertices' smallest.
+                    self.counts.inside += 1;
+                    let [a, b, c] = vs.map(|v| project(v.0));
+                    part.moments.add_triangle(a, b, c);
+                    part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
+                }
+                FaceClass::Linear => {
+                    self.counts.linear += 1;
+                    let tri = vs.map(|v| (project(v.0), v.2 - sigma));
+                    if tri.iter().all(|t| t.1 < 0.0) {
+                        continue;
                     }
-                    let q = p - part.origin;
-                    grid[g] = (Vec2::new(q.dot(e_u), q.dot(e_v)), d);
-                    g += 1;
+                    part.moments.add_clipped(tri);
+                    part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
+                }
+                FaceClass::Grid { steps, delta } => {
+                    // The face on a sub-grid of `steps` per edge, as the GPU shades it:
+                    // interpolated and normalised normal, H at the point (interpolated
+                    // from the vertices' where it turns little over the face: its
+                    // departure from linear is then second order); `N·H − σ` linear on
+                    // each sub-triangle.
+                    self.counts.grid += 1;
+                    let hs = tri.map(|v| self.vertex_h[v as usize]);
+                    let qs = vs.map(|v| project(v.0));
+                    let exact_h = delta > EXACT_H_TURN;
+                    let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
+                    let mut any = false;
+                    let mut cone = 1f32;
+                    let inv = 1.0 / steps as f32;
+                    for (g, (i, j)) in grid_points(steps).enumerate() {
+                        let (b1, b2) = (i as f32 * inv, j as f32 * inv);
+                        let b0 = 1.0 - b1 - b2;
+                        let nn = (vs[0].1 * b0 + vs[1].1 * b1 + vs[2].1 * b2).normalize_or_zero();
+                        let h = if exact_h {
+                            half_vector(f.light_eye, vs[0].0 * b0 + vs[1].0 * b1 + vs[2].0 * b2)
+                        } else {
+                            hs[0] * b0 + hs[1] * b1 + hs[2] * b2
+                        };
+                        let d = nn.dot(h) - sigma;
+                        let d = if d.is_finite() { d } else { -1.0 };
+                        if d >= 0.0 {
+                            any = true;
+                            cone = cone.min(nn.dot(n));
+                        }
+                        grid[g] = (qs[0] * b0 + qs[1] * b1 + qs[2] * b2, d);
+                    }
+                    if !any {
+                        continue;
+                    }
+                    part.cone = part.cone.min(cone);
+                    for_sub_triangles(steps, |a, b, c| {
+                        part.moments.add_clipped([grid[a], grid[b], grid[c]]);
+                    });
                 }
             }
-            if !any {
-                continue;
-            }
-            let part = &mut parts[k as usize];
             part.faces += 1;
-            part.cone = part.cone.min(cone);
-            for_sub_triangles(|a, b, c| part.moments.add_clipped([grid[a], grid[b], grid[c]]));
             total += 1;
             if total >= MAX_REGION_FACES {
                 break;
@@ -252,22 +329,130 @@ struct Part {
 const SUB: usize = 4;
 const GRID_POINTS: usize = (SUB + 1) * (SUB + 2) / 2;
 
-/// Index of grid point (i, j) (i + j ≤ SUB) in the order [`RegionGrower::grow`] fills
-/// them.
-const fn grid_index(i: usize, j: usize) -> usize {
-    // Row i starts after rows 0..i of SUB + 1 − r points each.
-    i * (2 * SUB + 3 - i) / 2 + j
+/// Index of grid point (i, j) (i + j ≤ `steps`) in the order of [`grid_points`].
+const fn grid_index(steps: usize, i: usize, j: usize) -> usize {
+    // Row i starts after rows 0..i of steps + 1 − r points each.
+    i * (2 * steps + 3 - i) / 2 + j
 }
 
-/// Calls `f` with the grid indices of every sub-triangle, in the face's orientation.
-fn for_sub_triangles(mut f: impl FnMut(usize, usize, usize)) {
-    for i in 0..SUB {
-        for j in 0..SUB - i {
-            let (a, b, c) = (grid_index(i, j), grid_index(i + 1, j), grid_index(i, j + 1));
+/// The points (i, j), i + j ≤ `steps`, of a face's sub-grid, row by row.
+fn grid_points(steps: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..=steps).flat_map(move |i| (0..=steps - i).map(move |j| (i, j)))
+}
+
+/// Calls `f` with the grid indices of every sub-triangle of a `steps` sub-grid, in the
+/// face's orientation.
+fn for_sub_triangles(steps: usize, mut f: impl FnMut(usize, usize, usize)) {
+    let at = |i, j| grid_index(steps, i, j);
+    for i in 0..steps {
+        for j in 0..steps - i {
+            let (a, b, c) = (at(i, j), at(i + 1, j), at(i, j + 1));
             f(a, b, c);
-            if i + j + 1 < SUB {
-                f(b, grid_index(i + 1, j + 1), c);
+            if i + j + 1 < steps {
+                f(b, at(i + 1, j + 1), c);
             }
+        }
+    }
+}
+
+/// Where a face lies against the region `N·H ≥ σ`, from its vertices alone, and how it
+/// must be measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum FaceClass {
+    /// Every point is in the region: added whole.
+    Inside,
+    /// No point is: skipped.
+    Outside,
+    /// The boundary crosses it, and `N·H − σ` is linear in it to within
+    /// [`LINEAR_TOLERANCE`] of its range: clipped once by the vertex values.
+    Linear,
+    /// The boundary may cross it and the field is too curved there (a region no bigger
+    /// than a few faces): sampled on a sub-grid of `steps` per edge; `delta` bounds how
+    /// far `H` turns over the face.
+    Grid {
+        /// Sub-grid steps per edge, 2 to [`SUB`].
+        steps: usize,
+        /// Bound on the turn of `H` over the face (radians, about).
+        delta: f32,
+    },
+}
+
+/// Above this bound on how far `H` turns over a face (near the light or the eye), the
+/// sub-grid computes `H` at each point instead of interpolating the vertices'.
+const EXACT_H_TURN: f32 = 0.05;
+
+/// Largest deviation of `N·H` from the linear interpolant of its vertex values, as a
+/// fraction of their range, for a face to be clipped by the vertex values alone: the
+/// boundary is then placed within about 5 % of the face (the 4-step sub-grid's own
+/// resolution is a quarter of it).
+const LINEAR_TOLERANCE: f32 = 0.05;
+
+/// Classifies a face (world position, unit normal and `N·H` per vertex) by bounds that
+/// hold at every point of it. With `u = Σ bᵢ Nᵢ` the interpolated normal (`|u| ≤ 1`),
+/// `c ≥ 0` the smallest `Nᵢ·Nⱼ` (so `|u|² = Σ bᵢbⱼ Nᵢ·Nⱼ ≥ c + (1 − c) Σ bᵢ² ≥
+/// (1 + 2c)/3`) and `δ` a bound on how far `H` turns over the face:
+/// - inside when `min Nᵢ·Hᵢ − δ ≥ σ`, since `N̂·H = u·H/|u| ≥ u·H ≥ Σ bᵢ Nᵢ·Hᵢ − δ`;
+/// - `N̂·H` departs from the interpolant `Σ bᵢ Nᵢ·Hᵢ` by the normalisation,
+///   `≤ 1/|u| − 1`, and by `Σ bᵢ Nᵢ·(H(p) − Hᵢ)`, whose first-order part
+///   `N₀·J Σ bᵢ (p − pᵢ)` vanishes, leaving `≤ max|Nᵢ − N₀| δ + δ²`; so the face is
+///   outside when `max Nᵢ·Hᵢ + ε < σ`, and the interpolant is trusted when that `ε` is
+///   small against the vertex values' range.
+fn classify(light_eye: LightEye, vs: &[(Vec3, Vec3, f32); 3], sigma: f32) -> FaceClass {
+    let lo = vs[0].2.min(vs[1].2).min(vs[2].2);
+    let hi = vs[0].2.max(vs[1].2).max(vs[2].2);
+    let delta = match light_eye {
+        LightEye::Directions { .. } => 0.0,
+        LightEye::Positions { light, eye } => {
+            // |ΔL̂| ≤ r/(d − r) for points within r of a vertex at distance d; Ĥ = S/|S|
+            // turns by at most |ΔS|/(|S| − |ΔS|).
+            let r = (0..3)
+                .map(|i| vs[i].0.distance(vs[(i + 1) % 3].0))
+                .fold(0f32, f32::max);
+            let turn = |target: Vec3| {
+                let d = vs
+                    .iter()
+                    .map(|v| v.0.distance(target))
+                    .fold(f32::MAX, f32::min);
+                if d > 2.0 * r { r / (d - r) } else { 2.0 }
+            };
+            let ds = turn(light) + turn(eye);
+            let s = ((light - vs[0].0).normalize_or_zero() + (eye - vs[0].0).normalize_or_zero())
+                .length();
+            if s - ds > 1e-3 { ds / (s - ds) } else { 2.0 }
+        }
+    };
+    let finest = FaceClass::Grid {
+        steps: SUB,
+        delta: f32::INFINITY,
+    };
+    if !delta.is_finite() || !lo.is_finite() || !hi.is_finite() {
+        return finest;
+    }
+    if lo - delta >= sigma {
+        return FaceClass::Inside;
+    }
+    let c = vs[0].1.dot(vs[1].1).min(vs[1].1.dot(vs[2].1)).min(vs[2].1.dot(vs[0].1));
+    if !(c > 0.0) {
+        return FaceClass::Grid { steps: SUB, delta };
+    }
+    let eps = 1.0 / ((1.0 + 2.0 * c) / 3.0).sqrt() - 1.0
+        + delta * ((2.0 * (1.0 - c)).max(0.0).sqrt() + delta);
+    if hi + eps < sigma {
+        FaceClass::Outside
+    } else if eps <= LINEAR_TOLERANCE * (hi - lo) {
+        FaceClass::Linear
+    } else {
+        // The interpolant's error falls as 1/steps² on a sub-grid.
+        let need = (eps / (LINEAR_TOLERANCE * (hi - lo)).max(f32::MIN_POSITIVE)).sqrt();
+        FaceClass::Grid {
+            steps: if need <= 2.0 {
+                2
+            } else if need <= 3.0 {
+                3
+            } else {
+                SUB
+            },
+            delta,
         }
     }
 }
@@ -404,20 +589,25 @@ mod tests {
 
     #[test]
     fn the_sub_grid_tiles_the_face_once() {
-        let mut area = 0.0;
-        let mut count = 0;
-        let pts: Vec<Vec2> = (0..=SUB)
-            .flat_map(|i| (0..=SUB - i).map(move |j| Vec2::new(i as f32, j as f32)))
-            .collect();
-        assert_eq!(pts.len(), GRID_POINTS);
-        for_sub_triangles(|a, b, c| {
-            let t = 0.5 * (pts[b] - pts[a]).perp_dot(pts[c] - pts[a]);
-            assert!(t > 0.0, "orientation");
-            area += t;
-            count += 1;
-        });
-        assert_eq!(count, SUB * SUB);
-        assert!((area - 0.5 * (SUB * SUB) as f32).abs() < 1e-4);
+        for steps in 1..=SUB {
+            let mut area = 0.0;
+            let mut count = 0;
+            let pts: Vec<Vec2> = grid_points(steps)
+                .map(|(i, j)| Vec2::new(i as f32, j as f32))
+                .collect();
+            assert_eq!(pts.len(), (steps + 1) * (steps + 2) / 2);
+            for (g, (i, j)) in grid_points(steps).enumerate() {
+                assert_eq!(grid_index(steps, i, j), g);
+            }
+            for_sub_triangles(steps, |a, b, c| {
+                let t = 0.5 * (pts[b] - pts[a]).perp_dot(pts[c] - pts[a]);
+                assert!(t > 0.0, "orientation");
+                area += t;
+                count += 1;
+            });
+            assert_eq!(count, steps * steps);
+            assert!((area - 0.5 * (steps * steps) as f32).abs() < 1e-4);
+        }
     }
 
     #[test]

@@ -18,7 +18,7 @@
 //! - a merged or suppressed highlight fades out like a lost one.
 
 use crate::projector::eq8_footprint;
-use crate::region::{Footprint, Region, RegionFrame, RegionGrower};
+use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower};
 use crate::visibility::{VisibilityScratch, receivers_within};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
@@ -65,6 +65,11 @@ pub struct UpdateStats {
     pub search_us: f64,
     /// Wall time of the §4.2 visibility searches, microseconds.
     pub visibility_us: f64,
+    /// Wall time of the region growth and fit ([`HighlightSizing::Region`]),
+    /// microseconds (0 for the paper's sizing).
+    pub region_us: f64,
+    /// How the region growth classified the faces it looked at.
+    pub region_faces: RegionCounts,
 }
 
 /// How projectors are sized.
@@ -309,6 +314,7 @@ impl HighlightSet {
             self.global
                 .compose(&self.per_highlight.get(&id).copied().unwrap_or_default())
         };
+        let region_start = std::time::Instant::now();
         let mut regions = match self.sizing {
             HighlightSizing::Paper => Vec::new(),
             HighlightSizing::Region => {
@@ -327,6 +333,7 @@ impl HighlightSet {
             }
         }
         .into_iter();
+        let region_us = region_start.elapsed().as_secs_f64() * 1e6;
         let min_area = self.min_region_area * (self.radius_bound * scale).powi(2);
         let mut merged = 0;
         let mut kept: Vec<Highlight> = Vec::with_capacity(next.len());
@@ -432,6 +439,8 @@ impl HighlightSet {
             merged,
             search_us,
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
+            region_us,
+            region_faces: self.grower.counts(),
         };
         self.highlights = kept;
         &self.highlights
