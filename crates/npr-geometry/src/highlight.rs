@@ -262,6 +262,8 @@ pub struct HighlightSearch {
     /// whose normals can leave the cone of the three vertex normals by second-order
     /// amounts.
     curvature_margin: Vec<f32>,
+    /// The same per face (the per-vertex value is the largest over the vertex's faces).
+    face_curvature_margin: Vec<f32>,
     /// Which normal field the solve uses.
     pub interpolation: NormalInterpolation,
     normal_source: NormalSource,
@@ -519,12 +521,15 @@ impl HighlightSearch {
             .collect();
         // Second-order departure of the blended normal from the vertex normals' cone:
         // about (|κ| · edge)² / 2 over a face, kept per vertex (largest over its faces) so
-        // that rough regions of a scan do not weaken the rejection elsewhere; capped.
+        // that rough regions of a scan do not weaken the rejection elsewhere; capped. The
+        // face test takes the face's own.
         let mut curvature_margin = vec![0f32; nv];
-        for t in topo
+        let mut face_curvature_margin = vec![0.25f32; topo.triangles.len()];
+        for (f, t) in topo
             .triangles
             .iter()
-            .filter(|t| t.iter().all(|&i| (i as usize) < nv))
+            .enumerate()
+            .filter(|(_, t)| t.iter().all(|&i| (i as usize) < nv))
         {
             let k = t
                 .iter()
@@ -541,6 +546,7 @@ impl HighlightSearch {
                 .fold(0f32, f32::max);
             let m = (0.5 * (k * e).powi(2)).min(0.25);
             if m.is_finite() {
+                face_curvature_margin[f] = m;
                 for &i in t {
                     curvature_margin[i as usize] = curvature_margin[i as usize].max(m);
                 }
@@ -567,6 +573,7 @@ impl HighlightSearch {
             merge_distance: 1e-2 * topo.mean_edge_length,
             shape,
             curvature_margin,
+            face_curvature_margin,
             interpolation: NormalInterpolation::default(),
             normal_source,
         }
@@ -608,52 +615,79 @@ impl HighlightSearch {
     /// [`HighlightSearch::find`] for this light, eye and transform, out of all of them:
     /// what the per-vertex tests still look at (for measurements and tests).
     pub fn candidate_vertices(&self, light_eye: LightEye, world_from_object: Mat4) -> usize {
-        let lin = Mat3::from_mat4(world_from_object);
-        let (_, cond) = svd_ratio(lin);
-        if cond < 1.0 + 1e-4 || matches!(light_eye, LightEye::Directions { .. }) {
-            let curved = self.interpolation == NormalInterpolation::Curvature;
-            self.active_vertices(light_eye, world_from_object, lin, curved)
-                .len()
-        } else {
-            self.positions.len()
+        match self.setup(light_eye, world_from_object) {
+            Some(frame) if frame.clusters_apply() => {
+                self.active_vertices(&frame, Budget::NONE).len()
+            }
+            _ => self.positions.len(),
         }
+    }
+
+    /// The per-frame values every test uses; `None` for a singular transform, an empty
+    /// mesh or a light and eye without a half vector.
+    fn setup(&self, light_eye: LightEye, world_from_object: Mat4) -> Option<FrameSetup> {
+        let lin = Mat3::from_mat4(world_from_object);
+        let normal_world_from_object = lin.inverse().transpose();
+        if !normal_world_from_object.is_finite() || self.positions.is_empty() {
+            return None;
+        }
+        let (sigma_max, cond) = svd_ratio(lin);
+        let kind = match light_eye {
+            LightEye::Directions { to_light, to_eye } => {
+                let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
+                // N_w ∥ H_w ⇔ N_o ∥ Lᵀ H_w (normals transform by the inverse transpose).
+                let h = (lin.transpose() * s.normalize_or_zero()).normalize_or_zero();
+                if h == Vec3::ZERO {
+                    return None;
+                }
+                FrameKind::Direction(h)
+            }
+            LightEye::Positions { light, eye } => {
+                let object_from_world = world_from_object.inverse();
+                FrameKind::Positions {
+                    light,
+                    eye,
+                    light_o: object_from_world.transform_point3(light),
+                    eye_o: object_from_world.transform_point3(eye),
+                }
+            }
+        };
+        Some(FrameSetup {
+            world_from_object,
+            lin,
+            normal_world_from_object,
+            sigma_max,
+            cond,
+            similarity: cond < SIMILARITY_COND,
+            curved: self.interpolation == NormalInterpolation::Curvature,
+            kind,
+        })
     }
 
     /// The vertices of the clusters that can hold a centre (the coarsest rejection): a
     /// cluster whose normals all lie more than the per-vertex test's largest allowance
     /// away from every half vector its faces can see is skipped whole. Conservative: a
     /// skipped vertex would have failed its own test (see [`HighlightSearch::find`]).
-    fn active_vertices(
-        &self,
-        light_eye: LightEye,
-        world_from_object: Mat4,
-        lin: Mat3,
-        curved: bool,
-    ) -> Vec<u32> {
+    /// With a motion `budget`, a skipped vertex also fails it after the light and eye
+    /// move by up to the budget (see [`SearchCoherence`]).
+    fn active_vertices(&self, frame: &FrameSetup, budget: Budget) -> Vec<u32> {
         let half_pi = std::f32::consts::FRAC_PI_2;
-        let lin_t = lin.transpose();
-        let object_from_world = world_from_object.inverse();
         let keep = |c: &Cluster| -> bool {
             if c.axis == Vec3::ZERO || !c.radius.is_finite() {
                 return true;
             }
-            let cmin = if curved { c.cmin_curved } else { c.cmin_linear };
-            // H at the centre, how far the per-vertex allowance b_v can grow (b), and how
-            // far H itself turns over the cluster (b_h).
-            let (hc, b, b_h) = match light_eye {
-                LightEye::Directions { to_light, to_eye } => {
-                    let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
-                    (
-                        (lin_t * s.normalize_or_zero()).normalize_or_zero(),
-                        0.0,
-                        0.0,
-                    )
-                }
-                LightEye::Positions { light, eye } => {
-                    let (l, e) = (
-                        object_from_world.transform_point3(light) - c.centre,
-                        object_from_world.transform_point3(eye) - c.centre,
-                    );
+            let cmin = if frame.curved {
+                c.cmin_curved
+            } else {
+                c.cmin_linear
+            };
+            // H at the centre, how far the per-vertex allowance b_v can grow (b), how far
+            // H itself turns over the cluster (b_h), and how far the budgeted motion can
+            // turn it (phi).
+            let (hc, b, b_h, phi) = match frame.kind {
+                FrameKind::Direction(h) => (h, 0.0, 0.0, budget.angle),
+                FrameKind::Positions { light_o, eye_o, .. } => {
+                    let (l, e) = (light_o - c.centre, eye_o - c.centre);
                     let (ll, le) = (l.length(), e.length());
                     let s = l / ll + e / le;
                     let sl = s.length();
@@ -674,20 +708,25 @@ impl HighlightSearch {
                         }
                     };
                     let t = turn(ll) + turn(le);
-                    if t >= half_pi {
+                    // The same after the light and eye move by their budgets.
+                    let t_moved = turn(ll - budget.light) + turn(le - budget.eye);
+                    if t_moved >= half_pi {
                         return true;
                     }
-                    let b = (t / (sl - 2.0 * t).max(1e-3)).min(4.0);
+                    let Some(tau) = budget.direction_turn(ll - r, le - r) else {
+                        return true;
+                    };
+                    if sl - t <= tau {
+                        return true;
+                    }
+                    let b = (t_moved / (sl - t - tau - t_moved).max(1e-3)).min(4.0);
                     let b_h = (t / (sl - t).max(1e-3)).min(std::f32::consts::PI);
-                    (s / sl, b, b_h)
+                    (s / sl, b, b_h, (tau / (sl - t)).min(1.0).asin())
                 }
             };
-            if hc == Vec3::ZERO {
-                return true;
-            }
             let allowance = (cmin - b).clamp(-1.0, 1.0).acos();
             let angle = c.axis.dot(hc).clamp(-1.0, 1.0).acos();
-            angle <= c.spread + b_h + allowance + ANGLE_MARGIN
+            angle <= c.spread + b_h + allowance + phi + ANGLE_MARGIN
         };
         let mut out = Vec::new();
         for c in &self.clusters {
@@ -698,61 +737,138 @@ impl HighlightSearch {
         out
     }
 
+    /// The slack the per-vertex tests add for the ε-acceptance, rounding and (for the
+    /// curvature-blended field) its departure from the vertex normals' cone.
+    fn margin(&self, frame: &FrameSetup, v: usize) -> f32 {
+        ANGLE_MARGIN
+            + if frame.curved {
+                self.curvature_margin.get(v).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            }
+    }
+
+    /// Which of `vertices` still pass their per-vertex test after the light and eye move
+    /// by up to `budget` (object space; similarity transforms or directions only): the
+    /// watch list of a [`SearchCoherence`] key frame. With `angle(N, H) ≤ acos(C_v)` the
+    /// test, the motion turns `H` by at most `φ_v = asin(τ/|S|)` (`τ` the turns of `L̂`
+    /// and `V̂`) and can raise the allowance to `C_v'` computed from the distances less the
+    /// budgets and `|S| − τ`; a vertex is watched when `angle(N, H) ≤ acos(C_v') + φ_v`.
+    fn watch_list(&self, frame: &FrameSetup, vertices: &[u32], budget: Budget) -> Vec<u32> {
+        let half_pi = std::f32::consts::FRAC_PI_2;
+        let watched = |v: usize| -> bool {
+            let n = self.normals[v];
+            // angle(N, H) ≤ acos(c) + φ (+ margin), without trigonometry: with
+            // cos φ and sin φ, compare cosines while the sum stays below π.
+            let within = |h: Vec3, c: f32, sin_phi: f32| {
+                let c = c.clamp(-1.0, 1.0);
+                let (cos_m, sin_m) = (WATCH_MARGIN.cos(), WATCH_MARGIN.sin());
+                let sin_phi = sin_phi.clamp(0.0, 1.0);
+                let cos_phi = (1.0 - sin_phi * sin_phi).sqrt();
+                // cos and sin of acos(c) + φ, then + margin.
+                let s_c = (1.0 - c * c).max(0.0).sqrt();
+                let (c1, s1) = (c * cos_phi - s_c * sin_phi, s_c * cos_phi + c * sin_phi);
+                let (c2, s2) = (c1 * cos_m - s1 * sin_m, s1 * cos_m + c1 * sin_m);
+                // The sum (at most 3π/2) passed π when its sine is negative.
+                let past_pi = s1 < 0.0 || s2 < 0.0;
+                past_pi || n.dot(h) >= c2
+            };
+            match frame.kind {
+                FrameKind::Direction(h) => {
+                    budget.angle >= half_pi
+                        || within(
+                            h,
+                            self.cos_spread[v] - self.margin(frame, v),
+                            budget.angle.sin(),
+                        )
+                }
+                FrameKind::Positions { light_o, eye_o, .. } => {
+                    let p = self.positions[v];
+                    let (l, e) = (light_o - p, eye_o - p);
+                    let (ll, le) = (l.length(), e.length());
+                    let s = l / ll + e / le;
+                    let sl = s.length();
+                    let Some(tau) = budget.direction_turn(ll, le) else {
+                        return true;
+                    };
+                    if !(sl > tau + 1e-6) || !s.is_finite() {
+                        return true;
+                    }
+                    let r = self.reach[v];
+                    let turn = |d: f32| {
+                        if d > 3.0 * r {
+                            let x = r / (d - r);
+                            x * (1.0 + x * x)
+                        } else {
+                            half_pi
+                        }
+                    };
+                    let t = turn(ll - budget.light) + turn(le - budget.eye);
+                    let b = (t / (sl - tau - t).max(1e-3) * SIMILARITY_COND).min(4.0);
+                    within(
+                        s / sl,
+                        self.cos_spread[v] - b - self.margin(frame, v),
+                        tau / sl,
+                    )
+                }
+            }
+        };
+        vertices
+            .iter()
+            .copied()
+            .filter(|&v| watched(v as usize))
+            .collect()
+    }
+
     fn find_with(
         &self,
         light_eye: LightEye,
         world_from_object: Mat4,
         reject: bool,
     ) -> Vec<HighlightCentre> {
-        let nv = self.positions.len();
-        let lin = Mat3::from_mat4(world_from_object);
-        let normal_world_from_object = lin.inverse().transpose();
-        if !normal_world_from_object.is_finite() || nv == 0 {
+        let Some(frame) = self.setup(light_eye, world_from_object) else {
             return Vec::new();
-        }
-        let curved = self.interpolation == NormalInterpolation::Curvature;
-        let margin = |v: usize| {
-            ANGLE_MARGIN
-                + if curved {
-                    self.curvature_margin.get(v).copied().unwrap_or(0.0)
-                } else {
-                    0.0
-                }
         };
-        let (sigma_max, cond) = svd_ratio(lin);
-        let similarity = cond < 1.0 + 1e-4;
-        let mut h_obj = vec![Vec3::ZERO; nv];
-        let mut pass = vec![false; nv];
         // The vertices the per-vertex tests look at: those of the clusters whose normal
         // cone can hold H (all of them without the rejection or for non-similar maps).
-        let active: Vec<u32> =
-            if reject && (similarity || matches!(light_eye, LightEye::Directions { .. })) {
-                self.active_vertices(light_eye, world_from_object, lin, curved)
-            } else {
-                (0..nv as u32).collect()
-            };
-        match light_eye {
-            LightEye::Directions { to_light, to_eye } => {
-                let s = to_light.normalize_or_zero() + to_eye.normalize_or_zero();
-                // N_w ∥ H_w ⇔ N_o ∥ Lᵀ H_w (normals transform by the inverse transpose).
-                let h = (lin.transpose() * s.normalize_or_zero()).normalize_or_zero();
-                if h == Vec3::ZERO {
-                    return Vec::new();
-                }
-                for &v in &active {
+        let active: Vec<u32> = if reject && frame.clusters_apply() {
+            self.active_vertices(&frame, Budget::NONE)
+        } else {
+            (0..self.positions.len() as u32).collect()
+        };
+        let mut scratch = VertexScratch::default();
+        self.search_vertices(&frame, &active, reject, &mut scratch)
+    }
+
+    /// The per-vertex tests on `vertices`, then the per-face tests and solves on the
+    /// faces whose three vertices pass (all faces around `vertices` without `reject`).
+    fn search_vertices(
+        &self,
+        frame: &FrameSetup,
+        vertices: &[u32],
+        reject: bool,
+        scratch: &mut VertexScratch,
+    ) -> Vec<HighlightCentre> {
+        let nv = self.positions.len();
+        scratch.prepare(nv);
+        let VertexScratch { h: h_obj, pass } = scratch;
+        match frame.kind {
+            FrameKind::Direction(h) => {
+                for &v in vertices {
                     let v = v as usize;
                     h_obj[v] = h;
-                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - margin(v);
+                    pass[v] = self.normals[v].dot(h) >= self.cos_spread[v] - self.margin(frame, v);
                 }
             }
-            LightEye::Positions { light, eye } => {
-                let object_from_world = world_from_object.inverse();
-                let (light_o, eye_o) = (
-                    object_from_world.transform_point3(light),
-                    object_from_world.transform_point3(eye),
-                );
-                let lin_t = lin.transpose();
+            FrameKind::Positions {
+                light,
+                eye,
+                light_o,
+                eye_o,
+            } => {
+                let lin_t = frame.lin.transpose();
                 let half_pi = std::f32::consts::FRAC_PI_2;
+                let similarity = frame.similarity;
                 let per_vertex = |v: usize| -> (Vec3, bool) {
                     let p = self.positions[v];
                     // Directions to light and eye: in object space for similarity
@@ -760,7 +876,7 @@ impl HighlightSearch {
                     let (l, e) = if similarity {
                         (light_o - p, eye_o - p)
                     } else {
-                        let pw = world_from_object.transform_point3(p);
+                        let pw = frame.world_from_object.transform_point3(p);
                         (light - pw, eye - pw)
                     };
                     let (ll, le) = (l.length(), e.length());
@@ -780,7 +896,7 @@ impl HighlightSearch {
                     let r = if similarity {
                         self.reach[v]
                     } else {
-                        self.reach[v] * sigma_max
+                        self.reach[v] * frame.sigma_max
                     };
                     let turn = |d: f32| {
                         if d > 3.0 * r {
@@ -792,37 +908,43 @@ impl HighlightSearch {
                     };
                     let (tl, te) = (turn(ll), turn(le));
                     // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
-                    let b = ((tl + te) / (sl - tl - te).max(1e-3) * cond).min(4.0);
+                    let b = ((tl + te) / (sl - tl - te).max(1e-3) * frame.cond).min(4.0);
                     (
                         h,
-                        self.normals[v].dot(h) >= self.cos_spread[v] - b - margin(v),
+                        self.normals[v].dot(h) >= self.cos_spread[v] - b - self.margin(frame, v),
                     )
                 };
-                if active.len() >= 8192 {
-                    let results: Vec<(Vec3, bool)> = active
+                if vertices.len() >= 8192 {
+                    let results: Vec<(Vec3, bool)> = vertices
                         .par_iter()
                         .with_min_len(2048)
                         .map(|&v| per_vertex(v as usize))
                         .collect();
-                    for (&v, (h, ok)) in active.iter().zip(results) {
+                    for (&v, (h, ok)) in vertices.iter().zip(results) {
                         (h_obj[v as usize], pass[v as usize]) = (h, ok);
                     }
                 } else {
-                    for &v in &active {
+                    for &v in vertices {
                         (h_obj[v as usize], pass[v as usize]) = per_vertex(v as usize);
                     }
                 }
             }
         }
 
-        let mut found: Vec<(HighlightCentre, f32)> = Vec::new();
         if !reject {
-            pass.fill(true);
+            for &v in vertices {
+                pass[v as usize] = true;
+            }
         }
-        let mut candidates: Vec<u32> = active.into_iter().filter(|&v| pass[v as usize]).collect();
+        let mut found: Vec<(HighlightCentre, f32)> = Vec::new();
+        let mut candidates: Vec<u32> = vertices
+            .iter()
+            .copied()
+            .filter(|&v| pass[v as usize])
+            .collect();
         // Faces are solved once, at their smallest vertex index, in index order.
         candidates.sort_unstable();
-        for v in candidates {
+        for &v in &candidates {
             let v = v as usize;
             let (s, e) = (self.vf_offsets[v] as usize, self.vf_offsets[v + 1] as usize);
             for &f in &self.vf[s..e] {
@@ -834,7 +956,15 @@ impl HighlightSearch {
                 }
                 let n = t.map(|i| self.normals[i as usize]);
                 let h = t.map(|i| h_obj[i as usize]);
-                let face_margin = t.iter().map(|&i| margin(i as usize)).fold(0f32, f32::max);
+                let face_margin = ANGLE_MARGIN
+                    + if frame.curved {
+                        self.face_curvature_margin
+                            .get(f as usize)
+                            .copied()
+                            .unwrap_or(0.25)
+                    } else {
+                        0.0
+                    };
                 if reject && !in_cone(n, h, face_margin) {
                     continue;
                 }
@@ -856,8 +986,8 @@ impl HighlightSearch {
                     t,
                     a as f32,
                     b as f32,
-                    world_from_object,
-                    normal_world_from_object,
+                    frame.world_from_object,
+                    frame.normal_world_from_object,
                 ) else {
                     continue;
                 };
@@ -865,7 +995,87 @@ impl HighlightSearch {
                 self.merge(&mut found, c, inner);
             }
         }
+        // Leave the buffers clean for the next call.
+        for &v in vertices {
+            pass[v as usize] = false;
+        }
         found.into_iter().map(|(c, _)| c).collect()
+    }
+
+    /// [`HighlightSearch::find`] with frame coherence (issue 13): the same centres, at
+    /// the same positions, as `find` for every input, found cheaper when the light, eye
+    /// and object move a little from frame to frame. See [`SearchCoherence`].
+    pub fn find_coherent(
+        &self,
+        state: &mut SearchCoherence,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+    ) -> Vec<HighlightCentre> {
+        let input = (light_eye, world_from_object, self.interpolation);
+        if state.last_input == Some(input) && state.mesh == self.identity() {
+            state.stats = CoherenceStats {
+                reused: true,
+                ..CoherenceStats::default()
+            };
+            return state.last_centres.clone();
+        }
+        let Some(frame) = self.setup(light_eye, world_from_object) else {
+            state.forget();
+            return Vec::new();
+        };
+        let pose = Pose::of(&frame);
+        let (previous, kept) = (state.pose.take(), state.key.take());
+        let mut full = false;
+        let key = match kept {
+            Some(k) if state.mesh == self.identity() && k.covers(&pose, self.interpolation) => k,
+            _ => {
+                full = true;
+                let budget = pose.budget(previous.as_ref(), state.frames_ahead, self.extent());
+                let watch = match budget {
+                    Some(b) if frame.clusters_apply() => {
+                        let active = self.active_vertices(&frame, b);
+                        self.watch_list(&frame, &active, b)
+                    }
+                    _ => (0..self.positions.len() as u32).collect(),
+                };
+                KeyFrame {
+                    pose,
+                    budget: budget.unwrap_or(Budget::NONE),
+                    interpolation: self.interpolation,
+                    watch,
+                    valid: budget.is_some() && frame.clusters_apply(),
+                }
+            }
+        };
+        state.mesh = self.identity();
+        let centres = self.search_vertices(&frame, &key.watch, true, &mut state.scratch);
+        state.stats = CoherenceStats {
+            full,
+            reused: false,
+            tested: key.watch.len(),
+        };
+        state.key = Some(key);
+        state.pose = Some(pose);
+        state.last_input = Some(input);
+        state.last_centres.clone_from(&centres);
+        centres
+    }
+
+    /// What [`SearchCoherence`] keys on to tell one mesh from another.
+    fn identity(&self) -> (usize, usize, usize) {
+        (
+            self.positions.len(),
+            self.triangles.len(),
+            self.positions.as_ptr() as usize,
+        )
+    }
+
+    /// Radius of the vertices' bounding box, object units (the floor of motion budgets).
+    fn extent(&self) -> f32 {
+        self.clusters
+            .iter()
+            .filter(|c| c.radius.is_finite())
+            .fold(0f32, |m, c| m.max(c.centre.abs().max_element() + c.radius))
     }
 
     fn merge(&self, found: &mut Vec<(HighlightCentre, f32)>, c: HighlightCentre, inner: f32) {
@@ -954,6 +1164,253 @@ fn in_cone(n: [Vec3; 3], h: [Vec3; 3], margin: f32) -> bool {
         let c = n[k].cross(n[(k + 1) % 3]);
         sign * c.dot(hb) >= -c.length() * slack
     })
+}
+
+/// Largest condition number of a transform treated as a similarity (angles preserved).
+const SIMILARITY_COND: f32 = 1.0 + 1e-4;
+
+/// Float slack of the watch-list tests (radians).
+const WATCH_MARGIN: f32 = 1e-3;
+
+/// The per-frame values of one search.
+#[derive(Clone, Copy, Debug)]
+struct FrameSetup {
+    world_from_object: Mat4,
+    lin: Mat3,
+    normal_world_from_object: Mat3,
+    sigma_max: f32,
+    cond: f32,
+    similarity: bool,
+    curved: bool,
+    kind: FrameKind,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum FrameKind {
+    /// Directional light and eye: the one half vector, object space.
+    Direction(Vec3),
+    /// Point light and eye, world and object space.
+    Positions {
+        light: Vec3,
+        eye: Vec3,
+        light_o: Vec3,
+        eye_o: Vec3,
+    },
+}
+
+impl FrameSetup {
+    /// Whether the cluster rejection (and coherence) applies: directions under any map,
+    /// positions under similarity transforms (where object-space angles are the world's).
+    fn clusters_apply(&self) -> bool {
+        self.similarity || matches!(self.kind, FrameKind::Direction(_))
+    }
+}
+
+/// How far the light and eye may move (object space) while a watch list stays valid:
+/// `angle` for the half vector of directions, `light` and `eye` distances for positions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Budget {
+    angle: f32,
+    light: f32,
+    eye: f32,
+}
+
+impl Budget {
+    const NONE: Self = Self {
+        angle: 0.0,
+        light: 0.0,
+        eye: 0.0,
+    };
+
+    /// Bound on the turn of `L̂` plus that of `V̂` at points at least `dl` from the light
+    /// and `de` from the eye when they move by the budget (`asin(a/d) ≤ a/(d − a)`);
+    /// `None` when either could pass that close.
+    fn direction_turn(&self, dl: f32, de: f32) -> Option<f32> {
+        let one = |budget: f32, d: f32| {
+            if budget <= 0.0 {
+                Some(0.0)
+            } else if d > 2.0 * budget {
+                Some(budget / (d - budget))
+            } else {
+                None
+            }
+        };
+        Some(one(self.light, dl)? + one(self.eye, de)?)
+    }
+}
+
+/// Light and eye of one frame as the search sees them (object space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Pose {
+    Direction(Vec3),
+    Positions {
+        light: Vec3,
+        eye: Vec3,
+    },
+    /// Positions under a non-similar map: no coherence.
+    Other,
+}
+
+impl Pose {
+    fn of(frame: &FrameSetup) -> Self {
+        match frame.kind {
+            FrameKind::Direction(h) => Pose::Direction(h),
+            FrameKind::Positions { light_o, eye_o, .. } if frame.similarity => Pose::Positions {
+                light: light_o,
+                eye: eye_o,
+            },
+            FrameKind::Positions { .. } => Pose::Other,
+        }
+    }
+
+    /// The budget of a new key frame: `frames_ahead` times the step from the previous
+    /// pose (at least a small floor, so that a still scene keeps its key), `None` where
+    /// no watch list can be kept.
+    fn budget(&self, previous: Option<&Pose>, frames_ahead: f32, extent: f32) -> Option<Budget> {
+        let k = if frames_ahead.is_finite() {
+            frames_ahead.max(0.0)
+        } else {
+            0.0
+        };
+        match (self, previous) {
+            (Pose::Other, _) => None,
+            (Pose::Direction(h), previous) => {
+                let step = match previous {
+                    Some(Pose::Direction(p)) => h.angle_between(*p),
+                    _ => 0.0,
+                };
+                let angle = (k * step).max(1e-4);
+                angle.is_finite().then_some(Budget {
+                    angle,
+                    ..Budget::NONE
+                })
+            }
+            (Pose::Positions { light, eye }, previous) => {
+                let (sl, se) = match previous {
+                    Some(Pose::Positions { light: pl, eye: pe }) => {
+                        (light.distance(*pl), eye.distance(*pe))
+                    }
+                    _ => (0.0, 0.0),
+                };
+                let floor = 1e-4 * extent.max(f32::MIN_POSITIVE);
+                let b = Budget {
+                    angle: 0.0,
+                    light: (k * sl).max(floor),
+                    eye: (k * se).max(floor),
+                };
+                (b.light.is_finite() && b.eye.is_finite()).then_some(b)
+            }
+        }
+    }
+}
+
+/// A key frame of [`SearchCoherence`]: where the light and eye were, how far they may
+/// move, and the vertices that can pass their test meanwhile.
+#[derive(Clone, Debug)]
+struct KeyFrame {
+    pose: Pose,
+    budget: Budget,
+    interpolation: NormalInterpolation,
+    watch: Vec<u32>,
+    valid: bool,
+}
+
+impl KeyFrame {
+    /// Whether the watch list still holds every vertex that can pass at `pose`.
+    fn covers(&self, pose: &Pose, interpolation: NormalInterpolation) -> bool {
+        if !self.valid || interpolation != self.interpolation {
+            return false;
+        }
+        match (self.pose, pose) {
+            (Pose::Direction(k), Pose::Direction(h)) => h.angle_between(k) <= self.budget.angle,
+            (Pose::Positions { light: kl, eye: ke }, Pose::Positions { light, eye }) => {
+                light.distance(kl) <= self.budget.light && eye.distance(ke) <= self.budget.eye
+            }
+            _ => false,
+        }
+    }
+}
+
+/// Per-vertex buffers of one search, reused across frames by [`SearchCoherence`]:
+/// `H` in object space and whether the vertex passes (false outside a search).
+#[derive(Clone, Debug, Default)]
+struct VertexScratch {
+    h: Vec<Vec3>,
+    pass: Vec<bool>,
+}
+
+impl VertexScratch {
+    fn prepare(&mut self, nv: usize) {
+        if self.pass.len() != nv {
+            self.h = vec![Vec3::ZERO; nv];
+            self.pass = vec![false; nv];
+        }
+    }
+}
+
+/// What the last [`HighlightSearch::find_coherent`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CoherenceStats {
+    /// It built a new key frame (a full search: the cluster rejection over the mesh).
+    pub full: bool,
+    /// The input was the last call's: its centres were returned as they were.
+    pub reused: bool,
+    /// Vertices tested one by one.
+    pub tested: usize,
+}
+
+/// Frame-to-frame state of [`HighlightSearch::find_coherent`] (beyond the paper; issue
+/// 13). A key frame runs the cluster rejection with a motion budget (how far the light
+/// and eye may move in object space: [`SearchCoherence::frames_ahead`] times the last
+/// step) and keeps a watch list: every vertex that can pass its per-vertex test while the
+/// light and eye stay within that budget (the bounds are in the private `watch_list`
+/// and `active_vertices`). Later frames within the budget test only the watch list, and
+/// since every other vertex provably fails its test, they solve exactly the faces the
+/// full search solves: the same centres at the same positions. Beyond the budget, a
+/// change of normal field or a non-similar map with point light and eye, the search
+/// is full again. An unchanged input returns the last centres.
+#[derive(Clone, Debug)]
+pub struct SearchCoherence {
+    /// How many frames of the last step's motion a key frame's budget covers (default
+    /// 3): larger budgets rebuild less often but watch more vertices.
+    pub frames_ahead: f32,
+    key: Option<KeyFrame>,
+    pose: Option<Pose>,
+    mesh: (usize, usize, usize),
+    last_input: Option<(LightEye, Mat4, NormalInterpolation)>,
+    last_centres: Vec<HighlightCentre>,
+    scratch: VertexScratch,
+    stats: CoherenceStats,
+}
+
+impl Default for SearchCoherence {
+    fn default() -> Self {
+        Self {
+            frames_ahead: 3.0,
+            key: None,
+            pose: None,
+            mesh: (0, 0, 0),
+            last_input: None,
+            last_centres: Vec::new(),
+            scratch: VertexScratch::default(),
+            stats: CoherenceStats::default(),
+        }
+    }
+}
+
+impl SearchCoherence {
+    /// What the last search did.
+    pub fn stats(&self) -> CoherenceStats {
+        self.stats
+    }
+
+    /// Forgets the key frame and the last input (the next search is full).
+    pub fn forget(&mut self) {
+        self.key = None;
+        self.pose = None;
+        self.last_input = None;
+        self.last_centres.clear();
+    }
 }
 
 /// (largest singular value, condition number) of a 3×3 matrix.

@@ -54,8 +54,8 @@ pub mod weld;
 pub use curvature::{CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius};
 pub use error::GeometryError;
 pub use highlight::{
-    HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
-    try_solve_barycentric, try_solve_barycentric_eq6, welded_mesh_normals,
+    CoherenceStats, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
+    SearchCoherence, try_solve_barycentric, try_solve_barycentric_eq6, welded_mesh_normals,
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};

@@ -344,3 +344,141 @@ fn cluster_rejection_keeps_every_centre_on_real_meshes_and_skips_most_vertices()
         );
     }
 }
+
+/// A sequence of inputs for the coherence test: turning object, still frames, jitter, a
+/// jump of the light, directions, a non-similar map and a change of normal field.
+fn coherence_sequence(c: Vec3, r: f32) -> Vec<(LightEye, Mat4, NormalInterpolation)> {
+    let placed = |deg: f32| {
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(1.7),
+            Quat::from_rotation_y(deg.to_radians()),
+            Vec3::new(0.3, -0.2, 0.1),
+        )
+    };
+    let w = |m: Mat4, p: Vec3| m.transform_point3(p);
+    let base = placed(0.0);
+    let light = w(base, c + Vec3::new(30.0 * r, 40.0 * r, 50.0 * r));
+    let eye = w(base, c + Vec3::new(0.0, 0.3 * r, 3.0 * r));
+    let pos = |light, eye| LightEye::Positions { light, eye };
+    let curved = NormalInterpolation::Curvature;
+    let mut seq = Vec::new();
+    // The specular bench's sequence: the object turns 3° per frame.
+    for k in 0..40 {
+        seq.push((pos(light, eye), placed(3.0 * k as f32), curved));
+    }
+    // Still frames, then a slow drift of the eye, then the light jumps.
+    let still = placed(120.0);
+    for _ in 0..3 {
+        seq.push((pos(light, eye), still, curved));
+    }
+    for k in 0..12 {
+        let e = eye + Vec3::new(0.002 * r * k as f32, 0.0, 0.0);
+        seq.push((pos(light, e), still, curved));
+    }
+    let jumped = w(base, c + Vec3::new(-30.0 * r, 10.0 * r, 20.0 * r));
+    for k in 0..6 {
+        seq.push((pos(jumped, eye), placed(120.0 + k as f32), curved));
+    }
+    // Directional light and eye, the light circling.
+    for k in 0..20 {
+        let a = 0.04 * k as f32;
+        let le = LightEye::Directions {
+            to_light: Vec3::new(a.cos(), 0.6, a.sin()),
+            to_eye: Vec3::new(0.1, 0.2, 1.0),
+        };
+        seq.push((le, placed(30.0), curved));
+    }
+    // A non-similar map with point light and eye (no coherence), then back.
+    let squashed = placed(40.0) * Mat4::from_scale(Vec3::new(1.0, 0.6, 1.0));
+    for k in 0..4 {
+        seq.push((
+            pos(light, eye),
+            squashed * Mat4::from_rotation_y(0.05 * k as f32),
+            curved,
+        ));
+    }
+    // The paper's linear field, turning again.
+    for k in 0..10 {
+        seq.push((
+            pos(light, eye),
+            placed(40.0 + 2.0 * k as f32),
+            NormalInterpolation::Linear,
+        ));
+    }
+    seq
+}
+
+#[test]
+fn coherent_search_finds_what_the_full_search_finds_frame_by_frame() {
+    // Issue 13: the frame-coherent search (watch lists kept while the light and eye move
+    // within a budget) must return exactly `find`'s centres — the same faces solved in the
+    // same order — on every frame, and those must be the exhaustive search's.
+    for file in ["stanford-bunny.obj", "spot.obj"] {
+        let path = format!(
+            "{}/../../fixtures/meshes/{file}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let mesh = npr_geometry::load_obj(&path).unwrap();
+        let welded = weld(&mesh);
+        let topo = Topology::new(&welded);
+        let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+        let mut s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
+        let (lo, hi) = topo.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let mut state = npr_geometry::SearchCoherence::default();
+        let (mut watched, mut reused, mut full, mut tested) = (0, 0, 0, 0usize);
+        let mut centres = 0;
+        for (k, (le, world, interp)) in coherence_sequence(c, r).into_iter().enumerate() {
+            s.interpolation = interp;
+            let coherent = s.find_coherent(&mut state, le, world);
+            let reference = s.find(le, world);
+            assert_eq!(coherent, reference, "{file} frame {k}");
+            let st = state.stats();
+            match (st.full, st.reused) {
+                (true, _) => full += 1,
+                (_, true) => reused += 1,
+                _ => {
+                    watched += 1;
+                    tested += st.tested;
+                }
+            }
+            centres += coherent.len();
+            if k % 9 == 0 {
+                let all = s.find_exhaustive(le, world);
+                let tol = 1e-4 * r;
+                for p in all.iter().map(|c| c.position_object) {
+                    assert!(
+                        coherent
+                            .iter()
+                            .any(|q| q.position_object.distance(p) <= tol),
+                        "{file} frame {k}: lost {p}"
+                    );
+                }
+                assert_eq!(all.len(), coherent.len(), "{file} frame {k}");
+            }
+        }
+        println!(
+            "{file}: {full} full, {watched} watch-list, {reused} reused frames; \
+             {tested} vertices tested on watch-list frames ({} per frame of {}); {centres} centres",
+            tested / watched.max(1),
+            topo.vertex_count()
+        );
+        // The sequence exercises every path, and the watch lists are small.
+        assert!(centres > 0);
+        assert!(reused >= 2, "{file}: still frames reuse the last result");
+        assert!(
+            full >= 5,
+            "{file}: jumps, the non-similar map and the field change"
+        );
+        assert!(watched >= 40, "{file}: {watched} watch-list frames");
+        assert!(
+            tested / watched.max(1) < topo.vertex_count() / 4,
+            "{file}: watch lists average {} of {} vertices",
+            tested / watched.max(1),
+            topo.vertex_count()
+        );
+    }
+}

@@ -23,7 +23,8 @@ use crate::visibility::{VisibilityScratch, receivers_within};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
 use npr_geometry::{
-    CurvatureField, CurvatureOptions, HighlightCentre, HighlightSearch, LightEye, Mesh, Topology,
+    CoherenceStats, CurvatureField, CurvatureOptions, HighlightCentre, HighlightSearch, LightEye,
+    Mesh, SearchCoherence, Topology,
 };
 use std::collections::HashMap;
 use std::ops::Range;
@@ -63,6 +64,8 @@ pub struct UpdateStats {
     pub merged: usize,
     /// Wall time of the N = H search, microseconds.
     pub search_us: f64,
+    /// What the frame-coherent search did ([`npr_geometry::SearchCoherence`]).
+    pub search: CoherenceStats,
     /// Wall time of the §4.2 visibility searches, microseconds.
     pub visibility_us: f64,
     /// Wall time of the region growth and fit ([`HighlightSizing::Region`]),
@@ -92,6 +95,7 @@ pub enum HighlightSizing {
 pub struct HighlightSet {
     topology: Topology,
     search: HighlightSearch,
+    coherence: SearchCoherence,
     radius_object: f32,
     /// Controls applied to every highlight (composed with per-highlight controls).
     pub global: ProjectorControls,
@@ -166,6 +170,7 @@ impl HighlightSet {
             size_cap_radius: None,
             topology,
             search,
+            coherence: SearchCoherence::default(),
             global: ProjectorControls::default(),
             per_highlight: HashMap::new(),
             fade_frames: 6,
@@ -243,7 +248,8 @@ impl HighlightSet {
         };
         let search_start = std::time::Instant::now();
         let centres = if valid_input && world_from_object.is_finite() {
-            self.search.find(light_eye, world_from_object)
+            self.search
+                .find_coherent(&mut self.coherence, light_eye, world_from_object)
         } else {
             Vec::new()
         };
@@ -438,6 +444,7 @@ impl HighlightSet {
             receiver_faces: self.receiver_faces.len(),
             merged,
             search_us,
+            search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,
             region_faces: self.grower.counts(),
