@@ -532,26 +532,42 @@ fn next_stamp(s: &mut Scratch, nf: usize, ne: usize) -> u32 {
 
 /// The corrected form's hot loop: `Σ w_f T_f` and `Σ w_f A_f` over the faces whose
 /// centroid lies in the ball, grown from the vertex's faces over face adjacency.
+///
+/// The depth-first stack is a preallocated slice indexed by hand (a face is pushed at
+/// most once per vertex, so it never outgrows the face count): no growth check or
+/// reallocation call in the loop, so the accumulators and pointers stay in registers.
 fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratch) -> Frame {
     let stamp = next_stamp(s, p.sphere.len(), 0);
+    let own = topo.vertex_faces(v);
+    let Scratch {
+        face_mark, stack, ..
+    } = s;
+    let need = face_mark.len() + own.len();
+    if stack.len() < need {
+        stack.resize(need, 0);
+    }
+    let (face_mark, stack) = (face_mark.as_mut_slice(), stack.as_mut_slice());
     let pv = topo.positions[v];
     let r2 = r * r;
     let inv_r2 = 1.0 / r2;
     // Two SIMD accumulators: (xx, xy, xz, yy) and (yz, zz, area, 0).
     let (mut acc0, mut acc1) = (glam::Vec4::ZERO, glam::Vec4::ZERO);
-    s.stack.clear();
-    for &f in topo.vertex_faces(v) {
-        s.face_mark[f as usize] = stamp;
-        s.stack.push(f);
+    let mut top = 0;
+    for &f in own {
+        face_mark[f as usize] = stamp;
+        stack[top] = f;
+        top += 1;
     }
-    while let Some(f) = s.stack.pop() {
-        let [cx, cy, cz, rad] = p.sphere[f as usize];
+    while top > 0 {
+        top -= 1;
+        let f = stack[top] as usize;
+        let [cx, cy, cz, rad] = p.sphere[f];
         let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
         let d2 = dx * dx + dy * dy + dz * dz;
         if d2 < r2 {
             let q = 1.0 - d2 * inv_r2;
             let w = q * q;
-            let [t0, t1] = p.weight[f as usize];
+            let [t0, t1] = p.weight[f];
             acc0 += w * t0;
             acc1 += w * t1;
         } else {
@@ -563,11 +579,12 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
                 continue;
             }
         }
-        for &g in topo.face_neighbours(f as usize) {
-            let m = &mut s.face_mark[g as usize];
+        for &g in topo.face_neighbours(f) {
+            let m = &mut face_mark[g as usize];
             if *m != stamp {
                 *m = stamp;
-                s.stack.push(g);
+                stack[top] = g;
+                top += 1;
             }
         }
     }
