@@ -143,37 +143,50 @@ struct FaceData {
     t: [f32; 6],
 }
 
-/// Corrected-form face data split for the hot loop: bounding spheres (centroid, radius)
-/// scanned for every visited face, weights (`T_f` xx, xy, xz, yy, yz, zz, area, 0) read
-/// only for faces inside the ball.
+/// One face of the corrected form's hot loop, in one 64-byte cache line: bounding
+/// sphere (centroid, radius), the weights `T_f` (xx, xy, xz, yy | yz, zz) and area
+/// `A_f`, and the face's neighbours across its edges, in [`Topology::face_neighbours`]
+/// order. A face with fewer than three neighbours (a boundary) pads with itself, which
+/// the walk has always marked already; `many` is set where it has more than three
+/// (a non-manifold edge), and the walk then reads [`Topology::face_neighbours`].
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct FaceRec {
+    sphere: [f32; 4],
+    t0: glam::Vec4,
+    t1: glam::Vec4,
+    adj: [u32; 3],
+    many: u32,
+}
+
+/// The corrected form's per-face records ([`FaceRec`]), indexed by face.
 struct Packed {
-    sphere: Vec<[f32; 4]>,
-    weight: Vec<[glam::Vec4; 2]>,
+    faces: Vec<FaceRec>,
 }
 
 impl Packed {
     fn build(topo: &Topology) -> Self {
-        topo.triangles
+        let faces = topo
+            .triangles
             .par_iter()
             .enumerate()
             .map(|(f, t)| {
                 let d = face_record(topo, f, t, CurvatureMethod::Corrected);
-                (
-                    [d.c[0], d.c[1], d.c[2], d.rad],
-                    [
-                        glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
-                        glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
-                    ],
-                )
+                let nb = topo.face_neighbours(f);
+                let mut adj = [f as u32; 3];
+                for (a, &g) in adj.iter_mut().zip(nb) {
+                    *a = g;
+                }
+                FaceRec {
+                    sphere: [d.c[0], d.c[1], d.c[2], d.rad],
+                    t0: glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
+                    t1: glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
+                    adj,
+                    many: u32::from(nb.len() > 3),
+                }
             })
-            .unzip()
-            .into()
-    }
-}
-
-impl From<(Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)> for Packed {
-    fn from((sphere, weight): (Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)) -> Self {
-        Self { sphere, weight }
+            .collect();
+        Self { faces }
     }
 }
 
@@ -537,7 +550,7 @@ fn next_stamp(s: &mut Scratch, nf: usize, ne: usize) -> u32 {
 /// most once per vertex, so it never outgrows the face count): no growth check or
 /// reallocation call in the loop, so the accumulators and pointers stay in registers.
 fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratch) -> Frame {
-    let stamp = next_stamp(s, p.sphere.len(), 0);
+    let stamp = next_stamp(s, p.faces.len(), 0);
     let own = topo.vertex_faces(v);
     let Scratch {
         face_mark, stack, ..
@@ -561,15 +574,15 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
     while top > 0 {
         top -= 1;
         let f = stack[top] as usize;
-        let [cx, cy, cz, rad] = p.sphere[f];
+        let rec = &p.faces[f];
+        let [cx, cy, cz, rad] = rec.sphere;
         let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
         let d2 = dx * dx + dy * dy + dz * dz;
         if d2 < r2 {
             let q = 1.0 - d2 * inv_r2;
             let w = q * q;
-            let [t0, t1] = p.weight[f];
-            acc0 += w * t0;
-            acc1 += w * t1;
+            acc0 += w * rec.t0;
+            acc1 += w * rec.t1;
         } else {
             // Outside: pass the ball on only if the face is large against the ball and
             // its bounding sphere reaches in (small faces outside have no inside
@@ -579,7 +592,12 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
                 continue;
             }
         }
-        for &g in topo.face_neighbours(f) {
+        let nb = if rec.many == 0 {
+            &rec.adj[..]
+        } else {
+            topo.face_neighbours(f)
+        };
+        for &g in nb {
             let m = &mut face_mark[g as usize];
             if *m != stamp {
                 *m = stamp;
@@ -938,8 +956,9 @@ mod tests {
     }
 
     /// The optimised corrected form against [`corrected_reference`] on irregular meshes:
-    /// a jittered, noisy torus with a hole cut out and a few large faces (the "large
-    /// against the ball" path), and the scanned bunny (holes, uneven triangles).
+    /// a jittered, noisy torus with a hole cut out, a few large faces (the "large
+    /// against the ball" path), a fin and a duplicate face (non-manifold edges), and the
+    /// scanned bunny (holes, uneven triangles).
     #[test]
     fn corrected_matches_plain_reference() {
         use crate::generate;
