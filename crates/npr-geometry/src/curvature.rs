@@ -143,37 +143,50 @@ struct FaceData {
     t: [f32; 6],
 }
 
-/// Corrected-form face data split for the hot loop: bounding spheres (centroid, radius)
-/// scanned for every visited face, weights (`T_f` xx, xy, xz, yy, yz, zz, area, 0) read
-/// only for faces inside the ball.
+/// One face of the corrected form's hot loop, in one 64-byte cache line: bounding
+/// sphere (centroid, radius), the weights `T_f` (xx, xy, xz, yy | yz, zz) and area
+/// `A_f`, and the face's neighbours across its edges, in [`Topology::face_neighbours`]
+/// order. A face with fewer than three neighbours (a boundary) pads with itself, which
+/// the walk has always marked already; `many` is set where it has more than three
+/// (a non-manifold edge), and the walk then reads [`Topology::face_neighbours`].
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct FaceRec {
+    sphere: [f32; 4],
+    t0: glam::Vec4,
+    t1: glam::Vec4,
+    adj: [u32; 3],
+    many: u32,
+}
+
+/// The corrected form's per-face records ([`FaceRec`]), indexed by face.
 struct Packed {
-    sphere: Vec<[f32; 4]>,
-    weight: Vec<[glam::Vec4; 2]>,
+    faces: Vec<FaceRec>,
 }
 
 impl Packed {
     fn build(topo: &Topology) -> Self {
-        topo.triangles
+        let faces = topo
+            .triangles
             .par_iter()
             .enumerate()
             .map(|(f, t)| {
                 let d = face_record(topo, f, t, CurvatureMethod::Corrected);
-                (
-                    [d.c[0], d.c[1], d.c[2], d.rad],
-                    [
-                        glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
-                        glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
-                    ],
-                )
+                let nb = topo.face_neighbours(f);
+                let mut adj = [f as u32; 3];
+                for (a, &g) in adj.iter_mut().zip(nb) {
+                    *a = g;
+                }
+                FaceRec {
+                    sphere: [d.c[0], d.c[1], d.c[2], d.rad],
+                    t0: glam::Vec4::new(d.t[0], d.t[1], d.t[2], d.t[3]),
+                    t1: glam::Vec4::new(d.t[4], d.t[5], d.area, 0.0),
+                    adj,
+                    many: u32::from(nb.len() > 3),
+                }
             })
-            .unzip()
-            .into()
-    }
-}
-
-impl From<(Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)> for Packed {
-    fn from((sphere, weight): (Vec<[f32; 4]>, Vec<[glam::Vec4; 2]>)) -> Self {
-        Self { sphere, weight }
+            .collect();
+        Self { faces }
     }
 }
 
@@ -532,28 +545,44 @@ fn next_stamp(s: &mut Scratch, nf: usize, ne: usize) -> u32 {
 
 /// The corrected form's hot loop: `Σ w_f T_f` and `Σ w_f A_f` over the faces whose
 /// centroid lies in the ball, grown from the vertex's faces over face adjacency.
+///
+/// The depth-first stack is a preallocated slice indexed by hand (a face is pushed at
+/// most once per vertex, so it never outgrows the face count): no growth check or
+/// reallocation call in the loop, so the accumulators and pointers stay in registers.
 fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratch) -> Frame {
-    let stamp = next_stamp(s, p.sphere.len(), 0);
+    let stamp = next_stamp(s, p.faces.len(), 0);
+    let own = topo.vertex_faces(v);
+    let Scratch {
+        face_mark, stack, ..
+    } = s;
+    let need = face_mark.len() + own.len();
+    if stack.len() < need {
+        stack.resize(need, 0);
+    }
+    let (face_mark, stack) = (face_mark.as_mut_slice(), stack.as_mut_slice());
     let pv = topo.positions[v];
     let r2 = r * r;
     let inv_r2 = 1.0 / r2;
     // Two SIMD accumulators: (xx, xy, xz, yy) and (yz, zz, area, 0).
     let (mut acc0, mut acc1) = (glam::Vec4::ZERO, glam::Vec4::ZERO);
-    s.stack.clear();
-    for &f in topo.vertex_faces(v) {
-        s.face_mark[f as usize] = stamp;
-        s.stack.push(f);
+    let mut top = 0;
+    for &f in own {
+        face_mark[f as usize] = stamp;
+        stack[top] = f;
+        top += 1;
     }
-    while let Some(f) = s.stack.pop() {
-        let [cx, cy, cz, rad] = p.sphere[f as usize];
+    while top > 0 {
+        top -= 1;
+        let f = stack[top] as usize;
+        let rec = &p.faces[f];
+        let [cx, cy, cz, rad] = rec.sphere;
         let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
         let d2 = dx * dx + dy * dy + dz * dz;
         if d2 < r2 {
             let q = 1.0 - d2 * inv_r2;
             let w = q * q;
-            let [t0, t1] = p.weight[f as usize];
-            acc0 += w * t0;
-            acc1 += w * t1;
+            acc0 += w * rec.t0;
+            acc1 += w * rec.t1;
         } else {
             // Outside: pass the ball on only if the face is large against the ball and
             // its bounding sphere reaches in (small faces outside have no inside
@@ -563,11 +592,17 @@ fn corrected_frame(topo: &Topology, p: &Packed, v: usize, r: f32, s: &mut Scratc
                 continue;
             }
         }
-        for &g in topo.face_neighbours(f as usize) {
-            let m = &mut s.face_mark[g as usize];
+        let nb = if rec.many == 0 {
+            &rec.adj[..]
+        } else {
+            topo.face_neighbours(f)
+        };
+        for &g in nb {
+            let m = &mut face_mark[g as usize];
             if *m != stamp {
                 *m = stamp;
-                s.stack.push(g);
+                stack[top] = g;
+                top += 1;
             }
         }
     }
@@ -826,6 +861,140 @@ mod tests {
             let m = Matrix2::new(a, b, b, c) * nalgebra::Vector2::new(u[0], u[1]);
             assert!((m[0] - hi * u[0]).abs() < 1e-12 && (m[1] - hi * u[1]).abs() < 1e-12);
             assert!((u[0].hypot(u[1]) - 1.0).abs() < 1e-12);
+        }
+    }
+
+    /// The corrected form written plainly, as a reference for the optimised hot loop:
+    /// `T_f` in f64 straight from the definition (share `A_f / Σ A_g` of each edge's
+    /// `β |e| ē ēᵀ`), a depth-first ball growth with a `Vec` stack and a `HashSet` of
+    /// visited faces (same push order as [`corrected_frame`]), and the same f32
+    /// accumulation order, so the results should agree to the bit.
+    fn corrected_reference(topo: &Topology, r: f32) -> Vec<Frame> {
+        use std::collections::HashSet;
+        let tf: Vec<([f32; 4], [f32; 6], f32)> = topo
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(f, t)| {
+                let p = t.map(|i| topo.positions[i as usize].as_dvec3());
+                let c = (p[0] + p[1] + p[2]) / 3.0;
+                let rad = p.iter().map(|q| (*q - c).length()).fold(0.0, f64::max);
+                let area = f64::from(topo.face_areas[f]);
+                let mut m = [0f64; 6];
+                for k in 0..3 {
+                    let e = topo.face_edges[f][k];
+                    if area == 0.0 || e == NO_EDGE || topo.dihedral[e as usize] == 0.0 {
+                        continue;
+                    }
+                    let beta = f64::from(topo.dihedral[e as usize]);
+                    let total: f64 = topo
+                        .edge_faces(e as usize)
+                        .iter()
+                        .map(|&g| f64::from(topo.face_areas[g as usize]))
+                        .sum();
+                    let d = p[(k + 1) % 3] - p[k];
+                    let s = area / total * beta / d.length();
+                    let dd = [
+                        d.x * d.x,
+                        d.x * d.y,
+                        d.x * d.z,
+                        d.y * d.y,
+                        d.y * d.z,
+                        d.z * d.z,
+                    ];
+                    for (a, q) in m.iter_mut().zip(dd) {
+                        *a += s * q;
+                    }
+                }
+                let c = c.as_vec3();
+                (
+                    [c.x, c.y, c.z, rad as f32],
+                    m.map(|x| x as f32),
+                    area as f32,
+                )
+            })
+            .collect();
+        (0..topo.vertex_count())
+            .map(|v| {
+                let pv = topo.positions[v];
+                let n = topo.vertex_normals[v];
+                if topo.is_isolated(v) {
+                    return invalid(n);
+                }
+                let (mut acc, mut area) = ([0f32; 6], 0f32);
+                let mut seen: HashSet<u32> = topo.vertex_faces(v).iter().copied().collect();
+                let mut stack = topo.vertex_faces(v).to_vec();
+                while let Some(f) = stack.pop() {
+                    let ([cx, cy, cz, rad], t, a) = tf[f as usize];
+                    let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
+                    let d2 = dx * dx + dy * dy + dz * dz;
+                    if d2 < r * r {
+                        let q = 1.0 - d2 * (1.0 / (r * r));
+                        let w = q * q;
+                        for (x, y) in acc.iter_mut().zip(t) {
+                            *x += w * y;
+                        }
+                        area += w * a;
+                    } else if !(rad > 0.5 * r && d2 < (r + rad) * (r + rad)) {
+                        continue;
+                    }
+                    for &g in topo.face_neighbours(f as usize) {
+                        if seen.insert(g) {
+                            stack.push(g);
+                        }
+                    }
+                }
+                let area = f64::from(area);
+                if !(area > 0.0) {
+                    return invalid(n);
+                }
+                let t = acc.map(|x| f64::from(x) / area);
+                let m = Matrix3::new(t[0], t[1], t[2], t[1], t[3], t[4], t[2], t[4], t[5]);
+                tangent_frame(&m, n.as_dvec3()).unwrap_or_else(|| invalid(n))
+            })
+            .collect()
+    }
+
+    /// The optimised corrected form against [`corrected_reference`] on irregular meshes:
+    /// a jittered, noisy torus with a hole cut out, a few large faces (the "large
+    /// against the ball" path), a fin and a duplicate face (non-manifold edges), and the
+    /// scanned bunny (holes, uneven triangles).
+    #[test]
+    fn corrected_matches_plain_reference() {
+        use crate::generate;
+        let mut mesh = generate::torus_jittered(2.0, 0.7, 90, 40, 0.3, 5);
+        mesh = generate::displace_along_normals(&mesh, 0.01, 9);
+        let mut w = weld(&mesh);
+        w.indices
+            .retain(|t| t.iter().all(|&i| !(200..260).contains(&i)));
+        // Large triangles spanning the torus, sharing vertices with it.
+        w.indices
+            .extend_from_slice(&[[0, 1500, 3000], [10, 2000, 3500]]);
+        let bunny = crate::load_obj(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/meshes/stanford-bunny.obj"
+        ))
+        .unwrap();
+        for (name, topo) in [
+            ("torus", Topology::new(&w)),
+            ("bunny", Topology::new(&weld(&bunny))),
+        ] {
+            let opts = CurvatureOptions::default();
+            let got = CurvatureField::compute_at_scale(&topo, &opts);
+            let want = corrected_reference(&topo, got.radius_world);
+            let mut valid = 0;
+            for (v, f) in want.iter().enumerate() {
+                let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(b.abs());
+                let close3 = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-6;
+                assert_eq!(got.valid[v], f.valid, "{name} vertex {v}");
+                assert!(close(got.kappa_max[v], f.kmax), "{name} vertex {v}");
+                assert!(close(got.kappa_min[v], f.kmin), "{name} vertex {v}");
+                assert!(close3(got.normal[v], f.n), "{name} vertex {v}");
+                assert!(close3(got.dir_kappa_max[v], f.dmax), "{name} vertex {v}");
+                assert!(close3(got.dir_kappa_min[v], f.dmin), "{name} vertex {v}");
+                valid += usize::from(f.valid);
+            }
+            assert!(valid > want.len() * 9 / 10, "{name}: {valid} valid");
         }
     }
 }

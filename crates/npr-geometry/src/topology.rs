@@ -255,23 +255,17 @@ impl Topology {
         let dihedral: Vec<f32> = (0..edges.len())
             .into_par_iter()
             .map(|e| {
-                let fs =
-                    &edge_faces[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
-                let &[f1, f2] = fs else { return 0.0 };
-                let (f1, f2) = (f1 as usize, f2 as usize);
+                // The edge's half-edges (face * 3 + corner), in edge-face order: corner k
+                // of a face starts the edge, so the face runs lo → hi iff it is at lo.
+                let hs = &he[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
+                let &[(_, h1), (_, h2)] = hs else { return 0.0 };
+                let (f1, f2) = ((h1 / 3) as usize, (h2 / 3) as usize);
                 if face_areas[f1] == 0.0 || face_areas[f2] == 0.0 {
                     return 0.0;
                 }
                 let [lo, hi] = edges[e];
-                let goes_lo_hi = |f: usize| {
-                    let k = face_edges[f]
-                        .iter()
-                        .position(|&x| x == e as u32)
-                        .unwrap_or(0);
-                    triangles[f][k] == lo
-                };
-                let dir1 = goes_lo_hi(f1);
-                if dir1 == goes_lo_hi(f2) {
+                let dir1 = triangles[f1][(h1 % 3) as usize] == lo;
+                if dir1 == (triangles[f2][(h2 % 3) as usize] == lo) {
                     return 0.0;
                 }
                 let (pa, pb) = (
@@ -293,22 +287,15 @@ impl Topology {
         };
 
         // Face adjacency across edges (CSR), in parallel (order preserved).
+        // Plain loops, no iterator adaptors: this runs twice per face (count, fill).
         let (efo, efs) = (&edge_face_offsets, &edge_faces);
-        let neighbours = |f: usize| {
-            face_edges[f]
-                .into_iter()
-                .filter(|&e| e != NO_EDGE)
-                .flat_map(move |e| {
-                    let (a, b) = (efo[e as usize], efo[e as usize + 1]);
-                    efs[a as usize..b as usize]
-                        .iter()
-                        .copied()
-                        .filter(move |&g| g != f as u32)
-                })
-        };
         let counts: Vec<u32> = (0..nf)
             .into_par_iter()
-            .map(|f| neighbours(f).count() as u32)
+            .map(|f| {
+                let mut n = 0u32;
+                for_each_neighbour(f, &face_edges, efo, efs, |_| n += 1);
+                n
+            })
             .collect();
         let mut face_adj_offsets = Vec::with_capacity(nf + 1);
         face_adj_offsets.push(0u32);
@@ -336,10 +323,10 @@ impl Topology {
             pieces.into_par_iter().for_each(|(sf, ef, piece)| {
                 let mut k = 0;
                 for f in sf..ef {
-                    for g in neighbours(f) {
+                    for_each_neighbour(f, &face_edges, efo, efs, |g| {
                         piece[k] = g;
                         k += 1;
-                    }
+                    });
                 }
             });
         }
@@ -489,6 +476,27 @@ fn compact(faces: &mut Vec<u32>, offsets: &[u32], fill: &[u32]) -> Vec<u32> {
     new_offsets
 }
 
+/// Calls `out` with each face sharing an edge with face `f`, in corner order and each
+/// edge's face order, `f` itself left out (the order of [`Topology::face_neighbours`]).
+fn for_each_neighbour(
+    f: usize,
+    face_edges: &[[u32; 3]],
+    efo: &[u32],
+    efs: &[u32],
+    mut out: impl FnMut(u32),
+) {
+    for e in face_edges[f] {
+        if e == NO_EDGE {
+            continue;
+        }
+        for &g in &efs[efo[e as usize] as usize..efo[e as usize + 1] as usize] {
+            if g != f as u32 {
+                out(g);
+            }
+        }
+    }
+}
+
 fn prefix_sum(v: &mut [u32]) {
     for i in 1..v.len() {
         v[i] += v[i - 1];
@@ -550,7 +558,8 @@ mod tests {
     }
 
     /// The chunked parallel edge build against a plain ordered-map reference: same
-    /// edges in the same order, same faces per edge, same edge per face corner.
+    /// edges in the same order, same faces per edge, same edge per face corner; and the
+    /// dihedral angle's orientation test on a face flipped against its neighbours.
     #[test]
     fn edges_match_ordered_map_reference() {
         use std::collections::BTreeMap;
@@ -584,6 +593,26 @@ mod tests {
             for &(f, k) in uses {
                 assert_eq!(t.face_edges[f][k], e as u32);
             }
+        }
+        // Direction per half-edge corner: a flipped face makes its three edges
+        // inconsistent (β = 0); every other interior edge of the sphere is convex.
+        let mut flipped = weld(&generate::icosphere(3, 1.0));
+        let [a, b, c] = flipped.indices[11];
+        flipped.indices[11] = [b, a, c];
+        let tf = Topology::new(&flipped);
+        assert_eq!(
+            (0..tf.edges.len())
+                .filter(|&e| tf.edge_kind(e) == EdgeKind::Inconsistent)
+                .count(),
+            3
+        );
+        for e in 0..tf.edges.len() {
+            let interior = tf.edge_kind(e) == EdgeKind::Interior;
+            let sound = tf
+                .edge_faces(e)
+                .iter()
+                .all(|&f| !tf.is_degenerate(f as usize));
+            assert_eq!(tf.dihedral[e] > 0.0, interior && sound, "edge {e}");
         }
         let lens: f64 = want
             .iter()
