@@ -153,7 +153,11 @@ impl RegionGrower {
             self.vertex_normal[v] = n;
             self.vertex_nh[v] = if nh.is_finite() { nh } else { -1.0 };
         }
-        (self.vertex_world[v], self.vertex_normal[v], self.vertex_nh[v])
+        (
+            self.vertex_world[v],
+            self.vertex_normal[v],
+            self.vertex_nh[v],
+        )
     }
 
     /// How the faces of the last [`RegionGrower::grow_all`] were classified.
@@ -431,7 +435,11 @@ fn classify(light_eye: LightEye, vs: &[(Vec3, Vec3, f32); 3], sigma: f32) -> Fac
     if lo - delta >= sigma {
         return FaceClass::Inside;
     }
-    let c = vs[0].1.dot(vs[1].1).min(vs[1].1.dot(vs[2].1)).min(vs[2].1.dot(vs[0].1));
+    let c = vs[0]
+        .1
+        .dot(vs[1].1)
+        .min(vs[1].1.dot(vs[2].1))
+        .min(vs[2].1.dot(vs[0].1));
     if !(c > 0.0) {
         return FaceClass::Grid { steps: SUB, delta };
     }
