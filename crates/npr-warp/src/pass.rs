@@ -8,6 +8,7 @@
 //! object-space points; the object may move, the camera may move, or both.
 
 use crate::bins::{BinPlan, DrawKind, NormalBins, PlanSettings};
+use crate::msaa::Antialiasing;
 use crate::reference::{Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
@@ -212,6 +213,7 @@ pub struct WarpPass {
     blend_coverage: wgpu::RenderPipeline,
     color_format: wgpu::TextureFormat,
     depth_format: wgpu::TextureFormat,
+    antialiasing: Antialiasing,
     fill: wgpu::RenderPipeline,
     wire: wgpu::RenderPipeline,
     ref_layout: wgpu::BindGroupLayout,
@@ -230,6 +232,24 @@ impl WarpPass {
         device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, WarpError> {
+        Self::with_antialiasing(device, color_format, depth_format, Antialiasing::None)
+    }
+
+    /// As [`WarpPass::new`], for passes with `antialiasing`'s sample count. Multisampled,
+    /// the depth-tested warp ([`WarpMode::DepthTested`]) writes a sample mask from the
+    /// references' coverage (`warp.wgsl`, `coverage_mask`): with references drawn with
+    /// the same antialiasing ([`ReferenceFrame::with_antialiasing`]) the warped silhouette
+    /// is antialiased as a multisampled full render's is. The paper's shaders are the
+    /// paper's, multisampled only at the proxy's edges.
+    ///
+    /// # Errors
+    /// As [`WarpPass::new`].
+    pub fn with_antialiasing(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
     ) -> Result<Self, WarpError> {
         check_formats(color_format, depth_format)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -285,7 +305,7 @@ impl WarpPass {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: antialiasing.multisample_state(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
@@ -305,9 +325,16 @@ impl WarpPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
+        let msaa = antialiasing.is_multisampled();
+        let tested = |fs: &'static str, fs_msaa: &'static str| {
+            pipeline(if msaa { fs_msaa } else { fs }, tri)
+        };
         Ok(Self {
-            single: [pipeline("fs_single0", tri), pipeline("fs_single1", tri)],
-            blend: pipeline("fs_blend", tri),
+            single: [
+                tested("fs_single0", "fs_single0_msaa"),
+                tested("fs_single1", "fs_single1_msaa"),
+            ],
+            blend: tested("fs_blend", "fs_blend_msaa"),
             single_paper: [
                 pipeline("fs_single0_paper", tri),
                 pipeline("fs_single1_paper", tri),
@@ -325,12 +352,18 @@ impl WarpPass {
             sampler,
             color_format,
             depth_format,
+            antialiasing,
         })
     }
 
     /// The colour and depth formats the pipelines draw into (and references use).
     pub fn formats(&self) -> (wgpu::TextureFormat, wgpu::TextureFormat) {
         (self.color_format, self.depth_format)
+    }
+
+    /// The antialiasing the pipelines draw with.
+    pub fn antialiasing(&self) -> Antialiasing {
+        self.antialiasing
     }
 
     /// Binds two rendered references as the pair a warp interpolates between. Rebind after
