@@ -353,6 +353,31 @@ fn msaa_out(shade: Shade, j: UvJacobian) -> MsaaOut {
     return MsaaOut(shade.color, mask);
 }
 
+// MSAA references, one-sample warp (ours): the colour premultiplied by the reference's
+// coverage at the pixel centre (bilinear, as `coverage_at`) and blended over what is
+// behind (premultiplied-alpha blending), so the warped rim fades into the background as
+// the multisampled full render's does, for the cost of a one-sample pass. Inner
+// silhouettes need nothing: there the resolved reference already holds both surfaces.
+fn blend_out(shade: Shade, in: WarpOut) -> vec4<f32> {
+    let a = coverage_at(in.tex0.xy / in.tex0.w, in.tex1.xy / in.tex1.w, shade.w0);
+    return vec4<f32>(shade.color.rgb * a, a);
+}
+
+@fragment
+fn fs_single0_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(single0(in, MSAA_MIN_ALPHA), in);
+}
+
+@fragment
+fn fs_single1_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(single1(in, MSAA_MIN_ALPHA), in);
+}
+
+@fragment
+fn fs_blend_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(blend(in, MSAA_MIN_ALPHA), in);
+}
+
 @fragment
 fn fs_single0_msaa(in: WarpOut) -> MsaaOut {
     let j = jacobian(in);

@@ -19,18 +19,35 @@ pub enum Antialiasing {
     /// One sample per pixel (as the paper, and the default).
     #[default]
     None,
-    /// 4× multisampling, resolved to one sample per pixel.
+    /// 4× multisampling of references, warped frames and full renders, resolved to one
+    /// sample per pixel; the warp's sample mask follows the references' coverage.
     Msaa4,
+    /// 4× multisampling of references and full renders; the warp draws one sample per
+    /// pixel and blends its rim over the background by the references' coverage
+    /// (premultiplied alpha): the multisampled look for a one-sample warp's cost.
+    Msaa4Blend,
 }
 
 impl Antialiasing {
     /// Every setting, in table order.
-    pub const ALL: [Antialiasing; 2] = [Antialiasing::None, Antialiasing::Msaa4];
+    pub const ALL: [Antialiasing; 3] = [
+        Antialiasing::None,
+        Antialiasing::Msaa4,
+        Antialiasing::Msaa4Blend,
+    ];
 
-    /// Samples per pixel.
+    /// Samples per pixel of references and full renders.
     pub fn sample_count(self) -> u32 {
         match self {
             Antialiasing::None => 1,
+            Antialiasing::Msaa4 | Antialiasing::Msaa4Blend => 4,
+        }
+    }
+
+    /// Samples per pixel of the warped frame.
+    pub fn warp_sample_count(self) -> u32 {
+        match self {
+            Antialiasing::None | Antialiasing::Msaa4Blend => 1,
             Antialiasing::Msaa4 => 4,
         }
     }
@@ -40,6 +57,7 @@ impl Antialiasing {
         match self {
             Antialiasing::None => "none",
             Antialiasing::Msaa4 => "msaa4",
+            Antialiasing::Msaa4Blend => "msaa4-blend",
         }
     }
 
@@ -48,9 +66,14 @@ impl Antialiasing {
         Self::ALL.into_iter().find(|a| a.name() == name)
     }
 
-    /// Whether this setting is multisampled.
+    /// Whether references and full renders are multisampled.
     pub fn is_multisampled(self) -> bool {
         self.sample_count() > 1
+    }
+
+    /// Whether the warped frame is multisampled.
+    pub fn warp_is_multisampled(self) -> bool {
+        self.warp_sample_count() > 1
     }
 
     /// Checks that `adapter` renders (and resolves) `color_format` and renders
@@ -83,9 +106,9 @@ impl Antialiasing {
         Ok(())
     }
 
-    pub(crate) fn multisample_state(self) -> wgpu::MultisampleState {
+    pub(crate) fn warp_multisample_state(self) -> wgpu::MultisampleState {
         wgpu::MultisampleState {
-            count: self.sample_count(),
+            count: self.warp_sample_count(),
             ..Default::default()
         }
     }

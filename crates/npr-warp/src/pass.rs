@@ -236,8 +236,10 @@ impl WarpPass {
         Self::with_antialiasing(device, color_format, depth_format, Antialiasing::None)
     }
 
-    /// As [`WarpPass::new`], for passes with `antialiasing`'s sample count. Multisampled,
-    /// the depth-tested warp ([`WarpMode::DepthTested`]) writes a sample mask from the
+    /// As [`WarpPass::new`], for passes with `antialiasing`'s warp sample count
+    /// ([`Antialiasing::warp_sample_count`]). With [`Antialiasing::Msaa4Blend`] the
+    /// depth-tested warp is one sample per pixel and blends its rim by the references'
+    /// coverage (premultiplied alpha). With [`Antialiasing::Msaa4`], the depth-tested warp ([`WarpMode::DepthTested`]) writes a sample mask from the
     /// references' coverage (`warp.wgsl`, `coverage_mask`): with references drawn with
     /// the same antialiasing ([`ReferenceFrame::with_antialiasing`]) the warped silhouette
     /// is antialiased as a multisampled full render's is. The paper's shaders are the
@@ -305,12 +307,16 @@ impl WarpPass {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: antialiasing.multisample_state(),
+                multisample: antialiasing.warp_multisample_state(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(color_format.into())],
+                    targets: &[Some(wgpu::ColorTargetState {
+                        blend: (fs.ends_with("_cover"))
+                            .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                        ..color_format.into()
+                    })],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -325,16 +331,22 @@ impl WarpPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let msaa = antialiasing.is_multisampled();
-        let tested = |fs: &'static str, fs_msaa: &'static str| {
-            pipeline(if msaa { fs_msaa } else { fs }, tri)
+        let tested = |fs: [&'static str; 3]| {
+            pipeline(
+                match antialiasing {
+                    Antialiasing::None => fs[0],
+                    Antialiasing::Msaa4 => fs[1],
+                    Antialiasing::Msaa4Blend => fs[2],
+                },
+                tri,
+            )
         };
         Ok(Self {
             single: [
-                tested("fs_single0", "fs_single0_msaa"),
-                tested("fs_single1", "fs_single1_msaa"),
+                tested(["fs_single0", "fs_single0_msaa", "fs_single0_cover"]),
+                tested(["fs_single1", "fs_single1_msaa", "fs_single1_cover"]),
             ],
-            blend: tested("fs_blend", "fs_blend_msaa"),
+            blend: tested(["fs_blend", "fs_blend_msaa", "fs_blend_cover"]),
             single_paper: [
                 pipeline("fs_single0_paper", tri),
                 pipeline("fs_single1_paper", tri),

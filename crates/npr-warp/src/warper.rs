@@ -67,9 +67,10 @@ impl Warper {
 
     /// As [`Warper::new`], with references and warped frames drawn with `antialiasing`
     /// (the base pass given to [`Warper::record_reference`] must be built for it, e.g.
-    /// [`crate::PhongBase::with_antialiasing`]). Multisampled, [`Warper::record_warp`]
-    /// draws into the warper's own multisampled textures and resolves into the caller's
-    /// colour; [`Warper::draw`] needs a pass with 4 samples per pixel.
+    /// [`crate::PhongBase::with_antialiasing`]). With a multisampled warp
+    /// ([`Antialiasing::Msaa4`]), [`Warper::record_warp`] draws into the warper's own
+    /// multisampled textures and resolves into the caller's colour, and [`Warper::draw`]
+    /// needs a pass with 4 samples per pixel.
     ///
     /// # Errors
     /// As [`Warper::new`].
@@ -110,7 +111,7 @@ impl Warper {
                 antialiasing,
             )
         };
-        let msaa = if antialiasing.is_multisampled() {
+        let msaa = if antialiasing.warp_is_multisampled() {
             Some(MsaaTarget::new(
                 device,
                 width,
