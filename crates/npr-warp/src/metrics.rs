@@ -92,10 +92,10 @@ pub fn compare(reference: &image::RgbaImage, test: &image::RgbaImage) -> Quality
     }
 }
 
-/// Mean LDR FLIP of `test` against `reference` (same size) over the object's pixels (alpha
-/// > 0 in either; transparent pixels count as black, as in [`compare`]), at
-/// `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (a 0.7 m viewing distance from a 24" 4K screen).
-/// 0 for identical images; `None` for mismatched sizes or no object pixels.
+/// Mean LDR FLIP of `test` against `reference` (same size) over the object's pixels
+/// (alpha above 0 in either; transparent pixels count as black, as in [`compare`]), at
+/// `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (67: a 31.6-inch 3840-pixel-wide monitor seen
+/// from 0.7 m). 0 for identical images; `None` for mismatched sizes or no object pixels.
 pub fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<f64> {
     flip_stats(reference, test).map(|(mean, _)| mean)
 }

@@ -223,10 +223,20 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
             let fullt = full(ctx, &gpu, t, aa);
             let quality = compare(&fullt, &warped);
             let flip = flip_mean(&fullt, &warped).unwrap();
+            if let Ok(dir) = std::env::var("NPR_WARP_TEST_OUT") {
+                let name = format!("{dir}/msaa-{}-t{t}", aa.name());
+                fullt.save(format!("{name}-full.png")).unwrap();
+                warped.save(format!("{name}-warp.png")).unwrap();
+                npr_warp::metrics::difference_image(&fullt, &warped, 4.0)
+                    .save(format!("{name}-diff.png"))
+                    .unwrap();
+            }
             eprintln!("{aa:?} at t = {t}: {quality:?}, FLIP {flip:.4}");
             assert!(quality.pixels > 5000);
-            assert!(quality.psnr_db > 33.0, "{aa:?} t {t}: {quality:?}");
-            assert!(flip < 0.05, "{aa:?} t {t}: FLIP {flip}");
+            // The blended warp is one sample per pixel: where the proxy passes in front of
+            // itself its edges alias (measured 33 dB against 40 dB multisampled).
+            assert!(quality.psnr_db > 31.0, "{aa:?} t {t}: {quality:?}");
+            assert!(flip < 0.02, "{aa:?} t {t}: FLIP {flip}");
             errors.push((aa, quality.psnr_db, flip));
         }
     }
