@@ -112,7 +112,10 @@ struct Look {
 // `coverage` is the bilinear alpha of the reference at the point: below 1/2 the point lies
 // outside the object's silhouette in that reference, located to a fraction of a texel
 // (the nearest texel's depth alone would snap the silhouette to the reference's grid).
-fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32, color: vec4<f32>) -> Look {
+// `min_alpha` is the coverage below which the point counts as off the object: 1/2 for
+// aliased references; near 0 with MSAA, where the fragment's sample mask
+// (`coverage_mask`) places the silhouette per sample instead.
+fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32, color: vec4<f32>, min_alpha: f32) -> Look {
     var out: Look;
     out.see = false;
     out.empty = false;
@@ -121,7 +124,7 @@ fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tol
     if !in_frame(uv) {
         return out;
     }
-    if stored_depth >= 1.0 || color.a < 0.5 {
+    if stored_depth >= 1.0 || color.a < min_alpha {
         out.empty = true;
         return out;
     }
@@ -133,16 +136,16 @@ fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tol
     return out;
 }
 
-fn look0(in: WarpOut, uv0: vec2<f32>) -> Look {
+fn look0(in: WarpOut, uv0: vec2<f32>, min_alpha: f32) -> Look {
     let d0 = textureLoad(ref0_depth, texel_of(uv0), 0);
     let c0 = textureSampleLevel(ref0_color, color_sampler, uv0, 0.0);
-    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.tolerance.x, c0);
+    return look(in.tex0, uv0, d0, object.ref_near_far.x, object.ref_near_far.y, in.tolerance.x, c0, min_alpha);
 }
 
-fn look1(in: WarpOut, uv1: vec2<f32>) -> Look {
+fn look1(in: WarpOut, uv1: vec2<f32>, min_alpha: f32) -> Look {
     let d1 = textureLoad(ref1_depth, texel_of(uv1), 0);
     let c1 = textureSampleLevel(ref1_color, color_sampler, uv1, 0.0);
-    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.tolerance.y, c1);
+    return look(in.tex1, uv1, d1, object.ref_near_far.z, object.ref_near_far.w, in.tolerance.y, c1, min_alpha);
 }
 
 // A bilinear reference lookup. References are cleared to transparent black, so a filtered
@@ -185,74 +188,212 @@ fn choose(p: Look, q: Look) -> i32 {
     return select(1, 0, p.gap <= q.gap);
 }
 
+// A depth-tested fragment's colour and how much of it comes from reference 0 (1: reference
+// 0 alone, 0: reference 1 alone), for the MSAA sample mask.
+struct Shade {
+    color: vec4<f32>,
+    w0: f32,
+};
+
 // §3.3.3, bins seen by reference 0 only (or whose ramp gives reference 0 full opacity):
 // one depth load and one colour lookup where reference 0 sees the point; otherwise
 // `choose` decides with reference 1.
-@fragment
-fn fs_single0(in: WarpOut) -> @location(0) vec4<f32> {
+fn single0(in: WarpOut, min_alpha: f32) -> Shade {
     let uv0 = in.tex0.xy / in.tex0.w;
-    let l0 = look0(in, uv0);
+    let l0 = look0(in, uv0, min_alpha);
     if l0.see {
-        return unpremultiply(l0.color);
+        return Shade(unpremultiply(l0.color), 1.0);
     }
     let uv1 = in.tex1.xy / in.tex1.w;
-    let l1 = look1(in, uv1);
+    let l1 = look1(in, uv1, min_alpha);
     let pick = choose(l0, l1);
     if pick < 0 {
         discard;
     }
     if pick == 1 {
-        return unpremultiply(l1.color);
+        return Shade(unpremultiply(l1.color), 0.0);
     }
-    return unpremultiply(l0.color);
+    return Shade(unpremultiply(l0.color), 1.0);
 }
 
-// As `fs_single0` with the references' roles swapped.
-@fragment
-fn fs_single1(in: WarpOut) -> @location(0) vec4<f32> {
+// As `single0` with the references' roles swapped.
+fn single1(in: WarpOut, min_alpha: f32) -> Shade {
     let uv1 = in.tex1.xy / in.tex1.w;
-    let l1 = look1(in, uv1);
+    let l1 = look1(in, uv1, min_alpha);
     if l1.see {
-        return unpremultiply(l1.color);
+        return Shade(unpremultiply(l1.color), 0.0);
     }
     let uv0 = in.tex0.xy / in.tex0.w;
-    let l0 = look0(in, uv0);
+    let l0 = look0(in, uv0, min_alpha);
     let pick = choose(l1, l0);
     if pick < 0 {
         discard;
     }
     if pick == 1 {
-        return unpremultiply(l0.color);
+        return Shade(unpremultiply(l0.color), 1.0);
     }
-    return unpremultiply(l1.color);
+    return Shade(unpremultiply(l1.color), 0.0);
 }
 
 // §3.3.3, bins seen by both references: both drawn and blended with the bin's opacity
 // ramp `weight0` (reference 1 gets 1 - weight0). With the depth test a reference that does
 // not see the point never enters the blend; the primary is the one with weight >= 1/2.
-@fragment
-fn fs_blend(in: WarpOut) -> @location(0) vec4<f32> {
+fn blend(in: WarpOut, min_alpha: f32) -> Shade {
     let uv0 = in.tex0.xy / in.tex0.w;
     let uv1 = in.tex1.xy / in.tex1.w;
-    let l0 = look0(in, uv0);
-    let l1 = look1(in, uv1);
+    let l0 = look0(in, uv0, min_alpha);
+    let l1 = look1(in, uv1, min_alpha);
     let c0 = unpremultiply(l0.color);
     let c1 = unpremultiply(l1.color);
     if l0.see && l1.see {
-        return mix(c1, c0, in.weight0);
+        return Shade(mix(c1, c0, in.weight0), in.weight0);
     }
     if in.weight0 >= 0.5 {
         let pick = choose(l0, l1);
         if pick < 0 {
             discard;
         }
-        return select(c0, c1, pick == 1);
+        return Shade(select(c0, c1, pick == 1), select(1.0, 0.0, pick == 1));
     }
     let pick = choose(l1, l0);
     if pick < 0 {
         discard;
     }
-    return select(c1, c0, pick == 1);
+    return Shade(select(c1, c0, pick == 1), select(0.0, 1.0, pick == 1));
+}
+
+// Aliased targets: coverage 1/2 places the silhouette at a fraction of a texel.
+@fragment
+fn fs_single0(in: WarpOut) -> @location(0) vec4<f32> {
+    return single0(in, 0.5).color;
+}
+
+@fragment
+fn fs_single1(in: WarpOut) -> @location(0) vec4<f32> {
+    return single1(in, 0.5).color;
+}
+
+@fragment
+fn fs_blend(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend(in, 0.5).color;
+}
+
+// MSAA (ours): the references were rendered with 4× MSAA and resolved, so a rim texel's
+// alpha is the share of it the object covers. A fragment whose reference coverage is
+// above `MSAA_MIN_ALPHA` is shaded (with the coverage-normalised colour) and its sample
+// mask keeps the samples at which the reference coverage, looked up at the sample's own
+// point of the reference (the fragment's uv moved by the sample's offset through the uv
+// derivatives), reaches 1/2; the resolve then blends the rim with what lies behind, as
+// the full render's MSAA does. The proxy's own edges are multisampled by the rasteriser.
+const MSAA_MIN_ALPHA: f32 = 0.02;
+
+struct MsaaOut {
+    @location(0) color: vec4<f32>,
+    @builtin(sample_mask) mask: u32,
+};
+
+// Reference coverage at `uv` blended as the colour was (`w0` of reference 0).
+fn coverage_at(uv0: vec2<f32>, uv1: vec2<f32>, w0: f32) -> f32 {
+    var a = 0.0;
+    if w0 > 0.0 {
+        a += w0 * textureSampleLevel(ref0_color, color_sampler, uv0, 0.0).a;
+    }
+    if w0 < 1.0 {
+        a += (1.0 - w0) * textureSampleLevel(ref1_color, color_sampler, uv1, 0.0).a;
+    }
+    return a;
+}
+
+// The standard 4× sample positions (Vulkan, D3D, Metal), as offsets from the pixel centre.
+fn sample_offset(i: u32) -> vec2<f32> {
+    switch i {
+        case 0u: { return vec2<f32>(-0.125, -0.375); }
+        case 1u: { return vec2<f32>(0.375, -0.125); }
+        case 2u: { return vec2<f32>(-0.375, 0.125); }
+        default: { return vec2<f32>(0.125, 0.375); }
+    }
+}
+
+// Uv derivatives of both references per pixel (x then y), taken in uniform control flow.
+struct UvJacobian {
+    uv0: vec2<f32>,
+    uv1: vec2<f32>,
+    dx0: vec2<f32>,
+    dy0: vec2<f32>,
+    dx1: vec2<f32>,
+    dy1: vec2<f32>,
+};
+
+fn jacobian(in: WarpOut) -> UvJacobian {
+    let uv0 = in.tex0.xy / in.tex0.w;
+    let uv1 = in.tex1.xy / in.tex1.w;
+    return UvJacobian(uv0, uv1, dpdx(uv0), dpdy(uv0), dpdx(uv1), dpdy(uv1));
+}
+
+fn coverage_mask(j: UvJacobian, w0: f32) -> u32 {
+    if coverage_at(j.uv0, j.uv1, w0) >= 0.999 {
+        return 0xFu;
+    }
+    var mask = 0u;
+    for (var i = 0u; i < 4u; i++) {
+        let o = sample_offset(i);
+        let a = coverage_at(j.uv0 + j.dx0 * o.x + j.dy0 * o.y, j.uv1 + j.dx1 * o.x + j.dy1 * o.y, w0);
+        if a >= 0.5 {
+            mask |= 1u << i;
+        }
+    }
+    return mask;
+}
+
+fn msaa_out(shade: Shade, j: UvJacobian) -> MsaaOut {
+    let mask = coverage_mask(j, shade.w0);
+    if mask == 0u {
+        discard;
+    }
+    return MsaaOut(shade.color, mask);
+}
+
+// MSAA references, one-sample warp (ours): the colour premultiplied by the reference's
+// coverage at the pixel centre (bilinear, as `coverage_at`) and blended over what is
+// behind (premultiplied-alpha blending), so the warped rim fades into the background as
+// the multisampled full render's does, for the cost of a one-sample pass. Inner
+// silhouettes need nothing: there the resolved reference already holds both surfaces.
+fn blend_out(shade: Shade, in: WarpOut) -> vec4<f32> {
+    let a = coverage_at(in.tex0.xy / in.tex0.w, in.tex1.xy / in.tex1.w, shade.w0);
+    return vec4<f32>(shade.color.rgb * a, a);
+}
+
+@fragment
+fn fs_single0_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(single0(in, MSAA_MIN_ALPHA), in);
+}
+
+@fragment
+fn fs_single1_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(single1(in, MSAA_MIN_ALPHA), in);
+}
+
+@fragment
+fn fs_blend_cover(in: WarpOut) -> @location(0) vec4<f32> {
+    return blend_out(blend(in, MSAA_MIN_ALPHA), in);
+}
+
+@fragment
+fn fs_single0_msaa(in: WarpOut) -> MsaaOut {
+    let j = jacobian(in);
+    return msaa_out(single0(in, MSAA_MIN_ALPHA), j);
+}
+
+@fragment
+fn fs_single1_msaa(in: WarpOut) -> MsaaOut {
+    let j = jacobian(in);
+    return msaa_out(single1(in, MSAA_MIN_ALPHA), j);
+}
+
+@fragment
+fn fs_blend_msaa(in: WarpOut) -> MsaaOut {
+    let j = jacobian(in);
+    return msaa_out(blend(in, MSAA_MIN_ALPHA), j);
 }
 
 // The paper's pass as published (§3.3.1–§3.3.3): the reference image projected as it is,
@@ -300,4 +441,27 @@ fn fs_blend_coverage(in: WarpOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_fill(in: WarpOut) -> @location(0) vec4<f32> {
     return object.fill_color;
+}
+
+// The depth resolve of an MSAA reference (WebGPU resolves colour only): each texel keeps
+// the nearest of its samples, so a rim texel, whose colour is the object's share of it
+// (alpha = coverage), has the object's depth for the depth test. A full-screen triangle
+// writing `frag_depth` into the single-sample reference depth (compare always).
+@group(0) @binding(5) var resolve_depth_ms: texture_depth_multisampled_2d;
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(p * 2.0 - 1.0, 0.0, 1.0);
+}
+
+@fragment
+fn fs_resolve_depth(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {
+    let t = vec2<i32>(frag.xy);
+    var d = 1.0;
+    let n = i32(textureNumSamples(resolve_depth_ms));
+    for (var i = 0; i < n; i++) {
+        d = min(d, textureLoad(resolve_depth_ms, t, i));
+    }
+    return d;
 }

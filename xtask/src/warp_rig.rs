@@ -9,8 +9,9 @@ use npr_gpu::{
     OffscreenTarget, readback_rgba,
 };
 use npr_warp::{
-    Departures, FrameReport, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable,
-    WarpMode, WarpObject, WarpPass, WarpSequence, WarpSettings,
+    Antialiasing, Departures, FrameReport, FullRenderer, MsaaTarget, PhongBase, Proxy,
+    ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass, WarpSequence,
+    WarpSettings,
 };
 
 /// A warping test model and the three proxy ratios the warping paper's Fig. 8–10 and
@@ -136,22 +137,76 @@ pub struct Rig<'a> {
     pub target: OffscreenTarget,
     /// The warp pass.
     pub pass: WarpPass,
+    /// Antialiasing of full renders, references and warps.
+    pub antialiasing: Antialiasing,
+    /// Multisampled: what full renders and warps draw into before the resolve into
+    /// `target`.
+    msaa: Option<MsaaTarget>,
     size: u32,
 }
 
 impl<'a> Rig<'a> {
     /// A rig for `mesh` drawing `size × size` frames.
     pub fn new(ctx: &'a GpuContext, mesh: &Mesh, size: u32) -> anyhow::Result<Self> {
-        let full = GpuMesh::upload(&ctx.device, mesh)?;
+        Self::with_antialiasing(ctx, mesh, size, Antialiasing::None)
+    }
+
+    /// A rig for `mesh` drawing `size × size` frames, full renders, references and warps
+    /// all with `antialiasing` (its resolves inside every recorded pass).
+    pub fn with_antialiasing(
+        ctx: &'a GpuContext,
+        mesh: &Mesh,
+        size: u32,
+        antialiasing: Antialiasing,
+    ) -> anyhow::Result<Self> {
+        let (d, q) = (&ctx.device, &ctx.queue);
+        antialiasing.check(&ctx.adapter, COLOR_FORMAT, DEPTH_FORMAT)?;
+        let full = GpuMesh::upload(d, mesh)?;
+        let msaa = if antialiasing.is_multisampled() {
+            Some(MsaaTarget::new(
+                d,
+                size,
+                size,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                antialiasing,
+            )?)
+        } else {
+            None
+        };
         Ok(Self {
             ctx,
-            base: PhongBase::new(&full, light(), material(), COLOR_FORMAT, DEPTH_FORMAT),
+            base: PhongBase::new(&full, light(), material(), COLOR_FORMAT, DEPTH_FORMAT)
+                .with_antialiasing(antialiasing),
             full,
-            renderer: FullRenderer::new(&ctx.device, &ctx.queue, COLOR_FORMAT, DEPTH_FORMAT),
-            target: OffscreenTarget::new(&ctx.device, size, size)?,
-            pass: WarpPass::new(&ctx.device, COLOR_FORMAT, DEPTH_FORMAT)?,
+            renderer: FullRenderer::with_antialiasing(
+                d,
+                q,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                antialiasing,
+            ),
+            target: OffscreenTarget::new(d, size, size)?,
+            pass: WarpPass::with_antialiasing(d, COLOR_FORMAT, DEPTH_FORMAT, antialiasing)?,
+            antialiasing,
+            msaa,
             size,
         })
+    }
+
+    /// A pass for warps over the rig's target cleared to `clear` (with a multisampled
+    /// warp: over the rig's multisampled textures, resolved into the target when it ends).
+    pub fn begin_clear_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        clear: [f64; 4],
+    ) -> wgpu::RenderPass<'e> {
+        match &self.msaa {
+            Some(ms) if self.antialiasing.warp_is_multisampled() => {
+                ms.begin_pass(encoder, &self.target.color_view, Some(clear))
+            }
+            _ => self.target.begin_clear_pass(encoder, clear),
+        }
     }
 
     /// `proxy` warped with `departures` (binned with `bins` per axis, optionally with a
@@ -184,8 +239,14 @@ impl<'a> Rig<'a> {
             .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
         let mut enc = d.create_command_encoder(&Default::default());
         let t = &self.target;
-        self.renderer
-            .record(&mut enc, &t.color_view, &t.depth_view, &self.full, CLEAR);
+        match &self.msaa {
+            Some(ms) => self
+                .renderer
+                .record_msaa(&mut enc, ms, &t.color_view, &self.full, CLEAR),
+            None => self
+                .renderer
+                .record(&mut enc, &t.color_view, &t.depth_view, &self.full, CLEAR),
+        }
         enc
     }
 
@@ -198,12 +259,35 @@ impl<'a> Rig<'a> {
 
     /// A reference frame of object 0 at `scene`.
     pub fn reference(&mut self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
+        let mut r = self.reference_slot()?;
+        let enc = self.record_reference(&mut r, scene);
+        self.ctx.queue.submit(Some(enc.finish()));
+        Ok(r)
+    }
+
+    /// An empty reference slot of the rig's size and antialiasing.
+    pub fn reference_slot(&self) -> anyhow::Result<ReferenceFrame> {
+        Ok(ReferenceFrame::with_antialiasing(
+            &self.ctx.device,
+            self.size,
+            self.size,
+            COLOR_FORMAT,
+            DEPTH_FORMAT,
+            self.antialiasing,
+        )?)
+    }
+
+    /// Records (without submitting) a reference of object 0 at `scene` into `r`,
+    /// resolves included.
+    pub fn record_reference(
+        &mut self,
+        r: &mut ReferenceFrame,
+        scene: &ScenePose,
+    ) -> wgpu::CommandEncoder {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, self.size, self.size, COLOR_FORMAT, DEPTH_FORMAT)?;
         let mut enc = d.create_command_encoder(&Default::default());
         r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR);
-        q.submit(Some(enc.finish()));
-        Ok(r)
+        enc
     }
 
     /// Records and submits frame `frame` of `seq` (objects `objects` along `path`, references

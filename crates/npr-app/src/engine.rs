@@ -82,6 +82,7 @@ struct WarpState {
         u32,
         crate::preset::WarpMode,
         bool,
+        crate::preset::WarpAntialiasing,
         (u32, u32),
         ShadingModel,
         Vec<u8>,
@@ -645,6 +646,7 @@ impl Renderer {
             w.proxy_ratio.to_bits(),
             w.mode,
             w.depth_test,
+            w.antialiasing,
             self.size(),
             model,
             preset.base.cel_bands.clone(),
@@ -660,7 +662,8 @@ impl Renderer {
             .max((MIN_PROXY_TRIANGLES as f32 / tris as f32).min(1.0));
         let proxy = npr_warp::Proxy::simplify(&self.model.mesh, ratio)?;
         let (width, height) = self.size();
-        let warper = npr_warp::Warper::new(
+        let antialiasing = npr_warp::Antialiasing::from(w.antialiasing);
+        let warper = npr_warp::Warper::with_antialiasing(
             device,
             &proxy,
             w.departures(),
@@ -669,6 +672,7 @@ impl Renderer {
             height,
             COLOR_FORMAT,
             DEPTH_FORMAT,
+            antialiasing,
         )?;
         let shades: Vec<[u8; 4]> = preset
             .base
@@ -683,7 +687,8 @@ impl Renderer {
             COLOR_FORMAT,
             DEPTH_FORMAT,
         )
-        .with_model(model, Some(npr_gpu::toon_ramp(256, &shades)));
+        .with_model(model, Some(npr_gpu::toon_ramp(256, &shades)))
+        .with_antialiasing(antialiasing);
         self.warp = Some(WarpState {
             key,
             warper,
@@ -751,7 +756,7 @@ impl Renderer {
             ..FrameStats::default()
         };
         self.frame_index += 1;
-        let Some(w) = &self.warp else {
+        let Some(w) = &mut self.warp else {
             return Ok(stats);
         };
         stats.triangles = w.proxy_triangles;
@@ -760,7 +765,13 @@ impl Renderer {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("npr app warp"),
         });
-        {
+        if w.warper.antialiasing().warp_is_multisampled() {
+            // The warper's own multisampled pass, resolved into the target.
+            let (color, depth) = (&self.target.color_view, &self.target.depth_view);
+            w.warper.clear = clear_color(preset);
+            w.warper
+                .record_warp(queue, &mut encoder, color, depth, &pose, s);
+        } else {
             let mut pass = self
                 .target
                 .begin_clear_pass(&mut encoder, clear_color(preset));

@@ -405,6 +405,29 @@ pub enum WarpMode {
     Paper,
 }
 
+/// Antialiasing of the warp's references and warped frames (npr-warp's `Antialiasing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WarpAntialiasing {
+    /// One sample per pixel.
+    #[default]
+    None,
+    /// 4× MSAA references and a 4× MSAA warp.
+    Msaa4,
+    /// 4× MSAA references and a one-sample warp blended at the rim by their coverage.
+    Msaa4Blend,
+}
+
+impl From<WarpAntialiasing> for npr_warp::Antialiasing {
+    fn from(a: WarpAntialiasing) -> Self {
+        match a {
+            WarpAntialiasing::None => npr_warp::Antialiasing::None,
+            WarpAntialiasing::Msaa4 => npr_warp::Antialiasing::Msaa4,
+            WarpAntialiasing::Msaa4Blend => npr_warp::Antialiasing::Msaa4Blend,
+        }
+    }
+}
+
 /// Post-rendering warping (npr-warp).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -418,6 +441,9 @@ pub struct WarpPreset {
     /// Depth-test each reference as a shadow map (one of our departures; ignored by the
     /// paper's path).
     pub depth_test: bool,
+    /// Antialiasing of references and warped frames (default none; frames rendered in full
+    /// stay one sample per pixel).
+    pub antialiasing: WarpAntialiasing,
 }
 
 impl Default for WarpPreset {
@@ -427,6 +453,7 @@ impl Default for WarpPreset {
             proxy_ratio: 0.05,
             mode: WarpMode::Ours,
             depth_test: true,
+            antialiasing: WarpAntialiasing::None,
         }
     }
 }

@@ -506,3 +506,67 @@ f 1 2 11\nf 1 2 12\nf 2 1 13\n";
         assert!(share > 0.01, "{}: nothing drawn ({share})", effect.name());
     }
 }
+
+#[test]
+fn warp_turntables_render_with_every_antialiasing() {
+    let Some(_) = context_or_skip("warp_turntables_render_with_every_antialiasing") else {
+        return;
+    };
+    let dir = out_dir("warp-aa");
+    let model = root().join("fixtures/meshes/spot.obj");
+    let mut coverages = Vec::new();
+    for aa in ["none", "msaa4", "msaa4-blend"] {
+        // An old preset without the key still loads (the default, none).
+        let text = if aa == "none" {
+            "effect = \"warp\"\n[warp]\nk = 4\n".to_string()
+        } else {
+            format!("effect = \"warp\"\n[warp]\nk = 4\nantialiasing = \"{aa}\"\n")
+        };
+        let preset = dir.join(format!("{aa}.toml"));
+        std::fs::write(&preset, text).unwrap();
+        let out = dir.join(format!("{aa}/spot.png"));
+        let json = dir.join(format!("{aa}.json"));
+        let o = npr(&[
+            "render",
+            model.to_str().unwrap(),
+            "--preset",
+            preset.to_str().unwrap(),
+            "--size",
+            "128x96",
+            "--turntable",
+            "6",
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+        ]);
+        assert!(
+            o.status.success(),
+            "{aa}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let rows: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        // Warped frames carry their PSNR against the (one-sample) full render; six frames
+        // a turn are 60° apart, so the bar only says the warp shows the model.
+        let psnr: Vec<f64> = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|r| r["psnr_db"].as_f64())
+            .collect();
+        assert!(!psnr.is_empty(), "{aa}: no warped frame");
+        assert!(psnr.iter().all(|p| *p > 12.0), "{aa}: {psnr:?}");
+        let frame = image::open(npr_app::output::frame_path(&out, 1))
+            .unwrap()
+            .into_rgba8();
+        coverages.push(object_coverage(&frame).0);
+    }
+    // Every setting shows the object, about equally large.
+    for c in &coverages {
+        assert!(
+            *c > 0.05 && (c - coverages[0]).abs() < 0.2 * coverages[0],
+            "{coverages:?}"
+        );
+    }
+}

@@ -134,6 +134,18 @@ impl BaseShading {
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
     ) -> Self {
+        Self::multisampled(device, queue, color_format, depth_format, 1)
+    }
+
+    /// As [`BaseShading::new`], for render passes whose targets have `sample_count`
+    /// samples per pixel (1, or 4 for MSAA: WebGPU guarantees 4 for renderable formats).
+    pub fn multisampled(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        sample_count: u32,
+    ) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("base_shading.wgsl"),
             source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::BASE_SHADING).into()),
@@ -175,7 +187,10 @@ impl BaseShading {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: wgpu::MultisampleState {
+                    count: sample_count.max(1),
+                    ..Default::default()
+                },
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),

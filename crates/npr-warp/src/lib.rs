@@ -22,6 +22,11 @@
 //! simplification error; a cosine-ratio ramp, sharpened to a band, with a time term that
 //! makes the warp at a reference pose reproduce that reference.
 //!
+//! Antialiasing ([`msaa`], ours, default none): [`Antialiasing::Msaa4`] multisamples the
+//! references, the warp and the full render 4×, the warp's sample mask following the
+//! references' coverage; [`Antialiasing::Msaa4Blend`] multisamples references and full
+//! render and blends a one-sample warp's rim by the references' coverage.
+//!
 //! Embedding: every pass draws into the caller's colour and depth formats and records into
 //! the caller's `wgpu::CommandEncoder`; nothing here submits. What a reference shows is
 //! the caller's [`BasePass`] ([`PhongBase`]: npr-gpu's Phong). An application keeps a
@@ -77,6 +82,7 @@ pub mod bins;
 pub mod departures;
 mod error;
 pub mod metrics;
+pub mod msaa;
 pub mod pass;
 pub mod proxy;
 pub mod reference;
@@ -86,7 +92,8 @@ pub mod warper;
 pub use bins::{BinPlan, Culling, DrawKind, Facing, NormalBins, PlanSettings, Ramp};
 pub use departures::{Departure, Departures};
 pub use error::WarpError;
-pub use metrics::{Quality, compare};
+pub use metrics::{Quality, compare, flip_mean};
+pub use msaa::{Antialiasing, MsaaTarget};
 pub use pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
 pub use proxy::Proxy;
 pub use reference::{BasePass, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame};

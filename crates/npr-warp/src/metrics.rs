@@ -5,6 +5,12 @@
 //!
 //! Object pixels: those with alpha > 0 in either image (render with a clear alpha of 0;
 //! every pass of the workspace writes alpha 1), so holes and spills both count.
+//!
+//! [`flip_mean`] is FLIP (P. Andersson, J. Nilsson, T. Akenine-Möller, M. Oskarsson,
+//! K. Åström, M. D. Fairchild, "FLIP: A Difference Evaluator for Alternating Images",
+//! HPG 2020; NVIDIA's library through the `nv-flip` crate, which wgpu's own image tests
+//! use): a perceptual difference in 0..1 per pixel, weighing edges and colour as a viewer
+//! does, so a silhouette that moves scores far above the same energy spread evenly.
 
 /// PSNR and SSIM of a test image against a reference image over the object's pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,6 +90,47 @@ pub fn compare(reference: &image::RgbaImage, test: &image::RgbaImage) -> Quality
         pixels,
         max_abs_diff,
     }
+}
+
+/// Mean LDR FLIP of `test` against `reference` (same size) over the object's pixels
+/// (alpha above 0 in either; transparent pixels count as black, as in [`compare`]), at
+/// `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (67: a 31.6-inch 3840-pixel-wide monitor seen
+/// from 0.7 m). 0 for identical images; `None` for mismatched sizes or no object pixels.
+pub fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<f64> {
+    flip_stats(reference, test).map(|(mean, _)| mean)
+}
+
+/// Mean and largest per-pixel LDR FLIP over the object's pixels (see [`flip_mean`]).
+pub fn flip_stats(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<(f64, f64)> {
+    if reference.dimensions() != test.dimensions() {
+        return None;
+    }
+    let (w, h) = reference.dimensions();
+    let rgb = |img: &image::RgbaImage| -> Vec<u8> {
+        img.pixels()
+            .flat_map(|p| if p[3] > 0 { [p[0], p[1], p[2]] } else { [0; 3] })
+            .collect()
+    };
+    let (a, b) = (reference.as_raw(), test.as_raw());
+    let mask: Vec<bool> = (0..(w * h) as usize)
+        .map(|i| a[4 * i + 3] > 0 || b[4 * i + 3] > 0)
+        .collect();
+    let pixels = mask.iter().filter(|m| **m).count();
+    if pixels == 0 || w == 0 || h == 0 {
+        return None;
+    }
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(test)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    )
+    .to_vec();
+    let (mut sum, mut max) = (0.0f64, 0.0f64);
+    for (e, _) in error.iter().zip(&mask).filter(|(_, m)| **m) {
+        sum += f64::from(*e);
+        max = max.max(f64::from(*e));
+    }
+    Some((sum / pixels as f64, max))
 }
 
 /// A picture of the per-pixel difference: `gain × |a − b|` per RGB channel over the
@@ -221,6 +268,38 @@ mod tests {
         let expected = 10.0 * (255.0f64 * 255.0 / (16.0 / 3.0)).log10();
         assert!((q.psnr_db - expected).abs() < 1e-9, "{}", q.psnr_db);
         assert!(q.ssim < 1.0 && q.ssim > 0.9);
+    }
+
+    /// A disc of radius `r` centred at `cx` in a constant colour, as `compare`'s object.
+    fn flat_disc(cx: f32, r: f32, red: u8) -> image::RgbaImage {
+        image::RgbaImage::from_fn(64, 48, |x, y| {
+            let (dx, dy) = (x as f32 + 0.5 - cx, y as f32 + 0.5 - 24.0);
+            if dx * dx + dy * dy < r * r {
+                image::Rgba([red, 140, 90, 255])
+            } else {
+                image::Rgba([0, 0, 0, 0])
+            }
+        })
+    }
+
+    #[test]
+    fn flip_is_zero_for_identical_images_and_weighs_silhouettes() {
+        let a = flat_disc(32.0, 15.0, 200);
+        let same = flip_mean(&a, &a.clone()).unwrap();
+        assert!(same.abs() < 1e-6, "{same}");
+        // Every object pixel 1/255 off: barely visible.
+        let uniform = flip_mean(&a, &flat_disc(32.0, 15.0, 201)).unwrap();
+        // The silhouette shifted by two pixels: a visible edge.
+        let shifted = flip_mean(&a, &flat_disc(34.0, 15.0, 200)).unwrap();
+        eprintln!("FLIP: 1/255 everywhere {uniform}, silhouette moved 2 px {shifted}");
+        assert!(uniform > 0.0 && uniform < 0.1, "{uniform}");
+        assert!(shifted > 2.0 * uniform, "{shifted} vs {uniform}");
+        // Larger shifts score higher.
+        let further = flip_mean(&a, &flat_disc(37.0, 15.0, 200)).unwrap();
+        assert!(further > shifted, "{further} vs {shifted}");
+        let (mean, max) = flip_stats(&a, &flat_disc(34.0, 15.0, 200)).unwrap();
+        assert!((mean - shifted).abs() < 1e-12 && max >= mean && max <= 1.0);
+        assert_eq!(flip_mean(&a, &image::RgbaImage::new(3, 3)), None);
     }
 
     #[test]

@@ -8,6 +8,7 @@
 //! object-space points; the object may move, the camera may move, or both.
 
 use crate::bins::{BinPlan, DrawKind, NormalBins, PlanSettings};
+use crate::msaa::Antialiasing;
 use crate::reference::{Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
@@ -212,6 +213,7 @@ pub struct WarpPass {
     blend_coverage: wgpu::RenderPipeline,
     color_format: wgpu::TextureFormat,
     depth_format: wgpu::TextureFormat,
+    antialiasing: Antialiasing,
     fill: wgpu::RenderPipeline,
     wire: wgpu::RenderPipeline,
     ref_layout: wgpu::BindGroupLayout,
@@ -230,6 +232,26 @@ impl WarpPass {
         device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, WarpError> {
+        Self::with_antialiasing(device, color_format, depth_format, Antialiasing::None)
+    }
+
+    /// As [`WarpPass::new`], for passes with `antialiasing`'s warp sample count
+    /// ([`Antialiasing::warp_sample_count`]). With [`Antialiasing::Msaa4Blend`] the
+    /// depth-tested warp is one sample per pixel and blends its rim by the references'
+    /// coverage (premultiplied alpha). With [`Antialiasing::Msaa4`], the depth-tested warp ([`WarpMode::DepthTested`]) writes a sample mask from the
+    /// references' coverage (`warp.wgsl`, `coverage_mask`): with references drawn with
+    /// the same antialiasing ([`ReferenceFrame::with_antialiasing`]) the warped silhouette
+    /// is antialiased as a multisampled full render's is. The paper's shaders are the
+    /// paper's, multisampled only at the proxy's edges.
+    ///
+    /// # Errors
+    /// As [`WarpPass::new`].
+    pub fn with_antialiasing(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
     ) -> Result<Self, WarpError> {
         check_formats(color_format, depth_format)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -285,12 +307,16 @@ impl WarpPass {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: antialiasing.warp_multisample_state(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
-                    targets: &[Some(color_format.into())],
+                    targets: &[Some(wgpu::ColorTargetState {
+                        blend: (fs.ends_with("_cover"))
+                            .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+                        ..color_format.into()
+                    })],
                 }),
                 multiview_mask: None,
                 cache: None,
@@ -305,9 +331,22 @@ impl WarpPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
+        let tested = |fs: [&'static str; 3]| {
+            pipeline(
+                match antialiasing {
+                    Antialiasing::None => fs[0],
+                    Antialiasing::Msaa4 => fs[1],
+                    Antialiasing::Msaa4Blend => fs[2],
+                },
+                tri,
+            )
+        };
         Ok(Self {
-            single: [pipeline("fs_single0", tri), pipeline("fs_single1", tri)],
-            blend: pipeline("fs_blend", tri),
+            single: [
+                tested(["fs_single0", "fs_single0_msaa", "fs_single0_cover"]),
+                tested(["fs_single1", "fs_single1_msaa", "fs_single1_cover"]),
+            ],
+            blend: tested(["fs_blend", "fs_blend_msaa", "fs_blend_cover"]),
             single_paper: [
                 pipeline("fs_single0_paper", tri),
                 pipeline("fs_single1_paper", tri),
@@ -325,12 +364,18 @@ impl WarpPass {
             sampler,
             color_format,
             depth_format,
+            antialiasing,
         })
     }
 
     /// The colour and depth formats the pipelines draw into (and references use).
     pub fn formats(&self) -> (wgpu::TextureFormat, wgpu::TextureFormat) {
         (self.color_format, self.depth_format)
+    }
+
+    /// The antialiasing the pipelines draw with.
+    pub fn antialiasing(&self) -> Antialiasing {
+        self.antialiasing
     }
 
     /// Binds two rendered references as the pair a warp interpolates between. Rebind after

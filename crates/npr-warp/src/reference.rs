@@ -10,6 +10,7 @@
 //! suggests for hiding the reference cost behind a third off-screen buffer.
 
 use crate::WarpError;
+use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
 use glam::{Mat4, Vec3};
 use npr_gpu::{
     BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectBinding, ObjectUniforms, ShadingModel,
@@ -125,6 +126,7 @@ pub struct PhongBase {
     depth_format: wgpu::TextureFormat,
     model: ShadingModel,
     ramp: Option<Vec<[u8; 4]>>,
+    antialiasing: Antialiasing,
     slots: Vec<(BaseShading, ObjectBinding)>,
 }
 
@@ -152,6 +154,7 @@ impl PhongBase {
             depth_format,
             model: ShadingModel::Phong,
             ramp: None,
+            antialiasing: Antialiasing::None,
             slots: Vec::new(),
         }
     }
@@ -161,6 +164,14 @@ impl PhongBase {
     pub fn with_model(mut self, model: ShadingModel, ramp: Option<Vec<[u8; 4]>>) -> Self {
         self.model = model;
         self.ramp = ramp;
+        self.slots.clear();
+        self
+    }
+
+    /// The same base drawing into references of `antialiasing` (it must match the
+    /// references' [`ReferenceFrame::antialiasing`]: the pipelines are built for it).
+    pub fn with_antialiasing(mut self, antialiasing: Antialiasing) -> Self {
+        self.antialiasing = antialiasing;
         self.slots.clear();
         self
     }
@@ -175,7 +186,13 @@ impl PhongBase {
 impl BasePass for PhongBase {
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
         while self.slots.len() <= target.slot {
-            let mut shading = BaseShading::new(device, queue, self.color_format, self.depth_format);
+            let mut shading = BaseShading::multisampled(
+                device,
+                queue,
+                self.color_format,
+                self.depth_format,
+                self.antialiasing.sample_count(),
+            );
             if let Some(texels) = &self.ramp {
                 let view = npr_gpu::upload_ramp(device, queue, texels);
                 shading.set_ramp(device, &view);
@@ -218,6 +235,17 @@ pub struct ReferenceFrame {
     pub pose: Pose,
     /// `pose.camera.clip_from_world()`, kept for the projective texture matrix.
     pub clip_from_world: Mat4,
+    /// Multisampled: the textures drawn into, the depth resolve and its source binding.
+    msaa: Option<ReferenceMsaa>,
+}
+
+/// The multisampled side of a [`ReferenceFrame`].
+#[derive(Debug)]
+struct ReferenceMsaa {
+    target: MsaaTarget,
+    resolve: DepthResolve,
+    source: wgpu::BindGroup,
+    antialiasing: Antialiasing,
 }
 
 impl ReferenceFrame {
@@ -233,6 +261,32 @@ impl ReferenceFrame {
         height: u32,
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
+    ) -> Result<Self, WarpError> {
+        Self::with_antialiasing(
+            device,
+            width,
+            height,
+            color_format,
+            depth_format,
+            Antialiasing::None,
+        )
+    }
+
+    /// As [`ReferenceFrame::new`], drawn with `antialiasing`: multisampled, the base pass
+    /// draws into multisampled textures (its pipelines built for them, e.g.
+    /// [`PhongBase::with_antialiasing`]) whose colour is resolved into [`Self::color`]
+    /// (alpha = coverage) and whose depth is resolved, nearest sample per texel, into
+    /// [`Self::depth`] after every recorded pass.
+    ///
+    /// # Errors
+    /// As [`ReferenceFrame::new`].
+    pub fn with_antialiasing(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
     ) -> Result<Self, WarpError> {
         crate::pass::check_formats(color_format, depth_format)?;
         let max = device.limits().max_texture_dimension_2d;
@@ -251,6 +305,26 @@ impl ReferenceFrame {
         let color = make("npr-warp reference colour", color_format);
         let depth = make("npr-warp reference depth", depth_format);
         let camera = Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, width as f32 / height as f32);
+        let msaa = if antialiasing.is_multisampled() {
+            let target = MsaaTarget::new(
+                device,
+                width,
+                height,
+                color_format,
+                depth_format,
+                antialiasing,
+            )?;
+            let resolve = DepthResolve::new(device, depth_format);
+            let source = resolve.bind(device, &target);
+            Some(ReferenceMsaa {
+                target,
+                resolve,
+                source,
+                antialiasing,
+            })
+        } else {
+            None
+        };
         Ok(Self {
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
@@ -267,7 +341,15 @@ impl ReferenceFrame {
                 world_from_object: Mat4::IDENTITY,
             },
             clip_from_world: camera.clip_from_world(),
+            msaa,
         })
+    }
+
+    /// The antialiasing the reference is drawn with.
+    pub fn antialiasing(&self) -> Antialiasing {
+        self.msaa
+            .as_ref()
+            .map_or(Antialiasing::None, |m| m.antialiasing)
     }
 
     /// Records `base` drawing `pose` (as slot `slot`) over what the reference holds, with
@@ -311,6 +393,14 @@ impl ReferenceFrame {
             ),
             None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
         };
+        if let Some(msaa) = &self.msaa {
+            {
+                let mut pass = msaa.target.begin_pass(encoder, &self.color_view, clear);
+                base.draw(&mut pass, draw);
+            }
+            msaa.resolve.record(encoder, &msaa.source, &self.depth_view);
+            return;
+        }
         let mut pass =
             npr_gpu::begin_views_pass(encoder, &self.color_view, &self.depth_view, color, depth);
         base.draw(&mut pass, draw);
@@ -401,8 +491,32 @@ impl FullRenderer {
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
     ) -> Self {
+        Self::with_antialiasing(
+            device,
+            queue,
+            color_format,
+            depth_format,
+            Antialiasing::None,
+        )
+    }
+
+    /// As [`FullRenderer::new`], for passes with `antialiasing`'s sample count (e.g.
+    /// [`MsaaTarget::begin_pass`]; see [`FullRenderer::record_msaa`]).
+    pub fn with_antialiasing(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
+    ) -> Self {
         Self {
-            shading: BaseShading::new(device, queue, color_format, depth_format),
+            shading: BaseShading::multisampled(
+                device,
+                queue,
+                color_format,
+                depth_format,
+                antialiasing.sample_count(),
+            ),
             objects: Vec::new(),
             count: 0,
         }
@@ -455,6 +569,21 @@ impl FullRenderer {
         clear: [f64; 4],
     ) {
         let mut pass = begin_clear_pass(encoder, color, depth, clear);
+        self.draw(&mut pass, mesh);
+    }
+
+    /// Records a multisampled pass over `target`, cleared to `clear`, with the full
+    /// render, its colour resolved into `resolve` (for a renderer built
+    /// [`FullRenderer::with_antialiasing`] at the target's sample count).
+    pub fn record_msaa(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &MsaaTarget,
+        resolve: &wgpu::TextureView,
+        mesh: &GpuMesh,
+        clear: [f64; 4],
+    ) {
+        let mut pass = target.begin_pass(encoder, resolve, Some(clear));
         self.draw(&mut pass, mesh);
     }
 }

@@ -4,6 +4,7 @@
 
 use crate::bins::BinPlan;
 use crate::departures::Departures;
+use crate::msaa::{Antialiasing, MsaaTarget};
 use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
 use crate::reference::{BasePass, Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
@@ -24,6 +25,8 @@ pub struct Warper {
     pass: WarpPass,
     object: WarpObject,
     refs: [ReferenceFrame; 2],
+    /// Multisampled: the warped frame's own multisampled colour and depth.
+    msaa: Option<MsaaTarget>,
     /// References recorded so far (the newest is in slot `(recorded - 1) % 2`).
     recorded: u64,
     pair: Option<ReferencePair>,
@@ -49,6 +52,40 @@ impl Warper {
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
     ) -> Result<Self, WarpError> {
+        Self::with_antialiasing(
+            device,
+            proxy,
+            departures,
+            world_per_object,
+            width,
+            height,
+            color_format,
+            depth_format,
+            Antialiasing::None,
+        )
+    }
+
+    /// As [`Warper::new`], with references and warped frames drawn with `antialiasing`
+    /// (the base pass given to [`Warper::record_reference`] must be built for it, e.g.
+    /// [`crate::PhongBase::with_antialiasing`]). With a multisampled warp
+    /// ([`Antialiasing::Msaa4`]), [`Warper::record_warp`] draws into the warper's own
+    /// multisampled textures and resolves into the caller's colour, and [`Warper::draw`]
+    /// needs a pass with 4 samples per pixel.
+    ///
+    /// # Errors
+    /// As [`Warper::new`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_antialiasing(
+        device: &wgpu::Device,
+        proxy: &Proxy,
+        departures: Departures,
+        world_per_object: f32,
+        width: u32,
+        height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
+    ) -> Result<Self, WarpError> {
         if !(world_per_object.is_finite() && world_per_object > 0.0) {
             return Err(WarpError::InvalidSetting(format!(
                 "world_per_object {world_per_object} is not a positive scale"
@@ -56,7 +93,7 @@ impl Warper {
         }
         let settings = departures.settings(proxy, world_per_object);
         settings.validate()?;
-        let pass = WarpPass::new(device, color_format, depth_format)?;
+        let pass = WarpPass::with_antialiasing(device, color_format, depth_format, antialiasing)?;
         let object = pass.create_object(
             device,
             proxy,
@@ -64,7 +101,28 @@ impl Warper {
             departures.inflation(proxy),
             false,
         )?;
-        let slot = || ReferenceFrame::new(device, width, height, color_format, depth_format);
+        let slot = || {
+            ReferenceFrame::with_antialiasing(
+                device,
+                width,
+                height,
+                color_format,
+                depth_format,
+                antialiasing,
+            )
+        };
+        let msaa = if antialiasing.warp_is_multisampled() {
+            Some(MsaaTarget::new(
+                device,
+                width,
+                height,
+                color_format,
+                depth_format,
+                antialiasing,
+            )?)
+        } else {
+            None
+        };
         Ok(Self {
             settings,
             mode: departures.mode(),
@@ -72,6 +130,7 @@ impl Warper {
             pass,
             object,
             refs: [slot()?, slot()?],
+            msaa,
             recorded: 0,
             pair: None,
         })
@@ -105,6 +164,11 @@ impl Warper {
         } else {
             [&self.refs[1 - newest], &self.refs[newest]]
         }
+    }
+
+    /// The antialiasing of references and warped frames.
+    pub fn antialiasing(&self) -> Antialiasing {
+        self.pass.antialiasing()
     }
 
     /// References recorded so far (a warp needs at least one; the paper's interpolation,
@@ -156,7 +220,8 @@ impl Warper {
     }
 
     /// As [`Warper::draw`], in a pass of its own over `color` / `depth` cleared to
-    /// [`Warper::clear`].
+    /// [`Warper::clear`]. Multisampled, the pass is over the warper's own multisampled
+    /// textures, resolved into `color`; `depth` is not written.
     pub fn record_warp(
         &self,
         queue: &wgpu::Queue,
@@ -166,7 +231,10 @@ impl Warper {
         pose: &Pose,
         s: f32,
     ) -> Option<BinPlan> {
-        let mut pass = crate::reference::begin_clear_pass(encoder, color, depth, self.clear);
+        let mut pass = match &self.msaa {
+            Some(msaa) => msaa.begin_pass(encoder, color, Some(self.clear)),
+            None => crate::reference::begin_clear_pass(encoder, color, depth, self.clear),
+        };
         self.draw(queue, &mut pass, pose, s)
     }
 }

@@ -14,8 +14,16 @@
 //! over the frames; quality is measured on the same frames). The object stays fixed; the
 //! camera orbits it at 1°/frame under a world-fixed light.
 //!
+//! Tables 1–2 run every row with both antialiasing settings (JSON `antialiasing`: `none`,
+//! or `msaa4`: full render, references and warp all 4× MSAA, each resolve inside the timed
+//! work), each warped frame compared with the full render of the same antialiasing, by PSNR
+//! and by mean FLIP over the object's pixels (`flip_mean`); the amortized time counts the
+//! reference's own measured cost (`ref_ms`, its resolves included). The other tables are
+//! single-sample.
+//!
 //! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
-//! mesh name>`, `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
+//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4` (one antialiasing only),
+//! `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
 
@@ -27,8 +35,8 @@ use glam::Vec3;
 use npr_geometry::stats::median;
 use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
 use npr_warp::{
-    Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode, WarpSchedule,
-    WarpSequence, compare,
+    Antialiasing, Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
+    WarpSchedule, WarpSequence, compare, metrics::flip_mean,
 };
 use std::path::Path;
 use std::time::Instant;
@@ -75,6 +83,14 @@ impl Rig<'_> {
         })
     }
 
+    /// A reference of object 0 at `scene` into `slot`, resolves included; returns ms.
+    fn reference_ms(&mut self, slot: &mut ReferenceFrame, scene: &ScenePose) -> f64 {
+        let enc = self.record_reference(slot, scene);
+        timed(self.ctx, || {
+            self.ctx.queue.submit(Some(enc.finish()));
+        })
+    }
+
     fn warp_ms(
         &self,
         refs: [&ReferenceFrame; 2],
@@ -98,7 +114,7 @@ impl Rig<'_> {
                 .collect();
             let mut enc = d.create_command_encoder(&Default::default());
             {
-                let mut rpass = self.target.begin_clear_pass(&mut enc, CLEAR);
+                let mut rpass = self.begin_clear_pass(&mut enc, CLEAR);
                 for (o, p) in objects.iter().zip(&plans) {
                     self.pass.draw(&mut rpass, &pair, &o.object, p, mode);
                 }
@@ -118,6 +134,8 @@ struct SegmentResult {
     psnr_mean: f64,
     psnr_worst: f64,
     ssim_mean: f64,
+    flip_mean: f64,
+    flip_worst: f64,
     blended_bins: f64,
     tris_drawn: f64,
 }
@@ -126,7 +144,7 @@ struct SegmentResult {
 type Fulls = std::collections::HashMap<(u32, u32, usize), image::RgbaImage>;
 
 /// Measures the sampled frames of one segment of length k warped with `objects` (their
-/// variants' mode is the first's); with `fill`, also the fill floor.
+/// variants' mode is the first's); with `fill`, also the fill floor and FLIP.
 fn segment(
     rig: &mut Rig<'_>,
     path: &Turntable,
@@ -135,6 +153,7 @@ fn segment(
     fill: bool,
     fulls: &mut Fulls,
 ) -> anyhow::Result<SegmentResult> {
+    let mut flips = Vec::new();
     let mode = objects.first().map_or(WarpMode::DepthTested, |o| o.mode);
     let (r0, r1) = (
         rig.reference(&path.pose(0.0))?,
@@ -169,6 +188,9 @@ fn segment(
             }
             psnr.push(q.psnr_db);
             ssim.push(q.ssim);
+            if fill {
+                flips.extend(flip_mean(full, &img));
+            }
         }
         if fill {
             let fills: Vec<f64> = (0..3)
@@ -186,6 +208,12 @@ fn segment(
         psnr_mean: mean(&psnr),
         psnr_worst: psnr.iter().copied().fold(f64::INFINITY, f64::min),
         ssim_mean: mean(&ssim),
+        flip_mean: if flips.is_empty() {
+            f64::NAN
+        } else {
+            mean(&flips)
+        },
+        flip_worst: flips.iter().copied().fold(f64::NAN, f64::max),
         blended_bins: mean(&blended),
         tris_drawn: mean(&tris),
     })
@@ -239,7 +267,9 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "proxy_error_rel",
             "k",
             "mode",
+            "antialiasing",
             "full_ms",
+            "ref_ms",
             "warp_ms",
             "amortized_ms",
             "speedup_x",
@@ -249,6 +279,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "psnr_mean_db",
             "psnr_worst_db",
             "ssim_mean",
+            "flip_mean",
+            "flip_worst",
             "adapter",
         ],
     );
@@ -317,18 +349,34 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     );
     let only = std::env::var("NPR_WARP_BENCH_ONLY").ok();
     let quick = std::env::var("NPR_WARP_BENCH_QUICK").is_ok_and(|v| v == "1");
+    let aa_only = std::env::var("NPR_WARP_BENCH_AA").ok();
+    let aas: Vec<Antialiasing> = Antialiasing::ALL
+        .into_iter()
+        .filter(|a| aa_only.as_ref().is_none_or(|o| o == a.name()))
+        .collect();
     for bm in meshes()? {
         if only.as_ref().is_some_and(|o| !bm.name.contains(o.as_str())) {
             continue;
         }
         let tris = bm.mesh.triangle_count();
         println!("bench warp: {} ({tris} triangles)", bm.name);
-        let mut rig = Rig::new(&ctx, &bm.mesh, SIZE)?;
         let (path, world_per_object) = path_for(&bm.mesh, vec![Vec3::ZERO], 3.3, ORBIT);
-        // FULL: the full render (also the cost of a reference).
-        rig.full_ms(&path.pose(0.0));
-        let full_ms = median((0..5).map(|i| rig.full_ms(&path.pose(i as f32))));
-        let mut fulls = Fulls::new();
+        // Per antialiasing: the rig, FULL (the full render), REF (a reference: the same
+        // draw plus, multisampled, its depth resolve) and the full renders made so far.
+        let mut rigs = Vec::new();
+        for &aa in &aas {
+            let mut r = Rig::with_antialiasing(&ctx, &bm.mesh, SIZE, aa)?;
+            r.full_ms(&path.pose(0.0));
+            let full = median((0..5).map(|i| r.full_ms(&path.pose(i as f32))));
+            let mut slot = r.reference_slot()?;
+            r.reference_ms(&mut slot, &path.pose(0.0));
+            let reference = median((0..5).map(|i| r.reference_ms(&mut slot, &path.pose(i as f32))));
+            println!(
+                "  {}: full render {full:.2} ms, reference {reference:.2} ms",
+                aa.name()
+            );
+            rigs.push((aa, r, full, reference, Fulls::new()));
+        }
         for (ri, &ratio) in bm.ratios.iter().enumerate() {
             if quick && ri != 1 {
                 continue;
@@ -353,45 +401,61 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                     continue;
                 }
                 for (departures, mode) in MODES {
-                    let objects =
-                        [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                    let r = segment(&mut rig, &path, k, &objects, true, &mut fulls)?;
-                    let schedule = WarpSchedule::new(k, false)?;
-                    let amortized = schedule.amortized_ms(full_ms, r.warp_ms);
-                    let speedup = full_ms / amortized;
-                    let kf = f64::from(k);
-                    let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
-                    t1.push(vec![
-                        bm.name.clone().into(),
-                        tris.into(),
-                        Cell::Num(f64::from(ratio) * 100.0, 2),
-                        proxy.triangles().into(),
-                        Cell::Num(f64::from(proxy.error_relative), 5),
-                        k.into(),
-                        mode.into(),
-                        Cell::Num(full_ms, 2),
-                        Cell::Num(r.warp_ms, 2),
-                        Cell::Num(amortized, 2),
-                        Cell::Num(speedup, 2),
-                        Cell::Num(r.fill_ms, 2),
-                        Cell::Num(ceiling, 2),
-                        Cell::Num(speedup / ceiling, 3),
-                        measured(r.psnr_mean, 2),
-                        measured(r.psnr_worst, 2),
-                        measured(r.ssim_mean, 4),
-                        adapter.clone().into(),
-                    ]);
-                    println!(
-                        "  ratio {ratio} k {k} {mode}: warp {:.2} ms, fill {:.2} ms, speedup \
-                         {speedup:.2}x (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, {:.0} s",
-                        r.warp_ms,
-                        r.fill_ms,
-                        r.psnr_mean,
-                        r.psnr_worst,
-                        started.elapsed().as_secs_f64()
-                    );
+                    for (aa, rig, full_ms, ref_ms, fulls) in rigs.iter_mut() {
+                        let (full_ms, ref_ms) = (*full_ms, *ref_ms);
+                        let objects =
+                            [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
+                        let r = segment(rig, &path, k, &objects, true, fulls)?;
+                        let schedule = WarpSchedule::new(k, false)?;
+                        let amortized = schedule.amortized_ms(ref_ms, r.warp_ms);
+                        let speedup = full_ms / amortized;
+                        let kf = f64::from(k);
+                        let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
+                        t1.push(vec![
+                            bm.name.clone().into(),
+                            tris.into(),
+                            Cell::Num(f64::from(ratio) * 100.0, 2),
+                            proxy.triangles().into(),
+                            Cell::Num(f64::from(proxy.error_relative), 5),
+                            k.into(),
+                            mode.into(),
+                            aa.name().into(),
+                            Cell::Num(full_ms, 2),
+                            Cell::Num(ref_ms, 2),
+                            Cell::Num(r.warp_ms, 2),
+                            Cell::Num(amortized, 2),
+                            Cell::Num(speedup, 2),
+                            Cell::Num(r.fill_ms, 2),
+                            Cell::Num(ceiling, 2),
+                            Cell::Num(speedup / ceiling, 3),
+                            measured(r.psnr_mean, 2),
+                            measured(r.psnr_worst, 2),
+                            measured(r.ssim_mean, 4),
+                            measured(r.flip_mean, 4),
+                            measured(r.flip_worst, 4),
+                            adapter.clone().into(),
+                        ]);
+                        println!(
+                            "  ratio {ratio} k {k} {mode} {}: warp {:.2} ms, fill {:.2} ms, speedup \
+                         {speedup:.2}x (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, FLIP \
+                         {:.4} / {:.4}, {:.0} s",
+                            aa.name(),
+                            r.warp_ms,
+                            r.fill_ms,
+                            r.psnr_mean,
+                            r.psnr_worst,
+                            r.flip_mean,
+                            r.flip_worst,
+                            started.elapsed().as_secs_f64()
+                        );
+                    }
                 }
             }
+            // The other tables are single-sample.
+            let Some((_, rig, _, _, fulls)) = rigs.iter_mut().find(|r| r.0 == Antialiasing::None)
+            else {
+                continue;
+            };
             if ri != 1 {
                 continue;
             }
@@ -399,7 +463,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             let mut ends = [f64::NAN; 2];
             for (variant, departure, departures) in ablation_rows() {
                 let objects = [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                let r = segment(&mut rig, &path, 20, &objects, false, &mut fulls)?;
+                let r = segment(rig, &path, 20, &objects, false, fulls)?;
                 // Added to the paper: gain over the paper; removed from ours: loss from ours.
                 let delta = if variant == "paper" {
                     ends[0] = r.psnr_mean;
@@ -433,7 +497,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             }
             for n in [2, 4, 8, 16, 32] {
                 let o = [rig.variant(&proxy, Departures::OURS, world_per_object, n, false)?];
-                let r = segment(&mut rig, &path, 10, &o, false, &mut fulls)?;
+                let r = segment(rig, &path, 10, &o, false, fulls)?;
                 t_bins.push(vec![
                     bm.name.clone().into(),
                     n.into(),
@@ -444,10 +508,10 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                     adapter.clone().into(),
                 ]);
             }
-            table3(&mut rig, &bm, &proxy, &mut t3, &adapter)?;
+            table3(rig, &bm, &proxy, &mut t3, &adapter)?;
             spreading(
                 &ctx,
-                &mut rig,
+                rig,
                 &bm,
                 &proxy,
                 &path,

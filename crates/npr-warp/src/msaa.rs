@@ -1,0 +1,334 @@
+//! Antialiasing of the warp path (ours, beyond the paper): 4× MSAA of the references, of
+//! the warped frame and of the full render it is compared with.
+//!
+//! A multisampled reference is drawn into [`MsaaTarget`] textures and resolved: its colour
+//! by the render pass (a rim texel's alpha becomes the share the object covers, its colour
+//! premultiplied by it, since references are cleared to transparent black), its depth by a
+//! pass of our own that keeps the nearest sample (WebGPU resolves colour only). The warp
+//! pass then draws the proxy into a multisampled target with a per-fragment sample mask
+//! taken from the reference's coverage at each sample's point (`warp.wgsl`,
+//! `coverage_mask`), so the warped silhouette is antialiased as the full render's is.
+//! 4 samples per pixel are guaranteed by WebGPU for every renderable colour format and
+//! every depth format ([`Antialiasing::check`] asks the adapter anyway).
+
+use crate::WarpError;
+
+/// Antialiasing of references, warped frames and full renders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Antialiasing {
+    /// One sample per pixel (as the paper, and the default).
+    #[default]
+    None,
+    /// 4× multisampling of references, warped frames and full renders, resolved to one
+    /// sample per pixel; the warp's sample mask follows the references' coverage.
+    Msaa4,
+    /// 4× multisampling of references and full renders; the warp draws one sample per
+    /// pixel and blends its rim over the background by the references' coverage
+    /// (premultiplied alpha): the multisampled look for a one-sample warp's cost.
+    Msaa4Blend,
+}
+
+impl Antialiasing {
+    /// Every setting, in table order.
+    pub const ALL: [Antialiasing; 3] = [
+        Antialiasing::None,
+        Antialiasing::Msaa4,
+        Antialiasing::Msaa4Blend,
+    ];
+
+    /// Samples per pixel of references and full renders.
+    pub fn sample_count(self) -> u32 {
+        match self {
+            Antialiasing::None => 1,
+            Antialiasing::Msaa4 | Antialiasing::Msaa4Blend => 4,
+        }
+    }
+
+    /// Samples per pixel of the warped frame.
+    pub fn warp_sample_count(self) -> u32 {
+        match self {
+            Antialiasing::None | Antialiasing::Msaa4Blend => 1,
+            Antialiasing::Msaa4 => 4,
+        }
+    }
+
+    /// A short name (table and JSON value): `none`, `msaa4`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Antialiasing::None => "none",
+            Antialiasing::Msaa4 => "msaa4",
+            Antialiasing::Msaa4Blend => "msaa4-blend",
+        }
+    }
+
+    /// The setting named `name` ([`Antialiasing::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|a| a.name() == name)
+    }
+
+    /// Whether references and full renders are multisampled.
+    pub fn is_multisampled(self) -> bool {
+        self.sample_count() > 1
+    }
+
+    /// Whether the warped frame is multisampled.
+    pub fn warp_is_multisampled(self) -> bool {
+        self.warp_sample_count() > 1
+    }
+
+    /// Checks that `adapter` renders (and resolves) `color_format` and renders
+    /// `depth_format` at this sample count.
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] naming the format that lacks it.
+    pub fn check(
+        self,
+        adapter: &wgpu::Adapter,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+    ) -> Result<(), WarpError> {
+        let n = self.sample_count();
+        if n == 1 {
+            return Ok(());
+        }
+        for (format, resolve) in [(color_format, true), (depth_format, false)] {
+            let f = adapter.get_texture_format_features(format);
+            let ok = f.flags.sample_count_supported(n)
+                && (!resolve
+                    || f.flags
+                        .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE));
+            if !ok {
+                return Err(WarpError::InvalidSetting(format!(
+                    "{format:?} does not support {n}x multisampling on this adapter"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    pub(crate) fn warp_multisample_state(self) -> wgpu::MultisampleState {
+        wgpu::MultisampleState {
+            count: self.warp_sample_count(),
+            ..Default::default()
+        }
+    }
+}
+
+/// Multisampled colour and depth textures of one size: what a multisampled pass draws
+/// into before its colour is resolved into a single-sample texture.
+#[derive(Debug)]
+pub struct MsaaTarget {
+    /// Multisampled colour (render attachment).
+    pub color: wgpu::Texture,
+    /// Default view of `color`.
+    pub color_view: wgpu::TextureView,
+    /// Multisampled depth (render attachment, sampleable for the depth resolve).
+    pub depth: wgpu::Texture,
+    /// Default view of `depth` (the attachment).
+    pub depth_view: wgpu::TextureView,
+    pub(crate) depth_sample_view: wgpu::TextureView,
+}
+
+impl MsaaTarget {
+    /// Textures of `width × height` with `antialiasing`'s sample count in the caller's
+    /// formats.
+    ///
+    /// # Errors
+    /// [`WarpError::Gpu`] for a zero size or one past the device's limit.
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
+    ) -> Result<Self, WarpError> {
+        let max = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(npr_gpu::GpuError::InvalidSize {
+                width,
+                height,
+                reason: format!("each side must be in 1..={max}"),
+            }
+            .into());
+        }
+        let make = |label, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: antialiasing.sample_count(),
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let color = make(
+            "npr-warp msaa colour",
+            color_format,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let depth = make(
+            "npr-warp msaa depth",
+            depth_format,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        Ok(Self {
+            color_view: color.create_view(&Default::default()),
+            depth_view: depth.create_view(&Default::default()),
+            depth_sample_view: depth.create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            }),
+            color,
+            depth,
+        })
+    }
+
+    /// A render pass over the multisampled textures, cleared to `clear` (linear RGBA) and
+    /// depth 1, or loaded (`None`), its colour resolved into `resolve` at the end.
+    pub fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        resolve: &wgpu::TextureView,
+        clear: Option<[f64; 4]>,
+    ) -> wgpu::RenderPass<'e> {
+        let (color, depth) = match clear {
+            Some([r, g, b, a]) => (
+                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                wgpu::LoadOp::Clear(1.0),
+            ),
+            None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr-warp msaa pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.color_view,
+                depth_slice: None,
+                resolve_target: Some(resolve),
+                ops: wgpu::Operations {
+                    load: color,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: depth,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+/// The depth resolve of a multisampled reference: the nearest sample per texel, written
+/// into a single-sample depth texture (`warp.wgsl`, `fs_resolve_depth`).
+#[derive(Debug)]
+pub(crate) struct DepthResolve {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl DepthResolve {
+    pub(crate) fn new(device: &wgpu::Device, depth_format: wgpu::TextureFormat) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("warp.wgsl depth resolve"),
+            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr-warp depth resolve"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Depth,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: true,
+                },
+                count: None,
+            }],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("npr-warp depth resolve"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("npr-warp depth resolve"),
+            layout: Some(&pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: depth_format,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs_resolve_depth"),
+                compilation_options: Default::default(),
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Self { pipeline, layout }
+    }
+
+    /// A bind group reading `source`'s multisampled depth.
+    pub(crate) fn bind(&self, device: &wgpu::Device, source: &MsaaTarget) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr-warp depth resolve"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&source.depth_sample_view),
+            }],
+        })
+    }
+
+    /// Records the resolve of the bound source into `target` (single-sample depth).
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        source: &wgpu::BindGroup,
+        target: &wgpu::TextureView,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("npr-warp depth resolve"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: target,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, source, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
