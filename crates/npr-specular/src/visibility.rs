@@ -45,15 +45,13 @@ impl VisibilityScratch {
 
 /// Whether the triangle with projector coordinates `q` can overlap the box
 /// `lo..hi` (the frustum is x, y in [−1, 1], z in [0, 1]): false only when all three
-/// vertices lie outside the same face of the box (a conservative separating-plane test).
+/// vertices lie outside the same face of the box (a conservative separating-plane test:
+/// the triangle's bounding box misses the box along some axis).
 fn overlaps_box(q: [Vec3; 3], lo: Vec3, hi: Vec3) -> bool {
-    let all = |f: &dyn Fn(Vec3) -> bool| q.iter().all(|p| f(*p));
-    !(all(&|p| p.x < lo.x)
-        || all(&|p| p.x > hi.x)
-        || all(&|p| p.y < lo.y)
-        || all(&|p| p.y > hi.y)
-        || all(&|p| p.z < lo.z)
-        || all(&|p| p.z > hi.z))
+    let q_lo = q[0].min(q[1]).min(q[2]);
+    let q_hi = q[0].max(q[1]).max(q[2]);
+    // NaN coordinates compare false both ways: such a triangle is not received.
+    q_hi.cmpge(lo).all() && q_lo.cmple(hi).all()
 }
 
 const FRUSTUM_LO: Vec3 = Vec3::new(-1.0, -1.0, 0.0);
@@ -112,6 +110,21 @@ pub fn receivers_within(
     if !n_max_object.is_finite() || !ndc_from_object.is_finite() {
         return 0;
     }
+    // The projector is orthographic (Eq. (7)): an affine map needs no division by w.
+    let affine = ndc_from_object.row(3) == glam::Vec4::W;
+    // |M⁻ᵀ n| for a unit face normal n is the same for every face under a similarity
+    // (rotation, uniform scale, translation): the facing test's right side is constant.
+    let cols = [
+        normal_from_object.x_axis,
+        normal_from_object.y_axis,
+        normal_from_object.z_axis,
+    ];
+    let k = cols[0].length();
+    let similar = cols.iter().all(|c| (c.length() - k).abs() <= 1e-6 * k)
+        && cols[0].dot(cols[1]).abs() <= 1e-6 * k * k
+        && cols[1].dot(cols[2]).abs() <= 1e-6 * k * k
+        && cols[2].dot(cols[0]).abs() <= 1e-6 * k * k;
+    let facing_floor = similar.then_some(min_cos * k);
     let before = out.len();
     // A translated projector (§3.4) may not cover the centre's own face: the walk
     // crosses the box spanning both the frustum and the untranslated centre, and only
@@ -131,21 +144,29 @@ pub fn receivers_within(
         // cos = (M⁻ᵀ n)·N_max / |M⁻ᵀ n| = n·(M⁻¹ N_max) / |M⁻ᵀ n|.
         let n = topology.face_normals[f];
         let facing = if min_cos > 0.0 {
-            n.dot(n_max_object) > min_cos * (normal_from_object * n).length()
+            let floor = facing_floor.unwrap_or_else(|| min_cos * (normal_from_object * n).length());
+            n.dot(n_max_object) > floor
         } else {
             n.dot(n_max_object) > 0.0 // false for NaN
         };
         if topology.is_degenerate(f) || !facing {
             return None;
         }
-        let q = topology.triangles[f].map(|v| {
+        let t = topology.triangles[f];
+        let mut q = [Vec3::ZERO; 3];
+        for (qk, &v) in q.iter_mut().zip(&t) {
             let v = v as usize;
             if vertex_stamp[v] != generation {
                 vertex_stamp[v] = generation;
-                vertex_ndc[v] = ndc_from_object.project_point3(topology.positions[v]);
+                let p = topology.positions[v];
+                vertex_ndc[v] = if affine {
+                    ndc_from_object.transform_point3(p)
+                } else {
+                    ndc_from_object.project_point3(p)
+                };
             }
-            vertex_ndc[v]
-        });
+            *qk = vertex_ndc[v];
+        }
         overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
     stamp[start_face as usize] = generation;
