@@ -26,8 +26,11 @@ pub struct Model {
 }
 
 impl Model {
-    /// A model from a mesh in memory.
+    /// A model from a mesh in memory, its triangles and vertices reordered for locality
+    /// ([`npr_geometry::locality`]: the same surface; the highlight setup's face walks
+    /// and the GPU's vertex cache both run faster on it).
     pub fn from_mesh(name: &str, mesh: Mesh) -> Self {
+        let mesh = npr_geometry::locality::reorder_for_locality(&mesh).mesh;
         let framing = Framing::of(&mesh);
         Self {
             name: name.to_string(),

@@ -43,6 +43,7 @@ pub mod error;
 pub mod generate;
 pub mod highlight;
 pub mod io;
+pub mod locality;
 pub mod mesh;
 pub mod obj;
 pub mod rng;

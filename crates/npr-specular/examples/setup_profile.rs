@@ -1,6 +1,11 @@
 //! Profiling aid (development): `HighlightSet::update` over the specular bench's turning
 //! sequence on one core, `cargo run --release -p npr-specular --example setup_profile -- MESH [FRAMES]`.
-#![allow(missing_docs, clippy::unwrap_used, clippy::expect_used, clippy::type_complexity)]
+#![allow(
+    missing_docs,
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::type_complexity
+)]
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye};
 use npr_specular::HighlightSet;
@@ -12,6 +17,12 @@ fn main() {
         Some("knot1m") => npr_geometry::generate::benchmark_knot(),
         Some(p) => npr_geometry::io::load(p).unwrap().mesh,
         None => panic!("MESH"),
+    };
+    // NPR_REORDER=1: triangles and vertices reordered for locality first (as `npr` loads).
+    let mesh = if std::env::var_os("NPR_REORDER").is_some() {
+        npr_geometry::locality::reorder_for_locality(&mesh).mesh
+    } else {
+        mesh
     };
     let frames: usize = args.get(2).map_or(60, |s| s.parse().unwrap());
     // Normalise like the bench's framing: centre and unit radius.

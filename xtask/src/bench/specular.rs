@@ -5,8 +5,11 @@
 //! highlight pass alone) and `highlight_cost_ratio_frame` (that GPU frame plus the CPU
 //! setup it waits on: the whole frame). Frames rotate the object 3° each; GPU times
 //! include submit and wait. The setup is also timed on one core (`setup_us_median_1core`,
-//! the updates run in a one-thread rayon pool), the measure. Default meshes plus
-//! the 1.1M-triangle knot and any `--mesh PATH` (OBJ, PLY, glTF).
+//! the updates run in a one-thread rayon pool), the measure. Meshes are reordered
+//! for locality as `npr` loads them (`npr_geometry::locality`); the same one-core setup
+//! on the file's own triangle order is `setup_us_median_1core_file_order`, from the same
+//! run. Default meshes plus the 1.1M-triangle knot and any `--mesh PATH` (OBJ, PLY,
+//! glTF).
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
@@ -63,7 +66,9 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "receiver_faces_median",
             "setup_us_median",
             "setup_us_median_1core",
+            "setup_us_median_1core_file_order",
             "search_us_median",
+            "region_us_median",
             "visibility_us_median",
             "base_ms_median",
             "with_highlights_ms_median",
@@ -73,7 +78,9 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "adapter",
         ],
     );
-    for (name, mesh) in &meshes {
+    for (name, file_mesh) in &meshes {
+        let reordered = npr_geometry::locality::reorder_for_locality(file_mesh).mesh;
+        let mesh = &reordered;
         let (camera, world_from_normalized) =
             crate::demo::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
         let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
@@ -85,6 +92,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let (mut hmin, mut hmax) = (usize::MAX, 0);
         let (mut search, mut visibility, mut whole) = (Vec::new(), Vec::new(), Vec::new());
+        let mut region = Vec::new();
         let bar = super::progress(FRAMES as u64 + 3, name);
         for frame in 0..FRAMES + 3 {
             let world_from_object =
@@ -124,6 +132,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             if frame >= 3 {
                 setup.push(setup_us);
                 search.push(set.stats().search_us);
+                region.push(set.stats().region_us);
                 visibility.push(set.stats().visibility_us);
                 base.push(b);
                 with.push(w);
@@ -135,25 +144,30 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             bar.inc(1);
         }
         bar.finish_and_clear();
-        // The same turning sequence, setup only, on one core.
-        let mut set1 = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-        let setup_1core: Vec<f64> = one_core.install(|| {
-            (0..FRAMES + 3)
-                .map(|frame| {
-                    let world_from_object =
-                        Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
-                            * world_from_normalized;
-                    let le = LightEye::Positions {
-                        light: to_light * 50.0,
-                        eye: camera.eye,
-                    };
-                    let t = Instant::now();
-                    set1.update(le, world_from_object);
-                    t.elapsed().as_secs_f64() * 1e6
-                })
-                .skip(3)
-                .collect()
-        });
+        // The same turning sequence, setup only, on one core: as loaded, and in the file's
+        // own triangle order.
+        let one_core_setup = |mesh: &Mesh| -> anyhow::Result<Vec<f64>> {
+            let mut set1 = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+            Ok(one_core.install(|| {
+                (0..FRAMES + 3)
+                    .map(|frame| {
+                        let world_from_object =
+                            Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
+                                * world_from_normalized;
+                        let le = LightEye::Positions {
+                            light: to_light * 50.0,
+                            eye: camera.eye,
+                        };
+                        let t = Instant::now();
+                        set1.update(le, world_from_object);
+                        t.elapsed().as_secs_f64() * 1e6
+                    })
+                    .skip(3)
+                    .collect()
+            }))
+        };
+        let setup_1core = one_core_setup(mesh)?;
+        let setup_1core_file_order = one_core_setup(file_mesh)?;
         let (b, w, f) = (median(base), median(with), median(whole));
         table.push(vec![
             name.as_str().into(),
@@ -163,7 +177,9 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             Cell::Num(median(receivers), 0),
             Cell::Num(median(setup), 1),
             Cell::Num(median(setup_1core), 1),
+            Cell::Num(median(setup_1core_file_order), 1),
             Cell::Num(median(search), 1),
+            Cell::Num(median(region), 1),
             Cell::Num(median(visibility), 1),
             Cell::Num(b, 3),
             Cell::Num(w, 3),
