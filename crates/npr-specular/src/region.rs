@@ -440,7 +440,8 @@ fn classify(light_eye: LightEye, vs: &[(Vec3, Vec3, f32); 3], sigma: f32) -> Fac
         .dot(vs[1].1)
         .min(vs[1].1.dot(vs[2].1))
         .min(vs[2].1.dot(vs[0].1));
-    if !(c > 0.0) {
+    // NaN (a degenerate normal) takes the grid too.
+    if c.is_nan() || c <= 0.0 {
         return FaceClass::Grid { steps: SUB, delta };
     }
     let eps = 1.0 / ((1.0 + 2.0 * c) / 3.0).sqrt() - 1.0
