@@ -92,6 +92,29 @@ struct WarpState {
     proxy_triangles: usize,
 }
 
+/// The multisampled full render of the warp effect (its `[warp] antialiasing` when that
+/// multisamples): the base shading built for the sample count and the multisampled
+/// textures it draws into, resolved into the renderer's target.
+struct FullMsaaState {
+    size: (u32, u32),
+    antialiasing: npr_warp::Antialiasing,
+    base: BaseShading,
+    object: ObjectBinding,
+    cel_bands: Vec<u8>,
+    target: npr_warp::MsaaTarget,
+}
+
+/// The antialiasing of a preset's frames rendered in full: the warp's when the effect is
+/// warping (so full frames, references and warped frames share it, and a warped frame is
+/// measured against the full render the user would otherwise see), one sample otherwise.
+pub fn full_render_antialiasing(preset: &Preset) -> npr_warp::Antialiasing {
+    if preset.effect == Effect::Warp {
+        preset.warp.antialiasing.into()
+    } else {
+        npr_warp::Antialiasing::None
+    }
+}
+
 /// One model's renderer (see the module docs).
 pub struct Renderer {
     model: Model,
@@ -104,6 +127,7 @@ pub struct Renderer {
     hatching: Option<HatchState>,
     outline: Option<OutlineState>,
     warp: Option<WarpState>,
+    full_msaa: Option<FullMsaaState>,
     tams: HashMap<bool, TonalArtMap>,
     directions: HashMap<DirectionPreset, Vec<Vec3>>,
     curvature: Option<Vec<f32>>,
@@ -236,6 +260,7 @@ impl Renderer {
             hatching: None,
             outline: None,
             warp: None,
+            full_msaa: None,
             tams: HashMap::new(),
             directions: HashMap::new(),
             curvature: None,
@@ -275,6 +300,7 @@ impl Renderer {
         self.hatching = None;
         self.outline = None;
         self.warp = None;
+        self.full_msaa = None;
         self.directions.clear();
         self.curvature = None;
         self.frame_index = 0;
@@ -526,7 +552,9 @@ impl Renderer {
         Ok(())
     }
 
-    /// Renders one frame of `preset` seen from `view` into the target and submits it.
+    /// Renders one frame of `preset` seen from `view` into the target and submits it. The
+    /// warp effect's full render is multisampled as its `[warp] antialiasing` says (see
+    /// [`full_render_antialiasing`]), resolved into the target.
     ///
     /// # Errors
     /// A technique's typed error (bad texture, bad parameters, ...).
@@ -565,6 +593,20 @@ impl Renderer {
                         &self.target.color_view,
                         &[(&self.gpu_mesh, &h.object)],
                     );
+                }
+            }
+            Effect::Warp if full_render_antialiasing(preset).is_multisampled() => {
+                self.ensure_full_msaa(device, queue, preset)?;
+                if let Some(m) = &self.full_msaa {
+                    m.base.set_frame(queue, &frame);
+                    m.object.update(queue, &object);
+                    let mut pass = m.target.begin_pass(
+                        &mut encoder,
+                        &self.target.color_view,
+                        Some(clear_color(preset)),
+                    );
+                    m.base
+                        .draw(&mut pass, shading_model(preset), &m.object, &self.gpu_mesh);
                 }
             }
             effect => {
@@ -632,6 +674,59 @@ impl Renderer {
         }
         queue.submit(Some(encoder.finish()));
         Ok(stats)
+    }
+
+    /// Builds (or keeps) the multisampled full render of the warp effect for the target's
+    /// size, the preset's antialiasing and its cel bands.
+    fn ensure_full_msaa(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+    ) -> Result<(), AppError> {
+        let antialiasing = full_render_antialiasing(preset);
+        let size = self.size();
+        let keep = self
+            .full_msaa
+            .as_ref()
+            .is_some_and(|m| m.size == size && m.antialiasing == antialiasing);
+        if !keep {
+            let target = npr_warp::MsaaTarget::new(
+                device,
+                size.0,
+                size.1,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                antialiasing,
+            )?;
+            let base = BaseShading::multisampled(
+                device,
+                queue,
+                COLOR_FORMAT,
+                DEPTH_FORMAT,
+                antialiasing.sample_count(),
+            );
+            let object =
+                base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
+            self.full_msaa = Some(FullMsaaState {
+                size,
+                antialiasing,
+                base,
+                object,
+                cel_bands: Vec::new(),
+                target,
+            });
+        }
+        if let Some(m) = &mut self.full_msaa {
+            set_ramp(
+                device,
+                queue,
+                &mut m.base,
+                &mut m.cel_bands,
+                &preset.base.cel_bands,
+            );
+        }
+        Ok(())
     }
 
     fn ensure_warp(
@@ -819,13 +914,7 @@ impl Renderer {
     }
 
     fn set_ramp(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bands: &[u8]) {
-        if self.cel_bands == bands {
-            return;
-        }
-        let shades: Vec<[u8; 4]> = bands.iter().map(|&g| [g, g, g, 255]).collect();
-        let view = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
-        self.base.set_ramp(device, &view);
-        self.cel_bands = bands.to_vec();
+        set_ramp(device, queue, &mut self.base, &mut self.cel_bands, bands);
     }
 
     /// Reads the target back as an sRGB image (waits for the GPU).
@@ -841,11 +930,30 @@ impl Renderer {
     }
 }
 
+/// Gives `base` the cel ramp of `bands` unless `current` (the bands it has) equals them.
+fn set_ramp(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    base: &mut BaseShading,
+    current: &mut Vec<u8>,
+    bands: &[u8],
+) {
+    if current.as_slice() == bands {
+        return;
+    }
+    let shades: Vec<[u8; 4]> = bands.iter().map(|&g| [g, g, g, 255]).collect();
+    let view = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
+    base.set_ramp(device, &view);
+    *current = bands.to_vec();
+}
+
 /// Renders `frames` turntable frames with warping (SPEC §4): along the known path, a
 /// reference every `k` frames (rendered one interval ahead), the frames between warped
 /// from the two around them at the path's own fraction, and each warped frame compared
 /// with a full render of the same view (PSNR in the stats). Reference frames are the full
-/// render itself.
+/// render itself. Full renders use the warp's antialiasing (see
+/// [`full_render_antialiasing`]), so with `msaa4` or `msaa4-blend` every frame of the
+/// turntable is antialiased and the PSNR is against the multisampled full render.
 ///
 /// # Errors
 /// GPU or technique errors, or what `sink` returns.

@@ -405,16 +405,18 @@ pub enum WarpMode {
     Paper,
 }
 
-/// Antialiasing of the warp's references and warped frames (npr-warp's `Antialiasing`).
+/// Antialiasing of the warp effect's references, warped frames and frames rendered in full
+/// (npr-warp's `Antialiasing`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WarpAntialiasing {
     /// One sample per pixel.
     #[default]
     None,
-    /// 4× MSAA references and a 4× MSAA warp.
+    /// 4× MSAA references, full frames and warp.
     Msaa4,
-    /// 4× MSAA references and a one-sample warp blended at the rim by their coverage.
+    /// 4× MSAA references and full frames; a one-sample warp blended at the rim by the
+    /// references' coverage.
     Msaa4Blend,
 }
 
@@ -441,8 +443,8 @@ pub struct WarpPreset {
     /// Depth-test each reference as a shadow map (one of our departures; ignored by the
     /// paper's path).
     pub depth_test: bool,
-    /// Antialiasing of references and warped frames (default none; frames rendered in full
-    /// stay one sample per pixel).
+    /// Antialiasing of references, warped frames and the frames rendered in full (shown,
+    /// and compared with warped frames for their PSNR); default none.
     pub antialiasing: WarpAntialiasing,
 }
 

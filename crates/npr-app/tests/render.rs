@@ -547,8 +547,9 @@ fn warp_turntables_render_with_every_antialiasing() {
         );
         let rows: serde_json::Value =
             serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
-        // Warped frames carry their PSNR against the (one-sample) full render; six frames
-        // a turn are 60° apart, so the bar only says the warp shows the model.
+        // Warped frames carry their PSNR against the full render (with the same
+        // antialiasing); six frames a turn are 60° apart, so the bar only says the warp
+        // shows the model.
         let psnr: Vec<f64> = rows
             .as_array()
             .unwrap()
@@ -568,5 +569,245 @@ fn warp_turntables_render_with_every_antialiasing() {
             *c > 0.05 && (c - coverages[0]).abs() < 0.2 * coverages[0],
             "{coverages:?}"
         );
+    }
+}
+
+/// Turntable frame `i` of `frames` of `preset` rendered in full independently of the
+/// app's renderer, through the crates' public API: npr-gpu's base shading with
+/// `antialiasing`'s sample count, multisampled into npr-warp's `MsaaTarget` and resolved
+/// (one sample: a plain pass).
+fn independent_full_frame(
+    ctx: &npr_gpu::GpuContext,
+    model: &Model,
+    preset: &Preset,
+    frames: u32,
+    i: u32,
+    antialiasing: npr_warp::Antialiasing,
+) -> image::RgbaImage {
+    use npr_gpu::{BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuMesh};
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    let size = (preset.output.width, preset.output.height);
+    let view = View::new(
+        preset,
+        &model.framing,
+        size,
+        360.0 * i as f32 / frames as f32,
+    );
+    let mesh = GpuMesh::upload(device, &model.mesh).unwrap();
+    let mut base = BaseShading::multisampled(
+        device,
+        queue,
+        COLOR_FORMAT,
+        DEPTH_FORMAT,
+        antialiasing.sample_count(),
+    );
+    let shades: Vec<[u8; 4]> = preset
+        .base
+        .cel_bands
+        .iter()
+        .map(|&g| [g, g, g, 255])
+        .collect();
+    let ramp = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
+    base.set_ramp(device, &ramp);
+    base.set_frame(queue, &FrameUniforms::new(&view.camera, &view.light));
+    let object = base.create_object(
+        device,
+        &engine::object_uniforms(preset, view.world_from_object),
+    );
+    let target = npr_gpu::OffscreenTarget::new(device, size.0, size.1).unwrap();
+    let msaa = npr_warp::MsaaTarget::new(
+        device,
+        size.0,
+        size.1,
+        COLOR_FORMAT,
+        DEPTH_FORMAT,
+        antialiasing,
+    )
+    .unwrap();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let clear = engine::clear_color(preset);
+        let mut pass = if antialiasing.is_multisampled() {
+            msaa.begin_pass(&mut encoder, &target.color_view, Some(clear))
+        } else {
+            target.begin_clear_pass(&mut encoder, clear)
+        };
+        base.draw(&mut pass, engine::shading_model(preset), &object, &mesh);
+    }
+    queue.submit(Some(encoder.finish()));
+    npr_gpu::readback_rgba(device, queue, &target.color).unwrap()
+}
+
+/// Pixels of `aa` (an antialiased frame) that differ from `one` (the same frame with one
+/// sample per pixel), as (total, blended): blended are those `one` leaves as background
+/// but `aa` partly covers, strictly between the background and the object (nearer the
+/// background than the object pixels of `one` next to them).
+fn rim_pixels(one: &image::RgbaImage, aa: &image::RgbaImage) -> (usize, usize) {
+    let bg = *one.get_pixel(0, 0);
+    let dist = |p: &image::Rgba<u8>| p.0.iter().zip(bg.0).map(|(a, b)| a.abs_diff(b)).max();
+    let (w, h) = one.dimensions();
+    let around = |x: u32, y: u32| {
+        let (x0, y0) = (x.saturating_sub(1), y.saturating_sub(1));
+        let (x1, y1) = ((x + 1).min(w - 1), (y + 1).min(h - 1));
+        (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| (x, y)))
+    };
+    let (mut total, mut blended) = (0, 0);
+    for (x, y, p) in aa.enumerate_pixels() {
+        let q = one.get_pixel(x, y);
+        if p == q {
+            continue;
+        }
+        total += 1;
+        if *q == bg {
+            let object = around(x, y)
+                .filter(|&(u, v)| *one.get_pixel(u, v) != bg)
+                .map(|(u, v)| dist(one.get_pixel(u, v)))
+                .max()
+                .flatten();
+            if object.is_some_and(|o| dist(p) < Some(o)) {
+                blended += 1;
+            }
+        }
+    }
+    (total, blended)
+}
+
+#[test]
+fn antialiased_warp_turntables_render_full_frames_and_measure_psnr_with_it() {
+    let Some(ctx) =
+        context_or_skip("antialiased_warp_turntables_render_full_frames_and_measure_psnr_with_it")
+    else {
+        return;
+    };
+    let dir = out_dir("warp-aa-full");
+    let model_path = root().join("fixtures/meshes/spot.obj");
+    let model = Model::load(&model_path).unwrap();
+    let (frames, k) = (24u32, 4u32);
+    let run = |aa: &str| {
+        let preset_path = dir.join(format!("{aa}.toml"));
+        std::fs::write(
+            &preset_path,
+            format!(
+                "effect = \"warp\"\n[output]\nwidth = 128\nheight = 96\n\
+                 [warp]\nk = {k}\nantialiasing = \"{aa}\"\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.join(format!("{aa}/spot.png"));
+        let json = dir.join(format!("{aa}.json"));
+        let o = npr(&[
+            "render",
+            model_path.to_str().unwrap(),
+            "--preset",
+            preset_path.to_str().unwrap(),
+            "--turntable",
+            &frames.to_string(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+        ]);
+        assert!(
+            o.status.success(),
+            "{aa}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let rows: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        let frame = |i: u32| {
+            image::open(npr_app::output::frame_path(&out, i as usize))
+                .unwrap()
+                .into_rgba8()
+        };
+        let images: Vec<image::RgbaImage> = (0..frames).map(frame).collect();
+        (Preset::load(&preset_path).unwrap(), rows, images)
+    };
+    let (none_preset, none_rows, none) = run("none");
+    for aa in ["msaa4", "msaa4-blend"] {
+        let antialiasing = npr_warp::Antialiasing::from_name(aa).unwrap();
+        let (preset, rows, frames_aa) = run(aa);
+        let rows = rows.as_array().unwrap();
+        assert_eq!(rows.len(), frames as usize, "{aa}");
+        let mut gaps = Vec::new();
+        for i in 0..frames {
+            let row = &rows[i as usize];
+            let image = &frames_aa[i as usize];
+            if i % k == 0 {
+                // (a) A frame rendered in full is antialiased as the warp is: it equals
+                // the independent multisampled full render, and along the silhouette
+                // pixels the one-sample frame leaves as background are partly covered.
+                assert_eq!(row["warped"], false, "{aa} frame {i}");
+                let full = independent_full_frame(ctx, &model, &preset, frames, i, antialiasing);
+                let diff = npr_warp::metrics::compare(&full, image);
+                assert!(
+                    diff.max_abs_diff <= 1,
+                    "{aa} frame {i}: {} from the multisampled full render",
+                    diff.max_abs_diff
+                );
+                let one = &none[i as usize];
+                let one_full = independent_full_frame(
+                    ctx,
+                    &model,
+                    &none_preset,
+                    frames,
+                    i,
+                    npr_warp::Antialiasing::None,
+                );
+                assert!(
+                    npr_warp::metrics::compare(&one_full, one).max_abs_diff <= 1,
+                    "none frame {i} is not the one-sample full render"
+                );
+                let (total, blended) = rim_pixels(one, image);
+                assert!(
+                    blended >= 20,
+                    "{aa} frame {i}: {blended} blended rim pixels of {total} differing"
+                );
+                continue;
+            }
+            // (b) A warped frame's PSNR is against the multisampled full render.
+            assert_eq!(row["warped"], true, "{aa} frame {i}");
+            let reported = row["psnr_db"].as_f64().unwrap();
+            let full = independent_full_frame(ctx, &model, &preset, frames, i, antialiasing);
+            let expected = npr_warp::metrics::compare(&full, image).psnr_db;
+            assert!(
+                (reported - expected).abs() < 0.01,
+                "{aa} frame {i}: JSON PSNR {reported} dB, against the multisampled full \
+                 render {expected} dB"
+            );
+            let one_full = independent_full_frame(
+                ctx,
+                &model,
+                &none_preset,
+                frames,
+                i,
+                npr_warp::Antialiasing::None,
+            );
+            let against_one = npr_warp::metrics::compare(&one_full, image).psnr_db;
+            gaps.push(reported - against_one);
+            // 60° between references: the bar only says the warp shows the model.
+            assert!(reported > 15.0, "{aa} frame {i}: {reported} dB");
+        }
+        // The one-sample comparison would report something else: the antialiased warp
+        // is nearer the multisampled full render than the one-sample one.
+        assert!(
+            gaps.iter().all(|g| *g > 0.1),
+            "{aa}: PSNR against MSAA minus against one sample, per warped frame: {gaps:?}"
+        );
+    }
+    // The one-sample turntable reports PSNR against the one-sample full render.
+    for row in none_rows.as_array().unwrap() {
+        if let Some(reported) = row["psnr_db"].as_f64() {
+            let i = row["frame"].as_u64().unwrap() as u32;
+            let one_full = independent_full_frame(
+                ctx,
+                &model,
+                &none_preset,
+                frames,
+                i,
+                npr_warp::Antialiasing::None,
+            );
+            let expected = npr_warp::metrics::compare(&one_full, &none[i as usize]).psnr_db;
+            assert!((reported - expected).abs() < 0.01, "none frame {i}");
+        }
     }
 }

@@ -2,7 +2,8 @@
 //! a highlight, drags, rotates and scales it, switches to hatching and warping, resizes the
 //! window to 0×0 and back, saves the preset and takes a screenshot; the screenshot must equal
 //! `npr render` of the saved preset, and the picked highlight must have moved, turned and
-//! grown. Without a display and without `xvfb-run` the test fails (it must not pass without
+//! grown. Started in the warp mode with `[warp] antialiasing = "msaa4-blend"`, the full frames
+//! it shows are `npr render`'s multisampled ones. Without a display and without `xvfb-run` the test fails (it must not pass without
 //! running) unless `NPR_SKIP_GPU=1` asks to skip GPU and window tests.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -223,4 +224,96 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
     assert!(db >= 35.0, "screenshot vs npr render: {db:.1} dB");
     let preset = std::fs::read_to_string(dir.join("preset.toml")).unwrap();
     assert!(preset.contains("[[specular.edits]]"), "{preset}");
+}
+
+#[test]
+fn warp_mode_full_frames_follow_the_warp_antialiasing() {
+    let test = "warp_mode_full_frames_follow_the_warp_antialiasing";
+    let Some(runner) = display_runner() else {
+        if skip_allowed(test) {
+            return;
+        }
+        panic!("{test}: no display and no xvfb-run; see `cargo xtask doctor`");
+    };
+    let dir = out_dir("warp-aa");
+    let p = |n: &str| dir.join(n).display().to_string();
+    // k = 1: every frame of the warp mode is due for references, so every frame shown is
+    // a full render.
+    std::fs::write(
+        dir.join("start.toml"),
+        "effect = \"warp\"\n[warp]\nk = 1\nantialiasing = \"msaa4-blend\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("script.txt"),
+        format!(
+            "@4 screenshot {shot}\n@5 save-preset {preset}\n@6 exit\n",
+            shot = p("view.png"),
+            preset = p("preset.toml"),
+        ),
+    )
+    .unwrap();
+    let spot = root().join("fixtures/meshes/spot.obj");
+    let mut cmd = Command::new(
+        runner
+            .first()
+            .map_or(env!("CARGO_BIN_EXE_npr"), String::as_str),
+    );
+    cmd.args(runner.iter().skip(1));
+    if !runner.is_empty() {
+        cmd.arg(env!("CARGO_BIN_EXE_npr"));
+    }
+    let o = cmd
+        .args([
+            "view",
+            spot.to_str().unwrap(),
+            "--size",
+            "640x480",
+            "--preset",
+        ])
+        .arg(dir.join("start.toml"))
+        .arg("--script")
+        .arg(dir.join("script.txt"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "npr view failed: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    // `npr render` of the saved preset, and of the same preset with one sample.
+    let saved = std::fs::read_to_string(dir.join("preset.toml")).unwrap();
+    assert!(saved.contains("antialiasing = \"msaa4-blend\""), "{saved}");
+    std::fs::write(
+        dir.join("none.toml"),
+        saved.replace("antialiasing = \"msaa4-blend\"", "antialiasing = \"none\""),
+    )
+    .unwrap();
+    let render = |preset: &str| {
+        let out = dir.join(format!("{preset}.png"));
+        let o = Command::new(env!("CARGO_BIN_EXE_npr"))
+            .args(["render", spot.to_str().unwrap(), "--preset"])
+            .arg(dir.join(format!("{preset}.toml")))
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let (msaa, one) = (render("preset"), render("none"));
+    let shot = image::open(dir.join("view.png")).unwrap().to_rgba8();
+    // The viewer's full frame is `npr render`'s multisampled one...
+    let db = psnr(&shot, &msaa);
+    assert!(
+        db >= 35.0,
+        "screenshot vs npr render (msaa4-blend): {db:.1} dB"
+    );
+    // ... which partly covers silhouette pixels the one-sample frame leaves as background.
+    let bg = *one.get_pixel(0, 0);
+    let partly = one
+        .pixels()
+        .zip(shot.pixels())
+        .filter(|(o, s)| **o == bg && **s != bg)
+        .count();
+    assert!(partly >= 20, "{partly} partly covered silhouette pixels");
 }

@@ -152,7 +152,8 @@ struct App {
 
 /// Live warping (SPEC §4): references every k frames at the current pose and at the pose
 /// predicted k frames ahead, warped frames between, and now and then a full render to
-/// measure the last warped frame.
+/// measure the last warped frame. Full frames (shown, and measured against) use the warp's
+/// antialiasing, as references and warped frames do.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WarpLive {
     /// Frame of the last pair of references.

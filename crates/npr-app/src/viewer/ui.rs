@@ -328,7 +328,14 @@ pub fn panel(
                             p.warp.mode == crate::preset::WarpMode::Ours,
                             egui::Checkbox::new(&mut p.warp.depth_test, "reference depth test"),
                         );
-                        ui.small("References every k frames, at the camera predicted k frames ahead; turn the turntable on to see warping.");
+                        ui.horizontal(|ui| {
+                            use crate::preset::WarpAntialiasing as Aa;
+                            ui.label("antialiasing");
+                            ui.radio_value(&mut p.warp.antialiasing, Aa::None, "none");
+                            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4, "msaa4");
+                            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4Blend, "msaa4-blend");
+                        });
+                        ui.small("References every k frames, at the camera predicted k frames ahead; turn the turntable on to see warping. Full frames (and the full render the PSNR compares with) use the warp's antialiasing.");
                     });
                 egui::CollapsingHeader::new("outlines").show(ui, |ui| {
                     ui.checkbox(&mut p.outline.enabled, "silhouettes and creases");
