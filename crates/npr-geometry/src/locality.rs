@@ -31,7 +31,7 @@ pub fn reorder_for_locality(mesh: &Mesh) -> Reordered {
     };
     let attributes_fit = |n: usize| n == 0 || n == nv;
     if mesh.indices.is_empty()
-        || mesh.indices.len() % 3 != 0
+        || !mesh.indices.len().is_multiple_of(3)
         || mesh.indices.iter().any(|&i| i as usize >= nv)
         || !attributes_fit(mesh.normals.len())
         || !attributes_fit(mesh.uvs.len())
