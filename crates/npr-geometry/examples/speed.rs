@@ -1,5 +1,5 @@
 //! Speed probe (development aid): `cargo run --release -p npr-geometry --example speed`.
-//! `SPEED_RUNS=1` runs once (for callgrind); the field's checksum is printed so that
+//! `SPEED_RUNS=1` runs once (for callgrind), `SPEED_TOPO_ONLY=1` skips the field; the field's checksum is printed so that
 //! two builds can be compared for identical output.
 #![allow(clippy::unwrap_used, missing_docs)]
 use npr_geometry::*;
@@ -16,6 +16,7 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(15)
         .max(1);
+    let topo_only = std::env::var_os("SPEED_TOPO_ONLY").is_some();
     let mut last = None;
     for _ in 0..runs {
         let t0 = Instant::now();
@@ -23,7 +24,11 @@ fn main() {
         let t1 = Instant::now();
         let topo = Topology::new(&w);
         let t2 = Instant::now();
-        let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+        let f = if topo_only {
+            CurvatureField::default()
+        } else {
+            CurvatureField::compute(&topo, &CurvatureOptions::default())
+        };
         let t3 = Instant::now();
         last = Some(std::hint::black_box((topo, f)));
         tw.push((t1 - t0).as_secs_f64());
