@@ -35,16 +35,19 @@ fn main() {
         tt.push((t2 - t1).as_secs_f64());
         tf.push((t3 - t2).as_secs_f64());
     }
-    for v in [&mut tw, &mut tt, &mut tf] {
+    let mut ts: Vec<f64> = tt.iter().zip(&tf).map(|(a, b)| a + b).collect();
+    for v in [&mut tw, &mut tt, &mut tf, &mut ts] {
         v.sort_by(f64::total_cmp);
     }
     println!(
-        "median: weld {:.4} topo {:.4} field {:.4}; min: topo {:.4} field {:.4}",
+        "median: weld {:.4} topo {:.4} field {:.4} topo+field {:.4}; min: topo {:.4} field {:.4} topo+field {:.4}",
         tw[runs / 2],
         tt[runs / 2],
         tf[runs / 2],
+        ts[runs / 2],
         tt[0],
-        tf[0]
+        tf[0],
+        ts[0]
     );
     let (topo, f) = last.unwrap();
     println!("checksum {:016x}", checksum(&topo, &f));
