@@ -8,8 +8,9 @@
 //! of the Korea Computer Graphics Society): β(e) is [`Topology::dihedral`].
 //!
 //! Layout: compressed sparse rows (one offsets array plus one flat array per relation),
-//! edges found by a counting sort of half-edges on their smaller vertex, so building is
-//! linear in the mesh size apart from tiny per-vertex sorts.
+//! edges found per vertex from its faces (the half-edges to larger vertices, sorted), so
+//! building is linear in the mesh size apart from tiny per-vertex sorts, and runs in
+//! parallel over vertex chunks with the same result for any thread count.
 
 use std::f64::consts::{PI, TAU};
 
@@ -87,216 +88,135 @@ impl Topology {
         let nf = triangles.len();
         let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
 
-        // Face normals and areas (f64 cross products), in parallel.
-        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = triangles
-            .par_iter()
-            .map(|t| {
-                if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
-                    return (Vec3::ZERO, 0.0);
-                }
-                let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
-                let cr = (b - a).cross(c - a);
-                let len = cr.length();
-                let scale = (b - a)
-                    .length_squared()
-                    .max((c - a).length_squared())
-                    .max((c - b).length_squared());
-                if !(len > 1e-12 * scale) || !len.is_finite() {
-                    return (Vec3::ZERO, 0.0);
-                }
-                ((cr / len).as_vec3(), (0.5 * len) as f32)
-            })
-            .unzip();
+        // Face normals and areas (f64 cross products, in parallel) while one thread
+        // builds vertex → faces (a serial counting sort); neither needs the other.
+        let ((face_normals, face_areas), (vertex_face_offsets, vertex_faces)): (
+            (Vec<Vec3>, Vec<f32>),
+            _,
+        ) = rayon::join(
+            || {
+                triangles
+                    .par_iter()
+                    .map(|t| face_normal_area(t, &positions))
+                    .unzip()
+            },
+            || vertex_face_csr(&triangles, nv),
+        );
 
-        // Vertex → faces (CSR).
-        let mut vertex_face_offsets = vec![0u32; nv + 1];
-        for t in triangles.iter().filter(|t| valid(t)) {
-            for &i in t {
-                vertex_face_offsets[i as usize + 1] += 1;
-            }
-        }
-        prefix_sum(&mut vertex_face_offsets);
-        let mut fill = vertex_face_offsets.clone();
-        let mut vertex_faces = vec![0u32; *vertex_face_offsets.last().unwrap_or(&0) as usize];
-        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
-            for (k, &i) in t.iter().enumerate() {
-                // A face with a repeated vertex is listed once per vertex.
-                if t[..k].contains(&i) {
-                    continue;
-                }
-                vertex_faces[fill[i as usize] as usize] = f as u32;
-                fill[i as usize] += 1;
-            }
-        }
-        // Compact away the slots left by repeated vertices (none in a clean mesh).
-        let vertex_face_offsets = if fill[..nv] == vertex_face_offsets[1..] {
-            vertex_face_offsets
-        } else {
-            compact(&mut vertex_faces, &vertex_face_offsets, &fill)
-        };
-
-        // Area-weighted vertex normals, gathered per vertex in parallel.
-        let vertex_normals: Vec<Vec3> = (0..nv)
-            .into_par_iter()
-            .map(|v| {
-                let fs = &vertex_faces
-                    [vertex_face_offsets[v] as usize..vertex_face_offsets[v + 1] as usize];
-                let n: DVec3 = fs
-                    .iter()
-                    .map(|&f| {
-                        face_normals[f as usize].as_dvec3() * f64::from(face_areas[f as usize])
-                    })
-                    .sum();
-                n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3())
-            })
+        // Per vertex chunk, in parallel: the area-weighted vertex normals, and the edges
+        // whose smaller vertex is in the chunk, found from each vertex's faces (each
+        // vertex's half-edges to larger vertices, sorted by that vertex and face corner,
+        // equal runs grouped into edges) with their faces, dihedral angles and lengths.
+        let chunks = 64.min(nv.max(1));
+        let bounds: Vec<(usize, usize)> = (0..chunks)
+            .map(|c| (nv * c / chunks, nv * (c + 1) / chunks))
             .collect();
-
-        // Half-edges bucketed by their smaller vertex (counting sort), then sorted by
-        // the larger vertex inside each bucket.
-        let mut bucket = vec![0u32; nv + 1];
-        for t in triangles.iter().filter(|t| valid(t)) {
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                if a != b {
-                    bucket[a.min(b) as usize + 1] += 1;
-                }
-            }
-        }
-        prefix_sum(&mut bucket);
-        let nh = *bucket.last().unwrap_or(&0) as usize;
-        let mut he: Vec<(u32, u32)> = vec![(0, 0); nh]; // (larger vertex, face*3+corner)
-        let mut fill = bucket.clone();
-        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
-            for k in 0..3 {
-                let (a, b) = (t[k], t[(k + 1) % 3]);
-                if a != b {
-                    let lo = a.min(b) as usize;
-                    he[fill[lo] as usize] = (a.max(b), (f * 3 + k) as u32);
-                    fill[lo] += 1;
-                }
-            }
-        }
-        // Sort every bucket by its larger vertex and group equal (smaller, larger) runs
-        // into edges, buckets split into chunks in parallel; each chunk lists its edges,
-        // their end offsets into `he` and the chunk-local edge of each of its half-edges.
-        let chunk_edges: Vec<ChunkEdges> = {
-            let chunks = 64.min(nv.max(1));
-            let mut rest: &mut [(u32, u32)] = &mut he;
-            let mut pieces = Vec::with_capacity(chunks);
-            let (mut start_v, mut consumed) = (0usize, 0usize);
-            for c in 1..=chunks {
-                let end_v = nv * c / chunks;
-                let end_h = bucket[end_v] as usize;
-                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end_h - consumed);
-                pieces.push((start_v, end_v, piece));
-                rest = r;
-                consumed = end_h;
-                start_v = end_v;
-            }
-            let bucket = &bucket;
-            pieces
+        let mut vertex_normals = vec![Vec3::ZERO; nv];
+        // Each vertex's first edge (chunk-local until the chunks are joined), then `ne`.
+        let mut vertex_edges = vec![0u32; nv + 1];
+        let parts: Vec<EdgeChunk> = {
+            let ctx = EdgeCtx {
+                positions: &positions,
+                triangles: &triangles,
+                face_normals: &face_normals,
+                face_areas: &face_areas,
+                vertex_face_offsets: &vertex_face_offsets,
+                vertex_faces: &vertex_faces,
+            };
+            let lens = bounds.iter().map(|&(s, e)| e - s);
+            split_lens(&mut vertex_normals, lens.clone())
+                .into_iter()
+                .zip(split_lens(&mut vertex_edges[..nv], lens))
+                .zip(&bounds)
+                .collect::<Vec<_>>()
                 .into_par_iter()
-                .map(|(sv, ev, piece)| {
-                    let base = bucket[sv] as usize;
-                    let mut edges = Vec::with_capacity(piece.len() / 2 + 1);
-                    let mut ends = Vec::with_capacity(piece.len() / 2 + 1);
-                    let mut he_edge = Vec::with_capacity(piece.len());
-                    for lo in sv..ev {
-                        let (b0, b1) = (bucket[lo] as usize - base, bucket[lo + 1] as usize - base);
-                        let s = &mut piece[b0..b1];
-                        s.sort_unstable();
-                        let mut i = 0;
-                        while i < s.len() {
-                            let hi = s[i].0;
-                            let mut j = i;
-                            while j < s.len() && s[j].0 == hi {
-                                j += 1;
-                            }
-                            he_edge.extend(std::iter::repeat_n(edges.len() as u32, j - i));
-                            edges.push([lo as u32, hi]);
-                            ends.push((base + b0 + j) as u32);
-                            i = j;
-                        }
-                    }
-                    (edges, ends, he_edge)
-                })
+                .map(|((vn, ve), &(sv, ev))| ctx.chunk(sv, ev, vn, ve))
                 .collect()
         };
-        let ne: usize = chunk_edges.iter().map(|c| c.0.len()).sum();
-        let mut edges = Vec::with_capacity(ne);
-        let mut edge_face_offsets = Vec::with_capacity(ne + 1);
-        edge_face_offsets.push(0u32);
-        let mut he_edge = Vec::with_capacity(nh);
-        for (es, ends, hes) in chunk_edges {
-            let e0 = edges.len() as u32;
-            he_edge.extend(hes.into_iter().map(|e| e + e0));
-            edges.extend(es);
-            edge_face_offsets.extend(ends);
+        let ne: usize = parts.iter().map(|c| c.edges.len()).sum();
+        let nh: usize = parts.iter().map(|c| c.edge_faces.len()).sum();
+        vertex_edges[nv] = ne as u32;
+        // Join the chunks' lists in parallel, each chunk copying into its own slices.
+        let mut edges = vec![[0u32; 2]; ne];
+        let mut edge_face_offsets = vec![0u32; ne + 1];
+        let mut edge_faces = vec![0u32; nh];
+        let mut dihedral = vec![0f32; ne];
+        {
+            let e_lens = parts.iter().map(|c| c.edges.len());
+            let h_lens = parts.iter().map(|c| c.edge_faces.len());
+            let v_lens = bounds.iter().map(|&(s, e)| e - s);
+            let mut e_base = 0u32;
+            let mut h_base = 0u32;
+            let bases: Vec<(u32, u32)> = parts
+                .iter()
+                .map(|c| {
+                    let b = (e_base, h_base);
+                    e_base += c.edges.len() as u32;
+                    h_base += c.edge_faces.len() as u32;
+                    b
+                })
+                .collect();
+            split_lens(&mut edges, e_lens.clone())
+                .into_iter()
+                .zip(split_lens(&mut edge_face_offsets[1..], e_lens.clone()))
+                .zip(split_lens(&mut edge_faces, h_lens))
+                .zip(split_lens(&mut dihedral, e_lens))
+                .zip(split_lens(&mut vertex_edges[..nv], v_lens))
+                .zip(parts.iter().zip(bases))
+                .collect::<Vec<_>>()
+                .into_par_iter()
+                .for_each(|(((((e, o), h), d), ve), (part, (eb, hb)))| {
+                    e.copy_from_slice(&part.edges);
+                    for (o, &end) in o.iter_mut().zip(&part.ends) {
+                        *o = end + hb;
+                    }
+                    h.copy_from_slice(&part.edge_faces);
+                    d.copy_from_slice(&part.dihedral);
+                    for x in ve {
+                        *x += eb;
+                    }
+                });
         }
-        // One face per half-edge, in half-edge order, and each face corner's edge.
-        let edge_faces: Vec<u32> = he.par_iter().map(|&(_, h)| h / 3).collect();
-        let mut face_edges = vec![[NO_EDGE; 3]; nf];
-        for (&(_, h), &e) in he.iter().zip(&he_edge) {
-            face_edges[(h / 3) as usize][(h % 3) as usize] = e;
-        }
-        // Edge lengths in parallel, summed in edge order (the same sum as a serial loop).
-        let lengths: Vec<f64> = edges
-            .par_iter()
-            .map(|&[a, b]| {
-                (positions[b as usize].as_dvec3() - positions[a as usize].as_dvec3()).length()
-            })
-            .collect();
-        let (mut edge_len_sum, mut finite_edges) = (0f64, 0usize);
-        for len in lengths.into_iter().filter(|l| l.is_finite()) {
-            edge_len_sum += len;
-            finite_edges += 1;
-        }
-        // Signed dihedral angle per consistently oriented manifold edge, in parallel.
-        let dihedral: Vec<f32> = (0..edges.len())
-            .into_par_iter()
-            .map(|e| {
-                // The edge's half-edges (face * 3 + corner), in edge-face order: corner k
-                // of a face starts the edge, so the face runs lo → hi iff it is at lo.
-                let hs = &he[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
-                let &[(_, h1), (_, h2)] = hs else { return 0.0 };
-                let (f1, f2) = ((h1 / 3) as usize, (h2 / 3) as usize);
-                if face_areas[f1] == 0.0 || face_areas[f2] == 0.0 {
-                    return 0.0;
-                }
-                let [lo, hi] = edges[e];
-                let dir1 = triangles[f1][(h1 % 3) as usize] == lo;
-                if dir1 == (triangles[f2][(h2 % 3) as usize] == lo) {
-                    return 0.0;
-                }
-                let (pa, pb) = (
-                    positions[lo as usize].as_dvec3(),
-                    positions[hi as usize].as_dvec3(),
-                );
-                let n1 = face_normals[f1].as_dvec3();
-                let n2 = face_normals[f2].as_dvec3();
-                // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
-                let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
-                // f32 atan2 (about 1e-7 relative) is ample and much cheaper than f64.
-                (n1.cross(n2).dot(ev) as f32).atan2(n1.dot(n2) as f32)
-            })
-            .collect();
+
+        // Each face corner's edge (looked up among its smaller vertex's edges) and each
+        // face's neighbour count, in parallel, while one thread sums the edge lengths in
+        // edge order (the same sum as before: serial, bit for bit).
+        let (efo, efs) = (&edge_face_offsets, &edge_faces);
+        let ((face_edges, counts), (edge_len_sum, finite_edges)): ((Vec<[u32; 3]>, Vec<u32>), _) =
+            rayon::join(
+                || {
+                    triangles
+                        .par_iter()
+                        .enumerate()
+                        .map(|(f, t)| {
+                            if !valid(t) {
+                                return ([NO_EDGE; 3], 0);
+                            }
+                            let fe = corner_edges(t, &vertex_edges, &edges);
+                            let mut n = 0u32;
+                            for_each_neighbour(f, &fe, efo, efs, |_| n += 1);
+                            (fe, n)
+                        })
+                        .unzip()
+                },
+                || {
+                    let (mut sum, mut count) = (0f64, 0usize);
+                    for len in parts.iter().flat_map(|c| &c.lengths) {
+                        if len.is_finite() {
+                            sum += len;
+                            count += 1;
+                        }
+                    }
+                    (sum, count)
+                },
+            );
         let mean_edge_length = if finite_edges == 0 {
             0.0
         } else {
             (edge_len_sum / finite_edges as f64) as f32
         };
 
-        // Face adjacency across edges (CSR), in parallel (order preserved).
-        // Plain loops, no iterator adaptors: this runs twice per face (count, fill).
-        let (efo, efs) = (&edge_face_offsets, &edge_faces);
-        let counts: Vec<u32> = (0..nf)
-            .into_par_iter()
-            .map(|f| {
-                let mut n = 0u32;
-                for_each_neighbour(f, &face_edges, efo, efs, |_| n += 1);
-                n
-            })
-            .collect();
+        // Face adjacency across edges (CSR), filled in parallel (order preserved).
         let mut face_adj_offsets = Vec::with_capacity(nf + 1);
         face_adj_offsets.push(0u32);
         let mut acc = 0u32;
@@ -322,8 +242,8 @@ impl Topology {
             }
             pieces.into_par_iter().for_each(|(sf, ef, piece)| {
                 let mut k = 0;
-                for f in sf..ef {
-                    for_each_neighbour(f, &face_edges, efo, efs, |g| {
+                for (f, fe) in (sf..ef).zip(&face_edges[sf..ef]) {
+                    for_each_neighbour(f, fe, efo, efs, |g| {
                         piece[k] = g;
                         k += 1;
                     });
@@ -456,9 +376,194 @@ impl Topology {
     }
 }
 
-/// One vertex chunk's edges: `[a, b]` pairs, their end offsets into the sorted
-/// half-edges, and the chunk-local edge of each of the chunk's half-edges.
-type ChunkEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
+/// Unit normal and area of one triangle (f64 cross product); zero for a degenerate or
+/// out-of-range triangle.
+fn face_normal_area(t: &[u32; 3], positions: &[Vec3]) -> (Vec3, f32) {
+    let nv = positions.len();
+    if !t.iter().all(|&i| (i as usize) < nv) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+        return (Vec3::ZERO, 0.0);
+    }
+    let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+    let cr = (b - a).cross(c - a);
+    let len = cr.length();
+    let scale = (b - a)
+        .length_squared()
+        .max((c - a).length_squared())
+        .max((c - b).length_squared());
+    if !(len > 1e-12 * scale) || !len.is_finite() {
+        return (Vec3::ZERO, 0.0);
+    }
+    ((cr / len).as_vec3(), (0.5 * len) as f32)
+}
+
+/// Vertex → faces (CSR, faces ascending, each face once per vertex), by a counting sort;
+/// triangles with an out-of-range index are left out.
+fn vertex_face_csr(triangles: &[[u32; 3]], nv: usize) -> (Vec<u32>, Vec<u32>) {
+    let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
+    let mut offsets = vec![0u32; nv + 1];
+    for t in triangles.iter().filter(|t| valid(t)) {
+        for &i in t {
+            offsets[i as usize + 1] += 1;
+        }
+    }
+    prefix_sum(&mut offsets);
+    let mut fill = offsets.clone();
+    let mut faces = vec![0u32; *offsets.last().unwrap_or(&0) as usize];
+    for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+        for (k, &i) in t.iter().enumerate() {
+            // A face with a repeated vertex is listed once per vertex.
+            if t[..k].contains(&i) {
+                continue;
+            }
+            faces[fill[i as usize] as usize] = f as u32;
+            fill[i as usize] += 1;
+        }
+    }
+    // Compact away the slots left by repeated vertices (none in a clean mesh).
+    if fill[..nv] == offsets[1..] {
+        (offsets, faces)
+    } else {
+        let offsets = compact(&mut faces, &offsets, &fill);
+        (offsets, faces)
+    }
+}
+
+/// What the per-chunk edge build reads.
+struct EdgeCtx<'a> {
+    positions: &'a [Vec3],
+    triangles: &'a [[u32; 3]],
+    face_normals: &'a [Vec3],
+    face_areas: &'a [f32],
+    vertex_face_offsets: &'a [u32],
+    vertex_faces: &'a [u32],
+}
+
+/// One vertex chunk's edges (`[a, b]`, `a` in the chunk), in order: the end of each
+/// edge's faces in `edge_faces` (chunk-local), the faces (one per half-edge, in face
+/// corner order), and each edge's dihedral angle and length.
+struct EdgeChunk {
+    edges: Vec<[u32; 2]>,
+    ends: Vec<u32>,
+    edge_faces: Vec<u32>,
+    dihedral: Vec<f32>,
+    lengths: Vec<f64>,
+}
+
+impl EdgeCtx<'_> {
+    /// Vertices `sv..ev`: their normals into `vn`, their first (chunk-local) edge into
+    /// `ve`, and the chunk's edges.
+    fn chunk(&self, sv: usize, ev: usize, vn: &mut [Vec3], ve: &mut [u32]) -> EdgeChunk {
+        let guess = 3 * (ev - sv) / 2 + 4;
+        let mut out = EdgeChunk {
+            edges: Vec::with_capacity(guess),
+            ends: Vec::with_capacity(guess),
+            edge_faces: Vec::with_capacity(2 * guess),
+            dihedral: Vec::with_capacity(guess),
+            lengths: Vec::with_capacity(guess),
+        };
+        // (larger vertex, face * 3 + corner) of one vertex's half-edges.
+        let mut hs: Vec<(u32, u32)> = Vec::with_capacity(32);
+        for v in sv..ev {
+            let fs = &self.vertex_faces
+                [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize];
+            let n: DVec3 = fs
+                .iter()
+                .map(|&f| {
+                    self.face_normals[f as usize].as_dvec3()
+                        * f64::from(self.face_areas[f as usize])
+                })
+                .sum();
+            vn[v - sv] = n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3());
+            ve[v - sv] = out.edges.len() as u32;
+            hs.clear();
+            for &f in fs {
+                let t = self.triangles[f as usize];
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    if a != b && a.min(b) == v as u32 {
+                        hs.push((a.max(b), f * 3 + k as u32));
+                    }
+                }
+            }
+            hs.sort_unstable();
+            let mut i = 0;
+            while i < hs.len() {
+                let hi = hs[i].0;
+                let mut j = i;
+                while j < hs.len() && hs[j].0 == hi {
+                    out.edge_faces.push(hs[j].1 / 3);
+                    j += 1;
+                }
+                out.edges.push([v as u32, hi]);
+                out.ends.push(out.edge_faces.len() as u32);
+                out.dihedral.push(self.dihedral(v as u32, hi, &hs[i..j]));
+                out.lengths.push(
+                    (self.positions[hi as usize].as_dvec3() - self.positions[v].as_dvec3())
+                        .length(),
+                );
+                i = j;
+            }
+        }
+        out
+    }
+
+    /// Signed dihedral angle of edge `lo`–`hi` from its half-edges (face * 3 + corner,
+    /// ascending); 0 unless it is a consistently oriented manifold edge between two
+    /// faces with area.
+    fn dihedral(&self, lo: u32, hi: u32, hs: &[(u32, u32)]) -> f32 {
+        // Corner k of a face starts the edge, so the face runs lo → hi iff it is at lo.
+        let &[(_, h1), (_, h2)] = hs else { return 0.0 };
+        let (f1, f2) = ((h1 / 3) as usize, (h2 / 3) as usize);
+        if self.face_areas[f1] == 0.0 || self.face_areas[f2] == 0.0 {
+            return 0.0;
+        }
+        let dir1 = self.triangles[f1][(h1 % 3) as usize] == lo;
+        if dir1 == (self.triangles[f2][(h2 % 3) as usize] == lo) {
+            return 0.0;
+        }
+        let (pa, pb) = (
+            self.positions[lo as usize].as_dvec3(),
+            self.positions[hi as usize].as_dvec3(),
+        );
+        let n1 = self.face_normals[f1].as_dvec3();
+        let n2 = self.face_normals[f2].as_dvec3();
+        // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
+        let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
+        // f32 atan2 (about 1e-7 relative) is ample and much cheaper than f64.
+        (n1.cross(n2).dot(ev) as f32).atan2(n1.dot(n2) as f32)
+    }
+}
+
+/// The edge of each corner pair of a valid triangle (`NO_EDGE` where the two corners are
+/// the same vertex), found among the edges of its smaller vertex.
+fn corner_edges(t: &[u32; 3], vertex_edges: &[u32], edges: &[[u32; 2]]) -> [u32; 3] {
+    let mut fe = [NO_EDGE; 3];
+    for (k, e) in fe.iter_mut().enumerate() {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        if a == b {
+            continue;
+        }
+        let (lo, hi) = (a.min(b) as usize, a.max(b));
+        let first = vertex_edges[lo] as usize;
+        let own = &edges[first..vertex_edges[lo + 1] as usize];
+        if let Some(i) = own.iter().position(|&[_, h]| h == hi) {
+            *e = (first + i) as u32;
+        }
+    }
+    fe
+}
+
+/// `s` cut into consecutive pieces of the given lengths (which must sum to at most
+/// `s.len()`).
+fn split_lens<T>(mut s: &mut [T], lens: impl Iterator<Item = usize>) -> Vec<&mut [T]> {
+    let mut out = Vec::new();
+    for n in lens {
+        let (piece, rest) = std::mem::take(&mut s).split_at_mut(n);
+        out.push(piece);
+        s = rest;
+    }
+    out
+}
 
 /// Moves each vertex's filled slots `offsets[v]..fill[v]` together; the new offsets.
 fn compact(faces: &mut Vec<u32>, offsets: &[u32], fill: &[u32]) -> Vec<u32> {
@@ -476,16 +581,17 @@ fn compact(faces: &mut Vec<u32>, offsets: &[u32], fill: &[u32]) -> Vec<u32> {
     new_offsets
 }
 
-/// Calls `out` with each face sharing an edge with face `f`, in corner order and each
-/// edge's face order, `f` itself left out (the order of [`Topology::face_neighbours`]).
+/// Calls `out` with each face sharing an edge with face `f` (whose corner edges are
+/// `face_edges`), in corner order and each edge's face order, `f` itself left out (the
+/// order of [`Topology::face_neighbours`]).
 fn for_each_neighbour(
     f: usize,
-    face_edges: &[[u32; 3]],
+    face_edges: &[u32; 3],
     efo: &[u32],
     efs: &[u32],
     mut out: impl FnMut(u32),
 ) {
-    for e in face_edges[f] {
+    for &e in face_edges {
         if e == NO_EDGE {
             continue;
         }
@@ -620,5 +726,345 @@ mod tests {
             .sum();
         let mean = lens / want.len() as f64;
         assert!((f64::from(t.mean_edge_length) - mean).abs() < 1e-6 * mean);
+    }
+
+    /// `Topology::from_parts` as it was before the per-vertex-chunk edge build (two
+    /// counting sorts, a serial face-corner scatter): the reference the current build
+    /// must match bit for bit.
+    fn previous_from_parts(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Topology {
+        let nv = positions.len();
+        let nf = triangles.len();
+        let valid = |t: &[u32; 3]| t.iter().all(|&i| (i as usize) < nv);
+
+        // Face normals and areas (f64 cross products), in parallel.
+        let (face_normals, face_areas): (Vec<Vec3>, Vec<f32>) = triangles
+            .par_iter()
+            .map(|t| {
+                if !valid(t) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+                    return (Vec3::ZERO, 0.0);
+                }
+                let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+                let cr = (b - a).cross(c - a);
+                let len = cr.length();
+                let scale = (b - a)
+                    .length_squared()
+                    .max((c - a).length_squared())
+                    .max((c - b).length_squared());
+                if !(len > 1e-12 * scale) || !len.is_finite() {
+                    return (Vec3::ZERO, 0.0);
+                }
+                ((cr / len).as_vec3(), (0.5 * len) as f32)
+            })
+            .unzip();
+
+        // Vertex → faces (CSR).
+        let mut vertex_face_offsets = vec![0u32; nv + 1];
+        for t in triangles.iter().filter(|t| valid(t)) {
+            for &i in t {
+                vertex_face_offsets[i as usize + 1] += 1;
+            }
+        }
+        prefix_sum(&mut vertex_face_offsets);
+        let mut fill = vertex_face_offsets.clone();
+        let mut vertex_faces = vec![0u32; *vertex_face_offsets.last().unwrap_or(&0) as usize];
+        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+            for (k, &i) in t.iter().enumerate() {
+                // A face with a repeated vertex is listed once per vertex.
+                if t[..k].contains(&i) {
+                    continue;
+                }
+                vertex_faces[fill[i as usize] as usize] = f as u32;
+                fill[i as usize] += 1;
+            }
+        }
+        // Compact away the slots left by repeated vertices (none in a clean mesh).
+        let vertex_face_offsets = if fill[..nv] == vertex_face_offsets[1..] {
+            vertex_face_offsets
+        } else {
+            compact(&mut vertex_faces, &vertex_face_offsets, &fill)
+        };
+
+        // Area-weighted vertex normals, gathered per vertex in parallel.
+        let vertex_normals: Vec<Vec3> = (0..nv)
+            .into_par_iter()
+            .map(|v| {
+                let fs = &vertex_faces
+                    [vertex_face_offsets[v] as usize..vertex_face_offsets[v + 1] as usize];
+                let n: DVec3 = fs
+                    .iter()
+                    .map(|&f| {
+                        face_normals[f as usize].as_dvec3() * f64::from(face_areas[f as usize])
+                    })
+                    .sum();
+                n.try_normalize().map_or(Vec3::Z, |n| n.as_vec3())
+            })
+            .collect();
+
+        // Half-edges bucketed by their smaller vertex (counting sort), then sorted by
+        // the larger vertex inside each bucket.
+        let mut bucket = vec![0u32; nv + 1];
+        for t in triangles.iter().filter(|t| valid(t)) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b {
+                    bucket[a.min(b) as usize + 1] += 1;
+                }
+            }
+        }
+        prefix_sum(&mut bucket);
+        let nh = *bucket.last().unwrap_or(&0) as usize;
+        let mut he: Vec<(u32, u32)> = vec![(0, 0); nh]; // (larger vertex, face*3+corner)
+        let mut fill = bucket.clone();
+        for (f, t) in triangles.iter().enumerate().filter(|(_, t)| valid(t)) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b {
+                    let lo = a.min(b) as usize;
+                    he[fill[lo] as usize] = (a.max(b), (f * 3 + k) as u32);
+                    fill[lo] += 1;
+                }
+            }
+        }
+        // Sort every bucket by its larger vertex and group equal (smaller, larger) runs
+        // into edges, buckets split into chunks in parallel; each chunk lists its edges,
+        // their end offsets into `he` and the chunk-local edge of each of its half-edges.
+        type ChunkEdges = (Vec<[u32; 2]>, Vec<u32>, Vec<u32>);
+        let chunk_edges: Vec<ChunkEdges> = {
+            let chunks = 64.min(nv.max(1));
+            let mut rest: &mut [(u32, u32)] = &mut he;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_v, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_v = nv * c / chunks;
+                let end_h = bucket[end_v] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end_h - consumed);
+                pieces.push((start_v, end_v, piece));
+                rest = r;
+                consumed = end_h;
+                start_v = end_v;
+            }
+            let bucket = &bucket;
+            pieces
+                .into_par_iter()
+                .map(|(sv, ev, piece)| {
+                    let base = bucket[sv] as usize;
+                    let mut edges = Vec::with_capacity(piece.len() / 2 + 1);
+                    let mut ends = Vec::with_capacity(piece.len() / 2 + 1);
+                    let mut he_edge = Vec::with_capacity(piece.len());
+                    for lo in sv..ev {
+                        let (b0, b1) = (bucket[lo] as usize - base, bucket[lo + 1] as usize - base);
+                        let s = &mut piece[b0..b1];
+                        s.sort_unstable();
+                        let mut i = 0;
+                        while i < s.len() {
+                            let hi = s[i].0;
+                            let mut j = i;
+                            while j < s.len() && s[j].0 == hi {
+                                j += 1;
+                            }
+                            he_edge.extend(std::iter::repeat_n(edges.len() as u32, j - i));
+                            edges.push([lo as u32, hi]);
+                            ends.push((base + b0 + j) as u32);
+                            i = j;
+                        }
+                    }
+                    (edges, ends, he_edge)
+                })
+                .collect()
+        };
+        let ne: usize = chunk_edges.iter().map(|c| c.0.len()).sum();
+        let mut edges = Vec::with_capacity(ne);
+        let mut edge_face_offsets = Vec::with_capacity(ne + 1);
+        edge_face_offsets.push(0u32);
+        let mut he_edge = Vec::with_capacity(nh);
+        for (es, ends, hes) in chunk_edges {
+            let e0 = edges.len() as u32;
+            he_edge.extend(hes.into_iter().map(|e| e + e0));
+            edges.extend(es);
+            edge_face_offsets.extend(ends);
+        }
+        // One face per half-edge, in half-edge order, and each face corner's edge.
+        let edge_faces: Vec<u32> = he.par_iter().map(|&(_, h)| h / 3).collect();
+        let mut face_edges = vec![[NO_EDGE; 3]; nf];
+        for (&(_, h), &e) in he.iter().zip(&he_edge) {
+            face_edges[(h / 3) as usize][(h % 3) as usize] = e;
+        }
+        // Edge lengths in parallel, summed in edge order (the same sum as a serial loop).
+        let lengths: Vec<f64> = edges
+            .par_iter()
+            .map(|&[a, b]| {
+                (positions[b as usize].as_dvec3() - positions[a as usize].as_dvec3()).length()
+            })
+            .collect();
+        let (mut edge_len_sum, mut finite_edges) = (0f64, 0usize);
+        for len in lengths.into_iter().filter(|l| l.is_finite()) {
+            edge_len_sum += len;
+            finite_edges += 1;
+        }
+        // Signed dihedral angle per consistently oriented manifold edge, in parallel.
+        let dihedral: Vec<f32> = (0..edges.len())
+            .into_par_iter()
+            .map(|e| {
+                // The edge's half-edges (face * 3 + corner), in edge-face order: corner k
+                // of a face starts the edge, so the face runs lo → hi iff it is at lo.
+                let hs = &he[edge_face_offsets[e] as usize..edge_face_offsets[e + 1] as usize];
+                let &[(_, h1), (_, h2)] = hs else { return 0.0 };
+                let (f1, f2) = ((h1 / 3) as usize, (h2 / 3) as usize);
+                if face_areas[f1] == 0.0 || face_areas[f2] == 0.0 {
+                    return 0.0;
+                }
+                let [lo, hi] = edges[e];
+                let dir1 = triangles[f1][(h1 % 3) as usize] == lo;
+                if dir1 == (triangles[f2][(h2 % 3) as usize] == lo) {
+                    return 0.0;
+                }
+                let (pa, pb) = (
+                    positions[lo as usize].as_dvec3(),
+                    positions[hi as usize].as_dvec3(),
+                );
+                let n1 = face_normals[f1].as_dvec3();
+                let n2 = face_normals[f2].as_dvec3();
+                // Edge direction as traversed by f1; convex ⇔ (n1 × n2)·ē > 0.
+                let ev = if dir1 { pb - pa } else { pa - pb }.normalize_or_zero();
+                // f32 atan2 (about 1e-7 relative) is ample and much cheaper than f64.
+                (n1.cross(n2).dot(ev) as f32).atan2(n1.dot(n2) as f32)
+            })
+            .collect();
+        let mean_edge_length = if finite_edges == 0 {
+            0.0
+        } else {
+            (edge_len_sum / finite_edges as f64) as f32
+        };
+
+        // Face adjacency across edges (CSR), in parallel (order preserved).
+        // Plain loops, no iterator adaptors: this runs twice per face (count, fill).
+        let (efo, efs) = (&edge_face_offsets, &edge_faces);
+        let counts: Vec<u32> = (0..nf)
+            .into_par_iter()
+            .map(|f| {
+                let mut n = 0u32;
+                for_each_neighbour(f, &face_edges[f], efo, efs, |_| n += 1);
+                n
+            })
+            .collect();
+        let mut face_adj_offsets = Vec::with_capacity(nf + 1);
+        face_adj_offsets.push(0u32);
+        let mut acc = 0u32;
+        for c in counts {
+            acc += c;
+            face_adj_offsets.push(acc);
+        }
+        let mut face_adj = vec![0u32; acc as usize];
+        {
+            // Fill in parallel: faces split into chunks, each owning its slice.
+            let chunks = 64.min(nf.max(1));
+            let mut rest: &mut [u32] = &mut face_adj;
+            let mut pieces = Vec::with_capacity(chunks);
+            let (mut start_f, mut consumed) = (0usize, 0usize);
+            for c in 1..=chunks {
+                let end_f = nf * c / chunks;
+                let end = face_adj_offsets[end_f] as usize;
+                let (piece, r) = std::mem::take(&mut rest).split_at_mut(end - consumed);
+                pieces.push((start_f, end_f, piece));
+                rest = r;
+                consumed = end;
+                start_f = end_f;
+            }
+            pieces.into_par_iter().for_each(|(sf, ef, piece)| {
+                let mut k = 0;
+                for (f, fe) in (sf..ef).zip(&face_edges[sf..ef]) {
+                    for_each_neighbour(f, fe, efo, efs, |g| {
+                        piece[k] = g;
+                        k += 1;
+                    });
+                }
+            });
+        }
+
+        Topology {
+            positions,
+            triangles,
+            face_normals,
+            face_areas,
+            edges,
+            face_edges,
+            dihedral,
+            vertex_normals,
+            mean_edge_length,
+            edge_face_offsets,
+            edge_faces,
+            vertex_face_offsets,
+            vertex_faces,
+            face_adj_offsets,
+            face_adj,
+        }
+    }
+
+    /// Every array of two topologies, floats by their bits.
+    fn assert_same(a: &Topology, b: &Topology, name: &str) {
+        let v3 = |v: &[Vec3]| -> Vec<[u32; 3]> {
+            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
+        };
+        let f1 = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
+        assert_eq!(a.triangles, b.triangles, "{name}");
+        assert_eq!(v3(&a.face_normals), v3(&b.face_normals), "{name}");
+        assert_eq!(f1(&a.face_areas), f1(&b.face_areas), "{name}");
+        assert_eq!(a.edges, b.edges, "{name}");
+        assert_eq!(a.face_edges, b.face_edges, "{name}");
+        assert_eq!(f1(&a.dihedral), f1(&b.dihedral), "{name}");
+        assert_eq!(v3(&a.vertex_normals), v3(&b.vertex_normals), "{name}");
+        assert_eq!(
+            a.mean_edge_length.to_bits(),
+            b.mean_edge_length.to_bits(),
+            "{name}"
+        );
+        assert_eq!(a.edge_face_offsets, b.edge_face_offsets, "{name}");
+        assert_eq!(a.edge_faces, b.edge_faces, "{name}");
+        assert_eq!(a.vertex_face_offsets, b.vertex_face_offsets, "{name}");
+        assert_eq!(a.vertex_faces, b.vertex_faces, "{name}");
+        assert_eq!(a.face_adj_offsets, b.face_adj_offsets, "{name}");
+        assert_eq!(a.face_adj, b.face_adj, "{name}");
+    }
+
+    /// The per-vertex-chunk build against the previous one, bit for bit: a jittered,
+    /// noisy torus with a hole, a fin, a duplicate face, a flipped face, faces with a
+    /// repeated vertex and an out-of-range index and an isolated vertex; the scanned
+    /// bunny; and a mesh smaller than the chunk count.
+    #[test]
+    fn matches_previous_build() {
+        let mesh = generate::displace_along_normals(
+            &generate::torus_jittered(2.0, 0.7, 90, 40, 0.3, 5),
+            0.01,
+            9,
+        );
+        let mut w = weld(&mesh);
+        w.indices
+            .retain(|t| t.iter().all(|&i| !(200..260).contains(&i)));
+        let [a, b, c] = w.indices[500];
+        w.indices[500] = [b, a, c];
+        let dup = w.indices[900];
+        let fin = [w.indices[1000][0], w.indices[1000][1], 3000];
+        w.indices
+            .extend_from_slice(&[dup, fin, [7, 7, 8], [9, 10, 9], [1, 2, 1 << 30]]);
+        w.positions.push(Vec3::splat(9.0));
+        let bunny = crate::load_obj(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/meshes/stanford-bunny.obj"
+        ))
+        .unwrap();
+        let wb = weld(&bunny);
+        let tiny = (
+            vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+            vec![[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]],
+        );
+        for (name, p, t) in [
+            ("torus", w.positions, w.indices),
+            ("bunny", wb.positions, wb.indices),
+            ("tetrahedron", tiny.0, tiny.1),
+        ] {
+            let got = Topology::from_parts(p.clone(), t.clone());
+            let want = previous_from_parts(p, t);
+            assert_same(&got, &want, name);
+        }
     }
 }
