@@ -145,29 +145,30 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         }
         bar.finish_and_clear();
         // The same turning sequence, setup only, on one core: as loaded, and in the file's
-        // own triangle order.
-        let one_core_setup = |mesh: &Mesh| -> anyhow::Result<Vec<f64>> {
-            let mut set1 = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-            Ok(one_core.install(|| {
-                (0..FRAMES + 3)
-                    .map(|frame| {
-                        let world_from_object =
-                            Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
-                                * world_from_normalized;
-                        let le = LightEye::Positions {
-                            light: to_light * 50.0,
-                            eye: camera.eye,
-                        };
-                        let t = Instant::now();
-                        set1.update(le, world_from_object);
-                        t.elapsed().as_secs_f64() * 1e6
-                    })
-                    .skip(3)
-                    .collect()
-            }))
-        };
-        let setup_1core = one_core_setup(mesh)?;
-        let setup_1core_file_order = one_core_setup(file_mesh)?;
+        // own triangle order, frame by frame in turn so both see the same machine load.
+        let mut loaded = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+        let mut file_order = HighlightSet::new(file_mesh, &CurvatureOptions::default())?;
+        let (mut setup_1core, mut setup_1core_file_order) = (Vec::new(), Vec::new());
+        one_core.install(|| {
+            for frame in 0..FRAMES + 3 {
+                let world_from_object = Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
+                    * world_from_normalized;
+                let le = LightEye::Positions {
+                    light: to_light * 50.0,
+                    eye: camera.eye,
+                };
+                for (set, times) in [
+                    (&mut loaded, &mut setup_1core),
+                    (&mut file_order, &mut setup_1core_file_order),
+                ] {
+                    let t = Instant::now();
+                    set.update(le, world_from_object);
+                    if frame >= 3 {
+                        times.push(t.elapsed().as_secs_f64() * 1e6);
+                    }
+                }
+            }
+        });
         let (b, w, f) = (median(base), median(with), median(whole));
         table.push(vec![
             name.as_str().into(),
