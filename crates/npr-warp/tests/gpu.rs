@@ -15,34 +15,8 @@ use npr_warp::{
     metrics::read_rgba,
 };
 
-const SIZE: u32 = 256;
-const CLEAR: [f64; 4] = [0.0, 0.0, 0.0, 0.0];
-
-fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.22,
-        segments: 480,
-        tube_segments: 32,
-    })
-}
-
-fn material() -> ObjectUniforms {
-    ObjectUniforms::new(
-        Mat4::IDENTITY,
-        Vec3::new(0.75, 0.55, 0.35),
-        0.4,
-        Vec3::ONE,
-        30.0,
-    )
-}
-
-fn light() -> Light {
-    Light::directional(Vec3::new(1.0, 1.5, 2.0))
-}
+mod common;
+use common::{CLEAR, SIZE, knot, light, material};
 
 struct Rig {
     ctx: &'static GpuContext,
