@@ -243,6 +243,9 @@ pub struct HighlightCentre {
 /// curvature field.
 #[derive(Clone, Debug)]
 pub struct HighlightSearch {
+    /// Unique per built search (clones share it: same data), what [`SearchCoherence`]
+    /// keys on so that its state is never used for another mesh.
+    id: u64,
     positions: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     normals: Vec<Vec3>,
@@ -259,8 +262,8 @@ pub struct HighlightSearch {
     /// space; zero where the field is invalid), for [`NormalInterpolation::Curvature`].
     shape: Vec<Mat3>,
     /// Per-vertex extra slack of the rejection tests for the curvature-blended field,
-    /// whose normals can leave the cone of the three vertex normals by second-order
-    /// amounts.
+    /// whose normals can leave the cone of the three vertex normals (bound in
+    /// `with_normals`): the largest over the vertex's faces.
     curvature_margin: Vec<f32>,
     /// The same per face (the per-vertex value is the largest over the vertex's faces).
     face_curvature_margin: Vec<f32>,
@@ -519,37 +522,50 @@ impl HighlightSearch {
                     + outer(field.dir_kappa_min[v], field.kappa_min[v])
             })
             .collect();
-        // Second-order departure of the blended normal from the vertex normals' cone:
-        // about (|κ| · edge)² / 2 over a face, kept per vertex (largest over its faces) so
-        // that rough regions of a scan do not weaken the rejection elsewhere; capped. The
-        // face test takes the face's own.
+        // How far the blended normal can leave the cone of the vertex normals in a face:
+        // N(w) − Σ wᵢNᵢ = Σᵢ wᵢSᵢ(x − pᵢ) = Σ_{i<j} wᵢwⱼ(Sᵢ − Sⱼ)(pⱼ − pᵢ), at most
+        // (1/3)·max‖Sᵢ − Sⱼ‖·e_max since Σ_{i<j} wᵢwⱼ ≤ 1/3; against |Σ wᵢNᵢ| ≥
+        // sqrt((1 + 2c)/3) (c the smallest Nᵢ·Nⱼ) that turns the unit normal by at most
+        // the ratio, which bounds the change of any cosine. Small where the curvature is
+        // consistent (Sᵢ ≈ Sⱼ), large on a noisy scan's bumps. Kept per face for the face
+        // test and per vertex (largest over its faces) for the vertex and cluster tests,
+        // so that rough regions do not weaken the rejection elsewhere.
         let mut curvature_margin = vec![0f32; nv];
-        let mut face_curvature_margin = vec![0.25f32; topo.triangles.len()];
+        let mut face_curvature_margin = vec![2f32; topo.triangles.len()];
         for (f, t) in topo
             .triangles
             .iter()
             .enumerate()
             .filter(|(_, t)| t.iter().all(|&i| (i as usize) < nv))
         {
-            let k = t
-                .iter()
-                .map(|&i| {
-                    field.kappa_max[i as usize]
-                        .abs()
-                        .max(field.kappa_min[i as usize].abs())
-                })
-                .fold(0f32, f32::max);
-            let e = (0..3)
-                .map(|j| {
-                    topo.positions[t[j] as usize].distance(topo.positions[t[(j + 1) % 3] as usize])
-                })
-                .fold(0f32, f32::max);
-            let m = (0.5 * (k * e).powi(2)).min(0.25);
-            if m.is_finite() {
-                face_curvature_margin[f] = m;
-                for &i in t {
-                    curvature_margin[i as usize] = curvature_margin[i as usize].max(m);
-                }
+            let [a, b, c] = t.map(|i| i as usize);
+            let frob = |m: Mat3| {
+                (m.x_axis.length_squared() + m.y_axis.length_squared() + m.z_axis.length_squared())
+                    .sqrt()
+            };
+            let ds = frob(shape[a] - shape[b])
+                .max(frob(shape[b] - shape[c]))
+                .max(frob(shape[c] - shape[a]));
+            let p = &topo.positions;
+            let e = p[a]
+                .distance(p[b])
+                .max(p[b].distance(p[c]))
+                .max(p[c].distance(p[a]));
+            let cmin = normals[a]
+                .dot(normals[b])
+                .min(normals[b].dot(normals[c]))
+                .min(normals[c].dot(normals[a]));
+            let u_min = ((1.0 + 2.0 * cmin) / 3.0).max(0.0).sqrt();
+            let bound = ds * e / 3.0;
+            // A slack of 2 in a cosine passes everything.
+            let m = if u_min > 0.25 && bound.is_finite() {
+                (bound / u_min).min(2.0)
+            } else {
+                2.0
+            };
+            face_curvature_margin[f] = m;
+            for &i in t {
+                curvature_margin[i as usize] = curvature_margin[i as usize].max(m);
             }
         }
         let (clusters, cluster_vertices) = build_clusters(
@@ -559,7 +575,9 @@ impl HighlightSearch {
             &reach,
             &curvature_margin,
         );
+        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
         Self {
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             clusters,
             cluster_vertices,
             positions: topo.positions.clone(),
@@ -698,15 +716,7 @@ impl HighlightSearch {
                     // Turn of L̂ (V̂) between the centre and any point within r of it, and
                     // the per-vertex turn bound at any vertex (its reach ≤ r, its distance
                     // ≥ d − r): both ≤ turn(d − r) with the vertex formula.
-                    let turn = |d: f32| {
-                        let d = d - r;
-                        if d > 3.0 * r {
-                            let x = r / (d - r);
-                            x * (1.0 + x * x)
-                        } else {
-                            half_pi
-                        }
-                    };
+                    let turn = |d: f32| turn_bound(r, d - r);
                     let t = turn(ll) + turn(le);
                     // The same after the light and eye move by their budgets.
                     let t_moved = turn(ll - budget.light) + turn(le - budget.eye);
@@ -795,14 +805,7 @@ impl HighlightSearch {
                         return true;
                     }
                     let r = self.reach[v];
-                    let turn = |d: f32| {
-                        if d > 3.0 * r {
-                            let x = r / (d - r);
-                            x * (1.0 + x * x)
-                        } else {
-                            half_pi
-                        }
-                    };
+                    let turn = |d: f32| turn_bound(r, d);
                     let t = turn(ll - budget.light) + turn(le - budget.eye);
                     let b = (t / (sl - tau - t).max(1e-3) * SIMILARITY_COND).min(4.0);
                     within(
@@ -840,17 +843,10 @@ impl HighlightSearch {
         self.search_vertices(&frame, &active, reject, &mut scratch)
     }
 
-    /// The per-vertex tests on `vertices`, then the per-face tests and solves on the
-    /// faces whose three vertices pass (all faces around `vertices` without `reject`).
-    fn search_vertices(
-        &self,
-        frame: &FrameSetup,
-        vertices: &[u32],
-        reject: bool,
-        scratch: &mut VertexScratch,
-    ) -> Vec<HighlightCentre> {
-        let nv = self.positions.len();
-        scratch.prepare(nv);
+    /// The per-vertex tests (see [`HighlightSearch::find`]) of `vertices`: `H` in object
+    /// space and whether each passes, into `scratch` (other entries untouched).
+    fn test_vertices(&self, frame: &FrameSetup, vertices: &[u32], scratch: &mut VertexScratch) {
+        scratch.prepare(self.positions.len());
         let VertexScratch { h: h_obj, pass } = scratch;
         match frame.kind {
             FrameKind::Direction(h) => {
@@ -867,7 +863,6 @@ impl HighlightSearch {
                 eye_o,
             } => {
                 let lin_t = frame.lin.transpose();
-                let half_pi = std::f32::consts::FRAC_PI_2;
                 let similarity = frame.similarity;
                 let per_vertex = |v: usize| -> (Vec3, bool) {
                     let p = self.positions[v];
@@ -898,14 +893,7 @@ impl HighlightSearch {
                     } else {
                         self.reach[v] * frame.sigma_max
                     };
-                    let turn = |d: f32| {
-                        if d > 3.0 * r {
-                            let x = r / (d - r);
-                            x * (1.0 + x * x)
-                        } else {
-                            half_pi
-                        }
-                    };
+                    let turn = |d: f32| turn_bound(r, d);
                     let (tl, te) = (turn(ll), turn(le));
                     // dĤ = (I − ĤĤᵀ)(dL̂ + dV̂)/|S|, |S| ≥ |S_v| − (θL + θE) on the way.
                     let b = ((tl + te) / (sl - tl - te).max(1e-3) * frame.cond).min(4.0);
@@ -930,6 +918,19 @@ impl HighlightSearch {
                 }
             }
         }
+    }
+
+    /// The per-vertex tests on `vertices`, then the per-face tests and solves on the
+    /// faces whose three vertices pass (all faces around `vertices` without `reject`).
+    fn search_vertices(
+        &self,
+        frame: &FrameSetup,
+        vertices: &[u32],
+        reject: bool,
+        scratch: &mut VertexScratch,
+    ) -> Vec<HighlightCentre> {
+        self.test_vertices(frame, vertices, scratch);
+        let VertexScratch { h: h_obj, pass } = scratch;
 
         if !reject {
             for &v in vertices {
@@ -961,7 +962,7 @@ impl HighlightSearch {
                         self.face_curvature_margin
                             .get(f as usize)
                             .copied()
-                            .unwrap_or(0.25)
+                            .unwrap_or(2.0)
                     } else {
                         0.0
                     };
@@ -1012,7 +1013,7 @@ impl HighlightSearch {
         world_from_object: Mat4,
     ) -> Vec<HighlightCentre> {
         let input = (light_eye, world_from_object, self.interpolation);
-        if state.last_input == Some(input) && state.mesh == self.identity() {
+        if state.last_input == Some(input) && state.mesh == self.id {
             state.stats = CoherenceStats {
                 reused: true,
                 ..CoherenceStats::default()
@@ -1021,13 +1022,14 @@ impl HighlightSearch {
         }
         let Some(frame) = self.setup(light_eye, world_from_object) else {
             state.forget();
+            state.stats = CoherenceStats::default();
             return Vec::new();
         };
         let pose = Pose::of(&frame);
         let (previous, kept) = (state.pose.take(), state.key.take());
         let mut full = false;
         let key = match kept {
-            Some(k) if state.mesh == self.identity() && k.covers(&pose, self.interpolation) => k,
+            Some(k) if state.mesh == self.id && k.covers(&pose, self.interpolation) => k,
             _ => {
                 full = true;
                 let budget = pose.budget(previous.as_ref(), state.frames_ahead, self.extent());
@@ -1047,7 +1049,7 @@ impl HighlightSearch {
                 }
             }
         };
-        state.mesh = self.identity();
+        state.mesh = self.id;
         let centres = self.search_vertices(&frame, &key.watch, true, &mut state.scratch);
         state.stats = CoherenceStats {
             full,
@@ -1059,15 +1061,6 @@ impl HighlightSearch {
         state.last_input = Some(input);
         state.last_centres.clone_from(&centres);
         centres
-    }
-
-    /// What [`SearchCoherence`] keys on to tell one mesh from another.
-    fn identity(&self) -> (usize, usize, usize) {
-        (
-            self.positions.len(),
-            self.triangles.len(),
-            self.positions.as_ptr() as usize,
-        )
     }
 
     /// Radius of the vertices' bounding box, object units (the floor of motion budgets).
@@ -1276,7 +1269,7 @@ impl Pose {
             (Pose::Other, _) => None,
             (Pose::Direction(h), previous) => {
                 let step = match previous {
-                    Some(Pose::Direction(p)) => h.angle_between(*p),
+                    Some(Pose::Direction(p)) => angle(*h, *p),
                     _ => 0.0,
                 };
                 let angle = (k * step).max(1e-4);
@@ -1322,7 +1315,7 @@ impl KeyFrame {
             return false;
         }
         match (self.pose, pose) {
-            (Pose::Direction(k), Pose::Direction(h)) => h.angle_between(k) <= self.budget.angle,
+            (Pose::Direction(k), Pose::Direction(h)) => angle(*h, k) <= self.budget.angle,
             (Pose::Positions { light: kl, eye: ke }, Pose::Positions { light, eye }) => {
                 light.distance(kl) <= self.budget.light && eye.distance(ke) <= self.budget.eye
             }
@@ -1376,7 +1369,8 @@ pub struct SearchCoherence {
     pub frames_ahead: f32,
     key: Option<KeyFrame>,
     pose: Option<Pose>,
-    mesh: (usize, usize, usize),
+    /// [`HighlightSearch`]'s id the state belongs to (0: none).
+    mesh: u64,
     last_input: Option<(LightEye, Mat4, NormalInterpolation)>,
     last_centres: Vec<HighlightCentre>,
     scratch: VertexScratch,
@@ -1389,7 +1383,7 @@ impl Default for SearchCoherence {
             frames_ahead: 3.0,
             key: None,
             pose: None,
-            mesh: (0, 0, 0),
+            mesh: 0,
             last_input: None,
             last_centres: Vec::new(),
             scratch: VertexScratch::default(),
@@ -1413,6 +1407,24 @@ impl SearchCoherence {
     }
 }
 
+/// How far the direction from a point to a target at distance `d` can turn when the
+/// point moves by up to `r`: `asin(x) ≤ x(1 + x²)` for `x = r/(d − r) ≤ 1/2`, else π/2.
+fn turn_bound(r: f32, d: f32) -> f32 {
+    if d > 3.0 * r {
+        let x = r / (d - r);
+        x * (1.0 + x * x)
+    } else {
+        std::f32::consts::FRAC_PI_2
+    }
+}
+
+/// The angle between two vectors, accurate near zero (`atan2(|a×b|, a·b)`; an `acos` of
+/// an f32 dot is off by up to ~3e-4 rad there, which the watch budgets would have to
+/// absorb).
+fn angle(a: Vec3, b: Vec3) -> f32 {
+    a.cross(b).length().atan2(a.dot(b))
+}
+
 /// (largest singular value, condition number) of a 3×3 matrix.
 fn svd_ratio(m: Mat3) -> (f32, f32) {
     let a = nalgebra::Matrix3::from_column_slice(&m.to_cols_array().map(f64::from));
@@ -1422,5 +1434,95 @@ fn svd_ratio(m: Mat3) -> (f32, f32) {
         (mx as f32, (mx / mn) as f32)
     } else {
         (f32::MAX, f32::MAX)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The watch list's invariant itself: after the light and eye move by up to the
+    /// budget, every vertex that passes its exact test is on the list (the results'
+    /// equality alone rarely exposes a loose bound, since centres sit far from the
+    /// thresholds).
+    #[test]
+    fn every_vertex_that_can_pass_within_the_budget_is_watched() {
+        let path = format!(
+            "{}/../../fixtures/meshes/stanford-bunny.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let mesh = crate::load_obj(&path).unwrap();
+        let welded = crate::weld(&mesh);
+        let topo = Topology::new(&welded);
+        let field = CurvatureField::compute(&topo, &crate::CurvatureOptions::default());
+        let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
+        let nv = s.positions.len();
+        let (lo, hi) = s.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let world = Mat4::from_scale_rotation_translation(
+            Vec3::splat(2.5),
+            glam::Quat::from_rotation_y(0.4),
+            Vec3::new(0.5, 0.0, -1.0),
+        );
+        let w = |p: Vec3| world.transform_point3(p);
+        let (light, eye) = (
+            w(c + Vec3::new(6.0 * r, 8.0 * r, 10.0 * r)),
+            w(c + Vec3::new(0.0, 0.5 * r, 3.0 * r)),
+        );
+        let key = s.setup(LightEye::Positions { light, eye }, world).unwrap();
+        // Budget in object units: 0.3 r for the light and the eye.
+        let budget = Budget {
+            angle: 0.0,
+            light: 0.3 * r,
+            eye: 0.3 * r,
+        };
+        let active = s.active_vertices(&key, budget);
+        let watch = s.watch_list(&key, &active, budget);
+        let mut watched = vec![false; nv];
+        for &v in &watch {
+            watched[v as usize] = true;
+        }
+        let all: Vec<u32> = (0..nv as u32).collect();
+        let mut scratch = VertexScratch::default();
+        let mut rng = 0x2545_f491_u32;
+        let mut unit = || {
+            let mut next = || {
+                rng ^= rng << 13;
+                rng ^= rng >> 17;
+                rng ^= rng << 5;
+                rng as f32 / u32::MAX as f32 * 2.0 - 1.0
+            };
+            Vec3::new(next(), next(), next()).normalize()
+        };
+        let mut passing = 0;
+        for k in 0..24 {
+            // World displacement of 0.999 × budget in object units (scale 2.5).
+            let (dl, de) = (
+                unit() * 0.999 * 0.3 * r * 2.5,
+                unit() * 0.999 * 0.3 * r * 2.5,
+            );
+            let frame = s
+                .setup(
+                    LightEye::Positions {
+                        light: light + dl,
+                        eye: eye + de,
+                    },
+                    world,
+                )
+                .unwrap();
+            s.test_vertices(&frame, &all, &mut scratch);
+            for (v, (&p, &w)) in scratch.pass.iter().zip(&watched).enumerate() {
+                if p {
+                    passing += 1;
+                    assert!(w, "pose {k}: vertex {v} passes but is not watched");
+                }
+            }
+            scratch.pass.fill(false);
+        }
+        assert!(passing > 0);
+        assert!(watch.len() < nv / 2, "{} of {nv} watched", watch.len());
     }
 }

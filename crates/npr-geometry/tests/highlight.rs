@@ -482,3 +482,122 @@ fn coherent_search_finds_what_the_full_search_finds_frame_by_frame() {
         );
     }
 }
+
+#[test]
+fn coherent_search_holds_at_the_edge_of_its_budget_and_never_mixes_meshes() {
+    // A key frame is built when the light and eye move by more than its budget (3 × the
+    // last step); then poses moved by just under the budget, in many directions, must be
+    // watch-list frames (no rebuild) with exactly `find`'s centres: point light and eye
+    // under a rotation with uniform scale 2.5, and directions under a shear.
+    let path = format!(
+        "{}/../../fixtures/meshes/stanford-bunny.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mesh = npr_geometry::load_obj(&path).unwrap();
+    let welded = weld(&mesh);
+    let topo = Topology::new(&welded);
+    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
+    let (lo, hi) = topo.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+    let world = Mat4::from_scale_rotation_translation(
+        Vec3::splat(2.5),
+        Quat::from_rotation_y(0.4),
+        Vec3::new(0.5, 0.0, -1.0),
+    );
+    let w = |p: Vec3| world.transform_point3(p);
+    let mut rng = 0x9e37_79b9_u32;
+    let mut unit = || {
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 17;
+            rng ^= rng << 5;
+            rng as f32 / u32::MAX as f32 * 2.0 - 1.0
+        };
+        Vec3::new(next(), next(), next()).normalize()
+    };
+    let (light, eye) = (
+        w(c + Vec3::new(6.0 * r, 8.0 * r, 10.0 * r)),
+        w(c + Vec3::new(0.0, 0.5 * r, 3.0 * r)),
+    );
+    let pos = |light, eye| LightEye::Positions { light, eye };
+    let mut state = npr_geometry::SearchCoherence::default();
+    // Two steps of 0.2 r (world units × 2.5): the second builds the key with a budget
+    // of 3 × 0.2 r in object units for both light and eye.
+    let step = 0.2 * r * 2.5;
+    s.find_coherent(&mut state, pos(light, eye), world);
+    let (light1, eye1) = (light + Vec3::X * step, eye + Vec3::X * step);
+    s.find_coherent(&mut state, pos(light1, eye1), world);
+    assert!(state.stats().full);
+    let budget = 3.0 * step * 0.999;
+    let mut watched = 0;
+    for k in 0..80 {
+        let (dl, de) = (unit() * budget, unit() * budget);
+        let le = pos(light1 + dl, eye1 + de);
+        let coherent = s.find_coherent(&mut state, le, world);
+        assert_eq!(coherent, s.find(le, world), "point pose {k}");
+        if !state.stats().full {
+            watched += 1;
+        }
+    }
+    assert!(
+        watched >= 75,
+        "{watched} of 80 poses within the budget were watch-list frames"
+    );
+
+    // Directions under a shear: the budget is an angle of the object-space half vector.
+    let shear = Mat4::from_cols_array(&[
+        1.0, 0.0, 0.0, 0.0, 0.4, 1.0, 0.0, 0.0, 0.0, 0.2, 1.3, 0.0, 0.0, 0.0, 0.0, 1.0,
+    ]);
+    let dir = |a: f32| LightEye::Directions {
+        to_light: Vec3::new(a.cos(), 0.8, a.sin()),
+        to_eye: Vec3::new(0.1, 0.3, 1.0),
+    };
+    let mut state = npr_geometry::SearchCoherence::default();
+    s.find_coherent(&mut state, dir(0.0), shear);
+    s.find_coherent(&mut state, dir(0.02), shear);
+    let mut watched = 0;
+    for k in 0..30 {
+        let a = 0.02 + 0.05 * ((k as f32 * 0.7).sin());
+        let coherent = s.find_coherent(&mut state, dir(a), shear);
+        assert_eq!(coherent, s.find(dir(a), shear), "direction pose {k}");
+        if !state.stats().full && !state.stats().reused {
+            watched += 1;
+        }
+    }
+    assert!(watched > 0, "some direction poses stay within the budget");
+
+    // Two searches over meshes with the same vertex and face counts, one state: the
+    // state must never hand one mesh's centres or watch list to the other.
+    let sphere = generate::icosphere(3, 1.0);
+    let mut squashed = sphere.clone();
+    for p in &mut squashed.positions {
+        *p *= Vec3::new(1.0, 0.5, 1.4);
+    }
+    let searches: Vec<HighlightSearch> = [sphere, squashed]
+        .iter()
+        .map(|m| {
+            let welded = weld(m);
+            let topo = Topology::new(&welded);
+            let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+            HighlightSearch::for_mesh(m, &welded, &topo, &f)
+        })
+        .collect();
+    let mut state = npr_geometry::SearchCoherence::default();
+    let le = pos(Vec3::new(3.0, 4.0, 5.0), Vec3::new(0.0, 0.5, 4.0));
+    for k in 0..6 {
+        let s = &searches[k % 2];
+        let coherent = s.find_coherent(&mut state, le, Mat4::IDENTITY);
+        let reference = s.find(le, Mat4::IDENTITY);
+        assert!(!reference.is_empty());
+        assert_eq!(coherent, reference, "call {k}");
+    }
+    assert_ne!(
+        searches[0].find(le, Mat4::IDENTITY),
+        searches[1].find(le, Mat4::IDENTITY),
+        "the two meshes must differ for this check to mean anything"
+    );
+}

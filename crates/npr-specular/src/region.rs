@@ -76,8 +76,6 @@ pub struct RegionGrower {
     /// Distances to the light and the eye and `|L̂ + V̂|` at the vertex (point light and
     /// eye; zero for directions).
     vertex_dist: Vec<[f32; 3]>,
-    /// Longest edge of each face, object units (per mesh).
-    face_reach: Vec<f32>,
     face_visit: Vec<u32>,
     queue: VecDeque<(u32, u32)>,
     /// Faces classified whole (inside or outside) and on the sub-grid, last frame.
@@ -133,22 +131,6 @@ impl RegionGrower {
                 vertex_nh: vec![0.0; nv],
                 vertex_dist: vec![[0.0; 3]; nv],
                 face_visit: vec![0; nf],
-                face_reach: topology
-                    .triangles
-                    .iter()
-                    .map(|t| {
-                        let p = t.map(|v| {
-                            topology
-                                .positions
-                                .get(v as usize)
-                                .copied()
-                                .unwrap_or(Vec3::ZERO)
-                        });
-                        p[0].distance(p[1])
-                            .max(p[1].distance(p[2]))
-                            .max(p[2].distance(p[0]))
-                    })
-                    .collect(),
                 ..Self::default()
             };
             #[cfg(test)]
@@ -226,16 +208,6 @@ impl RegionGrower {
             return out;
         }
         let normal_from_object = m3.inverse().transpose();
-        // Bound on how much the map stretches a length: sqrt of the largest Gershgorin
-        // row sum of MᵀM (exact for rotations with uniform scale).
-        let mtm = m3.transpose() * m3;
-        let stretch = (0..3)
-            .map(|i| {
-                let r = mtm.row(i);
-                r.x.abs() + r.y.abs() + r.z.abs()
-            })
-            .fold(0f32, f32::max)
-            .sqrt();
         let mut parts: Vec<Part> = Vec::with_capacity(seeds.len());
         self.queue.clear();
         for (k, (centre, sigma)) in seeds.iter().enumerate() {
@@ -289,7 +261,13 @@ impl RegionGrower {
                 self.vertex_dist[tri[1] as usize],
                 self.vertex_dist[tri[2] as usize],
             ];
-            let reach = self.face_reach[fi] * stretch;
+            // Longest edge, world units, from the cached vertices (one square root).
+            let reach = vs[0]
+                .0
+                .distance_squared(vs[1].0)
+                .max(vs[1].0.distance_squared(vs[2].0))
+                .max(vs[2].0.distance_squared(vs[0].0))
+                .sqrt();
             let class = classify(f.light_eye, &vs, &dists, reach, sigma);
             #[cfg(test)]
             let class = if self.exact {
@@ -494,10 +472,12 @@ const LINEAR_TOLERANCE: f32 = 0.05;
 /// hold at every point of it. With `u = Σ bᵢ Nᵢ` the interpolated normal (`|u| ≤ 1`),
 /// `c ≥ 0` the smallest `Nᵢ·Nⱼ` (so `|u|² = Σ bᵢbⱼ Nᵢ·Nⱼ ≥ c + (1 − c) Σ bᵢ² ≥
 /// (1 + 2c)/3`) and `δ` a bound on how far `H` turns over the face:
-/// - inside when `min Nᵢ·Hᵢ − δ ≥ σ`, since `N̂·H = u·H/|u| ≥ u·H ≥ Σ bᵢ Nᵢ·Hᵢ − δ`;
+/// - inside when `σ ≥ 0` and `min Nᵢ·Hᵢ − δ ≥ σ`, since then `u·H ≥ 0` and
+///   `N̂·H = u·H/|u| ≥ u·H ≥ Σ bᵢ Nᵢ·Hᵢ − δ`;
 /// - `N̂·H` departs from the interpolant `Σ bᵢ Nᵢ·Hᵢ` by the normalisation,
 ///   `≤ 1/|u| − 1`, and by `Σ bᵢ Nᵢ·(H(p) − Hᵢ)`, whose first-order part
-///   `N₀·J Σ bᵢ (p − pᵢ)` vanishes, leaving `≤ max|Nᵢ − N₀| δ + δ²`; so the face is
+///   `N₀·J Σ bᵢ (p − pᵢ)` vanishes, leaving `≤ max|Nᵢ − N₀| δ + 2δ²` (the second-order
+///   part of `L̂` over a face, about `1.5 (r/d)²`, is within `2δ²`); so the face is
 ///   outside when `max Nᵢ·Hᵢ + ε < σ`, and the interpolant is trusted when that `ε` is
 ///   small against the vertex values' range.
 fn classify(
@@ -529,7 +509,8 @@ fn classify(
     if !delta.is_finite() || !lo.is_finite() || !hi.is_finite() {
         return finest;
     }
-    if lo - delta >= sigma {
+    // (u·H ≥ 0 there, which the first bound needs, since σ ≥ 0.)
+    if sigma >= 0.0 && lo - delta >= sigma {
         return FaceClass::Inside;
     }
     let c = vs[0]
@@ -541,7 +522,7 @@ fn classify(
         return FaceClass::Grid { steps: SUB, delta };
     }
     let eps = 1.0 / ((1.0 + 2.0 * c) / 3.0).sqrt() - 1.0
-        + delta * ((2.0 * (1.0 - c)).max(0.0).sqrt() + delta);
+        + delta * ((2.0 * (1.0 - c)).max(0.0).sqrt() + 2.0 * delta);
     if hi + eps < sigma {
         FaceClass::Outside
     } else if eps <= LINEAR_TOLERANCE * (hi - lo) {

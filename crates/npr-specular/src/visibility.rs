@@ -48,9 +48,13 @@ impl VisibilityScratch {
 /// vertices lie outside the same face of the box (a conservative separating-plane test:
 /// the triangle's bounding box misses the box along some axis).
 fn overlaps_box(q: [Vec3; 3], lo: Vec3, hi: Vec3) -> bool {
+    // A triangle with a non-finite coordinate (a vertex at the projector's plane at
+    // infinity, or bad data) is not received.
+    if !(q[0].is_finite() && q[1].is_finite() && q[2].is_finite()) {
+        return false;
+    }
     let q_lo = q[0].min(q[1]).min(q[2]);
     let q_hi = q[0].max(q[1]).max(q[2]);
-    // NaN coordinates compare false both ways: such a triangle is not received.
     q_hi.cmpge(lo).all() && q_lo.cmple(hi).all()
 }
 
