@@ -4,10 +4,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
+use npr_geometry::generate;
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget,
+    readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
     Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,

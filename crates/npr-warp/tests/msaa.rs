@@ -5,10 +5,9 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, OffscreenTarget, readback_rgba,
+    testing::context_or_skip,
 };
 use npr_warp::{
     Antialiasing, Departures, FullRenderer, MsaaTarget, PhongBase, Proxy, Turntable, Warper,
