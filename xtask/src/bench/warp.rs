@@ -14,15 +14,17 @@
 //! over the frames; quality is measured on the same frames). The object stays fixed; the
 //! camera orbits it at 1°/frame under a world-fixed light.
 //!
-//! Tables 1–2 run every row with both antialiasing settings (JSON `antialiasing`: `none`,
-//! or `msaa4`: full render, references and warp all 4× MSAA, each resolve inside the timed
-//! work), each warped frame compared with the full render of the same antialiasing, by PSNR
+//! Tables 1–2 run every row with each of the three antialiasing settings (JSON
+//! `antialiasing`: `none`; `msaa4`: full render, references and warp all 4× MSAA;
+//! `msaa4-blend`: full render and references 4× MSAA, the warp one sample per pixel with its
+//! rim blended by the references' coverage; each resolve inside the timed work), each
+//! warped frame compared with the full render of the same antialiasing, by PSNR
 //! and by mean FLIP over the object's pixels (`flip_mean`); the amortized time counts the
 //! reference's own measured cost (`ref_ms`, its resolves included). The other tables are
 //! single-sample.
 //!
 //! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
-//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4` (one antialiasing only),
+//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4|msaa4-blend` (one antialiasing only),
 //! `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
