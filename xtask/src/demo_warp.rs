@@ -136,7 +136,7 @@ pub fn run(
     let mut psnr = Vec::new();
     let mut strip = image::RgbaImage::from_pixel(TILE / 2 * 6, TILE / 2, image::Rgba([255; 4]));
     for f in 0..frames {
-        rig.sequence_frame(&mut seq, &objects, &scene, f);
+        rig.sequence_frame(&mut seq, &objects, &scene, f)?;
         let warped = rig.image()?;
         let full = rig.full(&scene(f))?;
         psnr.push(compare(&full, &warped).psnr_db);
@@ -230,7 +230,7 @@ pub fn run(
         world_from_object: world_from_square,
     };
     let mut enc = ctx.device.create_command_encoder(&Default::default());
-    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, &over, 0);
+    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, &over, 0)?;
     ctx.queue.submit(Some(enc.finish()));
     let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.color)?;
     let at = path.pose(6.0);

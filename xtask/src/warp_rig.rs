@@ -160,7 +160,7 @@ impl<'a> Rig<'a> {
         antialiasing: Antialiasing,
     ) -> anyhow::Result<Self> {
         let (d, q) = (&ctx.device, &ctx.queue);
-        antialiasing.check(&ctx.adapter, COLOR_FORMAT, DEPTH_FORMAT)?;
+        antialiasing.check(&ctx.adapter, &ctx.device, COLOR_FORMAT, DEPTH_FORMAT)?;
         let full = GpuMesh::upload(d, mesh)?;
         let msaa = if antialiasing.is_multisampled() {
             Some(MsaaTarget::new(
@@ -233,7 +233,7 @@ impl<'a> Rig<'a> {
     }
 
     /// Records (without submitting) the full render of `scene` into the target.
-    pub fn record_full(&mut self, scene: &ScenePose) -> wgpu::CommandEncoder {
+    pub fn record_full(&mut self, scene: &ScenePose) -> anyhow::Result<wgpu::CommandEncoder> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         self.renderer
             .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
@@ -246,13 +246,13 @@ impl<'a> Rig<'a> {
             None => self
                 .renderer
                 .record(&mut enc, &t.color_view, &t.depth_view, &self.full, CLEAR),
-        }
-        enc
+        }?;
+        Ok(enc)
     }
 
     /// The full render of `scene`, read back.
     pub fn full(&mut self, scene: &ScenePose) -> anyhow::Result<image::RgbaImage> {
-        let enc = self.record_full(scene);
+        let enc = self.record_full(scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
         self.image()
     }
@@ -260,7 +260,7 @@ impl<'a> Rig<'a> {
     /// A reference frame of object 0 at `scene`.
     pub fn reference(&mut self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
         let mut r = self.reference_slot()?;
-        let enc = self.record_reference(&mut r, scene);
+        let enc = self.record_reference(&mut r, scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
         Ok(r)
     }
@@ -283,11 +283,11 @@ impl<'a> Rig<'a> {
         &mut self,
         r: &mut ReferenceFrame,
         scene: &ScenePose,
-    ) -> wgpu::CommandEncoder {
+    ) -> anyhow::Result<wgpu::CommandEncoder> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
-        r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR);
-        enc
+        r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR)?;
+        Ok(enc)
     }
 
     /// Records and submits frame `frame` of `seq` (objects `objects` along `path`, references
@@ -298,7 +298,7 @@ impl<'a> Rig<'a> {
         objects: &[WarpObject],
         path: &dyn Fn(u32) -> ScenePose,
         frame: u32,
-    ) -> FrameReport {
+    ) -> anyhow::Result<FrameReport> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
         let t = &self.target;
@@ -312,9 +312,9 @@ impl<'a> Rig<'a> {
             frame,
             &t.color_view,
             &t.depth_view,
-        );
+        )?;
         q.submit(Some(enc.finish()));
-        report
+        Ok(report)
     }
 
     /// The target's current image.

@@ -817,7 +817,7 @@ impl Renderer {
         });
         let pose = warp_pose(view);
         w.warper
-            .record_reference(device, queue, &mut encoder, &mut w.base, &pose);
+            .record_reference(device, queue, &mut encoder, &mut w.base, &pose)?;
         queue.submit(Some(encoder.finish()));
         Ok(())
     }
@@ -865,7 +865,7 @@ impl Renderer {
             let (color, depth) = (&self.target.color_view, &self.target.depth_view);
             w.warper.clear = clear_color(preset);
             w.warper
-                .record_warp(queue, &mut encoder, color, depth, &pose, s);
+                .record_warp(queue, &mut encoder, color, depth, &pose, s)?;
         } else {
             let mut pass = self
                 .target

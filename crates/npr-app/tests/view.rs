@@ -1,10 +1,14 @@
-//! `npr view` in a real window: under Xvfb (installed by `cargo xtask test`), a script picks
-//! a highlight, drags, rotates and scales it, switches to hatching and warping, resizes the
-//! window to 0×0 and back, saves the preset and takes a screenshot; the screenshot must equal
-//! `npr render` of the saved preset, and the picked highlight must have moved, turned and
-//! grown. Started in the warp mode with `[warp] antialiasing = "msaa4-blend"`, the full frames
-//! it shows are `npr render`'s multisampled ones. Without a display and without `xvfb-run` the test fails (it must not pass without
-//! running) unless `NPR_SKIP_GPU=1` asks to skip GPU and window tests.
+//! `npr view` in a real window, under Xvfb (installed by `cargo xtask test`):
+//!
+//! - a script picks a highlight, drags, rotates and scales it, switches to hatching and
+//!   warping, resizes the window to 0×0 and back, saves the preset and takes a screenshot;
+//!   the screenshot must equal `npr render` of the saved preset, and the picked highlight
+//!   must have moved, turned and grown;
+//! - started in the warp mode with `[warp] antialiasing = "msaa4-blend"`, the full frames it
+//!   shows must be `npr render`'s multisampled ones.
+//!
+//! Without a display and without `xvfb-run` the window tests fail (they must not pass
+//! without running) unless `NPR_SKIP_GPU=1` asks to skip GPU and window tests.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};

@@ -40,8 +40,37 @@ pub enum WarpError {
     /// in the documented range.
     #[error("invalid setting: {0}")]
     InvalidSetting(String),
+    /// A base pass, renderer or caller's target has another sample count than the pass it
+    /// is recorded into (e.g. a [`crate::PhongBase`] not built
+    /// [`crate::PhongBase::with_antialiasing`] for a multisampled reference, or a
+    /// multisampled [`crate::FullRenderer`] recorded into a one-sample target); wgpu would
+    /// reject the draw. Fix: build both with the same [`crate::Antialiasing`].
+    #[error("{what} has {got} sample(s) per pixel, the pass it is recorded into {expected}")]
+    SampleCountMismatch {
+        /// What mismatches (the base pass, the renderer, the target).
+        what: &'static str,
+        /// Its samples per pixel.
+        got: u32,
+        /// The pass's samples per pixel.
+        expected: u32,
+    },
     /// The GPU layer failed (target size, mesh upload, readback). Fix: see the wrapped
     /// [`npr_gpu::GpuError`].
     #[error(transparent)]
     Gpu(#[from] npr_gpu::GpuError),
+}
+
+impl WarpError {
+    /// `Ok` when `got == expected`, else [`WarpError::SampleCountMismatch`].
+    pub(crate) fn check_samples(what: &'static str, got: u32, expected: u32) -> Result<(), Self> {
+        if got == expected {
+            Ok(())
+        } else {
+            Err(Self::SampleCountMismatch {
+                what,
+                got,
+                expected,
+            })
+        }
+    }
 }

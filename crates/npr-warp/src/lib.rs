@@ -51,11 +51,11 @@
 //!     let mut encoder = device.create_command_encoder(&Default::default());
 //!     if frame % 10 == 0 {
 //!         // "Render a reference at camera C" (shown as is this frame: warp at s = 1).
-//!         warper.record_reference(device, queue, &mut encoder, &mut base, pose);
+//!         warper.record_reference(device, queue, &mut encoder, &mut base, pose)?;
 //!     }
 //!     // "Warp the current references to camera C".
 //!     let s = warper.position(pose);
-//!     warper.record_warp(queue, &mut encoder, &color, depth, pose, s);
+//!     warper.record_warp(queue, &mut encoder, &color, depth, pose, s)?;
 //!     queue.submit(Some(encoder.finish()));
 //! }
 //! // PSNR of the last warped frame against a full render at the same camera.
@@ -64,7 +64,7 @@
 //! let full_target = npr_warp::ReferenceFrame::new(device, 512, 512, color_format, depth_format)?;
 //! let mut full_target = full_target;
 //! if let Some(pose) = poses.last() {
-//!     full_target.record(device, queue, &mut encoder, &mut base, pose, 2, [0.0; 4]);
+//!     full_target.record(device, queue, &mut encoder, &mut base, pose, 2, [0.0; 4])?;
 //! }
 //! queue.submit(Some(encoder.finish()));
 //! let full = metrics::read_rgba(device, queue, &full_target.color)?;

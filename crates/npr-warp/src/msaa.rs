@@ -8,8 +8,11 @@
 //! pass then draws the proxy into a multisampled target with a per-fragment sample mask
 //! taken from the reference's coverage at each sample's point (`warp.wgsl`,
 //! `coverage_mask`), so the warped silhouette is antialiased as the full render's is.
-//! 4 samples per pixel are guaranteed by WebGPU for every renderable colour format and
-//! every depth format ([`Antialiasing::check`] asks the adapter anyway).
+//! WebGPU guarantees 4 samples per pixel for every depth format and, with resolve, for the
+//! filterable 8-bit and 16-bit float colour formats (e.g. `Rgba8Unorm[Srgb]`,
+//! `Bgra8Unorm[Srgb]`, `Rgba16Float`), but not for every renderable colour format (not
+//! for the 32-bit float ones; the integer ones multisample without resolve):
+//! [`Antialiasing::check`] asks what the device enforces.
 
 use crate::WarpError;
 
@@ -52,7 +55,7 @@ impl Antialiasing {
         }
     }
 
-    /// A short name (table and JSON value): `none`, `msaa4`.
+    /// A short name (table and JSON value): `none`, `msaa4`, `msaa4-blend`.
     pub fn name(self) -> &'static str {
         match self {
             Antialiasing::None => "none",
@@ -76,14 +79,18 @@ impl Antialiasing {
         self.warp_sample_count() > 1
     }
 
-    /// Checks that `adapter` renders (and resolves) `color_format` and renders
-    /// `depth_format` at this sample count.
+    /// Checks that `device` renders (and resolves) `color_format` and renders
+    /// `depth_format` at this sample count: with the format features the device enforces,
+    /// WebGPU's guaranteed ones (`TextureFormat::guaranteed_format_features`) unless it was
+    /// created with `Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES`, then `adapter`'s
+    /// (the adapter `device` was requested from).
     ///
     /// # Errors
     /// [`WarpError::InvalidSetting`] naming the format that lacks it.
     pub fn check(
         self,
         adapter: &wgpu::Adapter,
+        device: &wgpu::Device,
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
     ) -> Result<(), WarpError> {
@@ -91,15 +98,22 @@ impl Antialiasing {
         if n == 1 {
             return Ok(());
         }
+        let features = device.features();
+        let adapter_specific =
+            features.contains(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
         for (format, resolve) in [(color_format, true), (depth_format, false)] {
-            let f = adapter.get_texture_format_features(format);
+            let f = if adapter_specific {
+                adapter.get_texture_format_features(format)
+            } else {
+                format.guaranteed_format_features(features)
+            };
             let ok = f.flags.sample_count_supported(n)
                 && (!resolve
                     || f.flags
                         .contains(wgpu::TextureFormatFeatureFlags::MULTISAMPLE_RESOLVE));
             if !ok {
                 return Err(WarpError::InvalidSetting(format!(
-                    "{format:?} does not support {n}x multisampling on this adapter"
+                    "{format:?} does not support {n}x multisampling on this device"
                 )));
             }
         }
@@ -122,16 +136,16 @@ pub struct MsaaTarget {
     pub color: wgpu::Texture,
     /// Default view of `color`.
     pub color_view: wgpu::TextureView,
-    /// Multisampled depth (render attachment, sampleable for the depth resolve).
+    /// Multisampled depth (render attachment; sampleable too for a reference's depth
+    /// resolve).
     pub depth: wgpu::Texture,
     /// Default view of `depth` (the attachment).
     pub depth_view: wgpu::TextureView,
-    pub(crate) depth_sample_view: wgpu::TextureView,
 }
 
 impl MsaaTarget {
     /// Textures of `width × height` with `antialiasing`'s sample count in the caller's
-    /// formats.
+    /// formats (render attachments only).
     ///
     /// # Errors
     /// [`WarpError::Gpu`] for a zero size or one past the device's limit.
@@ -142,6 +156,31 @@ impl MsaaTarget {
         color_format: wgpu::TextureFormat,
         depth_format: wgpu::TextureFormat,
         antialiasing: Antialiasing,
+    ) -> Result<Self, WarpError> {
+        let formats = (color_format, depth_format);
+        Self::create(device, width, height, formats, antialiasing, false)
+    }
+
+    /// As [`MsaaTarget::new`], its depth sampleable too (for [`DepthResolve`]).
+    pub(crate) fn with_sampled_depth(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        color_format: wgpu::TextureFormat,
+        depth_format: wgpu::TextureFormat,
+        antialiasing: Antialiasing,
+    ) -> Result<Self, WarpError> {
+        let formats = (color_format, depth_format);
+        Self::create(device, width, height, formats, antialiasing, true)
+    }
+
+    fn create(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
+        antialiasing: Antialiasing,
+        sampled_depth: bool,
     ) -> Result<Self, WarpError> {
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
@@ -173,18 +212,15 @@ impl MsaaTarget {
             color_format,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
-        let depth = make(
-            "npr-warp msaa depth",
-            depth_format,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
+        let depth_usage = if sampled_depth {
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING
+        } else {
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+        };
+        let depth = make("npr-warp msaa depth", depth_format, depth_usage);
         Ok(Self {
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
-            depth_sample_view: depth.create_view(&wgpu::TextureViewDescriptor {
-                aspect: wgpu::TextureAspect::DepthOnly,
-                ..Default::default()
-            }),
             color,
             depth,
         })
@@ -232,8 +268,9 @@ impl MsaaTarget {
 }
 
 /// The depth resolve of a multisampled reference: the nearest sample per texel, written
-/// into a single-sample depth texture (`warp.wgsl`, `fs_resolve_depth`).
-#[derive(Debug)]
+/// into a single-sample depth texture (`warp.wgsl`, `fs_resolve_depth`). One per device and
+/// depth format: clones share the pipeline.
+#[derive(Clone, Debug)]
 pub(crate) struct DepthResolve {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
@@ -293,14 +330,19 @@ impl DepthResolve {
         Self { pipeline, layout }
     }
 
-    /// A bind group reading `source`'s multisampled depth.
+    /// A bind group reading `source`'s multisampled depth (built
+    /// [`MsaaTarget::with_sampled_depth`]).
     pub(crate) fn bind(&self, device: &wgpu::Device, source: &MsaaTarget) -> wgpu::BindGroup {
+        let view = source.depth.create_view(&wgpu::TextureViewDescriptor {
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr-warp depth resolve"),
             layout: &self.layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 5,
-                resource: wgpu::BindingResource::TextureView(&source.depth_sample_view),
+                resource: wgpu::BindingResource::TextureView(&view),
             }],
         })
     }

@@ -239,10 +239,11 @@ impl WarpPass {
     /// As [`WarpPass::new`], for passes with `antialiasing`'s warp sample count
     /// ([`Antialiasing::warp_sample_count`]). With [`Antialiasing::Msaa4Blend`] the
     /// depth-tested warp is one sample per pixel and blends its rim by the references'
-    /// coverage (premultiplied alpha). With [`Antialiasing::Msaa4`], the depth-tested warp ([`WarpMode::DepthTested`]) writes a sample mask from the
-    /// references' coverage (`warp.wgsl`, `coverage_mask`): with references drawn with
-    /// the same antialiasing ([`ReferenceFrame::with_antialiasing`]) the warped silhouette
-    /// is antialiased as a multisampled full render's is. The paper's shaders are the
+    /// coverage (premultiplied alpha). With [`Antialiasing::Msaa4`], the depth-tested warp
+    /// ([`WarpMode::DepthTested`]) writes a sample mask from the references' coverage
+    /// (`warp.wgsl`, `coverage_mask`): with references drawn with the same antialiasing
+    /// ([`ReferenceFrame::with_antialiasing`]) the warped silhouette is antialiased as a
+    /// multisampled full render's is. The paper's shaders are the
     /// paper's, multisampled only at the proxy's edges.
     ///
     /// # Errors
@@ -284,44 +285,44 @@ impl WarpPass {
             bind_group_layouts: &[Some(&ref_layout), Some(&object_layout)],
             immediate_size: 0,
         });
-        let pipeline = |fs: &str, topology: wgpu::PrimitiveTopology| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(fs),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_warp"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(Vertex::layout())],
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology,
-                    cull_mode: (topology == wgpu::PrimitiveTopology::TriangleList)
-                        .then_some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: depth_format,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: antialiasing.warp_multisample_state(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        blend: (fs.ends_with("_cover"))
-                            .then_some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
-                        ..color_format.into()
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let pipeline =
+            |fs: &str, topology: wgpu::PrimitiveTopology, blend: Option<wgpu::BlendState>| {
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(fs),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_warp"),
+                        compilation_options: Default::default(),
+                        buffers: &[Some(Vertex::layout())],
+                    },
+                    primitive: wgpu::PrimitiveState {
+                        topology,
+                        cull_mode: (topology == wgpu::PrimitiveTopology::TriangleList)
+                            .then_some(wgpu::Face::Back),
+                        ..Default::default()
+                    },
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: depth_format,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: antialiasing.warp_multisample_state(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some(fs),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            blend,
+                            ..color_format.into()
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
         let tri = wgpu::PrimitiveTopology::TriangleList;
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("npr-warp reference sampler"),
@@ -331,15 +332,16 @@ impl WarpPass {
             min_filter: wgpu::FilterMode::Linear,
             ..Default::default()
         });
-        let tested = |fs: [&'static str; 3]| {
-            pipeline(
-                match antialiasing {
-                    Antialiasing::None => fs[0],
-                    Antialiasing::Msaa4 => fs[1],
-                    Antialiasing::Msaa4Blend => fs[2],
-                },
+        // The depth-tested shaders: one-sample, sample-masked, or one-sample with the rim
+        // blended over the background by the references' coverage (premultiplied alpha).
+        let tested = |fs: [&'static str; 3]| match antialiasing {
+            Antialiasing::None => pipeline(fs[0], tri, None),
+            Antialiasing::Msaa4 => pipeline(fs[1], tri, None),
+            Antialiasing::Msaa4Blend => pipeline(
+                fs[2],
                 tri,
-            )
+                Some(wgpu::BlendState::PREMULTIPLIED_ALPHA_BLENDING),
+            ),
         };
         Ok(Self {
             single: [
@@ -348,17 +350,17 @@ impl WarpPass {
             ],
             blend: tested(["fs_blend", "fs_blend_msaa", "fs_blend_cover"]),
             single_paper: [
-                pipeline("fs_single0_paper", tri),
-                pipeline("fs_single1_paper", tri),
+                pipeline("fs_single0_paper", tri, None),
+                pipeline("fs_single1_paper", tri, None),
             ],
-            blend_paper: pipeline("fs_blend_paper", tri),
+            blend_paper: pipeline("fs_blend_paper", tri, None),
             single_coverage: [
-                pipeline("fs_single0_coverage", tri),
-                pipeline("fs_single1_coverage", tri),
+                pipeline("fs_single0_coverage", tri, None),
+                pipeline("fs_single1_coverage", tri, None),
             ],
-            blend_coverage: pipeline("fs_blend_coverage", tri),
-            fill: pipeline("fs_fill", tri),
-            wire: pipeline("fs_fill", wgpu::PrimitiveTopology::LineList),
+            blend_coverage: pipeline("fs_blend_coverage", tri, None),
+            fill: pipeline("fs_fill", tri, None),
+            wire: pipeline("fs_fill", wgpu::PrimitiveTopology::LineList, None),
             ref_layout,
             object_layout,
             sampler,

@@ -67,10 +67,17 @@ impl ReferenceDraw<'_> {
 ///
 /// [`BasePass::prepare`] is called before each [`BasePass::draw`] of a reference (per slice),
 /// outside any render pass; `draw` records into a render pass whose colour and depth
-/// targets have the formats the [`crate::WarpPass`] was built for, cleared (slice 0) or
-/// loaded (later slices). Keep per-slot uniforms: two references may be recorded into one
-/// encoder.
+/// targets have the formats the [`crate::WarpPass`] was built for and the reference's
+/// sample count ([`ReferenceFrame::sample_count`]: 1, or 4 for a multisampled reference),
+/// cleared (slice 0) or loaded (later slices). The base pass's pipelines must be built for
+/// both: a reference checks [`BasePass::sample_count`] before recording and returns
+/// [`WarpError::SampleCountMismatch`] instead of drawing (the formats are the caller's to
+/// match). Keep per-slot uniforms: two references may be recorded into one encoder.
 pub trait BasePass {
+    /// Samples per pixel the pipelines of `draw` are built for (1 unless overridden).
+    fn sample_count(&self) -> u32 {
+        1
+    }
     /// Writes what `draw` needs (camera, transforms) for `target`.
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>);
     /// Records the draws of `target` (for a slice, only its share of the work, e.g.
@@ -184,6 +191,10 @@ impl PhongBase {
 }
 
 impl BasePass for PhongBase {
+    fn sample_count(&self) -> u32 {
+        self.antialiasing.sample_count()
+    }
+
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
         while self.slots.len() <= target.slot {
             let mut shading = BaseShading::multisampled(
@@ -288,6 +299,21 @@ impl ReferenceFrame {
         depth_format: wgpu::TextureFormat,
         antialiasing: Antialiasing,
     ) -> Result<Self, WarpError> {
+        let formats = (color_format, depth_format);
+        Self::with_resolve(device, width, height, formats, antialiasing, None)
+    }
+
+    /// As [`ReferenceFrame::with_antialiasing`]; multisampled, with `resolve` (built for
+    /// `depth_format`: one shared by the references of a [`crate::Warper`]) or, `None`, a
+    /// depth resolve of its own.
+    pub(crate) fn with_resolve(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
+        antialiasing: Antialiasing,
+        resolve: Option<DepthResolve>,
+    ) -> Result<Self, WarpError> {
         crate::pass::check_formats(color_format, depth_format)?;
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
@@ -306,7 +332,8 @@ impl ReferenceFrame {
         let depth = make("npr-warp reference depth", depth_format);
         let camera = Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, width as f32 / height as f32);
         let msaa = if antialiasing.is_multisampled() {
-            let target = MsaaTarget::new(
+            let resolve = resolve.unwrap_or_else(|| DepthResolve::new(device, depth_format));
+            let target = MsaaTarget::with_sampled_depth(
                 device,
                 width,
                 height,
@@ -314,7 +341,6 @@ impl ReferenceFrame {
                 depth_format,
                 antialiasing,
             )?;
-            let resolve = DepthResolve::new(device, depth_format);
             let source = resolve.bind(device, &target);
             Some(ReferenceMsaa {
                 target,
@@ -352,9 +378,26 @@ impl ReferenceFrame {
             .map_or(Antialiasing::None, |m| m.antialiasing)
     }
 
+    /// Samples per pixel of the pass a base pass draws into (1, or 4 multisampled).
+    pub fn sample_count(&self) -> u32 {
+        self.antialiasing().sample_count()
+    }
+
+    /// `Ok` when `base`'s pipelines are built for this reference's sample count.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`] otherwise.
+    pub fn check_base(&self, base: &dyn BasePass) -> Result<(), WarpError> {
+        WarpError::check_samples("the base pass", base.sample_count(), self.sample_count())
+    }
+
     /// Records `base` drawing `pose` (as slot `slot`) over what the reference holds, with
     /// no clear; the reference keeps its own pose. E.g. a synthetic occluder: it is in the
     /// reference's colour and depth but not part of the warped object.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`] (recording nothing) when `base` is built for
+    /// another sample count than the reference ([`ReferenceFrame::check_base`]).
     #[allow(clippy::too_many_arguments)]
     pub fn record_over(
         &self,
@@ -364,7 +407,8 @@ impl ReferenceFrame {
         base: &mut dyn BasePass,
         pose: &Pose,
         slot: usize,
-    ) {
+    ) -> Result<(), WarpError> {
+        self.check_base(base)?;
         let draw = ReferenceDraw {
             pose,
             slot,
@@ -372,6 +416,7 @@ impl ReferenceFrame {
             slices: 1,
         };
         self.draw_base(device, queue, encoder, base, &draw, None);
+        Ok(())
     }
 
     /// `base.prepare`, then a pass over the reference (cleared to `clear`, or loaded)
@@ -409,6 +454,9 @@ impl ReferenceFrame {
     /// Records the whole reference at `pose` drawn by `base` into `encoder`, cleared to
     /// `clear` (use alpha 0 so the object's pixels are those with alpha), as slot `slot`
     /// of `base`. Submit the encoder before binding the reference for a warp.
+    ///
+    /// # Errors
+    /// As [`ReferenceFrame::record_over`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
@@ -419,14 +467,17 @@ impl ReferenceFrame {
         pose: &Pose,
         slot: usize,
         clear: [f64; 4],
-    ) {
-        self.record_slice(device, queue, encoder, base, pose, slot, clear, 0, 1);
+    ) -> Result<(), WarpError> {
+        self.record_slice(device, queue, encoder, base, pose, slot, clear, 0, 1)
     }
 
     /// Records slice `slice` of `slices` of the reference at `pose`: slice 0 clears and
     /// sets the pose; later slices load what earlier ones drew, so after all slices the
     /// reference equals [`ReferenceFrame::record`] (§3.4: the next reference spread over
     /// the frames between).
+    ///
+    /// # Errors
+    /// As [`ReferenceFrame::record_over`] (the reference is left as it was).
     #[allow(clippy::too_many_arguments)]
     pub fn record_slice(
         &mut self,
@@ -439,7 +490,8 @@ impl ReferenceFrame {
         clear: [f64; 4],
         slice: u32,
         slices: u32,
-    ) {
+    ) -> Result<(), WarpError> {
+        self.check_base(base)?;
         let slices = slices.max(1);
         let slice = slice.min(slices - 1);
         if slice == 0 {
@@ -454,6 +506,7 @@ impl ReferenceFrame {
         };
         let clear = (slice == 0).then_some(clear);
         self.draw_base(device, queue, encoder, base, &draw, clear);
+        Ok(())
     }
 }
 
@@ -479,6 +532,7 @@ pub fn begin_clear_pass<'e>(
 #[derive(Debug)]
 pub struct FullRenderer {
     shading: BaseShading,
+    sample_count: u32,
     objects: Vec<ObjectBinding>,
     count: usize,
 }
@@ -517,6 +571,7 @@ impl FullRenderer {
                 depth_format,
                 antialiasing.sample_count(),
             ),
+            sample_count: antialiasing.sample_count(),
             objects: Vec::new(),
             count: 0,
         }
@@ -559,7 +614,16 @@ impl FullRenderer {
         }
     }
 
+    /// Samples per pixel of the passes the renderer draws into.
+    pub fn sample_count(&self) -> u32 {
+        self.sample_count
+    }
+
     /// Records a pass over `color` / `depth`, cleared to `clear`, with the full render.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`] (recording nothing) when `color` or `depth` has
+    /// another sample count than the renderer ([`FullRenderer::with_antialiasing`]).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -567,14 +631,26 @@ impl FullRenderer {
         depth: &wgpu::TextureView,
         mesh: &GpuMesh,
         clear: [f64; 4],
-    ) {
+    ) -> Result<(), WarpError> {
+        let expected = self.sample_count;
+        WarpError::check_samples(
+            "the colour target",
+            color.texture().sample_count(),
+            expected,
+        )?;
+        WarpError::check_samples("the depth target", depth.texture().sample_count(), expected)?;
         let mut pass = begin_clear_pass(encoder, color, depth, clear);
         self.draw(&mut pass, mesh);
+        Ok(())
     }
 
     /// Records a multisampled pass over `target`, cleared to `clear`, with the full
     /// render, its colour resolved into `resolve` (for a renderer built
     /// [`FullRenderer::with_antialiasing`] at the target's sample count).
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`] (recording nothing) when `target` has another
+    /// sample count than the renderer or `resolve` is multisampled.
     pub fn record_msaa(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -582,8 +658,12 @@ impl FullRenderer {
         resolve: &wgpu::TextureView,
         mesh: &GpuMesh,
         clear: [f64; 4],
-    ) {
+    ) -> Result<(), WarpError> {
+        let got = target.color.sample_count();
+        WarpError::check_samples("the multisampled target", got, self.sample_count)?;
+        WarpError::check_samples("the resolve target", resolve.texture().sample_count(), 1)?;
         let mut pass = target.begin_pass(encoder, resolve, Some(clear));
         self.draw(&mut pass, mesh);
+        Ok(())
     }
 }

@@ -177,7 +177,7 @@ impl WarpSequence {
 
     /// Records reference `index` slice by slice (or whole when not spreading) into its slot
     /// (base-pass slot `index % 3`): one slice, or with `complete` every remaining one.
-    /// Returns the slices recorded.
+    /// Returns the slices recorded, or the error of [`ReferenceFrame::record_slice`].
     #[allow(clippy::too_many_arguments)]
     fn advance_reference(
         &mut self,
@@ -188,7 +188,7 @@ impl WarpSequence {
         path: &dyn Fn(u32) -> ScenePose,
         index: u32,
         complete: bool,
-    ) -> u32 {
+    ) -> Result<u32, WarpError> {
         let slot = (index % 3) as usize;
         let slices = self.slices();
         let mut done = match self.held[slot] {
@@ -200,7 +200,7 @@ impl WarpSequence {
         while done < slices {
             self.slots[slot].record_slice(
                 device, queue, encoder, base, &pose, slot, self.clear, done, slices,
-            );
+            )?;
             done += 1;
             n += 1;
             if !complete {
@@ -208,7 +208,7 @@ impl WarpSequence {
             }
         }
         self.held[slot] = Some((index, done));
-        n
+        Ok(n)
     }
 
     /// Records frame `frame` into `encoder`: the references it needs (recorded now if
@@ -217,6 +217,10 @@ impl WarpSequence {
     /// object of `path(frame)` warped with `objects[i]` (`path(frame).objects` gives their
     /// poses). Submit the encoder before recording the next frame (uniforms are written per
     /// frame). Submits nothing and does not wait.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`], recording nothing, when `base` or `color` /
+    /// `depth` are not one sample per pixel (a sequence is not antialiased).
     #[allow(clippy::too_many_arguments)]
     pub fn record_frame(
         &mut self,
@@ -229,7 +233,11 @@ impl WarpSequence {
         frame: u32,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
-    ) -> FrameReport {
+    ) -> Result<FrameReport, WarpError> {
+        let samples = self.slots[0].sample_count();
+        WarpError::check_samples("the base pass", base.sample_count(), samples)?;
+        WarpError::check_samples("the colour target", color.texture().sample_count(), 1)?;
+        WarpError::check_samples("the depth target", depth.texture().sample_count(), 1)?;
         let role = self.schedule.role(frame);
         let j = role.segment;
         let mut report = FrameReport {
@@ -238,7 +246,7 @@ impl WarpSequence {
         };
         for index in [j, j + 1] {
             report.reference_slices +=
-                self.advance_reference(device, queue, encoder, base, path, index, true);
+                self.advance_reference(device, queue, encoder, base, path, index, true)?;
         }
         if self.pair.as_ref().map(|p| p.0) != Some(j) {
             let (a, b) = ((j % 3) as usize, ((j + 1) % 3) as usize);
@@ -249,7 +257,7 @@ impl WarpSequence {
         }
         if self.schedule.spread {
             report.reference_slices +=
-                self.advance_reference(device, queue, encoder, base, path, j + 2, false);
+                self.advance_reference(device, queue, encoder, base, path, j + 2, false)?;
         }
         let scene = path(frame);
         if let Some((_, pair)) = &self.pair {
@@ -269,7 +277,7 @@ impl WarpSequence {
                 self.pass.draw(&mut rpass, pair, object, plan, self.mode);
             }
         }
-        report
+        Ok(report)
     }
 }
 

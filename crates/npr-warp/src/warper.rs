@@ -4,7 +4,7 @@
 
 use crate::bins::BinPlan;
 use crate::departures::Departures;
-use crate::msaa::{Antialiasing, MsaaTarget};
+use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
 use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
 use crate::reference::{BasePass, Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
@@ -101,14 +101,18 @@ impl Warper {
             departures.inflation(proxy),
             false,
         )?;
+        // One depth resolve (shader and pipeline) for both slots.
+        let resolve = antialiasing
+            .is_multisampled()
+            .then(|| DepthResolve::new(device, depth_format));
         let slot = || {
-            ReferenceFrame::with_antialiasing(
+            ReferenceFrame::with_resolve(
                 device,
                 width,
                 height,
-                color_format,
-                depth_format,
+                (color_format, depth_format),
                 antialiasing,
+                resolve.clone(),
             )
         };
         let msaa = if antialiasing.warp_is_multisampled() {
@@ -140,6 +144,10 @@ impl Warper {
     /// `encoder`, replacing the older reference; from then on warps interpolate between
     /// the previous newest reference (s = 0) and this one (s = 1). Submit the encoder before
     /// (or with) the next warp that uses it.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`], recording nothing and keeping the references,
+    /// when `base` is not built for the warper's antialiasing ([`BasePass::sample_count`]).
     pub fn record_reference(
         &mut self,
         device: &wgpu::Device,
@@ -147,13 +155,14 @@ impl Warper {
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
         pose: &Pose,
-    ) {
+    ) -> Result<(), WarpError> {
         let slot = (self.recorded % 2) as usize;
-        self.refs[slot].record(device, queue, encoder, base, pose, slot, self.clear);
+        self.refs[slot].record(device, queue, encoder, base, pose, slot, self.clear)?;
         self.recorded += 1;
         let [older, newer] = self.ordered();
         // With one reference recorded, it pairs with itself.
         self.pair = Some(self.pass.bind_pair(device, [older, newer]));
+        Ok(())
     }
 
     /// The references in time order, older first (both the same before a second one).
@@ -221,7 +230,12 @@ impl Warper {
 
     /// As [`Warper::draw`], in a pass of its own over `color` / `depth` cleared to
     /// [`Warper::clear`]. Multisampled, the pass is over the warper's own multisampled
-    /// textures, resolved into `color`; `depth` is not written.
+    /// textures, resolved into `color`; `depth` is not written. `color` and `depth` are
+    /// one sample per pixel whatever the antialiasing.
+    ///
+    /// # Errors
+    /// [`WarpError::SampleCountMismatch`] (recording nothing) for a multisampled `color`,
+    /// or a multisampled `depth` when the warp draws into it.
     pub fn record_warp(
         &self,
         queue: &wgpu::Queue,
@@ -230,11 +244,16 @@ impl Warper {
         depth: &wgpu::TextureView,
         pose: &Pose,
         s: f32,
-    ) -> Option<BinPlan> {
+    ) -> Result<Option<BinPlan>, WarpError> {
+        WarpError::check_samples("the colour target", color.texture().sample_count(), 1)?;
         let mut pass = match &self.msaa {
             Some(msaa) => msaa.begin_pass(encoder, color, Some(self.clear)),
-            None => crate::reference::begin_clear_pass(encoder, color, depth, self.clear),
+            None => {
+                let got = depth.texture().sample_count();
+                WarpError::check_samples("the depth target", got, 1)?;
+                crate::reference::begin_clear_pass(encoder, color, depth, self.clear)
+            }
         };
-        self.draw(queue, &mut pass, pose, s)
+        Ok(self.draw(queue, &mut pass, pose, s))
     }
 }

@@ -4,10 +4,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
+use npr_geometry::generate;
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget,
+    readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
     Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
@@ -66,7 +66,8 @@ impl Rig {
         let mut base = self.base(COLOR_FORMAT);
         let mut encoder = d.create_command_encoder(&Default::default());
         let pose = self.path.pose(t).object(0);
-        r.record(d, q, &mut encoder, &mut base, &pose, 0, CLEAR);
+        r.record(d, q, &mut encoder, &mut base, &pose, 0, CLEAR)
+            .unwrap();
         q.submit(Some(encoder.finish()));
         r
     }
@@ -82,7 +83,9 @@ impl Rig {
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
         let (c, z) = (&target.color_view, &target.depth_view);
-        renderer.record(&mut encoder, c, z, &self.full, CLEAR);
+        renderer
+            .record(&mut encoder, c, z, &self.full, CLEAR)
+            .unwrap();
         q.submit(Some(encoder.finish()));
         readback_rgba(d, q, &target.color).unwrap()
     }
@@ -299,7 +302,8 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
         &mut occluder,
         &over,
         0,
-    );
+    )
+    .unwrap();
     ctx.queue.submit(Some(encoder.finish()));
     let occluded_ref = readback_rgba(&ctx.device, &ctx.queue, &r0.color).unwrap();
     assert!(
@@ -367,17 +371,19 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
         let mut slices = Vec::new();
         for f in 0..frames_n {
             let mut encoder = d.create_command_encoder(&Default::default());
-            let report = seq.record_frame(
-                d,
-                q,
-                &mut encoder,
-                &mut base,
-                &objects,
-                &path,
-                f,
-                &target.color_view,
-                &target.depth_view,
-            );
+            let report = seq
+                .record_frame(
+                    d,
+                    q,
+                    &mut encoder,
+                    &mut base,
+                    &objects,
+                    &path,
+                    f,
+                    &target.color_view,
+                    &target.depth_view,
+                )
+                .unwrap();
             q.submit(Some(encoder.finish()));
             slices.push(report.reference_slices);
             images.push(readback_rgba(d, q, &target.color).unwrap());
@@ -452,12 +458,16 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
         let mut encoder = d.create_command_encoder(&Default::default());
         for t in [0.0, 10.0] {
             let pose = rig.path.pose(t).object(0);
-            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+            warper
+                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .unwrap();
         }
         let now = rig.path.pose(4.0).object(0);
         let s = warper.position(&now);
         assert!((s - 0.4).abs() < 0.05, "position {s}");
-        let plan = warper.record_warp(q, &mut encoder, &cv, &dv, &now, s);
+        let plan = warper
+            .record_warp(q, &mut encoder, &cv, &dv, &now, s)
+            .unwrap();
         q.submit(Some(encoder.finish()));
         assert!(plan.is_some_and(|p| p.triangles_drawn > 0));
         images.push(read_rgba(d, q, &color).unwrap());
@@ -509,7 +519,9 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
         let pose = rig.path.pose(0.0).object(0);
         let mut encoder = d.create_command_encoder(&Default::default());
         for _ in 0..2 {
-            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+            warper
+                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .unwrap();
         }
         let plan = warper
             .record_warp(
@@ -520,6 +532,7 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
                 &pose,
                 0.5,
             )
+            .unwrap()
             .unwrap();
         q.submit(Some(encoder.finish()));
         assert!(plan.bins_blended > 0, "{plan:?}");

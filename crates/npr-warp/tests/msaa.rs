@@ -1,18 +1,18 @@
 //! GPU tests of the antialiased (4× MSAA) warp path: the multisampled full render against
 //! the single-sample one (interiors equal, rims between background and object, coverage
-//! conserved), and the multisampled warp at a reference pose against the multisampled full
-//! render there.
+//! conserved), the multisampled warp at a reference pose against the multisampled full
+//! render there, and sample-count mismatches returned as errors instead of wgpu's.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba, testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, OffscreenTarget, readback_rgba,
+    testing::context_or_skip,
 };
 use npr_warp::{
-    Antialiasing, Departures, FullRenderer, MsaaTarget, PhongBase, Proxy, Turntable, Warper,
-    compare, metrics::flip_mean,
+    Antialiasing, Antialiasing::Msaa4, BasePass, Departures, FullRenderer, MsaaTarget, PhongBase,
+    Proxy, ReferenceDraw, ReferenceFrame, Turntable, WarpError, Warper, compare,
+    metrics::flip_mean,
 };
 
 mod common;
@@ -38,10 +38,12 @@ fn full(ctx: &GpuContext, mesh: &GpuMesh, t: f32, aa: Antialiasing) -> image::Rg
     let mut encoder = d.create_command_encoder(&Default::default());
     if aa.is_multisampled() {
         let ms = MsaaTarget::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, aa).unwrap();
-        renderer.record_msaa(&mut encoder, &ms, &target.color_view, mesh, CLEAR);
+        renderer
+            .record_msaa(&mut encoder, &ms, &target.color_view, mesh, CLEAR)
+            .unwrap();
     } else {
         let (c, z) = (&target.color_view, &target.depth_view);
-        renderer.record(&mut encoder, c, z, mesh, CLEAR);
+        renderer.record(&mut encoder, c, z, mesh, CLEAR).unwrap();
     }
     q.submit(Some(encoder.finish()));
     readback_rgba(d, q, &target.color).unwrap()
@@ -74,7 +76,8 @@ fn msaa_full_render_matches_the_aliased_one_inside_and_blends_at_the_rim() {
         return;
     };
     let aa = Antialiasing::Msaa4;
-    aa.check(&ctx.adapter, COLOR_FORMAT, DEPTH_FORMAT).unwrap();
+    aa.check(&ctx.adapter, &ctx.device, COLOR_FORMAT, DEPTH_FORMAT)
+        .unwrap();
     let mesh = GpuMesh::upload(&ctx.device, &knot()).unwrap();
     let one = full(ctx, &mesh, 0.0, Antialiasing::None);
     let four = full(ctx, &mesh, 0.0, aa);
@@ -178,7 +181,9 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
         let mut encoder = d.create_command_encoder(&Default::default());
         for t in [0.0, 10.0] {
             let pose = path().pose(t).object(0);
-            warper.record_reference(d, q, &mut encoder, &mut base, &pose);
+            warper
+                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .unwrap();
         }
         q.submit(Some(encoder.finish()));
         // The reference itself equals the full render with the same antialiasing.
@@ -191,7 +196,7 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
             let pose = path().pose(t).object(0);
             let mut encoder = d.create_command_encoder(&Default::default());
             let (c, z) = (&target.color_view, &target.depth_view);
-            warper.record_warp(q, &mut encoder, c, z, &pose, s);
+            warper.record_warp(q, &mut encoder, c, z, &pose, s).unwrap();
             q.submit(Some(encoder.finish()));
             let warped = readback_rgba(d, q, &target.color).unwrap();
             let fullt = full(ctx, &gpu, t, aa);
@@ -225,6 +230,127 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
         mean(Antialiasing::Msaa4) > mean(Antialiasing::None) - 3.0,
         "{errors:?}"
     );
+}
+
+/// Runs `record` on a fresh encoder inside a validation error scope and returns its result
+/// with the validation error wgpu reports when the encoder is finished, if any.
+fn validated<T>(
+    ctx: &GpuContext,
+    record: impl FnOnce(&mut wgpu::CommandEncoder) -> T,
+) -> (T, Option<wgpu::Error>) {
+    let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let out = record(&mut encoder);
+    let _ = encoder.finish();
+    (out, pollster::block_on(scope.pop()))
+}
+
+#[test]
+fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
+    let Some(ctx) =
+        context_or_skip("sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors")
+    else {
+        return;
+    };
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let mesh = knot();
+    let gpu = GpuMesh::upload(d, &mesh).unwrap();
+    let proxy = Proxy::simplify(&mesh, 0.05).unwrap();
+    let pose = path().pose(0.0).object(0);
+    let one_sample = || PhongBase::new(&gpu, light(), material(), COLOR_FORMAT, DEPTH_FORMAT);
+    let mismatch = |r: Result<(), WarpError>, got, expected| match r {
+        Err(WarpError::SampleCountMismatch {
+            got: g,
+            expected: e,
+            ..
+        }) => assert_eq!((g, e), (got, expected)),
+        other => panic!("expected a sample-count mismatch {got} vs {expected}, got {other:?}"),
+    };
+
+    // What recording did before the check: the one-sample base's pipelines in the
+    // reference's 4x pass, which wgpu rejects (a validation error; uncaptured, a panic).
+    let reference =
+        ReferenceFrame::with_antialiasing(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, Msaa4)
+            .unwrap();
+    let ms = MsaaTarget::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, Msaa4).unwrap();
+    let mut base = one_sample();
+    let draw = ReferenceDraw {
+        pose: &pose,
+        slot: 0,
+        slice: 0,
+        slices: 1,
+    };
+    let ((), old) = validated(ctx, |encoder| {
+        base.prepare(d, q, &draw);
+        let mut pass = ms.begin_pass(encoder, &reference.color_view, Some(CLEAR));
+        base.draw(&mut pass, &draw);
+    });
+    assert!(
+        old.is_some(),
+        "wgpu accepted a 1-sample pipeline in a 4x pass"
+    );
+
+    // Now: the reference checks the base pass first and records nothing.
+    let mut warper = Warper::with_antialiasing(
+        d,
+        &proxy,
+        Departures::OURS,
+        0.6,
+        SIZE,
+        SIZE,
+        COLOR_FORMAT,
+        DEPTH_FORMAT,
+        Msaa4,
+    )
+    .unwrap();
+    let (r, err) = validated(ctx, |e| warper.record_reference(d, q, e, &mut base, &pose));
+    mismatch(r, 1, 4);
+    assert!(err.is_none(), "{err:?}");
+    assert_eq!(warper.references_recorded(), 0);
+    // The other way round: a 4x base for a one-sample warper.
+    let mut plain = Warper::new(
+        d,
+        &proxy,
+        Departures::OURS,
+        0.6,
+        SIZE,
+        SIZE,
+        COLOR_FORMAT,
+        DEPTH_FORMAT,
+    )
+    .unwrap();
+    let mut base4 = one_sample().with_antialiasing(Msaa4);
+    assert_eq!(base4.sample_count(), 4);
+    let (r, err) = validated(ctx, |e| plain.record_reference(d, q, e, &mut base4, &pose));
+    mismatch(r, 4, 1);
+    assert!(err.is_none(), "{err:?}");
+    // A matching base records with no validation error.
+    let mut reference = reference;
+    let (r, err) = validated(ctx, |e| {
+        reference.record(d, q, e, &mut base4, &pose, 0, CLEAR)
+    });
+    r.unwrap();
+    assert!(err.is_none(), "{err:?}");
+
+    // The full renderer: 4x into a one-sample target, and one-sample into a 4x target.
+    let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+    let full4 = FullRenderer::with_antialiasing(d, q, COLOR_FORMAT, DEPTH_FORMAT, Msaa4);
+    let (c, z) = (&target.color_view, &target.depth_view);
+    let (r, err) = validated(ctx, |e| full4.record(e, c, z, &gpu, CLEAR));
+    mismatch(r, 1, 4);
+    assert!(err.is_none(), "{err:?}");
+    let full1 = FullRenderer::new(d, q, COLOR_FORMAT, DEPTH_FORMAT);
+    let (r, err) = validated(ctx, |e| full1.record_msaa(e, &ms, c, &gpu, CLEAR));
+    mismatch(r, 4, 1);
+    assert!(err.is_none(), "{err:?}");
+    // The warp into a multisampled colour target (it resolves into, or draws, one sample).
+    let (r, err) = validated(ctx, |e| {
+        warper
+            .record_warp(q, e, &ms.color_view, &ms.depth_view, &pose, 0.0)
+            .map(|_| ())
+    });
+    mismatch(r, 4, 1);
+    assert!(err.is_none(), "{err:?}");
 }
 
 #[test]

@@ -14,15 +14,17 @@
 //! over the frames; quality is measured on the same frames). The object stays fixed; the
 //! camera orbits it at 1°/frame under a world-fixed light.
 //!
-//! Tables 1–2 run every row with both antialiasing settings (JSON `antialiasing`: `none`,
-//! or `msaa4`: full render, references and warp all 4× MSAA, each resolve inside the timed
-//! work), each warped frame compared with the full render of the same antialiasing, by PSNR
+//! Tables 1–2 run every row with each of the three antialiasing settings (JSON
+//! `antialiasing`: `none`; `msaa4`: full render, references and warp all 4× MSAA;
+//! `msaa4-blend`: full render and references 4× MSAA, the warp one sample per pixel with its
+//! rim blended by the references' coverage; each resolve inside the timed work), each
+//! warped frame compared with the full render of the same antialiasing, by PSNR
 //! and by mean FLIP over the object's pixels (`flip_mean`); the amortized time counts the
 //! reference's own measured cost (`ref_ms`, its resolves included). The other tables are
 //! single-sample.
 //!
 //! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
-//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4` (one antialiasing only),
+//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4|msaa4-blend` (one antialiasing only),
 //! `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
@@ -76,19 +78,23 @@ fn sampled_steps(k: u32) -> Vec<u32> {
 impl Rig<'_> {
     /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
     /// Full render of `scene` into the rig's target; returns ms (submit to idle).
-    fn full_ms(&mut self, scene: &ScenePose) -> f64 {
-        let enc = self.record_full(scene);
-        timed(self.ctx, || {
+    fn full_ms(&mut self, scene: &ScenePose) -> anyhow::Result<f64> {
+        let enc = self.record_full(scene)?;
+        Ok(timed(self.ctx, || {
             self.ctx.queue.submit(Some(enc.finish()));
-        })
+        }))
     }
 
     /// A reference of object 0 at `scene` into `slot`, resolves included; returns ms.
-    fn reference_ms(&mut self, slot: &mut ReferenceFrame, scene: &ScenePose) -> f64 {
-        let enc = self.record_reference(slot, scene);
-        timed(self.ctx, || {
+    fn reference_ms(
+        &mut self,
+        slot: &mut ReferenceFrame,
+        scene: &ScenePose,
+    ) -> anyhow::Result<f64> {
+        let enc = self.record_reference(slot, scene)?;
+        Ok(timed(self.ctx, || {
             self.ctx.queue.submit(Some(enc.finish()));
-        })
+        }))
     }
 
     fn warp_ms(
@@ -366,11 +372,17 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let mut rigs = Vec::new();
         for &aa in &aas {
             let mut r = Rig::with_antialiasing(&ctx, &bm.mesh, SIZE, aa)?;
-            r.full_ms(&path.pose(0.0));
-            let full = median((0..5).map(|i| r.full_ms(&path.pose(i as f32))));
+            r.full_ms(&path.pose(0.0))?;
+            let full = (0..5)
+                .map(|i| r.full_ms(&path.pose(i as f32)))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let full = median(full);
             let mut slot = r.reference_slot()?;
-            r.reference_ms(&mut slot, &path.pose(0.0));
-            let reference = median((0..5).map(|i| r.reference_ms(&mut slot, &path.pose(i as f32))));
+            r.reference_ms(&mut slot, &path.pose(0.0))?;
+            let reference = (0..5)
+                .map(|i| r.reference_ms(&mut slot, &path.pose(i as f32)))
+                .collect::<anyhow::Result<Vec<_>>>()?;
+            let reference = median(reference);
             println!(
                 "  {}: full render {full:.2} ms, reference {reference:.2} ms",
                 aa.name()
@@ -548,14 +560,20 @@ fn table3(
         let objects: Vec<Variant> = (0..n)
             .map(|_| rig.variant(proxy, Departures::OURS, world_per_object, BINS, false))
             .collect::<Result<_, _>>()?;
-        rig.full_ms(&path.pose(0.0));
-        let full_ms = median((0..3).map(|i| rig.full_ms(&path.pose(i as f32))));
+        rig.full_ms(&path.pose(0.0))?;
+        let full_ms = (0..3)
+            .map(|i| rig.full_ms(&path.pose(i as f32)))
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let full_ms = median(full_ms);
         // The shared reference renders object 0 only.
         let one = ScenePose {
             camera: path.camera,
             objects: vec![path.pose(0.0).objects[0]],
         };
-        let ref_ms = median((0..3).map(|_| rig.full_ms(&one)));
+        let ref_ms = (0..3)
+            .map(|_| rig.full_ms(&one))
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let ref_ms = median(ref_ms);
         let r = segment(rig, &path, k, &objects, false, &mut fulls)?;
         let amortized = WarpSchedule::new(k, false)?.amortized_ms(ref_ms, r.warp_ms);
         table.push(vec![
@@ -603,13 +621,20 @@ fn spreading(
             [seq.pass()
                 .create_object(&ctx.device, proxy, BINS, ours.inflation(proxy), false)?];
         let scene = |f: u32| path.pose(f as f32);
-        let mut frame = |rig: &mut Rig<'_>, f: u32| {
-            rig.sequence_frame(&mut seq, &objects, &scene, f);
+        let mut frame = |rig: &mut Rig<'_>, f: u32| -> anyhow::Result<()> {
+            rig.sequence_frame(&mut seq, &objects, &scene, f)?;
+            Ok(())
         };
         // Start-up (the first two references) is not timed.
-        frame(rig, 0);
+        frame(rig, 0)?;
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
-        let times: Vec<f64> = (1..frames).map(|f| timed(ctx, || frame(rig, f))).collect();
+        let times = (1..frames)
+            .map(|f| {
+                let mut done = Ok(());
+                let ms = timed(ctx, || done = frame(rig, f));
+                done.map(|()| ms)
+            })
+            .collect::<anyhow::Result<Vec<f64>>>()?;
         table.push(vec![
             bm.name.clone().into(),
             if spread { "yes" } else { "no" }.into(),
