@@ -27,8 +27,9 @@ pub struct Model {
 
 impl Model {
     /// A model from a mesh in memory, its triangles and vertices reordered for locality
-    /// ([`npr_geometry::locality`]: the same surface; the highlight setup's face walks
-    /// and the GPU's vertex cache both run faster on it).
+    /// ([`npr_geometry::locality`]: the same triangles with the same corners and winding,
+    /// vertices no triangle uses dropped; the highlight setup's face walks and the GPU's
+    /// vertex cache both run faster on it).
     pub fn from_mesh(name: &str, mesh: Mesh) -> Self {
         let mesh = npr_geometry::locality::reorder_for_locality(&mesh).mesh;
         let framing = Framing::of(&mesh);

@@ -133,12 +133,15 @@ mod tests {
         let mut mesh = crate::generate::torus(1.0, 0.4, 40, 16);
         mesh.uvs = mesh.positions.iter().map(|p| Vec2::new(p.x, p.y)).collect();
         // Scramble the triangle order so there is something to do, and add an unused
-        // vertex (dropped) and a duplicated triangle (kept twice).
+        // vertex (dropped), a duplicated triangle (kept twice) and degenerate ones.
         let tris: Vec<[u32; 3]> = mesh.triangles().collect();
         let mut order: Vec<usize> = (0..tris.len()).collect();
         order.sort_by_key(|&f| (f * 7919) % tris.len());
         mesh.indices = order.iter().flat_map(|&f| tris[f]).collect();
         mesh.indices.extend_from_slice(&tris[3]);
+        // Degenerate triangles (a repeated corner, one point) are kept as they are.
+        let (a, b) = (tris[5][0], tris[5][1]);
+        mesh.indices.extend_from_slice(&[a, a, b, b, b, b]);
         mesh.positions.push(Vec3::splat(9.0));
         mesh.normals.push(Vec3::Z);
         mesh.uvs.push(Vec2::ONE);
