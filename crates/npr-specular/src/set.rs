@@ -19,7 +19,7 @@
 
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower};
-use crate::visibility::{VisibilityScratch, receivers_within};
+use crate::visibility::{FaceClusters, VisibilityScratch, receivers_within_clustered};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
 use npr_geometry::{
@@ -130,6 +130,7 @@ pub struct HighlightSet {
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
     scratch: VisibilityScratch,
+    face_clusters: FaceClusters,
     grower: RegionGrower,
     radius_bound: f32,
     next_id: u64,
@@ -165,6 +166,7 @@ impl HighlightSet {
 
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
         let radius_bound = bounding_radius(&topology);
+        let face_clusters = FaceClusters::new(&topology);
         Self {
             radius_object: field.radius_world.max(0.15 * radius_bound),
             size_cap_radius: None,
@@ -183,6 +185,7 @@ impl HighlightSet {
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             scratch: VisibilityScratch::default(),
+            face_clusters,
             grower: RegionGrower::default(),
             radius_bound,
             next_id: 0,
@@ -425,8 +428,9 @@ impl HighlightSet {
             } else {
                 min_cos
             };
-            receivers_within(
+            receivers_within_clustered(
                 &self.topology,
+                &self.face_clusters,
                 world_from_object,
                 &h.projector,
                 h.centre.face,

@@ -2,7 +2,7 @@
 //! (Eq. (7)–(8)), visibility (§4.2), frame coherence, and bad input.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, NormalInterpolation, generate};
 use npr_specular::{HighlightSet, ProjectorControls, frustum_size};
 
@@ -469,4 +469,96 @@ fn the_centre_lands_on_the_peak_of_the_mesh_normals() {
         c.distance(h)
     );
     assert!(hs[0].centre.normal_object.dot(h) > 0.9999);
+}
+
+#[test]
+fn whole_runs_receive_exactly_the_faces_of_the_face_by_face_search() {
+    // `receivers_within_clustered` takes connected runs of faces whole where they face
+    // the projector and sit inside its frustum: it must receive exactly the faces of the
+    // face-by-face §4.2 search, for every highlight of a turning dense sphere and the
+    // bunny (locality-ordered as `npr` loads them, and in file order), for the paper's
+    // N·N_max > 0 and for our normal limits.
+    use npr_specular::visibility::{
+        FaceClusters, VisibilityScratch, receivers_within, receivers_within_clustered,
+    };
+    let path = format!(
+        "{}/../../fixtures/meshes/stanford-bunny.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let bunny = npr_geometry::load_obj(&path).unwrap();
+    // A dense sphere: its one highlight spans many patches.
+    let sphere = generate::icosphere(6, 1.0);
+    let mut whole_runs = 0usize;
+    for (name, mesh) in [
+        (
+            "bunny",
+            npr_geometry::locality::reorder_for_locality(&bunny).mesh,
+        ),
+        ("bunny, file order", bunny.clone()),
+        (
+            "sphere",
+            npr_geometry::locality::reorder_for_locality(&sphere).mesh,
+        ),
+    ] {
+        let mut set = set_for(&mesh);
+        let topo = set.topology().clone();
+        let clusters = FaceClusters::new(&topo);
+        let (lo, hi) = topo.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let normalize = Mat4::from_scale(Vec3::splat(1.0 / r)) * Mat4::from_translation(-c);
+        let (mut a, mut b) = (VisibilityScratch::default(), VisibilityScratch::default());
+        let mut checked = 0;
+        for frame in 0..8 {
+            // Frusta of several sizes and offsets (§3.4 controls), so that their sides cut
+            // through patches.
+            set.global.scale = Vec2::splat(0.6 + 0.4 * frame as f32);
+            set.global.translate = Vec2::new(0.3 * (frame as f32).sin(), 0.2 * frame as f32 - 0.7);
+            set.global.rotate_rad = 0.4 * frame as f32;
+            let world = Mat4::from_rotation_y((frame as f32 * 20.0).to_radians()) * normalize;
+            let le = LightEye::Positions {
+                light: Vec3::new(20.0, 30.0, 50.0),
+                eye: Vec3::new(0.0, 0.3, 3.0),
+            };
+            set.update(le, world);
+            for h in set.highlights() {
+                for min_cos in [0.0, 0.3, 0.8] {
+                    let (mut x, mut y) = (Vec::new(), Vec::new());
+                    receivers_within(
+                        &topo,
+                        world,
+                        &h.projector,
+                        h.centre.face,
+                        min_cos,
+                        &mut a,
+                        &mut x,
+                    );
+                    receivers_within_clustered(
+                        &topo,
+                        &clusters,
+                        world,
+                        &h.projector,
+                        h.centre.face,
+                        min_cos,
+                        &mut b,
+                        &mut y,
+                    );
+                    whole_runs += b.runs_taken();
+                    x.sort_unstable();
+                    y.sort_unstable();
+                    assert_eq!(
+                        x, y,
+                        "{name} frame {frame} highlight {} min_cos {min_cos}",
+                        h.id
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 0, "{name}: no highlight");
+    }
+    // The dense sphere's highlight covers whole patches: the shortcut is taken.
+    assert!(whole_runs > 100, "{whole_runs} patches taken whole");
 }
