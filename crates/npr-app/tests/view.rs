@@ -44,6 +44,20 @@ fn display_runner() -> Option<Vec<String>> {
 
 /// The GPU tests' rule (`npr_gpu::testing`): skip only with `NPR_SKIP_GPU=1` and without
 /// `NPR_REQUIRE_GPU=1`, saying so on the raw stderr handle (which output capture keeps).
+/// `npr`, run under the display runner (e.g. `xvfb-run …`) when there is one.
+fn npr_under(runner: &[String]) -> Command {
+    let mut cmd = Command::new(
+        runner
+            .first()
+            .map_or(env!("CARGO_BIN_EXE_npr"), String::as_str),
+    );
+    cmd.args(runner.iter().skip(1));
+    if !runner.is_empty() {
+        cmd.arg(env!("CARGO_BIN_EXE_npr"));
+    }
+    cmd
+}
+
 fn skip_allowed(test: &str) -> bool {
     use npr_gpu::testing::{NoAdapter, REQUIRE_GPU_ENV, SKIP_GPU_ENV, no_adapter_action};
     let skip = std::env::var(SKIP_GPU_ENV).ok();
@@ -136,15 +150,7 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
     );
     std::fs::write(dir.join("script.txt"), script).unwrap();
     let spot = root().join("fixtures/meshes/spot.obj");
-    let mut cmd = Command::new(
-        runner
-            .first()
-            .map_or(env!("CARGO_BIN_EXE_npr"), String::as_str),
-    );
-    cmd.args(runner.iter().skip(1));
-    if !runner.is_empty() {
-        cmd.arg(env!("CARGO_BIN_EXE_npr"));
-    }
+    let mut cmd = npr_under(&runner);
     let o = cmd
         .args([
             "view",
@@ -258,15 +264,7 @@ fn warp_mode_full_frames_follow_the_warp_antialiasing() {
     )
     .unwrap();
     let spot = root().join("fixtures/meshes/spot.obj");
-    let mut cmd = Command::new(
-        runner
-            .first()
-            .map_or(env!("CARGO_BIN_EXE_npr"), String::as_str),
-    );
-    cmd.args(runner.iter().skip(1));
-    if !runner.is_empty() {
-        cmd.arg(env!("CARGO_BIN_EXE_npr"));
-    }
+    let mut cmd = npr_under(&runner);
     let o = cmd
         .args([
             "view",

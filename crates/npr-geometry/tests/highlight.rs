@@ -278,20 +278,7 @@ fn cluster_rejection_keeps_every_centre_on_real_meshes_and_skips_most_vertices()
     // every face, on the shipped scans, for point lights and near eyes around the model,
     // under a rotation with uniform scale: the same centres at the same positions.
     for file in ["stanford-bunny.obj", "spot.obj"] {
-        let path = format!(
-            "{}/../../fixtures/meshes/{file}",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let mesh = npr_geometry::load_obj(&path).unwrap();
-        let welded = weld(&mesh);
-        let topo = Topology::new(&welded);
-        let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
-        let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
-        let (lo, hi) = topo.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let (topo, s, c, r) = fixture_search(file);
         let tol = 1e-4 * r;
         let world = Mat4::from_scale_rotation_translation(
             Vec3::splat(2.5),
@@ -343,6 +330,26 @@ fn cluster_rejection_keeps_every_centre_on_real_meshes_and_skips_most_vertices()
             "{file}: clusters kept {kept} of {total} vertex visits"
         );
     }
+}
+
+/// The search over a shipped scan (`fixtures/meshes/FILE`) on its own normals, its
+/// topology and bounding sphere (centre, radius).
+fn fixture_search(file: &str) -> (Topology, HighlightSearch, Vec3, f32) {
+    let path = format!(
+        "{}/../../fixtures/meshes/{file}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let mesh = npr_geometry::load_obj(&path).unwrap();
+    let welded = weld(&mesh);
+    let topo = Topology::new(&welded);
+    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
+    let (lo, hi) = topo.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+    (topo, s, c, r)
 }
 
 /// A sequence of inputs for the coherence test: turning object, still frames, jitter, a
@@ -414,20 +421,7 @@ fn coherent_search_finds_what_the_full_search_finds_frame_by_frame() {
     // within a budget) must return exactly `find`'s centres — the same faces solved in the
     // same order — on every frame, and those must be the exhaustive search's.
     for file in ["stanford-bunny.obj", "spot.obj"] {
-        let path = format!(
-            "{}/../../fixtures/meshes/{file}",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let mesh = npr_geometry::load_obj(&path).unwrap();
-        let welded = weld(&mesh);
-        let topo = Topology::new(&welded);
-        let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
-        let mut s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
-        let (lo, hi) = topo.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+        let (topo, mut s, c, r) = fixture_search(file);
         let mut state = npr_geometry::SearchCoherence::default();
         let (mut watched, mut reused, mut full, mut tested) = (0, 0, 0, 0usize);
         let mut centres = 0;
@@ -489,20 +483,7 @@ fn coherent_search_holds_at_the_edge_of_its_budget_and_never_mixes_meshes() {
     // last step); then poses moved by just under the budget, in many directions, must be
     // watch-list frames (no rebuild) with exactly `find`'s centres: point light and eye
     // under a rotation with uniform scale 2.5, and directions under a shear.
-    let path = format!(
-        "{}/../../fixtures/meshes/stanford-bunny.obj",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let mesh = npr_geometry::load_obj(&path).unwrap();
-    let welded = weld(&mesh);
-    let topo = Topology::new(&welded);
-    let f = CurvatureField::compute(&topo, &CurvatureOptions::default());
-    let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &f);
-    let (lo, hi) = topo.positions.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+    let (_, s, c, r) = fixture_search("stanford-bunny.obj");
     let world = Mat4::from_scale_rotation_translation(
         Vec3::splat(2.5),
         Quat::from_rotation_y(0.4),

@@ -58,17 +58,6 @@ impl VisibilityScratch {
     }
 }
 
-/// Pushing a face's neighbours onto the walk's queue.
-trait PushNeighbours {
-    fn extend_from_slice_neighbours(&mut self, topology: &Topology, f: usize);
-}
-
-impl PushNeighbours for VecDeque<u32> {
-    fn extend_from_slice_neighbours(&mut self, topology: &Topology, f: usize) {
-        self.extend(topology.face_neighbours(f).iter().copied());
-    }
-}
-
 /// Whether the triangle with projector coordinates `q` can overlap the box
 /// `lo..hi` (the frustum is x, y in [−1, 1], z in [0, 1]): false only when all three
 /// vertices lie outside the same face of the box (a conservative separating-plane test:
@@ -325,7 +314,7 @@ fn receivers_impl(
     };
     // With patches the queue holds faces to consider (stamped when considered): a face's
     // whole patch when it can be taken at once, else the face itself.
-    queue.extend_from_slice_neighbours(topology, start_face as usize);
+    queue.extend(topology.face_neighbours(start_face as usize));
     while let Some(g) = queue.pop_front() {
         let gi = g as usize;
         if stamp[gi] == generation {
@@ -359,7 +348,7 @@ fn receivers_impl(
             if received {
                 out.push(g);
             }
-            queue.extend_from_slice_neighbours(topology, gi);
+            queue.extend(topology.face_neighbours(gi));
         }
     }
     out.len() - before
