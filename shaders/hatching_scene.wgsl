@@ -51,8 +51,9 @@ struct VertexIn {
 
 // Light depth of a world point, linear in distance: the orthographic clip depth for a
 // directional light, distance / range for a spot light.
-fn light_depth(p_world: vec3<f32>) -> f32 {
-    if scene.light_pos.w > 0.0 {
+// `spot` is `scene.light_pos.w` as the fragment stage receives it (see `SceneOut::light`).
+fn light_depth(p_world: vec3<f32>, spot: f32) -> f32 {
+    if spot > 0.0 {
         return distance(p_world, scene.light_pos.xyz) * scene.light_pos.w;
     }
     let c = scene.light_clip_from_world * vec4<f32>(p_world, 1.0);
@@ -62,6 +63,8 @@ fn light_depth(p_world: vec3<f32>) -> f32 {
 struct ShadowOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
+    // scene.light_pos.w, passed on (see `SceneOut::light`).
+    @location(1) @interpolate(flat) spot: f32,
 };
 
 @vertex
@@ -70,6 +73,7 @@ fn vs_shadow(v: VertexIn) -> ShadowOut {
     let world = object.world_from_object * vec4<f32>(v.position, 1.0);
     out.world = world.xyz;
     out.clip = scene.light_clip_from_world * world;
+    out.spot = scene.light_pos.w;
     return out;
 }
 
@@ -77,7 +81,7 @@ fn vs_shadow(v: VertexIn) -> ShadowOut {
 // their §4 added to the second moment to reduce self-shadowing on slopes.
 @fragment
 fn fs_shadow(in: ShadowOut) -> @location(0) vec4<f32> {
-    let d = light_depth(in.world);
+    let d = light_depth(in.world, in.spot);
     let dx = dpdx(d);
     let dy = dpdy(d);
     return vec4<f32>(d, d * d + 0.25 * (dx * dx + dy * dy), 0.0, 0.0);
@@ -101,8 +105,8 @@ fn sample_moments(uv: vec2<f32>) -> vec2<f32> {
 // Fraction of light reaching p: Chebyshev's upper bound p_max = s^2 / (s^2 + (d - mu)^2)
 // (Donnelly & Lauritzen 2006, Eq. (5)), with a minimum variance and the light-bleeding
 // reduction that maps [amount, 1] to [0, 1].
-fn shadow_visibility(p_world: vec3<f32>) -> f32 {
-    if scene.vsm.w == 0.0 {
+fn shadow_visibility(p_world: vec3<f32>, light: vec2<f32>) -> f32 {
+    if light.x == 0.0 {
         return 1.0;
     }
     let lc = scene.light_clip_from_world * vec4<f32>(p_world, 1.0);
@@ -115,7 +119,7 @@ fn shadow_visibility(p_world: vec3<f32>) -> f32 {
         return 1.0;
     }
     let m = sample_moments(uv);
-    let d = light_depth(p_world);
+    let d = light_depth(p_world, light.y);
     if d <= m.x {
         return 1.0;
     }
@@ -135,6 +139,11 @@ struct SceneOut {
     // The point in the clip space of the two reference views (anchors, see `Anchor`).
     @location(3) ref0: vec4<f32>,
     @location(4) ref1: vec4<f32>,
+    // (scene.vsm.w, scene.light_pos.w): shadows on, spot light. The fragment stage
+    // branches on these copies, not on the uniforms: Mesa's lavapipe (22.3) recompiles a
+    // fragment shader whose branches on uniform values guard enough work ("uniform
+    // inlining") at every draw and never frees the variants, about 0.7 MB per pass.
+    @location(5) @interpolate(flat) light: vec2<f32>,
 };
 
 // Projects the per-vertex surface direction to the screen (§2: "a principal curvature
@@ -170,6 +179,7 @@ fn vs_scene(v: VertexIn, @location(3) dir: vec3<f32>) -> SceneOut {
     let p = vec4<f32>(v.position, 1.0);
     out.ref0 = anchor.clip_from_world[0] * (anchor.world_from_object[0] * p);
     out.ref1 = anchor.clip_from_world[1] * (anchor.world_from_object[1] * p);
+    out.light = vec2<f32>(scene.vsm.w, scene.light_pos.w);
     return out;
 }
 
@@ -191,8 +201,8 @@ fn shade(in: SceneOut) -> vec3<f32> {
     let v = normalize(frame.eye_world.xyz - in.world);
     let ambient = object.diffuse.rgb * frame.ambient.rgb;
     let lit = blinn_phong(frame, object, n, l, v);
-    var vis = shadow_visibility(in.world);
-    if scene.light_pos.w > 0.0 {
+    var vis = shadow_visibility(in.world, in.light);
+    if in.light.y > 0.0 {
         vis = vis * smoothstep(scene.spot.w, scene.viewport.z, dot(-l, scene.spot.xyz));
     }
     return ambient + (lit - ambient) * vis;

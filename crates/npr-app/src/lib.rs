@@ -13,6 +13,7 @@
 pub mod curvature;
 pub mod engine;
 mod error;
+pub mod memory;
 pub mod model;
 pub mod output;
 pub mod preset;

@@ -319,3 +319,195 @@ fn warp_mode_full_frames_follow_the_warp_antialiasing() {
         .count();
     assert!(partly >= 20, "{partly} partly covered silhouette pixels");
 }
+
+/// A random viewer session as a `--script` (the generator of the soak test below; fixed
+/// seed, so every run plays the same session). It opens with a tour that loads every good
+/// model and shows it with every effect at the largest window size, so that the heap has
+/// seen the largest allocations before the first reading (the allocator keeps freed memory
+/// resident, and that is not growth); then `events` random events follow: effect switches by name
+/// and by key, orbit/pan/light drags, clicks, the wheel, the turntable, resizes down to
+/// 0×0 and 1×1 and back, and loads of good, bad and missing files. Readings
+/// (`memory PATH`) are taken after the first 100 events, every 100 after, and at the end, each after the same
+/// settling steps: the first good model loaded, phong, the start size, a few frames.
+fn random_session(
+    seed: u64,
+    events: usize,
+    good: &[PathBuf],
+    bad: &[PathBuf],
+    missing: &Path,
+    early: &Path,
+    end: &Path,
+) -> String {
+    use npr_app::preset::Effect;
+    let mut rng = npr_geometry::rng::XorShift64::new(seed);
+    let mut pick = |n: usize| (rng.next_u64() % n as u64) as usize;
+    let size = (480.0f32, 360.0f32);
+    let mut lines: Vec<String> = Vec::new();
+    let mut frame = 2u64;
+    let push = |lines: &mut Vec<String>, frame: &mut u64, gap: u64, cmd: String| {
+        *frame += gap;
+        lines.push(format!("@{frame} {cmd}"));
+    };
+    // The tour: every model, each with every effect at the largest size, the turntable
+    // on (live warping).
+    push(&mut lines, &mut frame, 1, "resize 640 400".into());
+    push(&mut lines, &mut frame, 1, "turntable on".into());
+    for m in good.iter().rev() {
+        push(&mut lines, &mut frame, 2, format!("load {}", m.display()));
+        for e in Effect::ALL {
+            push(&mut lines, &mut frame, 3, format!("effect {}", e.name()));
+        }
+    }
+    let settle = |lines: &mut Vec<String>, frame: &mut u64, path: &Path| {
+        push(lines, frame, 1, format!("load {}", good[0].display()));
+        push(lines, frame, 1, "effect phong".into());
+        push(lines, frame, 1, format!("resize {} {}", size.0, size.1));
+        push(lines, frame, 1, "turntable off".into());
+        push(lines, frame, 4, format!("memory {}", path.display()));
+    };
+    let pt = |pick: &mut dyn FnMut(usize) -> usize| {
+        (pick(size.0 as usize) as f32, pick(size.1 as usize) as f32)
+    };
+    for i in 0..events {
+        if i == 100 {
+            settle(&mut lines, &mut frame, early);
+        } else if i > 100 && i % 100 == 0 {
+            let p = early.with_file_name(format!("memory-{i}.json"));
+            settle(&mut lines, &mut frame, &p);
+        }
+        let gap = 1 + pick(2) as u64;
+        let cmd = match pick(100) {
+            0..15 => format!("effect {}", Effect::ALL[pick(Effect::ALL.len())].name()),
+            15..25 => {
+                let keys = ["1", "2", "3", "4", "5", "6", "7", "t", "r", "escape"];
+                format!("key {}", keys[pick(keys.len())])
+            }
+            25..45 => {
+                let (a, b) = (pt(&mut pick), pt(&mut pick));
+                let m = ["", "shift", "ctrl", "right"][pick(4)];
+                format!("drag {} {} {} {} {m}", a.0, a.1, b.0, b.1)
+            }
+            45..53 => {
+                let a = pt(&mut pick);
+                format!("click {} {}", a.0, a.1)
+            }
+            53..65 => {
+                let a = pt(&mut pick);
+                let notches = pick(7) as i32 - 3;
+                format!("scroll {} {} {notches}", a.0, a.1)
+            }
+            65..73 => {
+                let sizes = [(0, 0), (1, 1), (320, 240), (640, 400), (480, 360)];
+                let (w, h) = sizes[pick(sizes.len())];
+                format!("resize {w} {h}")
+            }
+            73..78 => format!("turntable {}", ["on", "off"][pick(2)]),
+            78..86 => format!("load {}", good[pick(good.len())].display()),
+            86..96 => format!("load {}", bad[pick(bad.len())].display()),
+            _ => format!("load {}", missing.display()),
+        };
+        push(&mut lines, &mut frame, gap, cmd);
+        // A window left at 0×0 or 1×1 comes back after a few frames, as a restored one.
+        if lines
+            .last()
+            .is_some_and(|l| l.contains("resize 0 0") || l.contains("resize 1 1"))
+        {
+            push(
+                &mut lines,
+                &mut frame,
+                3,
+                format!("resize {} {}", size.0, size.1),
+            );
+        }
+    }
+    settle(&mut lines, &mut frame, end);
+    push(&mut lines, &mut frame, 1, "exit".into());
+    let mut text = format!("# npr view soak session: seed {seed}, {events} random events\n");
+    for l in lines {
+        text.push_str(&l);
+        text.push('\n');
+    }
+    text
+}
+
+/// `npr view` plays a random session of 500 events (plus its tour and readings) without a
+/// panic or an error exit, and its resident memory at the end is within 10 % of where it
+/// stood after the first 100 events, with the same GPU objects alive (same model, effect
+/// and size at both readings).
+#[test]
+fn a_random_500_event_session_keeps_memory_flat() {
+    let test = "a_random_500_event_session_keeps_memory_flat";
+    let Some(runner) = display_runner() else {
+        if skip_allowed(test) {
+            return;
+        }
+        panic!("{test}: no display and no xvfb-run; see `cargo xtask doctor`");
+    };
+    let dir = out_dir("soak");
+    let meshes = root().join("fixtures/meshes");
+    let good = [meshes.join("spot.obj"), meshes.join("stanford-bunny.obj")];
+    let bad: Vec<PathBuf> = std::fs::read_dir(root().join("fixtures/bad"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e != "txt"))
+        .collect();
+    assert!(bad.len() >= 10, "the bad-file fixtures");
+    let (early, end) = (dir.join("early.json"), dir.join("end.json"));
+    let script = random_session(
+        0x5eed_0023,
+        500,
+        &good,
+        &bad,
+        &dir.join("no-such-model.obj"),
+        &early,
+        &end,
+    );
+    let events = script.lines().filter(|l| l.starts_with('@')).count();
+    assert!(events >= 500, "{events} events");
+    std::fs::write(dir.join("session.txt"), &script).unwrap();
+    let o = npr_under(&runner)
+        .args([
+            "view",
+            good[0].to_str().unwrap(),
+            "--size",
+            "480x360",
+            "--script",
+        ])
+        .arg(dir.join("session.txt"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        o.status.success(),
+        "npr view failed on {}: {stderr}",
+        dir.join("session.txt").display()
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let read = |p: &Path| -> serde_json::Value {
+        serde_json::from_slice(&std::fs::read(p).unwrap()).unwrap()
+    };
+    let (a, b) = (read(&early), read(&end));
+    let series: Vec<u64> = (2..5)
+        .map(|i| {
+            read(&dir.join(format!("memory-{i}00.json")))["resident_bytes"]
+                .as_u64()
+                .unwrap_or(0)
+                >> 20
+        })
+        .collect();
+    println!("{test}: resident MiB at events 200-400: {series:?}");
+    let rss = |v: &serde_json::Value| v["resident_bytes"].as_u64().expect("resident memory");
+    let growth = rss(&b) as f64 / rss(&a) as f64 - 1.0;
+    println!(
+        "{test}: {events} events; resident {} MiB after 100 events, {} MiB at the end ({:+.1} %)",
+        rss(&a) >> 20,
+        rss(&b) >> 20,
+        100.0 * growth
+    );
+    assert!(
+        growth <= 0.10,
+        "resident memory grew {:.1} % from event 100 to the end ({a} -> {b})",
+        100.0 * growth
+    );
+    assert_eq!(a["gpu_objects"], b["gpu_objects"], "GPU objects alive");
+}

@@ -412,6 +412,7 @@ impl App {
             Command::Screenshot(p) => self.screenshot(&p)?,
             Command::SavePreset(p) => self.save_preset(&p)?,
             Command::Report(p) => self.report(&p)?,
+            Command::Memory(p) => self.memory(&p)?,
             Command::Load(p) => self.load_model(&p),
             Command::Exit => event_loop.exit(),
         }
@@ -438,6 +439,23 @@ impl App {
 
     fn save_preset(&self, path: &std::path::Path) -> Result<(), AppError> {
         self.preset_for_render().save(path)
+    }
+
+    /// Writes a [`crate::memory::MemoryReading`] (after the device has finished its work)
+    /// with the frame number.
+    fn memory(&self, path: &std::path::Path) -> Result<(), AppError> {
+        let Some(gfx) = &self.gfx else { return Ok(()) };
+        let reading = crate::memory::MemoryReading::take(&gfx.ctx.instance, &gfx.ctx.device);
+        let report = serde_json::json!({
+            "frame": self.frame,
+            "resident_bytes": reading.resident_bytes,
+            "gpu_objects": reading.gpu_objects,
+        });
+        let text = serde_json::to_string_pretty(&report).map_err(|e| AppError::Encode {
+            path: path.to_path_buf(),
+            reason: e.to_string(),
+        })?;
+        output::write_atomic(path, text.as_bytes())
     }
 
     fn report(&self, path: &std::path::Path) -> Result<(), AppError> {

@@ -20,6 +20,7 @@
 //! | `screenshot PATH` | writes the 3-D view (no panel) as PNG |
 //! | `save-preset PATH` | writes the preset (with the view's size) as TOML |
 //! | `report PATH` | writes the selected highlight's state as JSON |
+//! | `memory PATH` | writes resident memory and live GPU objects as JSON |
 //! | `load MODEL` | opens a model as if dropped on the window |
 //! | `exit` | closes the viewer |
 
@@ -58,6 +59,8 @@ pub enum Command {
     SavePreset(PathBuf),
     /// Write the selected highlight's state.
     Report(PathBuf),
+    /// Write resident memory and the GPU objects alive ([`crate::memory::MemoryReading`]).
+    Memory(PathBuf),
     /// Open a model.
     Load(PathBuf),
     /// Close the viewer.
@@ -135,6 +138,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<Vec<Event>, AppError> {
             "screenshot" => Command::Screenshot(path(0)?),
             "save-preset" => Command::SavePreset(path(0)?),
             "report" => Command::Report(path(0)?),
+            "memory" => Command::Memory(path(0)?),
             "load" => Command::Load(path(0)?),
             "exit" => Command::Exit,
             _ => return Err(err("unknown command")),
