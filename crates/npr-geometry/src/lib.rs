@@ -37,6 +37,7 @@
 // non-finite input is turned into "invalid" instead of leaking.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+#[cfg(any(test, feature = "test-support"))]
 pub mod analytic;
 pub mod curvature;
 pub mod error;

@@ -268,6 +268,7 @@ mod tests {
     fn uniform_layout_matches_wgsl() {
         // Size and member offsets read from `hatching.wgsl` by naga.
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             HatchUniforms,
             "Hatch",
             [bins, ink, paper, tone, config, space, length]

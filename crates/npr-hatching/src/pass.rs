@@ -242,7 +242,7 @@ impl HatchPass {
         let u = HatchUniforms::new(params, tam)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("hatching.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::HATCHING.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::HATCHING.full_source().into()),
         });
         use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
         let texture_entry = |binding, view_dimension| {

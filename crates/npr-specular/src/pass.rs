@@ -1,6 +1,6 @@
 //! The highlight render pass (§5 of the specular paper): draws every highlight's
 //! receiver triangles with its projected texture, alpha-blended over any base shading,
-//! in one draw call. WGSL: `shaders/specular_highlight.wgsl`.
+//! in one draw call. WGSL: `shaders/specular_highlight.wgsl` ([`crate::shaders`]).
 //!
 //! Use: draw the base shading into a colour + depth target, then, in the same render pass
 //! (or a later one that loads that depth), call [`HighlightPass::draw`]. The pass tests
@@ -9,7 +9,7 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
-use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout, shaders};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout};
 use wgpu::util::DeviceExt;
 
 /// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
@@ -201,7 +201,9 @@ impl HighlightPass {
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("specular_highlight.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::SPECULAR_HIGHLIGHT).into()),
+            source: wgpu::ShaderSource::Wgsl(
+                crate::shaders::SPECULAR_HIGHLIGHT.full_source().into(),
+            ),
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("npr highlight"),
@@ -484,6 +486,7 @@ mod tests {
     fn projector_layout_matches_wgsl() {
         // Size and member offsets of the storage array's element, read by naga.
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             ProjectorGpu,
             "Projector",
             [tex_from_world, axis_u, axis_v, normal, tint, params]

@@ -216,6 +216,7 @@ impl HighlightSet {
     }
 
     /// The current highlights, for this crate's measurements (e.g. per-highlight tints).
+    #[cfg(any(test, feature = "test-support"))]
     pub(crate) fn highlights_mut(&mut self) -> &mut [Highlight] {
         &mut self.highlights
     }

@@ -257,7 +257,7 @@ impl WarpPass {
         check_formats(color_format, depth_format)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("warp.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::WARP.full_source().into()),
         });
         use npr_gpu::layout::{
             FILTERABLE, sampler_entry, storage_entry, texture_entry, uniform_entry,
@@ -651,6 +651,7 @@ mod tests {
     #[test]
     fn uniform_block_matches_wgsl_layout() {
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             WarpObjectUniforms,
             "WarpObject",
             [
