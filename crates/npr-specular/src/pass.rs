@@ -31,6 +31,9 @@ pub struct ProjectorGpu {
 }
 
 /// What [`HighlightPass::prepare`] uploads for one frame.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInput<'a> {
     /// The mesh on the GPU (its vertex buffer is read as storage).
@@ -83,6 +86,9 @@ pub struct HighlightDraw {
 }
 
 /// The highlight pipeline and its texture array. Create once per device and formats.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct HighlightPass {
     pipeline: wgpu::RenderPipeline,
@@ -390,6 +396,9 @@ impl HighlightPass {
 
     /// Uploads this frame's camera/light, object transform, projectors and draw list
     /// (growing the buffers when needed).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn prepare(
         &self,
         device: &wgpu::Device,
@@ -441,6 +450,9 @@ impl HighlightPass {
 
     /// Records the highlight draw (one call for all highlights) into the caller's render
     /// pass, which must have the base shading's depth attachment.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draw: &HighlightDraw) {
         if draw.vertex_count == 0 {
             return;
