@@ -1,6 +1,8 @@
-//! `cargo xtask test`: rustfmt check, clippy with warnings denied, then every workspace
-//! test with `NPR_REQUIRE_GPU=1`: a GPU test without an adapter fails, even when the
-//! caller's environment has `NPR_SKIP_GPU=1` (see `npr_gpu::testing`).
+//! `cargo xtask test`: rustfmt check, clippy with warnings denied, the API docs with
+//! rustdoc warnings denied (broken intra-doc links included), every workspace test with
+//! `NPR_REQUIRE_GPU=1` (a GPU test without an adapter fails, even when the caller's
+//! environment has `NPR_SKIP_GPU=1`; see `npr_gpu::testing`), then every library crate's
+//! `embed` example, each writing its PNG to `target/embed/`.
 
 use crate::{gpu_setup, project_root};
 use anyhow::bail;
@@ -27,6 +29,9 @@ fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The crates whose `examples/embed.rs` (the README's embedding example) the check runs.
+pub const EMBED_CRATES: [&str; 3] = ["npr-specular", "npr-hatching", "npr-warp"];
+
 /// Runs the whole check.
 pub fn run() -> anyhow::Result<()> {
     let started = Instant::now();
@@ -43,6 +48,10 @@ pub fn run() -> anyhow::Result<()> {
         ],
         &[],
     )?;
+    cargo(
+        &["doc", "--no-deps", "--workspace", "--release"],
+        &[("RUSTDOCFLAGS", "-D warnings")],
+    )?;
     let adapter = gpu_setup::ensure_adapter()?;
     println!("xtask: GPU adapter: {adapter}");
     gpu_setup::ensure_xvfb()?;
@@ -50,6 +59,28 @@ pub fn run() -> anyhow::Result<()> {
         &["test", "--workspace", "--release", "--no-fail-fast"],
         &[(npr_gpu::testing::REQUIRE_GPU_ENV, "1")],
     )?;
+    let out_dir = project_root().join("target/embed");
+    std::fs::create_dir_all(&out_dir)?;
+    for krate in EMBED_CRATES {
+        let png = out_dir.join(format!("{krate}.png"));
+        let png = png.to_string_lossy();
+        cargo(
+            &[
+                "run",
+                "--release",
+                "-p",
+                krate,
+                "--example",
+                "embed",
+                "--",
+                &png,
+            ],
+            &[(npr_gpu::testing::REQUIRE_GPU_ENV, "1")],
+        )?;
+        if !std::path::Path::new(png.as_ref()).is_file() {
+            bail!("the {krate} embed example did not write {png}");
+        }
+    }
     println!(
         "xtask: all checks passed in {:.1} s",
         started.elapsed().as_secs_f64()

@@ -6,9 +6,11 @@ use crate::view::Framing;
 use npr_geometry::Mesh;
 use std::path::{Path, PathBuf};
 
-/// The built-in model of `npr view` with no argument: the Stanford bunny shipped in
-/// `fixtures/meshes/` (compiled in, so the binary works from any directory).
-const BUNNY_OBJ: &str = include_str!("../../../fixtures/meshes/stanford-bunny.obj");
+/// The built-in model of `npr view` with no argument: the Stanford bunny (compiled in, so
+/// the binary works from any directory). `assets/stanford-bunny.obj` links to the copy in
+/// the repository's `fixtures/meshes/`; `cargo package` stores the file itself, so the
+/// crate's package carries its model.
+const BUNNY_OBJ: &str = include_str!("../assets/stanford-bunny.obj");
 
 /// A loaded model.
 #[derive(Clone, Debug)]

@@ -1,6 +1,6 @@
 //! Closed-form principal curvatures and directions of the procedural surfaces in
 //! [`crate::generate`], for tests and benchmarks (do Carmo, "Differential Geometry of
-//! Curves and Surfaces", 1976 — the specular paper's reference [9]).
+//! Curves and Surfaces", 1976 — the specular paper's reference \[9\]).
 //!
 //! Conventions as [`crate::CurvatureField`]: convex positive with the outward normal,
 //! `kappa_max ≥ kappa_min`, directions unit and tangent.

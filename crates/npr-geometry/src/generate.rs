@@ -9,7 +9,7 @@
 //!
 //! Parametric surfaces duplicate the render vertices on their UV seams; the duplicates
 //! are evaluated from the same wrapped parameter, so their positions are bit-identical
-//! and [`crate::weld`] merges them. Triangles are counter-clockwise seen from the side
+//! and [`crate::weld()`] merges them. Triangles are counter-clockwise seen from the side
 //! the normals point to (outside).
 
 use std::collections::HashMap;

@@ -6,9 +6,9 @@
 //! (주곡률 해석 기반의 투영 텍스처를 이용한 스타일 반사 효과), Journal of the Korea Computer
 //! Graphics Society. The curvature tensor itself is from P. Alliez, D. Cohen-Steiner,
 //! O. Devillers, B. Lévy and M. Desbrun, "Anisotropic polygonal remeshing", ACM Trans.
-//! Graph. 22(3), 485–493, 2003 (the paper's reference [10]).
+//! Graph. 22(3), 485–493, 2003 (the paper's reference \[10\]).
 //!
-//! Pipeline: [`io::load`] (OBJ, glTF/GLB, PLY) → [`Mesh`] (render vertices) → [`weld`] → [`Topology`] →
+//! Pipeline: [`io::load`] (OBJ, glTF/GLB, PLY) → [`Mesh`] (render vertices) → [`weld()`] → [`Topology`] →
 //! [`CurvatureField`] (once per mesh) → per frame [`HighlightSearch::find`].
 //! No GPU code lives here.
 //!
@@ -37,6 +37,7 @@
 // non-finite input is turned into "invalid" instead of leaking.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+#[cfg(any(test, feature = "test-support"))]
 pub mod analytic;
 pub mod curvature;
 pub mod error;

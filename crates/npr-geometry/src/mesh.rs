@@ -8,7 +8,7 @@ use crate::GeometryError;
 /// An indexed triangle mesh as it is rendered: one entry per render vertex in
 /// `positions`, `normals` and `uvs` (all the same length), three indices per triangle.
 ///
-/// Render vertices may share a position (UV seams, hard edges); [`crate::weld`] merges
+/// Render vertices may share a position (UV seams, hard edges); [`crate::weld()`] merges
 /// them for topology and curvature while keeping this layout for drawing.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {

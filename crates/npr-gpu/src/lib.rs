@@ -18,19 +18,24 @@
 //! it can be recorded into someone else's renderer; [`GpuContext`] is a convenience.
 
 mod camera;
+pub mod color;
 mod context;
 mod error;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixtures;
 pub mod layout;
 mod mesh;
 pub mod outline;
 pub mod projective;
 mod readback;
+#[cfg(any(test, feature = "test-support"))]
 pub mod reference;
 pub mod shaders;
 mod shading;
+#[cfg(any(test, feature = "test-support"))]
 pub mod snapshot;
 mod targets;
+#[cfg(any(test, feature = "test-support"))]
 pub mod testing;
 mod uniforms;
 

@@ -204,7 +204,7 @@ impl OutlineObject {
 fn module(device: &wgpu::Device) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("outline.wgsl"),
-        source: wgpu::ShaderSource::Wgsl(crate::shaders::compose(crate::shaders::OUTLINE).into()),
+        source: wgpu::ShaderSource::Wgsl(crate::shaders::OUTLINE_FILE.full_source().into()),
     })
 }
 
@@ -598,11 +598,13 @@ mod tests {
     #[test]
     fn uniform_layouts_match_wgsl() {
         crate::assert_wgsl_layout!(
+            crate::shaders::ALL,
             CameraUniforms,
             "OutlineCamera",
             [clip_from_world, view_from_world]
         );
         crate::assert_wgsl_layout!(
+            crate::shaders::ALL,
             OutlineUniforms,
             "OutlineParams",
             [color, radius_px, cos_crease, depth_ratio, _pad]

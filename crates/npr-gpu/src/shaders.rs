@@ -1,48 +1,79 @@
-//! Every WGSL source of the workspace, embedded at compile time so that the runtime and
-//! the tests read the same text. Technique crates take their shader text from here.
+//! The WGSL that `npr-gpu` owns, embedded at compile time from the crate's own `shaders/`
+//! directory, so that the runtime and the tests read the same text; and the shared
+//! snippets that the technique crates compose into theirs.
+//!
+//! A technique crate keeps its WGSL in its own `shaders/` directory and lists each file as
+//! a [`ShaderFile`] whose [`prelude`](ShaderFile::prelude) names the shared snippets it
+//! needs ([`COMMON`], [`FULLSCREEN`]); [`ShaderFile::full_source`] is the text handed to
+//! `wgpu::Device::create_shader_module`, and the text the naga validation and uniform-layout
+//! tests read.
 
-/// Shared uniform structs and Blinn-Phong; prepended by [`compose`].
-pub const COMMON: &str = include_str!("../../../shaders/common.wgsl");
+/// Shared uniform structs (`Frame`, `Object`) and Blinn-Phong; composed before the shaders
+/// that use them.
+pub const COMMON: &str = include_str!("../shaders/common.wgsl");
+/// The full-screen vertex stage (`vs_fullscreen`, `FullscreenOut`): one triangle covering
+/// the screen, drawn with `draw(0..3, 0..1)` and no vertex buffer.
+pub const FULLSCREEN: &str = include_str!("../shaders/fullscreen.wgsl");
 /// Base shading passes: Phong, Gouraud, cel.
-pub const BASE_SHADING: &str = include_str!("../../../shaders/base_shading.wgsl");
-/// Post-rendering warping with projective textures (`npr-warp`); standalone.
-pub const WARP: &str = include_str!("../../../shaders/warp.wgsl");
-
+pub const BASE_SHADING: &str = include_str!("../shaders/base_shading.wgsl");
 /// Outlines (silhouettes, creases) from a normal + depth prepass; shared by every style.
-pub const OUTLINE: &str = include_str!("../../../shaders/outline.wgsl");
+pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
 
-/// The specular highlight pass (npr-specular).
-pub const SPECULAR_HIGHLIGHT: &str = include_str!("../../../shaders/specular_highlight.wgsl");
-/// Image-space hatching pass (npr-hatching): Eq. (1)-(3), §3.1-§3.3.
-pub const HATCHING: &str = include_str!("../../../shaders/hatching.wgsl");
-/// Hatching inputs (npr-hatching): VSM shadow pass, tone + direction G-buffer, Phong + VSM.
-pub const HATCHING_SCENE: &str = include_str!("../../../shaders/hatching_scene.wgsl");
-/// Separable blur of variance-shadow-map moments (npr-hatching).
-pub const VSM_BLUR: &str = include_str!("../../../shaders/vsm_blur.wgsl");
-
-/// Every shader file: `(file name, source, needs common.wgsl prepended)`. A test checks
-/// that this list names every `.wgsl` file in `shaders/` and that each validates.
-pub const ALL: &[(&str, &str, bool)] = &[
-    ("common.wgsl", COMMON, false),
-    ("base_shading.wgsl", BASE_SHADING, true),
-    ("outline.wgsl", OUTLINE, true),
-    ("specular_highlight.wgsl", SPECULAR_HIGHLIGHT, true),
-    ("hatching.wgsl", HATCHING, false),
-    ("hatching_scene.wgsl", HATCHING_SCENE, true),
-    ("vsm_blur.wgsl", VSM_BLUR, false),
-    ("warp.wgsl", WARP, false),
-];
-
-/// `common.wgsl` followed by `source`: the text of a shader that uses the shared structs.
-pub fn compose(source: &str) -> String {
-    format!("{COMMON}\n{source}")
+/// One WGSL file: its name, its text, and the shared snippets composed before it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShaderFile {
+    /// File name inside the owning crate's `shaders/` directory.
+    pub name: &'static str,
+    /// The file's text.
+    pub source: &'static str,
+    /// Shared snippets ([`COMMON`], [`FULLSCREEN`]) placed before `source`, in order.
+    pub prelude: &'static [&'static str],
 }
 
-/// The full text of an entry of [`ALL`], composed if it needs `common.wgsl`.
-pub fn full_source(entry: &(&str, &str, bool)) -> String {
-    if entry.2 {
-        compose(entry.1)
-    } else {
-        entry.1.to_string()
+impl ShaderFile {
+    /// The complete shader: the prelude followed by the file's text.
+    pub fn full_source(&self) -> String {
+        let mut parts: Vec<&str> = self.prelude.to_vec();
+        parts.push(self.source);
+        compose(&parts)
     }
 }
+
+/// Concatenates WGSL parts (shared snippets first, then the shader), one per line.
+pub fn compose(parts: &[&str]) -> String {
+    parts.join("\n")
+}
+
+/// `common.wgsl` itself (validated alone: it declares only structs and functions).
+pub const COMMON_FILE: ShaderFile = ShaderFile {
+    name: "common.wgsl",
+    source: COMMON,
+    prelude: &[],
+};
+/// `fullscreen.wgsl` itself (a valid module alone: a vertex entry point).
+pub const FULLSCREEN_FILE: ShaderFile = ShaderFile {
+    name: "fullscreen.wgsl",
+    source: FULLSCREEN,
+    prelude: &[],
+};
+/// `base_shading.wgsl` after `common.wgsl`.
+pub const BASE_SHADING_FILE: ShaderFile = ShaderFile {
+    name: "base_shading.wgsl",
+    source: BASE_SHADING,
+    prelude: &[COMMON],
+};
+/// `outline.wgsl` after `common.wgsl` and `fullscreen.wgsl`.
+pub const OUTLINE_FILE: ShaderFile = ShaderFile {
+    name: "outline.wgsl",
+    source: OUTLINE,
+    prelude: &[COMMON, FULLSCREEN],
+};
+
+/// Every shader file of this crate. A test checks that it names every `.wgsl` file in the
+/// crate's `shaders/` directory and that each composed shader validates.
+pub const ALL: &[ShaderFile] = &[
+    COMMON_FILE,
+    FULLSCREEN_FILE,
+    BASE_SHADING_FILE,
+    OUTLINE_FILE,
+];

@@ -148,7 +148,7 @@ impl BaseShading {
     ) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("base_shading.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::BASE_SHADING).into()),
+            source: wgpu::ShaderSource::Wgsl(shaders::BASE_SHADING_FILE.full_source().into()),
         });
         let frame_layout = crate::layout::uniform_layout(device, "npr frame");
         let object_layout = crate::layout::uniform_layout(device, "npr object");

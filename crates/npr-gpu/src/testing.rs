@@ -102,20 +102,19 @@ pub fn skipped_count() -> usize {
     SKIPPED.load(Ordering::SeqCst)
 }
 
-/// WGSL struct layouts read with naga's reflection, for tests that compare them with the
-/// `#[repr(C)]` Rust structs that fill the buffers (feature `wgsl-layout`, always on in
-/// this crate's own tests).
+/// WGSL validation and struct layouts read with naga's reflection, for tests that compare
+/// them with the `#[repr(C)]` Rust structs that fill the buffers.
 ///
 /// A technique crate enables it for its tests only:
-/// `[dev-dependencies] npr-gpu = { workspace = true, features = ["wgsl-layout"] }`, then
-/// in a unit test next to its (private) uniform struct:
+/// `[dev-dependencies] npr-gpu = { workspace = true, features = ["test-support"] }`, then
+/// in a unit test next to its (private) uniform struct, naming its own shader list:
 ///
 /// ```text
-/// npr_gpu::assert_wgsl_layout!(WarpObjectUniforms, "WarpObject", [world_from_object, ...]);
+/// npr_gpu::assert_wgsl_layout!(crate::shaders::ALL, WarpObjectUniforms, "WarpObject", [world_from_object, ...]);
 /// ```
-#[cfg(any(test, feature = "wgsl-layout"))]
 pub mod wgsl_layout {
-    use crate::shaders;
+    use crate::shaders::ShaderFile;
+    use std::path::Path;
 
     /// One member of a WGSL struct: name, byte offset, byte size.
     #[derive(Clone, Debug, PartialEq, Eq)]
@@ -131,7 +130,7 @@ pub mod wgsl_layout {
     /// A `var<uniform>` (or `var<storage>`) of a shader whose type is a struct.
     #[derive(Clone, Debug, PartialEq, Eq)]
     pub struct Block {
-        /// Shader file name (an entry of [`shaders::ALL`]).
+        /// Shader file name (the [`ShaderFile::name`] of an entry of the list searched).
         pub shader: &'static str,
         /// Variable name.
         pub variable: String,
@@ -146,20 +145,20 @@ pub mod wgsl_layout {
     }
 
     /// Every struct-typed uniform and storage variable (storage arrays of structs count
-    /// by their element) of every shader in [`shaders::ALL`], as naga lays them out.
+    /// by their element) of every composed shader in `shaders`, as naga lays them out.
     ///
     /// # Errors
     /// A parse or layout error, naming the shader.
-    pub fn blocks() -> Result<Vec<Block>, String> {
+    pub fn blocks(shaders: &[ShaderFile]) -> Result<Vec<Block>, String> {
         let mut out = Vec::new();
-        for entry in shaders::ALL {
-            let source = shaders::full_source(entry);
+        for entry in shaders {
+            let source = entry.full_source();
             let module = naga::front::wgsl::parse_str(&source)
-                .map_err(|e| format!("{}: {}", entry.0, e.emit_to_string(&source)))?;
+                .map_err(|e| format!("{}: {}", entry.name, e.emit_to_string(&source)))?;
             let mut layouter = naga::proc::Layouter::default();
             layouter
                 .update(module.to_ctx())
-                .map_err(|e| format!("{}: layout: {e}", entry.0))?;
+                .map_err(|e| format!("{}: layout: {e}", entry.name))?;
             for (_, var) in module.global_variables.iter() {
                 let uniform = match var.space {
                     naga::AddressSpace::Uniform => true,
@@ -174,7 +173,7 @@ pub mod wgsl_layout {
                     continue;
                 };
                 out.push(Block {
-                    shader: entry.0,
+                    shader: entry.name,
                     variable: var.name.clone().unwrap_or_default(),
                     uniform,
                     struct_name: module.types[ty].name.clone().unwrap_or_default(),
@@ -193,21 +192,25 @@ pub mod wgsl_layout {
         Ok(out)
     }
 
-    /// Compares WGSL struct `wgsl_struct`, in every shader that binds it, with a Rust
-    /// struct of `rust_size` bytes whose fields, in order, are `rust_fields`
+    /// Compares WGSL struct `wgsl_struct`, in every shader of `shaders` that binds it,
+    /// with a Rust struct of `rust_size` bytes whose fields, in order, are `rust_fields`
     /// (`(WGSL member name, offset_of!)`). Returns how many blocks were compared.
     ///
     /// # Errors
     /// Every difference (size, member names, offsets, a member running past the next),
     /// or no shader binding the struct at all.
     pub fn check(
+        shaders: &[ShaderFile],
         wgsl_struct: &str,
         rust_size: usize,
         rust_fields: &[(&str, usize)],
     ) -> Result<usize, String> {
         let mut problems = Vec::new();
         let mut checked = 0;
-        for b in blocks()?.iter().filter(|b| b.struct_name == wgsl_struct) {
+        for b in blocks(shaders)?
+            .iter()
+            .filter(|b| b.struct_name == wgsl_struct)
+        {
             checked += 1;
             let at = format!("{wgsl_struct} ({} in {})", b.variable, b.shader);
             if b.size as usize != rust_size {
@@ -247,20 +250,120 @@ pub mod wgsl_layout {
             Err(problems.join("\n"))
         }
     }
+
+    /// Checks that `shaders` names exactly the `.wgsl` files of directory `dir` (a crate's
+    /// `shaders/`) and that every composed shader parses and validates with naga. Returns
+    /// how many shaders validated.
+    ///
+    /// # Errors
+    /// Every problem at once: a file not listed, an entry without its file, a parse or
+    /// validation error (with naga's report), or an unreadable or empty directory.
+    pub fn validate_dir(dir: &Path, shaders: &[ShaderFile]) -> Result<usize, String> {
+        let mut failures = Vec::new();
+        let mut on_disk: Vec<String> = std::fs::read_dir(dir)
+            .map_err(|e| format!("cannot read {}: {e}", dir.display()))?
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".wgsl"))
+            .collect();
+        on_disk.sort();
+        if on_disk.is_empty() {
+            return Err(format!("no shader files found in {}", dir.display()));
+        }
+        for name in &on_disk {
+            if !shaders.iter().any(|e| e.name == name) {
+                failures.push(format!("{name}: not listed in the crate's shaders::ALL"));
+            }
+        }
+        for entry in shaders {
+            let name = entry.name;
+            if !on_disk.iter().any(|f| f == name) {
+                failures.push(format!(
+                    "{name}: listed in shaders::ALL but not in {}",
+                    dir.display()
+                ));
+            }
+            let source = entry.full_source();
+            let module = match naga::front::wgsl::parse_str(&source) {
+                Ok(m) => m,
+                Err(e) => {
+                    failures.push(format!(
+                        "{name}: parse error:\n{}",
+                        e.emit_to_string(&source)
+                    ));
+                    continue;
+                }
+            };
+            let mut validator = naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::default(),
+            );
+            if let Err(e) = validator.validate(&module) {
+                failures.push(format!(
+                    "{name}: validation error:\n{}",
+                    e.emit_to_string(&source)
+                ));
+            }
+        }
+        if failures.is_empty() {
+            Ok(shaders.len())
+        } else {
+            Err(format!(
+                "{} shader problem(s):\n{}",
+                failures.len(),
+                failures.join("\n\n")
+            ))
+        }
+    }
+
+    /// Checks that every struct bound as `var<uniform>` or `var<storage>` in `shaders` is
+    /// named in `covered` (the structs whose Rust twins have an [`assert_wgsl_layout!`]
+    /// test), and that every name in `covered` is still bound somewhere. Returns the number
+    /// of uniform blocks.
+    ///
+    /// [`assert_wgsl_layout!`]: crate::assert_wgsl_layout
+    ///
+    /// # Errors
+    /// The structs without a layout test, or the covered names no shader binds.
+    pub fn check_coverage(shaders: &[ShaderFile], covered: &[&str]) -> Result<usize, String> {
+        let blocks = blocks(shaders)?;
+        let mut problems: Vec<String> = blocks
+            .iter()
+            .filter(|b| !covered.contains(&b.struct_name.as_str()))
+            .map(|b| {
+                format!(
+                    "bound struct without a layout test: {} ({} in {})",
+                    b.struct_name, b.variable, b.shader
+                )
+            })
+            .collect();
+        problems.dedup();
+        for name in covered {
+            if !blocks.iter().any(|b| b.struct_name == *name) {
+                problems.push(format!("{name} is no longer bound by any shader"));
+            }
+        }
+        if problems.is_empty() {
+            Ok(blocks.iter().filter(|b| b.uniform).count())
+        } else {
+            Err(problems.join("\n"))
+        }
+    }
 }
 
 /// Asserts that Rust struct `$ty` has the layout of WGSL struct `$wgsl` in every shader
-/// that binds it: same size, the listed fields are the WGSL members in order (same names)
-/// at the same offsets. Needs the `wgsl-layout` feature of `npr-gpu` (a test-only helper).
+/// of the list `$shaders` (`&[ShaderFile]`, composed) that binds it: same size, the listed
+/// fields are the WGSL members in order (same names) at the same offsets. Needs the
+/// `test-support` feature of `npr-gpu` (a test-only helper).
 ///
 /// ```text
-/// npr_gpu::assert_wgsl_layout!(FrameUniforms, "Frame", [clip_from_world, eye_world]);
+/// npr_gpu::assert_wgsl_layout!(npr_gpu::shaders::ALL, FrameUniforms, "Frame", [clip_from_world, eye_world]);
 /// ```
-#[cfg(any(test, feature = "wgsl-layout"))]
 #[macro_export]
 macro_rules! assert_wgsl_layout {
-    ($ty:ty, $wgsl:expr, [$($field:ident),* $(,)?]) => {
+    ($shaders:expr, $ty:ty, $wgsl:expr, [$($field:ident),* $(,)?]) => {
         match $crate::testing::wgsl_layout::check(
+            $shaders,
             $wgsl,
             ::std::mem::size_of::<$ty>(),
             &[$((stringify!($field), ::std::mem::offset_of!($ty, $field))),*],
@@ -288,68 +391,27 @@ mod tests {
         assert_eq!(no_adapter_action(None, Some("1")), NoAdapter::Fail);
     }
 
-    /// Every struct bound as `var<uniform>` or `var<storage>` in any shader, and the test
-    /// that compares it with its Rust twin: a new block fails here until it has one.
+    /// Every struct bound as `var<uniform>` or `var<storage>` in this crate's shaders has
+    /// a layout test (the technique crates check theirs the same way).
     #[test]
     fn every_bound_struct_has_a_layout_test() {
-        let covered = [
-            ("Frame", "npr-gpu uniforms::tests::layouts_match_wgsl"),
-            ("Object", "npr-gpu uniforms::tests::layouts_match_wgsl"),
-            (
-                "Hatch",
-                "npr-hatching params::tests::uniform_layout_matches_wgsl",
-            ),
-            (
-                "Scene",
-                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
-            ),
-            (
-                "Projector",
-                "npr-specular pass::tests::projector_layout_matches_wgsl",
-            ),
-            ("WarpObject", "npr-warp pass::tests (assert_wgsl_layout!)"),
-            (
-                "Anchor",
-                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
-            ),
-            (
-                "Coherence",
-                "npr-hatching scene::tests::scene_uniforms_match_wgsl",
-            ),
-            (
-                "OutlineCamera",
-                "npr-gpu outline::tests::uniform_layouts_match_wgsl",
-            ),
-            (
-                "OutlineParams",
-                "npr-gpu outline::tests::uniform_layouts_match_wgsl",
-            ),
-        ];
-        let blocks = wgsl_layout::blocks().unwrap();
-        let mut missing: Vec<String> = blocks
-            .iter()
-            .filter(|b| !covered.iter().any(|c| c.0 == b.struct_name))
-            .map(|b| format!("{} ({} in {})", b.struct_name, b.variable, b.shader))
-            .collect();
-        missing.dedup();
-        assert!(
-            missing.is_empty(),
-            "bound structs without a layout test: {missing:?}"
-        );
-        for (name, _) in covered {
-            assert!(
-                blocks.iter().any(|b| b.struct_name == name),
-                "{name} is no longer bound by any shader"
-            );
-        }
-        assert!(blocks.iter().filter(|b| b.uniform).count() >= 8);
+        // Frame, Object: uniforms::tests::layouts_match_wgsl; OutlineCamera, OutlineParams:
+        // outline::tests::uniform_layouts_match_wgsl.
+        let covered = ["Frame", "Object", "OutlineCamera", "OutlineParams"];
+        let uniforms = wgsl_layout::check_coverage(crate::shaders::ALL, &covered).unwrap();
+        assert!(uniforms >= 4, "{uniforms} uniform blocks");
     }
 
     #[test]
     fn a_wrong_layout_is_reported() {
         // Same size, members swapped: must fail, naming the offsets.
-        let e = wgsl_layout::check("Frame", 128, &[("clip_from_world", 0), ("eye_world", 80)])
-            .unwrap_err();
+        let e = wgsl_layout::check(
+            crate::shaders::ALL,
+            "Frame",
+            128,
+            &[("clip_from_world", 0), ("eye_world", 80)],
+        )
+        .unwrap_err();
         assert!(e.contains("members"), "{e}");
         let fields = [
             ("clip_from_world", 0),
@@ -358,12 +420,12 @@ mod tests {
             ("light_color", 80),
             ("ambient", 112),
         ];
-        let e = wgsl_layout::check("Frame", 128, &fields).unwrap_err();
+        let e = wgsl_layout::check(crate::shaders::ALL, "Frame", 128, &fields).unwrap_err();
         assert!(
             e.contains("light_world: WGSL offset 80 != Rust offset 96"),
             "{e}"
         );
-        assert!(wgsl_layout::check("NoSuchStruct", 16, &[]).is_err());
+        assert!(wgsl_layout::check(crate::shaders::ALL, "NoSuchStruct", 16, &[]).is_err());
     }
 
     #[test]

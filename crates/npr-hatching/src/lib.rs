@@ -30,7 +30,8 @@
 //!   per-pixel *surface anchors*, where the pixel's surface point was on the screen at two
 //!   reference views re-taken in turn and cross-faded ([`ScenePasses::anchor_period`]);
 //!   Eq. (1) rotates those instead of the pixel position, so strokes move with the
-//!   surface while their screen-space density stays the paper's. [`coherence`] holds the
+//!   surface while their screen-space density stays the paper's. `coherence` (feature
+//!   `test-support`) holds the
 //!   measurements (`cargo xtask bench hatching-coherence`).
 //!
 //! Passes record into the caller's `wgpu::CommandEncoder` and views; only the helpers
@@ -50,6 +51,7 @@
 //! ```
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
+#[cfg(any(test, feature = "test-support"))]
 pub mod coherence;
 pub mod directions;
 mod error;
@@ -59,6 +61,7 @@ pub mod params;
 pub mod pass;
 pub mod reference;
 pub mod scene;
+pub mod shaders;
 pub mod tam;
 
 pub use directions::{DirectionSource, StrokeDirection, principal_directions, stroke_directions};

@@ -111,6 +111,9 @@ impl Default for StrokeLength {
 }
 
 /// Parameters of the hatching pass.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HatchParams {
     /// Number of direction bins over [0, π), 12..=24 (Eq. (1), §3.1); Δθ = π / bins.
@@ -268,6 +271,7 @@ mod tests {
     fn uniform_layout_matches_wgsl() {
         // Size and member offsets read from `hatching.wgsl` by naga.
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             HatchUniforms,
             "Hatch",
             [bins, ink, paper, tone, config, space, length]

@@ -27,6 +27,9 @@ const TEXEL_BYTES: u32 = 16;
 /// and depth buffer ([`npr_gpu::DEPTH_FORMAT`]), written by
 /// [`crate::ScenePasses::record_gbuffer`] or uploaded from CPU images with
 /// [`GBuffer::from_inputs`].
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct GBuffer {
     /// The [`GBUFFER_FORMAT`] texture (render attachment, texture binding, copy
@@ -100,6 +103,9 @@ impl GBuffer {
     /// Overwrites the G-buffer with `inputs` (which must have its size; a different size
     /// writes the overlapping part only). Inputs without anchors get each pixel's centre
     /// as both anchors ([`crate::Anchor::fixed`]): they hatch as in screen space.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn write(&self, queue: &wgpu::Queue, inputs: &HatchInputs) {
         let width = inputs.width().min(self.width());
         let height = inputs.height().min(self.height());
@@ -215,6 +221,9 @@ impl GBuffer {
 /// once per device, map and target format; bind a G-buffer with [`HatchPass::bind`];
 /// record with [`HatchPass::record`] (own render pass) or [`HatchPass::draw`] (into the
 /// caller's pass).
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct HatchPass {
     /// Variants by (surface space, short strokes): index `2·surface + short`.
@@ -242,7 +251,7 @@ impl HatchPass {
         let u = HatchUniforms::new(params, tam)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("hatching.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::HATCHING.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::HATCHING.full_source().into()),
         });
         use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
         let texture_entry = |binding, view_dimension| {
@@ -324,6 +333,9 @@ impl HatchPass {
     ///
     /// # Errors
     /// [`HatchError::InvalidParams`]; the previous parameters stay in force.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn set_params(
         &mut self,
         queue: &wgpu::Queue,
@@ -397,6 +409,9 @@ impl HatchPass {
 
     /// Records the full-screen hatching draw into the caller's render pass (whose colour
     /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
         let surface = self.params.space == crate::StrokeSpace::Surface;
         let short = self.params.stroke_length.is_some();

@@ -82,7 +82,7 @@ impl CpuHatcher {
                 *v = src.get(s * area + t).copied().unwrap_or(0);
             }
         }
-        let q = |c: f32| (npr_gpu::reference::linear_to_srgb(c) * 255.0).round() as u8;
+        let q = |c: f32| (npr_gpu::color::linear_to_srgb(c) * 255.0).round() as u8;
         let lut = (0..LUT_SIZE)
             .map(|i| {
                 let c = i as f32 / (LUT_SIZE - 1) as f32;

@@ -274,13 +274,11 @@ impl ScenePasses {
         }
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("hatching_scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                npr_gpu::shaders::compose(npr_gpu::shaders::HATCHING_SCENE).into(),
-            ),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::HATCHING_SCENE.full_source().into()),
         });
         let blur_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("vsm_blur.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::VSM_BLUR.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::VSM_BLUR.full_source().into()),
         });
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching frame"),
@@ -881,16 +879,23 @@ mod tests {
     fn scene_uniforms_match_wgsl() {
         // Size and member offsets read from `hatching_scene.wgsl` by naga.
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             SceneUniforms,
             "Scene",
             [light_clip_from_world, light_pos, spot, vsm, viewport]
         );
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             AnchorUniforms,
             "Anchor",
             [clip_from_world, world_from_object]
         );
-        npr_gpu::assert_wgsl_layout!(CoherenceUniforms, "Coherence", [weights]);
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            CoherenceUniforms,
+            "Coherence",
+            [weights]
+        );
     }
 
     #[test]

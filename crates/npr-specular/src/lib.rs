@@ -7,18 +7,22 @@
 //! the region `N·H ≥ σ` measured on the mesh (default, [`region`]) or by the principal
 //! curvatures (Eq. (8), [`HighlightSizing::Paper`]), user controls (§3.4), visibility by
 //! breadth-first search (§4.2), a highlight pass over any base shading (§5, Eq. (9)), and
-//! the measurement of how well the highlights cover that region ([`fidelity`]).
+//! the measurement of how well the highlights cover that region (`fidelity`, behind the
+//! `test-support` feature).
 //!
 //! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
 //! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded
 //! into the caller's render pass after the base shading).
 
 mod error;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fidelity;
 pub mod pass;
 pub mod projector;
 pub mod region;
 pub mod set;
+pub mod shaders;
+#[cfg(any(test, feature = "test-support"))]
 pub mod snapshot;
 pub mod textures;
 pub mod visibility;

@@ -1,6 +1,6 @@
 //! The highlight render pass (§5 of the specular paper): draws every highlight's
 //! receiver triangles with its projected texture, alpha-blended over any base shading,
-//! in one draw call. WGSL: `shaders/specular_highlight.wgsl`.
+//! in one draw call. WGSL: `shaders/specular_highlight.wgsl` ([`crate::shaders`]).
 //!
 //! Use: draw the base shading into a colour + depth target, then, in the same render pass
 //! (or a later one that loads that depth), call [`HighlightPass::draw`]. The pass tests
@@ -9,7 +9,7 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
-use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout, shaders};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout};
 use wgpu::util::DeviceExt;
 
 /// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
@@ -31,6 +31,9 @@ pub struct ProjectorGpu {
 }
 
 /// What [`HighlightPass::prepare`] uploads for one frame.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInput<'a> {
     /// The mesh on the GPU (its vertex buffer is read as storage).
@@ -83,6 +86,9 @@ pub struct HighlightDraw {
 }
 
 /// The highlight pipeline and its texture array. Create once per device and formats.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct HighlightPass {
     pipeline: wgpu::RenderPipeline,
@@ -201,7 +207,9 @@ impl HighlightPass {
         });
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("specular_highlight.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shaders::compose(shaders::SPECULAR_HIGHLIGHT).into()),
+            source: wgpu::ShaderSource::Wgsl(
+                crate::shaders::SPECULAR_HIGHLIGHT.full_source().into(),
+            ),
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("npr highlight"),
@@ -388,6 +396,9 @@ impl HighlightPass {
 
     /// Uploads this frame's camera/light, object transform, projectors and draw list
     /// (growing the buffers when needed).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn prepare(
         &self,
         device: &wgpu::Device,
@@ -439,6 +450,9 @@ impl HighlightPass {
 
     /// Records the highlight draw (one call for all highlights) into the caller's render
     /// pass, which must have the base shading's depth attachment.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draw: &HighlightDraw) {
         if draw.vertex_count == 0 {
             return;
@@ -484,6 +498,7 @@ mod tests {
     fn projector_layout_matches_wgsl() {
         // Size and member offsets of the storage array's element, read by naga.
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             ProjectorGpu,
             "Projector",
             [tex_from_world, axis_u, axis_v, normal, tint, params]

@@ -27,6 +27,9 @@ pub enum UpAxis {
 }
 
 /// The §3.4 controls of one projector. They change the projector only, never the mesh.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ProjectorControls {
     /// Translation of the projector along (`e_max`, `e_min`), in world units.

@@ -91,6 +91,9 @@ pub enum HighlightSizing {
 }
 
 /// Highlights of one mesh. See the module docs.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct HighlightSet {
     topology: Topology,
@@ -216,6 +219,7 @@ impl HighlightSet {
     }
 
     /// The current highlights, for this crate's measurements (e.g. per-highlight tints).
+    #[cfg(any(test, feature = "test-support"))]
     pub(crate) fn highlights_mut(&mut self) -> &mut [Highlight] {
         &mut self.highlights
     }
@@ -239,6 +243,9 @@ impl HighlightSet {
     /// Per-frame update (§3): the N = H search, matching with the previous frame, fades,
     /// merging, projectors (Eq. (7)–(8)) and receiver faces (§4.2). Non-finite or zero
     /// light/eye input yields no highlights rather than NaN.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
         let valid_input = match light_eye {
             LightEye::Directions { to_light, to_eye } => {

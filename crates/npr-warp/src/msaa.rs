@@ -280,7 +280,7 @@ impl DepthResolve {
     pub(crate) fn new(device: &wgpu::Device, depth_format: wgpu::TextureFormat) -> Self {
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("warp.wgsl depth resolve"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::WARP.full_source().into()),
         });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr-warp depth resolve"),

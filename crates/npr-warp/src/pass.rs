@@ -55,6 +55,9 @@ pub enum WarpMode {
 }
 
 /// Settings of one warped object.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WarpSettings {
     /// §3.3.2–§3.3.3 decisions.
@@ -203,6 +206,9 @@ impl WarpObject {
 }
 
 /// The warp pipelines. Create once per device; record with [`WarpPass::draw`].
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct WarpPass {
     single: [wgpu::RenderPipeline; 2],
@@ -257,7 +263,7 @@ impl WarpPass {
         check_formats(color_format, depth_format)?;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("warp.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(npr_gpu::shaders::WARP.into()),
+            source: wgpu::ShaderSource::Wgsl(crate::shaders::WARP.full_source().into()),
         });
         use npr_gpu::layout::{
             FILTERABLE, sampler_entry, storage_entry, texture_entry, uniform_entry,
@@ -490,6 +496,9 @@ impl WarpPass {
     /// weights: the object drawn at `now` (its own camera and pose) with the reference
     /// pair's images, `s ∈ [0, 1]` the frame's position between the two references.
     /// Returns the plan to pass to [`WarpPass::draw`].
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
@@ -540,6 +549,9 @@ impl WarpPass {
 
     /// Records the draws of `plan` for `object` into the caller's pass (targets of the
     /// formats given to [`WarpPass::new`]).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
@@ -651,6 +663,7 @@ mod tests {
     #[test]
     fn uniform_block_matches_wgsl_layout() {
         npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             WarpObjectUniforms,
             "WarpObject",
             [

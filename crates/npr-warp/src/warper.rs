@@ -13,6 +13,9 @@ use crate::{Proxy, WarpError};
 pub const WARPER_BINS: u32 = 16;
 
 /// Two reference slots, one proxy and the warp pass: the state an application keeps.
+///
+/// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+/// own renderer.
 #[derive(Debug)]
 pub struct Warper {
     /// The warp settings (§3.3.2–§3.3.3 plan, tolerances).
@@ -148,6 +151,9 @@ impl Warper {
     /// # Errors
     /// [`WarpError::SampleCountMismatch`], recording nothing and keeping the references,
     /// when `base` is not built for the warper's antialiasing ([`BasePass::sample_count`]).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn record_reference(
         &mut self,
         device: &wgpu::Device,
@@ -213,6 +219,9 @@ impl Warper {
     /// Records the warp of the current references to `pose` at position `s` between them
     /// (see [`Warper::position`]) into the caller's render pass (targets of the formats
     /// given to [`Warper::new`]). `None`, drawing nothing, before the first reference.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn draw(
         &self,
         queue: &wgpu::Queue,
@@ -236,6 +245,9 @@ impl Warper {
     /// # Errors
     /// [`WarpError::SampleCountMismatch`] (recording nothing) for a multisampled `color`,
     /// or a multisampled `depth` when the warp draws into it.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
     pub fn record_warp(
         &self,
         queue: &wgpu::Queue,

@@ -3,7 +3,8 @@
 // (Saito & Takahashi, "Comprehensible Rendering of 3-D Shapes", SIGGRAPH 1990; Decaudin,
 // "Cartoon-looking rendering of 3D scenes", INRIA RR-2919, 1996), composited over the
 // caller's colour target. The CPU twin is `npr_gpu::outline::outline_mask_cpu`: change
-// both together. Prepended with `common.wgsl` (for `Object`).
+// both together. Prepended with `common.wgsl` (for `Object`) and
+// `fullscreen.wgsl` (the composite's vertex stage).
 
 // ---- Prepass: view-space normal (rgb) and linear view depth (a; 0 = background). ----
 
@@ -103,18 +104,7 @@ fn is_edge(p: vec2<i32>, size: vec2<i32>) -> bool {
     return false;
 }
 
-struct FullscreenOut {
-    @builtin(position) clip: vec4<f32>,
-};
-
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
-    // One triangle covering the screen.
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    var out: FullscreenOut;
-    out.clip = vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
-    return out;
-}
+// The composite: `vs_fullscreen` and `FullscreenOut` come from `fullscreen.wgsl`.
 
 @fragment
 fn fs_outline(in: FullscreenOut) -> @location(0) vec4<f32> {

@@ -8,7 +8,7 @@
 // the two are blended per normal bin (§3.3.3). The reference depth test is ours: the
 // paper's §3.4 leaves surfaces hidden by other polygons in the reference as open.
 //
-// Standalone (does not use common.wgsl). Mirrored on the CPU by `npr_warp::pass` (uniform
+// Composed after npr-gpu's `fullscreen.wgsl` only (it does not use common.wgsl). Mirrored on the CPU by `npr_warp::pass` (uniform
 // layout `WarpObjectUniforms`) and `npr_warp::bins` (the per-bin weights).
 
 struct WarpObject {
@@ -449,11 +449,8 @@ fn fs_fill(in: WarpOut) -> @location(0) vec4<f32> {
 // writing `frag_depth` into the single-sample reference depth (compare always).
 @group(0) @binding(5) var resolve_depth_ms: texture_depth_multisampled_2d;
 
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    let p = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    return vec4<f32>(p * 2.0 - 1.0, 0.0, 1.0);
-}
+// The vertex stage is `vs_fullscreen` of npr-gpu's `fullscreen.wgsl`, composed before
+// this file.
 
 @fragment
 fn fs_resolve_depth(@builtin(position) frag: vec4<f32>) -> @builtin(frag_depth) f32 {

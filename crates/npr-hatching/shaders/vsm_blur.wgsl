@@ -5,18 +5,7 @@
 
 @group(0) @binding(0) var blur_source: texture_2d<f32>;
 
-struct FullscreenOut {
-    @builtin(position) clip: vec4<f32>,
-};
-
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
-    let x = f32(i32(i & 1u) * 4 - 1);
-    let y = f32(i32(i >> 1u) * 4 - 1);
-    var out: FullscreenOut;
-    out.clip = vec4<f32>(x, y, 0.0, 1.0);
-    return out;
-}
+// `vs_fullscreen` and `FullscreenOut`: npr-gpu's `fullscreen.wgsl`, composed before this file.
 
 fn blur(p: vec2<i32>, step: vec2<i32>) -> vec4<f32> {
     let size = vec2<i32>(textureDimensions(blur_source));

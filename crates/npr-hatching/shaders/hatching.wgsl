@@ -41,19 +41,7 @@ override SHORT_STROKES: bool = false;
 // The surface anchors: xy = anchor 0, zw = anchor 1 (pixels at two reference views).
 @group(0) @binding(3) var anchors: texture_2d<f32>;
 
-struct FullscreenOut {
-    @builtin(position) clip: vec4<f32>,
-};
-
-// One triangle covering the screen.
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
-    let x = f32(i32(i & 1u) * 4 - 1);
-    let y = f32(i32(i >> 1u) * 4 - 1);
-    var out: FullscreenOut;
-    out.clip = vec4<f32>(x, y, 0.0, 1.0);
-    return out;
-}
+// `vs_fullscreen` and `FullscreenOut`: npr-gpu's `fullscreen.wgsl`, composed before this file.
 
 // f(u_k, v_k) of Eq. (2): the pixel (x, y) rotated by theta_k (Eq. (1), §3.1), read from
 // the map nearest with wrap-around, blended between slices `slice` and `slice + 1` by `a`.

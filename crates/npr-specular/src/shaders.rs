@@ -1,0 +1,16 @@
+//! The WGSL of this crate, embedded at compile time from its own `shaders/` directory and
+//! composed with the shared snippets of [`npr_gpu::shaders`]. The passes compile
+//! [`ShaderFile::full_source`]; the naga validation and uniform-layout tests read the same
+//! text.
+
+use npr_gpu::shaders::{COMMON, ShaderFile};
+
+/// The highlight pass (Eq. (9), §5), after `common.wgsl`.
+pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
+    name: "specular_highlight.wgsl",
+    source: include_str!("../shaders/specular_highlight.wgsl"),
+    prelude: &[COMMON],
+};
+
+/// Every shader file of this crate.
+pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT];

@@ -1,0 +1,26 @@
+//! Every `.wgsl` file under this crate's `shaders/` is listed in `npr_warp::shaders::ALL`,
+//! and every entry, composed with its shared npr-gpu snippets, parses and validates with
+//! naga; every struct the shaders bind has a uniform-layout test. All failures are
+//! reported at once; no GPU needed.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use npr_gpu::testing::wgsl_layout::{check_coverage, validate_dir};
+use std::path::Path;
+
+#[test]
+fn every_shader_file_is_embedded_and_validates() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let n = validate_dir(&dir, npr_warp::shaders::ALL).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(n, npr_warp::shaders::ALL.len());
+}
+
+/// The structs bound as `var<uniform>` or `var<storage>` and the unit tests that compare
+/// each with its Rust twin (`npr_gpu::assert_wgsl_layout!`): a new block fails here until
+/// it has one.
+#[test]
+fn every_bound_struct_has_a_layout_test() {
+    let covered = ["WarpObject"];
+    let uniforms =
+        check_coverage(npr_warp::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));
+    assert!(uniforms >= 1, "{uniforms} uniform blocks");
+}
