@@ -316,6 +316,35 @@ pub mod wgsl_layout {
         }
     }
 
+    /// Checks npr-gpu's shared `Frame` and `Object` blocks (`COMMON`), in every shader of
+    /// `shaders` that binds them, against [`crate::FrameUniforms`] and
+    /// [`crate::ObjectUniforms`]; returns how many `Frame` and `Object` blocks it compared.
+    ///
+    /// # Panics
+    /// On the first mismatch, naming the struct and the shader.
+    pub fn shared_blocks(shaders: &[ShaderFile]) -> (usize, usize) {
+        use crate::{FrameUniforms, ObjectUniforms};
+        let frames = crate::assert_wgsl_layout!(
+            shaders,
+            FrameUniforms,
+            "Frame",
+            [
+                clip_from_world,
+                eye_world,
+                light_world,
+                light_color,
+                ambient
+            ]
+        );
+        let objects = crate::assert_wgsl_layout!(
+            shaders,
+            ObjectUniforms,
+            "Object",
+            [world_from_object, normal_from_object, diffuse, specular]
+        );
+        (frames, objects)
+    }
+
     /// Checks that every struct bound as `var<uniform>` or `var<storage>` in `shaders` is
     /// named in `covered` (the structs whose Rust twins have an [`assert_wgsl_layout!`]
     /// test), and that every name in `covered` is still bound somewhere. Returns the number

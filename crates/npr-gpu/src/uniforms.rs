@@ -81,24 +81,7 @@ mod tests {
     #[test]
     fn layouts_match_wgsl() {
         // Sizes and member offsets read from every shader that binds the structs.
-        let frames = crate::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            FrameUniforms,
-            "Frame",
-            [
-                clip_from_world,
-                eye_world,
-                light_world,
-                light_color,
-                ambient
-            ]
-        );
-        let objects = crate::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            ObjectUniforms,
-            "Object",
-            [world_from_object, normal_from_object, diffuse, specular]
-        );
+        let (frames, objects) = crate::testing::wgsl_layout::shared_blocks(crate::shaders::ALL);
         assert!(frames >= 1 && objects >= 2, "{frames} / {objects} blocks");
     }
 

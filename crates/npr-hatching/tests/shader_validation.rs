@@ -29,24 +29,7 @@ fn every_bound_struct_has_a_layout_test() {
 /// their Rust twins (npr-gpu checks its own shaders).
 #[test]
 fn shared_blocks_match_their_rust_twins_in_the_composed_shaders() {
-    use npr_gpu::{FrameUniforms, ObjectUniforms};
-    let frames = npr_gpu::assert_wgsl_layout!(
-        npr_hatching::shaders::ALL,
-        FrameUniforms,
-        "Frame",
-        [
-            clip_from_world,
-            eye_world,
-            light_world,
-            light_color,
-            ambient
-        ]
-    );
-    let objects = npr_gpu::assert_wgsl_layout!(
-        npr_hatching::shaders::ALL,
-        ObjectUniforms,
-        "Object",
-        [world_from_object, normal_from_object, diffuse, specular]
-    );
+    let (frames, objects) =
+        npr_gpu::testing::wgsl_layout::shared_blocks(npr_hatching::shaders::ALL);
     assert!(frames >= 1 && objects >= 1, "{frames} / {objects} blocks");
 }
