@@ -70,6 +70,7 @@ pub use frame::HatchFrame;
 pub use inputs::{Anchor, HatchInputs};
 pub use params::{
     BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeLength, StrokeSpace,
+    nearest_bin,
 };
 pub use pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
 pub use reference::{CpuHatcher, hatch_cpu};

@@ -196,6 +196,20 @@ impl HatchParams {
     }
 }
 
+/// The direction bin that Eq. (1) (§3.1) reads for a stroke angle: the `k` in
+/// `0..bins` whose `θ_k = k·Δθ` (`Δθ = π / bins`) is nearest `theta_rad`, as a line
+/// direction (θ and θ + π are the same bin, so angles just below π go to bin 0). The
+/// hatching pass and [`crate::CpuHatcher`] take this bin (and, blended, its neighbour);
+/// use it to show a G-buffer's bins. `bins` of 0 is taken as 1.
+pub fn nearest_bin(theta_rad: f32, bins: u32) -> u32 {
+    let n = bins.max(1);
+    let k = (theta_rad / (PI / n as f32) + 0.5).floor();
+    if !k.is_finite() {
+        return 0;
+    }
+    (k as i64).rem_euclid(i64::from(n)) as u32
+}
+
 /// Fewest direction bins (Eq. (1), §3.1: "12~24").
 pub const MIN_BINS: u32 = 12;
 /// Most direction bins.
@@ -266,6 +280,33 @@ impl HatchUniforms {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn nearest_bin_is_the_closest_line_direction() {
+        for bins in [1u32, 12, 18, 24] {
+            let dt = PI / bins as f32;
+            for i in 0..1000 {
+                let theta = PI * i as f32 / 1000.0;
+                let k = nearest_bin(theta, bins);
+                assert!(k < bins);
+                // The distance between lines (mod π) to θ_k is the least of all bins.
+                let line_dist = |a: f32| {
+                    let d = (theta - a).rem_euclid(PI);
+                    d.min(PI - d)
+                };
+                let best = (0..bins)
+                    .map(|j| line_dist(j as f32 * dt))
+                    .fold(f32::INFINITY, f32::min);
+                assert!(
+                    line_dist(k as f32 * dt) <= best + 1e-5,
+                    "θ {theta}, {bins} bins: bin {k}"
+                );
+            }
+        }
+        assert_eq!(nearest_bin(f32::NAN, 12), 0);
+        assert_eq!(nearest_bin(0.49 * PI / 12.0, 12), 0);
+        assert_eq!(nearest_bin(0.51 * PI / 12.0, 12), 1);
+    }
 
     #[test]
     fn uniform_layout_matches_wgsl() {
