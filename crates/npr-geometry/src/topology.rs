@@ -38,6 +38,15 @@ pub enum EdgeKind {
     NonManifold,
 }
 
+/// A [`Topology`] cut along its creases ([`Topology::split_creases`]).
+#[derive(Clone, Debug, Default)]
+pub struct CreaseSplit {
+    /// The split mesh: same faces, vertices copied once per fan between creases.
+    pub topology: Topology,
+    /// For each vertex of `topology`, the vertex it copies.
+    pub original: Vec<u32>,
+}
+
 /// Topology and per-element geometry of a welded triangle mesh.
 ///
 /// Never panics on bad input: degenerate triangles (zero area or a repeated vertex) get a
@@ -267,6 +276,120 @@ impl Topology {
             vertex_faces,
             face_adj_offsets,
             face_adj,
+        }
+    }
+
+    /// This mesh with every vertex split into one copy per fan of its faces that are
+    /// joined around it by edges bending by at most `crease_angle_deg` (|β(e)|), so the
+    /// creases become boundaries (issue 22: hatching must not smooth across them).
+    ///
+    /// Face order and winding are kept: corner `k` of face `f` of the result is a copy
+    /// of corner `k` of face `f` here. The copies of vertex `v` are numbered
+    /// consecutively in vertex order (an isolated vertex keeps one copy), so a mesh
+    /// without creases comes back with the same numbering. Edges with more than two
+    /// faces (non-manifold) never split; out-of-range corners stay out of range.
+    pub fn split_creases(&self, crease_angle_deg: f32) -> CreaseSplit {
+        let nv = self.vertex_count();
+        let limit = crease_angle_deg.to_radians();
+        let is_crease =
+            |e: usize| self.edge_faces(e).len() == 2 && !(self.dihedral[e].abs() <= limit);
+        if !(0..self.edges.len()).any(is_crease) {
+            return CreaseSplit {
+                topology: self.clone(),
+                original: (0..nv as u32).collect(),
+            };
+        }
+        // Union-find over face corners (3f + k): corners of the same vertex in faces
+        // joined across a non-crease edge belong together.
+        let nc = self.triangles.len() * 3;
+        let mut parent: Vec<u32> = (0..nc as u32).collect();
+        fn find(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        }
+        let union = |parent: &mut Vec<u32>, a: u32, b: u32| {
+            let (ra, rb) = (find(parent, a), find(parent, b));
+            if ra != rb {
+                parent[ra.max(rb) as usize] = ra.min(rb);
+            }
+        };
+        for (f, t) in self.triangles.iter().enumerate() {
+            // A repeated vertex within a face is one corner group.
+            for k in 0..3 {
+                for m in k + 1..3 {
+                    if t[k] == t[m] {
+                        union(&mut parent, (3 * f + k) as u32, (3 * f + m) as u32);
+                    }
+                }
+            }
+            for k in 0..3 {
+                let e = self.face_edges[f][k];
+                if e == NO_EDGE || is_crease(e as usize) {
+                    continue;
+                }
+                for &g in self.edge_faces(e as usize) {
+                    let g = g as usize;
+                    if g == f {
+                        continue;
+                    }
+                    let tg = self.triangles[g];
+                    for c in [k, (k + 1) % 3] {
+                        if let Some(cg) = tg.iter().position(|&v| v == t[c]) {
+                            union(&mut parent, (3 * f + c) as u32, (3 * g + cg) as u32);
+                        }
+                    }
+                }
+            }
+        }
+        // (vertex, group) pairs, numbered in vertex order.
+        let mut pairs: Vec<(u32, u32)> = Vec::with_capacity(nc + nv);
+        for (f, t) in self.triangles.iter().enumerate() {
+            for (k, &v) in t.iter().enumerate() {
+                if (v as usize) < nv {
+                    pairs.push((v, find(&mut parent, (3 * f + k) as u32)));
+                }
+            }
+        }
+        // Isolated vertices keep one copy (group u32::MAX sorts after any corner group,
+        // and is dropped for vertices that have corners).
+        pairs.extend((0..nv as u32).map(|v| (v, u32::MAX)));
+        pairs.sort_unstable();
+        pairs.dedup();
+        let pairs: Vec<(u32, u32)> = pairs
+            .iter()
+            .enumerate()
+            .filter(|&(i, &(v, g))| g != u32::MAX || i == 0 || pairs[i - 1].0 != v)
+            .map(|(_, &p)| p)
+            .collect();
+        let positions: Vec<Vec3> = pairs
+            .iter()
+            .map(|&(v, _)| self.positions[v as usize])
+            .collect();
+        let original: Vec<u32> = pairs.iter().map(|&(v, _)| v).collect();
+        let triangles: Vec<[u32; 3]> = self
+            .triangles
+            .iter()
+            .enumerate()
+            .map(|(f, t)| {
+                let mut out = [u32::MAX; 3];
+                for (k, &v) in t.iter().enumerate() {
+                    if (v as usize) < nv {
+                        let g = find(&mut parent, (3 * f + k) as u32);
+                        if let Ok(i) = pairs.binary_search(&(v, g)) {
+                            out[k] = i as u32;
+                        }
+                    }
+                }
+                out
+            })
+            .collect();
+        CreaseSplit {
+            topology: Topology::from_parts(positions, triangles),
+            original,
         }
     }
 
