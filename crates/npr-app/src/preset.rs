@@ -264,9 +264,14 @@ impl Default for SpecularPreset {
 #[serde(rename_all = "kebab-case")]
 pub enum DirectionPreset {
     /// The smooth line field fitted to the direction of maximum curvature (Knöppel et al.
-    /// 2013): strokes flow instead of following every bump of a scan.
+    /// 2013): strokes flow instead of following every bump of a scan. Cut at creases
+    /// (50°) and straight on flat faces (issue 22): a flat face joined smoothly to a
+    /// curved one carries its direction, one bounded by creases takes `up × n`
+    /// (`x × n` within 30° of facing up).
     #[default]
     Smooth,
+    /// The same field without the crease cuts and the flat-face rule (issue 11's).
+    SmoothCurvatureOnly,
     /// The raw direction of maximum curvature, vertex by vertex.
     KMax,
     /// The raw direction of minimum curvature, vertex by vertex.

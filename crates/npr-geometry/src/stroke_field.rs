@@ -949,7 +949,10 @@ pub fn planar_spreads_deg(
         .filter(|((_, w), _)| *w > 0.0)
         .map(|((z, w), &a)| {
             let r = (z.norm() / w).clamp(1e-300, 1.0);
-            ((-2.0 * r.ln()).sqrt().to_degrees() / 2.0, a)
+            (
+                ((-2.0 * r.ln()).max(0.0) + 0.0).sqrt().to_degrees() / 2.0,
+                a,
+            )
         })
         .collect()
 }

@@ -219,6 +219,15 @@ mod tests {
     }
 
     #[test]
+    fn the_field_cuts_creases_where_outlines_draw_them() {
+        // Issue 22: strokes turn exactly where a crease line is drawn.
+        assert_eq!(
+            StrokeFieldOptions::default().crease_angle_deg,
+            npr_gpu::outline::OutlineSettings::default().crease_angle_deg
+        );
+    }
+
+    #[test]
     fn umbilic_sphere_falls_back_to_parallels() {
         let mesh = generate::icosphere(3, 1.0);
         for source in [DirectionSource::Principal, DirectionSource::default()] {
