@@ -631,8 +631,8 @@ impl StrokeField {
         // A patch whose connected part of the mesh holds no curvature to follow (no free
         // vertex with a fit weight: a face bounded by creases) takes the planar rule.
         let mut anchored = vec![false; nu];
-        for i in 0..nv {
-            if weight[i] > 0.0 {
+        for (i, &s) in weight.iter().enumerate() {
+            if s > 0.0 {
                 let root = find(&mut component, i as u32) as usize;
                 anchored[root] = true;
             }

@@ -103,8 +103,8 @@ fn crease_split_cuts_only_creases() {
     assert_eq!(split.topology.vertex_count(), topo.vertex_count() + 2 * 16);
     assert_eq!(split.topology.triangles.len(), topo.triangles.len());
     for (f, t) in split.topology.triangles.iter().enumerate() {
-        for k in 0..3 {
-            assert_eq!(split.original[t[k] as usize], topo.triangles[f][k]);
+        for (k, &v) in t.iter().enumerate() {
+            assert_eq!(split.original[v as usize], topo.triangles[f][k]);
         }
     }
     // Above the crease angle nothing is cut, and the numbering is kept.
