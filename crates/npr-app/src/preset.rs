@@ -673,6 +673,26 @@ mod tests {
     }
 
     #[test]
+    fn every_direction_source_is_reachable_from_a_preset() {
+        // Issue 22: the hard-edge rules are the default, issue 11's field and the
+        // paper's raw directions stay one key away.
+        assert_eq!(HatchingPreset::default().direction, DirectionPreset::Smooth);
+        for (key, want) in [
+            ("smooth", DirectionPreset::Smooth),
+            (
+                "smooth-curvature-only",
+                DirectionPreset::SmoothCurvatureOnly,
+            ),
+            ("k-max", DirectionPreset::KMax),
+            ("k-min", DirectionPreset::KMin),
+        ] {
+            let text = format!("[hatching]\ndirection = \"{key}\"\n");
+            let p = Preset::from_toml(&text, Path::new("d")).unwrap();
+            assert_eq!(p.hatching.direction, want, "{key}");
+        }
+    }
+
+    #[test]
     fn partial_files_keep_defaults_and_typos_are_errors() {
         let p =
             Preset::from_toml("effect = \"cel\"\n[hatching]\nbins = 14\n", Path::new("a")).unwrap();
