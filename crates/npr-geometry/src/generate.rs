@@ -721,7 +721,7 @@ pub fn filleted_bracket(k: &Bracket) -> Mesh {
     mesh
 }
 
-/// The CAD test part of issue 22 (about 13,000 triangles): a block with a through-hole,
+/// The CAD test part of issue 22 (13,864 triangles): a block with a through-hole,
 /// a stepped shaft and a bent bracket side by side (three components), each with flat
 /// faces, cylinders or fillets, and 90° creases. Shown in the gallery and measured by
 /// `cargo xtask bench hatching-directions` and `hatching-coherence`.
