@@ -289,10 +289,69 @@ impl Topology {
     /// without creases comes back with the same numbering. Edges with more than two
     /// faces (non-manifold) never split; out-of-range corners stay out of range.
     pub fn split_creases(&self, crease_angle_deg: f32) -> CreaseSplit {
-        let nv = self.vertex_count();
+        self.split_creases_longer_than(crease_angle_deg, 0.0)
+    }
+
+    /// The crease edges of [`Topology::split_creases`] (two faces, `|β(e)|` above
+    /// `crease_angle_deg`) that belong to a crease line: a set of crease edges joined at
+    /// their vertices whose total length is at least `min_line_length`. Isolated sharp
+    /// edges of a noisy scan (a folded sliver, a spike) form short sets and are kept.
+    pub fn crease_edges(&self, crease_angle_deg: f32, min_line_length: f32) -> Vec<bool> {
         let limit = crease_angle_deg.to_radians();
-        let is_crease =
-            |e: usize| self.edge_faces(e).len() == 2 && !(self.dihedral[e].abs() <= limit);
+        let mut cut: Vec<bool> = (0..self.edges.len())
+            .map(|e| self.edge_faces(e).len() == 2 && !(self.dihedral[e].abs() <= limit))
+            .collect();
+        if !(min_line_length > 0.0) {
+            return cut;
+        }
+        // Components of crease edges through shared vertices, and their lengths.
+        let nv = self.vertex_count();
+        let mut parent: Vec<u32> = (0..nv as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                let up = parent[parent[x as usize] as usize];
+                parent[x as usize] = up;
+                x = up;
+            }
+            x
+        }
+        for (e, &[a, b]) in self.edges.iter().enumerate() {
+            if cut[e] {
+                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                if ra != rb {
+                    parent[ra.max(rb) as usize] = ra.min(rb);
+                }
+            }
+        }
+        let mut length = vec![0.0f64; nv];
+        for (e, &[a, b]) in self.edges.iter().enumerate() {
+            if cut[e] {
+                let r = root(&mut parent, a) as usize;
+                let l =
+                    f64::from((self.positions[b as usize] - self.positions[a as usize]).length());
+                if l.is_finite() {
+                    length[r] += l;
+                }
+            }
+        }
+        for (e, &[a, _]) in self.edges.iter().enumerate() {
+            if cut[e] && length[root(&mut parent, a) as usize] < f64::from(min_line_length) {
+                cut[e] = false;
+            }
+        }
+        cut
+    }
+
+    /// [`Topology::split_creases`] cutting only [`Topology::crease_edges`] with
+    /// `min_line_length`.
+    pub fn split_creases_longer_than(
+        &self,
+        crease_angle_deg: f32,
+        min_line_length: f32,
+    ) -> CreaseSplit {
+        let nv = self.vertex_count();
+        let cut = self.crease_edges(crease_angle_deg, min_line_length);
+        let is_crease = |e: usize| cut[e];
         if !(0..self.edges.len()).any(is_crease) {
             return CreaseSplit {
                 topology: self.clone(),

@@ -107,6 +107,17 @@ fn crease_split_cuts_only_creases() {
             assert_eq!(split.original[v as usize], topo.triangles[f][k]);
         }
     }
+    // Only lines at least as long as asked are cut: each rim is 2π long.
+    let count = |min: f32| topo.crease_edges(50.0, min).iter().filter(|&&c| c).count();
+    assert_eq!(count(0.0), 2 * 16);
+    assert_eq!(count(6.0), 2 * 16);
+    assert_eq!(count(6.5), 0);
+    assert_eq!(
+        topo.split_creases_longer_than(50.0, 6.5)
+            .topology
+            .vertex_count(),
+        topo.vertex_count()
+    );
     // Above the crease angle nothing is cut, and the numbering is kept.
     let whole = topo.split_creases(91.0);
     assert_eq!(whole.topology.triangles, topo.triangles);

@@ -200,3 +200,40 @@ fn an_unseen_organic_shape_keeps_a_smooth_curvature_field() {
     // No creases and no flat patch: the hard-edge rules change nothing here.
     assert_eq!(smooth, plain);
 }
+
+#[test]
+fn scans_keep_their_field() {
+    // The bunny's and Spot's few sharp edges are scan noise, not crease lines: the
+    // default field measures as the issue-11 field did (within 0.05 pp and 0.05°).
+    for name in ["stanford-bunny.obj", "spot.obj"] {
+        let path = format!(
+            "{}/../../fixtures/meshes/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let mesh = npr_geometry::load_obj(path).unwrap();
+        let (welded, topo, curvature) =
+            CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
+        let mut rep = vec![0usize; topo.vertex_count()];
+        for (v, &w) in welded.render_to_welded.iter().enumerate().rev() {
+            rep[w as usize] = v;
+        }
+        let stats = |source: &DirectionSource| {
+            let d = directions(&mesh, source);
+            let per_welded: Vec<Vec3> = rep.iter().map(|&v| d[v]).collect();
+            LineFieldStats::measure(&topo, &curvature, &per_welded, 30.0)
+        };
+        let new = stats(&DirectionSource::default());
+        let old = stats(&DirectionSource::Smooth(
+            StrokeFieldOptions::curvature_only(),
+        ));
+        eprintln!("{name}: {new:?}\n  issue 11: {old:?}");
+        assert!(
+            (new.jump_edge_share - old.jump_edge_share).abs() <= 5e-4,
+            "{name}"
+        );
+        assert!(
+            (new.aniso_dev_deg - old.aniso_dev_deg).abs() <= 0.05,
+            "{name}"
+        );
+    }
+}
