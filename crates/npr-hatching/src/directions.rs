@@ -9,7 +9,8 @@
 //!
 //! Hard-edged models (issue 22): by default the smooth field is cut along creases (edges
 //! bending by more than 50°, the outline's crease angle, so strokes turn where a crease
-//! line is drawn), and each flat patch gets one straight direction: the curvature field
+//! line is drawn; in lines at least a fifth of the mesh size long, so a scan's noise is
+//! not cut), and each flat patch gets one straight direction: the curvature field
 //! carried in where a curved surface joins it smoothly (a fillet), otherwise the planar
 //! rule `up × n` (`x × n` within 30° of facing up). Cylinders and cones keep the
 //! curvature direction (around them). [`StrokeFieldOptions::curvature_only`] is the
