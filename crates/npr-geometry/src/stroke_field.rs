@@ -32,6 +32,16 @@
 //! [`StrokeFieldOptions::min_smoothing_edges`] mean edge lengths. The anisotropy weight is
 //! `|κ_max − κ_min|` over κ̄ = the median of `|κ_max| + |κ_min|`: both scale as 1/length. So a
 //! uniformly scaled or refined mesh gives the same field.
+//!
+//! Hard edges (issue 22; SPEC §3 leaves the direction undefined where the principal
+//! directions are): [`StrokeField::for_mesh`] cuts the mesh along crease lines
+//! ([`StrokeFieldOptions::crease_angle_deg`]) before computing curvature and the field, so
+//! nothing is smoothed or averaged across a crease. In [`StrokeField::compute`] the
+//! vertices of each flat patch ([`planar_patches`], flat against the mesh's scale) share
+//! one unknown `z_P` in the patch's own tangent basis, so the patch is straight: where
+//! the patch's part of the mesh holds curvature to follow (a fillet joins it) the solve
+//! sets `z_P`; otherwise `z_P` is fixed to [`planar_direction`] and enters as a boundary
+//! value.
 
 use crate::{CreaseSplit, CurvatureField, CurvatureOptions, Mesh, Topology, Welded, weld};
 use glam::{DVec3, Vec3};
