@@ -392,6 +392,7 @@ pub fn run(
         &dir.join("hatching-directions-bunny.png"),
         &mut written,
     )?;
+    written.extend(cad_directions(ctx, dir, &pen)?);
 
     // Beyond §5: the paper's screen-space strokes against surface-anchored ones on a
     // turning object (issue 14), side by side.
@@ -408,6 +409,52 @@ pub fn run(
     save(
         &cpu,
         &dir.join("hatching-flow-cpu-pencil.png"),
+        &mut written,
+    )?;
+    Ok(written)
+}
+
+/// `hatching-directions-cad.png` (issue 22): the procedural CAD parts
+/// (`npr_geometry::generate::cad_parts`), pen with outlines, the paper's rule (raw
+/// principal directions) beside the default field (cut at creases, straight on flat
+/// faces), turned to show top and side faces.
+pub fn cad_directions(
+    ctx: &GpuContext,
+    dir: &Path,
+    pen: &TonalArtMap,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let cad = generate::cad_parts();
+    let mut tiles = Vec::new();
+    for source in [
+        npr_hatching::DirectionSource::Principal,
+        npr_hatching::DirectionSource::default(),
+    ] {
+        let (mut item, camera, light) = single("cad-parts", cad.clone());
+        item.directions = directions_from("cad-parts", &item.mesh, &source);
+        item.world_from_object =
+            Mat4::from_rotation_x(0.45) * Mat4::from_rotation_y(-0.5) * item.world_from_object;
+        let imgs = render(
+            ctx,
+            &[item],
+            &camera,
+            &light,
+            pen,
+            &[HatchParams::default()],
+            false,
+            Outlines::On,
+            (640, 480),
+        )?;
+        save(
+            &imgs[0],
+            &dir.join(format!("hatching-directions-cad-{}.png", source.name())),
+            &mut written,
+        )?;
+        tiles.extend(imgs);
+    }
+    save(
+        &sheet(&tiles, 2),
+        &dir.join("hatching-directions-cad.png"),
         &mut written,
     )?;
     Ok(written)
@@ -647,4 +694,37 @@ pub fn flow_inputs(w: u32, h: u32) -> anyhow::Result<HatchInputs> {
         }
     }
     Ok(HatchInputs::from_flow(w, h, &dir, &mag, 3.0)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The issue-22 gallery figure renders: both tiles have ink on the object, and the
+    /// default field's strokes differ from the paper's rule.
+    #[test]
+    fn cad_directions_figure_renders() {
+        let Some(ctx) = npr_gpu::testing::context_or_skip("cad_directions_figure_renders") else {
+            return;
+        };
+        let dir = std::env::temp_dir().join(format!("npr-cad-figure-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let pen = TonalArtMap::generate(&TamParams::pen()).unwrap();
+        let written = cad_directions(ctx, &dir, &pen).unwrap();
+        assert_eq!(written.len(), 3, "{written:?}");
+        let tile = |name: &str| image::open(dir.join(name)).unwrap().to_luma8();
+        let (raw, smooth) = (
+            tile("hatching-directions-cad-raw.png"),
+            tile("hatching-directions-cad-smooth.png"),
+        );
+        let dark = |im: &image::GrayImage| im.pixels().filter(|p| p.0[0] < 128).count();
+        assert!(dark(&raw) > 2000 && dark(&smooth) > 2000);
+        let differ = raw
+            .pixels()
+            .zip(smooth.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(differ > 2000, "{differ} pixels differ");
+        eprintln!("cad figure in {}", dir.display());
+    }
 }

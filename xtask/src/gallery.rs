@@ -331,6 +331,21 @@ pub fn figures() -> Vec<Figure> {
             .push(format!("hatching-directions-bunny-{}.png", source.name()));
     }
     out.push(dirs);
+    let mut cad = fig(
+        h,
+        "hatching-directions-cad.png",
+        None,
+        "Stroke directions on hard-edged CAD parts (issue 22; procedural: a block with a \
+         through-hole, a stepped shaft, a bent bracket), pen with outlines: (left) the \
+         paper's rule, raw principal directions; (right) our default, the smooth field cut \
+         at creases with one straight direction per flat face. `cargo xtask bench \
+         hatching-directions` measures both (planar_spread_deg, jump30_smooth_edge_share).",
+    );
+    for source in [DirectionSource::Principal, DirectionSource::default()] {
+        cad.parts
+            .push(format!("hatching-directions-cad-{}.png", source.name()));
+    }
+    out.push(cad);
     for name in COHERENCE_SUBJECTS {
         let mut gif = fig(
             h,

@@ -456,6 +456,12 @@ impl Renderer {
                     npr_hatching::DirectionSource::default(),
                     npr_hatching::StrokeDirection::KappaMax,
                 ),
+                DirectionPreset::SmoothCurvatureOnly => (
+                    npr_hatching::DirectionSource::Smooth(
+                        npr_geometry::StrokeFieldOptions::curvature_only(),
+                    ),
+                    npr_hatching::StrokeDirection::KappaMax,
+                ),
                 DirectionPreset::KMax => (
                     npr_hatching::DirectionSource::Principal,
                     npr_hatching::StrokeDirection::KappaMax,

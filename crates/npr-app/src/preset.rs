@@ -264,9 +264,14 @@ impl Default for SpecularPreset {
 #[serde(rename_all = "kebab-case")]
 pub enum DirectionPreset {
     /// The smooth line field fitted to the direction of maximum curvature (Knöppel et al.
-    /// 2013): strokes flow instead of following every bump of a scan.
+    /// 2013): strokes flow instead of following every bump of a scan. Cut at creases
+    /// (50°) and straight on flat faces (issue 22): a flat face joined smoothly to a
+    /// curved one carries its direction, one bounded by creases takes `up × n`
+    /// (`x × n` within 30° of facing up).
     #[default]
     Smooth,
+    /// The same field without the crease cuts and the flat-face rule (issue 11's).
+    SmoothCurvatureOnly,
     /// The raw direction of maximum curvature, vertex by vertex.
     KMax,
     /// The raw direction of minimum curvature, vertex by vertex.
@@ -665,6 +670,26 @@ mod tests {
         let text = p.to_toml().unwrap();
         let back = Preset::from_toml(&text, Path::new("t.toml")).unwrap();
         assert_eq!(back, p);
+    }
+
+    #[test]
+    fn every_direction_source_is_reachable_from_a_preset() {
+        // Issue 22: the hard-edge rules are the default, issue 11's field and the
+        // paper's raw directions stay one key away.
+        assert_eq!(HatchingPreset::default().direction, DirectionPreset::Smooth);
+        for (key, want) in [
+            ("smooth", DirectionPreset::Smooth),
+            (
+                "smooth-curvature-only",
+                DirectionPreset::SmoothCurvatureOnly,
+            ),
+            ("k-max", DirectionPreset::KMax),
+            ("k-min", DirectionPreset::KMin),
+        ] {
+            let text = format!("[hatching]\ndirection = \"{key}\"\n");
+            let p = Preset::from_toml(&text, Path::new("d")).unwrap();
+            assert_eq!(p.hatching.direction, want, "{key}");
+        }
     }
 
     #[test]

@@ -61,6 +61,9 @@ pub use highlight::{
 };
 pub use mesh::Mesh;
 pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
-pub use stroke_field::{LineFieldStats, StrokeField, StrokeFieldOptions, line_angle_deg};
-pub use topology::{EdgeKind, Topology};
+pub use stroke_field::{
+    LineFieldStats, MeshStrokeField, PlanarPatches, RenderFieldStats, StrokeField,
+    StrokeFieldOptions, line_angle_deg, planar_direction, planar_patches, planar_spreads_deg,
+};
+pub use topology::{CreaseSplit, EdgeKind, Topology};
 pub use weld::{Welded, weld};

@@ -3,15 +3,19 @@
 
 use glam::Vec3;
 use npr_geometry::{
-    CurvatureField, CurvatureOptions, LineFieldStats, StrokeField, StrokeFieldOptions, Topology,
-    analytic, generate, line_angle_deg, load_obj, weld,
+    CurvatureField, CurvatureOptions, LineFieldStats, Mesh, RenderFieldStats, StrokeField,
+    StrokeFieldOptions, Topology, analytic, generate, line_angle_deg, load_obj, weld,
 };
 use proptest::prelude::*;
 
-fn fit(mesh: &npr_geometry::Mesh) -> (Topology, CurvatureField, StrokeField) {
+fn fit(mesh: &Mesh) -> (Topology, CurvatureField, StrokeField) {
+    fit_with(mesh, &StrokeFieldOptions::default())
+}
+
+fn fit_with(mesh: &Mesh, options: &StrokeFieldOptions) -> (Topology, CurvatureField, StrokeField) {
     let topo = Topology::new(&weld(mesh));
     let field = CurvatureField::compute(&topo, &CurvatureOptions::default());
-    let smooth = StrokeField::compute(&topo, &field, &StrokeFieldOptions::default());
+    let smooth = StrokeField::compute(&topo, &field, options);
     (topo, field, smooth)
 }
 
@@ -89,6 +93,81 @@ fn disconnected_pieces_are_solved_independently() {
     }
 }
 
+#[test]
+fn crease_split_cuts_only_creases() {
+    // A capped cylinder: its two rims are 90° creases, each rim vertex gets a second copy;
+    // the side's own edges (22.5°) are not cut.
+    let mesh = generate::cylinder(1.0, 2.0, 16, 4, true);
+    let topo = Topology::new(&weld(&mesh));
+    let split = topo.split_creases(50.0);
+    assert_eq!(split.topology.vertex_count(), topo.vertex_count() + 2 * 16);
+    assert_eq!(split.topology.triangles.len(), topo.triangles.len());
+    for (f, t) in split.topology.triangles.iter().enumerate() {
+        for (k, &v) in t.iter().enumerate() {
+            assert_eq!(split.original[v as usize], topo.triangles[f][k]);
+        }
+    }
+    // Only lines at least as long as asked are cut: each rim is 2π long.
+    let count = |min: f32| topo.crease_edges(50.0, min).iter().filter(|&&c| c).count();
+    assert_eq!(count(0.0), 2 * 16);
+    assert_eq!(count(6.0), 2 * 16);
+    assert_eq!(count(6.5), 0);
+    assert_eq!(
+        topo.split_creases_longer_than(50.0, 6.5)
+            .topology
+            .vertex_count(),
+        topo.vertex_count()
+    );
+    // Above the crease angle nothing is cut, and the numbering is kept.
+    let whole = topo.split_creases(91.0);
+    assert_eq!(whole.topology.triangles, topo.triangles);
+    assert_eq!(whole.topology.positions, topo.positions);
+}
+
+#[test]
+fn without_creases_and_flat_patches_the_field_is_unchanged() {
+    // Issue 22's rules change nothing on a smooth mesh: the default field of
+    // `StrokeField::for_mesh` is the issue-11 field, bit for bit.
+    let mesh = generate::torus(1.0, 0.35, 48, 24);
+    let (_, _, plain) = fit_with(&mesh, &StrokeFieldOptions::curvature_only());
+    let m = StrokeField::for_mesh(
+        &mesh,
+        &CurvatureOptions::default(),
+        &StrokeFieldOptions::default(),
+    );
+    assert_eq!(m.field.dir_kappa_max, plain.dir_kappa_max);
+    assert!(
+        m.field
+            .planar_patch
+            .iter()
+            .all(|&p| p == npr_geometry::stroke_field::NONE)
+    );
+}
+
+#[test]
+fn hard_edged_field_is_the_same_at_any_scale_and_position() {
+    // Uniform scale and translation change no stroke line on a CAD part (the planar
+    // rule's flatness test and the crease angle are dimensionless). Rotations may: the
+    // planar rule is tied to the object's axes.
+    let mesh = generate::box_with_hole(glam::Vec3::new(1.0, 0.4, 0.7), 0.35, 12);
+    let opts = StrokeFieldOptions::default();
+    let mut moved = mesh.clone();
+    moved
+        .positions
+        .iter_mut()
+        .for_each(|p| *p = *p * 23.0 + glam::Vec3::new(40.0, -7.0, 3.0));
+    let a = StrokeField::for_mesh(&mesh, &CurvatureOptions::default(), &opts);
+    let b = StrokeField::for_mesh(&moved, &CurvatureOptions::default(), &opts);
+    for (v, (&i, &j)) in a.render_to_field.iter().zip(&b.render_to_field).enumerate() {
+        let (x, y) = (
+            a.field.dir_kappa_max[i as usize],
+            b.field.dir_kappa_max[j as usize],
+        );
+        let d = line_angle_deg(x, y, moved.normals[v]).unwrap();
+        assert!(d < 0.5, "vertex {v}: {d}°");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -118,5 +197,20 @@ proptest! {
         }
         let stats = LineFieldStats::measure(&topo, &field, &s.dir_kappa_max, 30.0);
         prop_assert!(stats.jump_edge_share.is_finite() && stats.aniso_dev_deg.is_finite());
+        // The same soup as a render mesh, through the crease cut and back.
+        let mesh = Mesh {
+            normals: vec![Vec3::Y; topo.positions.len()],
+            uvs: vec![glam::Vec2::ZERO; topo.positions.len()],
+            positions: topo.positions.clone(),
+            indices: idx[..idx.len() / 3 * 3].to_vec(),
+        };
+        let m = StrokeField::for_mesh(&mesh, &CurvatureOptions::default(), &StrokeFieldOptions::default());
+        prop_assert_eq!(m.render_to_field.len(), mesh.positions.len());
+        for d in &m.field.dir_kappa_max {
+            prop_assert!(*d == Vec3::ZERO || (d.length() - 1.0).abs() < 1e-3, "{:?}", d);
+        }
+        let r = RenderFieldStats::measure(&mesh, &m.topology, &vec![Vec3::X; mesh.positions.len()], 30.0, 50.0);
+        prop_assert!(r.jump_smooth_edge_share.is_finite());
+        prop_assert!(r.planar_spread_deg.is_none_or(f64::is_finite));
     }
 }

@@ -5,9 +5,19 @@
 //! Two sources ([`DirectionSource`]): the default, a globally smooth line field fitted to
 //! the principal directions (Knöppel et al. 2013, [`npr_geometry::stroke_field`]), which
 //! follows curvature where it is clearly directional and stays smooth elsewhere; and the
-//! raw principal directions of the curvature field, vertex by vertex.
+//! raw principal directions of the curvature field, vertex by vertex (the paper's rule).
+//!
+//! Hard-edged models (issue 22): by default the smooth field is cut along creases (edges
+//! bending by more than 50°, the outline's crease angle, so strokes turn where a crease
+//! line is drawn; in lines at least a fifth of the mesh size long, so a scan's noise is
+//! not cut), and each flat patch gets one straight direction: the curvature field
+//! carried in where a curved surface joins it smoothly (a fillet), otherwise the planar
+//! rule `up × n` (`x × n` within 30° of facing up). Cylinders and cones keep the
+//! curvature direction (around them). [`StrokeFieldOptions::curvature_only`] is the
+//! field without these rules.
 
 use glam::Vec3;
+use npr_geometry::stroke_field::NONE;
 use npr_geometry::{CurvatureField, CurvatureOptions, Mesh, StrokeField, StrokeFieldOptions};
 
 /// Where the per-vertex stroke directions come from.
@@ -15,10 +25,12 @@ use npr_geometry::{CurvatureField, CurvatureOptions, Mesh, StrokeField, StrokeFi
 pub enum DirectionSource {
     /// The smooth line field of [`npr_geometry::StrokeField`] (the default): on the
     /// Stanford bunny it turns by more than 30° across 1.7 % of the edges, against 9.8 %
-    /// for [`DirectionSource::Principal`].
+    /// for [`DirectionSource::Principal`]. By default it is cut at creases and straight
+    /// on flat patches (issue 22, see the module docs);
+    /// `Smooth(StrokeFieldOptions::curvature_only())` is the field without those rules.
     Smooth(StrokeFieldOptions),
     /// The principal directions of the curvature field, vertex by vertex
-    /// ([`principal_directions`]).
+    /// ([`principal_directions`]): the paper's rule (SPEC §3).
     Principal,
 }
 
@@ -43,17 +55,39 @@ impl DirectionSource {
 /// vertex (a sphere), where it carries no direction.
 pub const SMOOTH_FALLBACK_STRENGTH: f32 = 0.01;
 
+/// The axis after `axis` for the fallback and the planar rule: +x, or +z when `axis` is
+/// within about 25° of ±x.
+pub fn second_axis(axis: Vec3) -> Vec3 {
+    if axis.normalize_or_zero().dot(Vec3::X).abs() > 0.9 {
+        Vec3::Z
+    } else {
+        Vec3::X
+    }
+}
+
 /// `d` projected onto the tangent plane of `n` and normalised, or `fallback_axis × n`
-/// when that vanishes (the zero vector if that vanishes too).
+/// when that vanishes, or `second_axis(fallback_axis) × n` where `n` is parallel to the
+/// axis (a flat cap facing up gets a direction, not θ = 0; issue 22).
 fn tangent_or_fallback(d: Option<Vec3>, n: Vec3, fallback_axis: Vec3) -> Vec3 {
-    let fallback = fallback_axis.cross(n).normalize_or_zero();
     d.map(|d| (d - n * n.dot(d)).normalize_or_zero())
         .filter(|d| *d != Vec3::ZERO)
-        .unwrap_or(fallback)
+        .unwrap_or_else(|| {
+            let a = fallback_axis.normalize_or_zero().cross(n);
+            if a.length() > 1e-3 {
+                a.normalize_or_zero()
+            } else {
+                second_axis(fallback_axis).cross(n).normalize_or_zero()
+            }
+        })
 }
 
 /// One unit stroke direction per render vertex of `mesh` (object space) from `source`,
 /// along the chosen principal direction.
+///
+/// The smooth source runs [`StrokeField::for_mesh`] with the source's options, except
+/// that the planar rule's axes become `fallback_axis` and [`second_axis`] of it, so one
+/// up axis drives both rules. A render vertex reads the field on the side of the crease
+/// of its first face.
 ///
 /// Where the source defines no direction (umbilic or flat regions for
 /// [`DirectionSource::Principal`], see [`principal_directions`]; components where the
@@ -70,23 +104,29 @@ pub fn stroke_directions(
         DirectionSource::Principal => {
             return principal_directions(mesh, which, options, fallback_axis);
         }
-        DirectionSource::Smooth(o) => o,
+        DirectionSource::Smooth(o) => StrokeFieldOptions {
+            planar_axis: fallback_axis,
+            planar_second_axis: second_axis(fallback_axis),
+            ..*o
+        },
     };
-    let (welded, topo, curvature) = CurvatureField::for_mesh(mesh, options);
-    let smooth = StrokeField::compute(&topo, &curvature, field_options);
+    let smooth = StrokeField::for_mesh(mesh, options, &field_options);
+    let field = &smooth.field;
     let along = match which {
-        StrokeDirection::KappaMax => smooth.dir_kappa_max.clone(),
-        StrokeDirection::KappaMin => smooth.dir_kappa_min(),
+        StrokeDirection::KappaMax => field.dir_kappa_max.clone(),
+        StrokeDirection::KappaMin => field.dir_kappa_min(),
     };
     (0..mesh.positions.len())
         .map(|v| {
             let n = mesh.normals.get(v).copied().unwrap_or(Vec3::Y);
-            let d = welded
-                .render_to_welded
+            let d = smooth
+                .render_to_field
                 .get(v)
-                .map(|&w| w as usize)
+                .copied()
+                .filter(|&w| w != NONE)
+                .map(|w| w as usize)
                 .filter(|&w| {
-                    smooth
+                    field
                         .strength
                         .get(w)
                         .is_some_and(|&s| s >= SMOOTH_FALLBACK_STRENGTH)
@@ -113,9 +153,8 @@ pub enum StrokeDirection {
 /// Where the principal directions are undefined or unstable — umbilic points (a sphere,
 /// `|κ_max − κ_min|` below 5 % of `|κ_max| + |κ_min|`), flat regions, vertices the field
 /// could not define — the direction falls back to `fallback_axis × n`, the parallels of a
-/// surface of revolution about that axis (use `Vec3::Y` for y-up scenes). A zero vector
-/// remains only where the normal is parallel to the axis; the G-buffer pass reads it as
-/// θ = 0.
+/// surface of revolution about that axis (use `Vec3::Y` for y-up scenes); where the
+/// normal is parallel to the axis (a flat cap), `second_axis(fallback_axis) × n`.
 pub fn principal_directions(
     mesh: &Mesh,
     which: StrokeDirection,
@@ -181,6 +220,15 @@ mod tests {
     }
 
     #[test]
+    fn the_field_cuts_creases_where_outlines_draw_them() {
+        // Issue 22: strokes turn exactly where a crease line is drawn.
+        assert_eq!(
+            StrokeFieldOptions::default().crease_angle_deg,
+            npr_gpu::outline::OutlineSettings::default().crease_angle_deg
+        );
+    }
+
+    #[test]
     fn umbilic_sphere_falls_back_to_parallels() {
         let mesh = generate::icosphere(3, 1.0);
         for source in [DirectionSource::Principal, DirectionSource::default()] {
@@ -192,8 +240,14 @@ mod tests {
                 Vec3::Y,
             );
             for (v, n) in mesh.normals.iter().enumerate() {
-                let want = Vec3::Y.cross(*n).normalize_or_zero();
+                // At the poles (normal along the axis) the second axis takes over.
+                let want = if Vec3::Y.cross(*n).length() > 1e-3 {
+                    Vec3::Y.cross(*n).normalize()
+                } else {
+                    Vec3::X.cross(*n).normalize()
+                };
                 assert!((d[v] - want).length() < 1e-5, "{source:?} vertex {v}");
+                assert!((d[v].length() - 1.0).abs() < 1e-5, "{source:?} vertex {v}");
             }
         }
     }

@@ -64,7 +64,9 @@ pub mod scene;
 pub mod shaders;
 pub mod tam;
 
-pub use directions::{DirectionSource, StrokeDirection, principal_directions, stroke_directions};
+pub use directions::{
+    DirectionSource, StrokeDirection, principal_directions, second_axis, stroke_directions,
+};
 pub use error::HatchError;
 pub use frame::HatchFrame;
 pub use inputs::{Anchor, HatchInputs};

@@ -26,7 +26,8 @@
 //! `flicker` = mean over tiles and frame pairs of the smaller of the mean absolute ink
 //! change with the previous frame held still and with it warped by the surface motion
 //! (bilinear): the change neither the screen nor the surface motion explains.
-//! Targets: sliding ≤ 0.25, density_change ≤ 0.25, flicker ≤ 1.5 × the paper mode's.
+//! Targets: sliding ≤ 0.25, density_change ≤ 0.25, flicker ≤ 1.5 × the paper mode's
+//! (issue 22: on the CAD parts too, `npr_geometry::generate::cad_parts`).
 
 use super::table::{Cell, Table, emit};
 use crate::demo::framing_camera;
@@ -329,10 +330,13 @@ fn default_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
             npr_geometry::load_obj(crate::fixture_mesh(name))?,
         ));
     }
+    // Issue 22: a hard-edged CAD part (flat faces, cylinders, fillets, creases).
+    out.push(("cad-parts".to_string(), npr_geometry::generate::cad_parts()));
     Ok(out)
 }
 
-/// Runs the benchmark on `meshes` (OBJ paths), or the knot, Spot and the bunny.
+/// Runs the benchmark on `meshes` (OBJ paths), or the knot, Spot, the bunny and the CAD
+/// parts.
 pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     let cases = if meshes.is_empty() {
         default_meshes()?

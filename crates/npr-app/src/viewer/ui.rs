@@ -308,6 +308,7 @@ pub fn panel(
                         ui.horizontal(|ui| {
                             ui.label("direction");
                             ui.radio_value(&mut p.hatching.direction, DirectionPreset::Smooth, "smooth");
+                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::SmoothCurvatureOnly, "smooth, no crease/flat rule");
                             ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "raw k_max");
                             ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMin, "raw k_min");
                         });
