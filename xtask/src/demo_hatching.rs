@@ -362,36 +362,15 @@ pub fn run(
     // Stroke directions before/after: the raw principal field against the smooth line
     // field (issue 11), on the bunny, with outlines.
     let bunny = npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?;
-    let mut tiles = Vec::new();
-    for source in [
-        npr_hatching::DirectionSource::Principal,
-        npr_hatching::DirectionSource::default(),
-    ] {
-        let (mut item, camera, light) = single("stanford-bunny", bunny.clone());
-        item.directions = directions_from("stanford-bunny", &item.mesh, &source);
-        let imgs = render(
-            ctx,
-            &[item],
-            &camera,
-            &light,
-            &pen,
-            &[HatchParams::default()],
-            false,
-            Outlines::On,
-            (640, 480),
-        )?;
-        save(
-            &imgs[0],
-            &dir.join(format!("hatching-directions-bunny-{}.png", source.name())),
-            &mut written,
-        )?;
-        tiles.extend(imgs);
-    }
-    save(
-        &sheet(&tiles, 2),
-        &dir.join("hatching-directions-bunny.png"),
-        &mut written,
-    )?;
+    written.extend(directions_sheet(
+        ctx,
+        dir,
+        &pen,
+        "stanford-bunny",
+        &bunny,
+        Mat4::IDENTITY,
+        "hatching-directions-bunny",
+    )?);
     written.extend(cad_directions(ctx, dir, &pen)?);
 
     // Beyond §5: the paper's screen-space strokes against surface-anchored ones on a
@@ -423,17 +402,38 @@ pub fn cad_directions(
     dir: &Path,
     pen: &TonalArtMap,
 ) -> anyhow::Result<Vec<PathBuf>> {
+    directions_sheet(
+        ctx,
+        dir,
+        pen,
+        "cad-parts",
+        &generate::cad_parts(),
+        Mat4::from_rotation_x(0.45) * Mat4::from_rotation_y(-0.5),
+        "hatching-directions-cad",
+    )
+}
+
+/// `STEM.png`: `mesh` hatched with the pen and outlines, the paper's rule (raw principal
+/// directions, `STEM-principal.png`) beside the default field (`STEM-smooth.png`), turned
+/// by `turn` after framing; returns the three files.
+fn directions_sheet(
+    ctx: &GpuContext,
+    dir: &Path,
+    pen: &TonalArtMap,
+    name: &str,
+    mesh: &npr_geometry::Mesh,
+    turn: Mat4,
+    stem: &str,
+) -> anyhow::Result<Vec<PathBuf>> {
     let mut written = Vec::new();
-    let cad = generate::cad_parts();
     let mut tiles = Vec::new();
     for source in [
         npr_hatching::DirectionSource::Principal,
         npr_hatching::DirectionSource::default(),
     ] {
-        let (mut item, camera, light) = single("cad-parts", cad.clone());
-        item.directions = directions_from("cad-parts", &item.mesh, &source);
-        item.world_from_object =
-            Mat4::from_rotation_x(0.45) * Mat4::from_rotation_y(-0.5) * item.world_from_object;
+        let (mut item, camera, light) = single(name, mesh.clone());
+        item.directions = directions_from(name, &item.mesh, &source);
+        item.world_from_object = turn * item.world_from_object;
         let imgs = render(
             ctx,
             &[item],
@@ -447,14 +447,14 @@ pub fn cad_directions(
         )?;
         save(
             &imgs[0],
-            &dir.join(format!("hatching-directions-cad-{}.png", source.name())),
+            &dir.join(format!("{stem}-{}.png", source.name())),
             &mut written,
         )?;
         tiles.extend(imgs);
     }
     save(
         &sheet(&tiles, 2),
-        &dir.join("hatching-directions-cad.png"),
+        &dir.join(format!("{stem}.png")),
         &mut written,
     )?;
     Ok(written)
