@@ -120,4 +120,8 @@ fn fs_outline(in: FullscreenOut) -> @location(0) vec4<f32> {
         }
     }
     discard;
+    // Unreached (the invocation was discarded), but WGSL's behaviour analysis treats
+    // `discard` as falling through: Chromium's compiler (Tint) rejects a function that
+    // ends in it with "missing return at end of function", where naga accepts it.
+    return vec4<f32>(0.0);
 }

@@ -304,6 +304,21 @@ pub mod wgsl_layout {
                     e.emit_to_string(&source)
                 ));
             }
+            for function in module
+                .functions
+                .iter()
+                .map(|(_, f)| f)
+                .chain(module.entry_points.iter().map(|e| &e.function))
+            {
+                if function.result.is_some() && can_fall_off(&function.body) {
+                    failures.push(format!(
+                        "{name}: fn {} can reach its end without a return (e.g. ends in \
+                         `discard`): naga accepts it, browsers' WGSL compilers reject it \
+                         (\"missing return at end of function\")",
+                        function.name.as_deref().unwrap_or("?")
+                    ));
+                }
+            }
         }
         if failures.is_empty() {
             Ok(shaders.len())
@@ -313,6 +328,28 @@ pub mod wgsl_layout {
                 failures.len(),
                 failures.join("\n\n")
             ))
+        }
+    }
+
+    /// Whether control can reach the end of `block` without a `return`, by WGSL's behaviour
+    /// analysis: `discard` falls through (it only demotes the invocation), a loop does not
+    /// (it leaves only by `break` or `return`, conservatively), an `if` or `switch` falls
+    /// through when one of its branches does. naga ends a function's body with an
+    /// implicit value-less `return`, which counts as falling off for a function with a
+    /// result.
+    fn can_fall_off(block: &naga::Block) -> bool {
+        use naga::Statement as S;
+        match block.last() {
+            None => true,
+            Some(S::Return { value }) => value.is_none(),
+            Some(S::Kill) => true,
+            Some(S::Block(b)) => can_fall_off(b),
+            Some(S::If { accept, reject, .. }) => can_fall_off(accept) || can_fall_off(reject),
+            Some(S::Switch { cases, .. }) => cases
+                .iter()
+                .any(|c| !c.fall_through && can_fall_off(&c.body)),
+            Some(S::Loop { .. } | S::Break | S::Continue) => false,
+            Some(_) => true,
         }
     }
 
