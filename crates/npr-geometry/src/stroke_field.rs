@@ -323,22 +323,6 @@ fn cotan_weights(topo: &Topology) -> Vec<f64> {
     w
 }
 
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        let up = parent[parent[x as usize] as usize];
-        parent[x as usize] = up;
-        x = up;
-    }
-    x
-}
-
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        parent[ra.max(rb) as usize] = ra.min(rb);
-    }
-}
-
 /// The planar patches of `topo` that are flat against the mesh's scale (issue 22): the
 /// median `(|κ_max| + |κ_min|) · √total_area` over a patch's face corners is at most
 /// [`StrokeFieldOptions::planar_max_curvature`]. Renumbered: only those patches remain,
@@ -635,7 +619,7 @@ impl StrokeField {
             diag[uj] += wij;
             rows[ui].push((uj as u32, -r * wij));
             rows[uj].push((ui as u32, -r.conj() * wij));
-            union(&mut component, ui as u32, uj as u32);
+            crate::topology::union_sets(&mut component, ui as u32, uj as u32);
         }
         let mut b: Vec<C64> = (0..nu)
             .map(|i| {
@@ -652,13 +636,13 @@ impl StrokeField {
         let mut anchored = vec![false; nu];
         for (i, &s) in weight.iter().enumerate() {
             if s > 0.0 {
-                let root = find(&mut component, i as u32) as usize;
+                let root = crate::topology::find_set(&mut component, i as u32) as usize;
                 anchored[root] = true;
             }
         }
         let mut fixed: Vec<Option<C64>> = vec![None; nu];
         for p in 0..np {
-            let root = find(&mut component, (nv + p) as u32) as usize;
+            let root = crate::topology::find_set(&mut component, (nv + p) as u32) as usize;
             if !anchored[root] {
                 let n = patch_normal[p];
                 let d =

@@ -307,26 +307,15 @@ impl Topology {
         // Components of crease edges through shared vertices, and their lengths.
         let nv = self.vertex_count();
         let mut parent: Vec<u32> = (0..nv as u32).collect();
-        fn root(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
-            }
-            x
-        }
         for (e, &[a, b]) in self.edges.iter().enumerate() {
             if cut[e] {
-                let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                if ra != rb {
-                    parent[ra.max(rb) as usize] = ra.min(rb);
-                }
+                union_sets(&mut parent, a, b);
             }
         }
         let mut length = vec![0.0f64; nv];
         for (e, &[a, b]) in self.edges.iter().enumerate() {
             if cut[e] {
-                let r = root(&mut parent, a) as usize;
+                let r = find_set(&mut parent, a) as usize;
                 let l =
                     f64::from((self.positions[b as usize] - self.positions[a as usize]).length());
                 if l.is_finite() {
@@ -335,7 +324,7 @@ impl Topology {
             }
         }
         for (e, &[a, _]) in self.edges.iter().enumerate() {
-            if cut[e] && length[root(&mut parent, a) as usize] < f64::from(min_line_length) {
+            if cut[e] && length[find_set(&mut parent, a) as usize] < f64::from(min_line_length) {
                 cut[e] = false;
             }
         }
@@ -362,26 +351,12 @@ impl Topology {
         // joined across a non-crease edge belong together.
         let nc = self.triangles.len() * 3;
         let mut parent: Vec<u32> = (0..nc as u32).collect();
-        fn find(parent: &mut [u32], mut x: u32) -> u32 {
-            while parent[x as usize] != x {
-                let up = parent[parent[x as usize] as usize];
-                parent[x as usize] = up;
-                x = up;
-            }
-            x
-        }
-        let union = |parent: &mut Vec<u32>, a: u32, b: u32| {
-            let (ra, rb) = (find(parent, a), find(parent, b));
-            if ra != rb {
-                parent[ra.max(rb) as usize] = ra.min(rb);
-            }
-        };
         for (f, t) in self.triangles.iter().enumerate() {
             // A repeated vertex within a face is one corner group.
             for k in 0..3 {
                 for m in k + 1..3 {
                     if t[k] == t[m] {
-                        union(&mut parent, (3 * f + k) as u32, (3 * f + m) as u32);
+                        union_sets(&mut parent, (3 * f + k) as u32, (3 * f + m) as u32);
                     }
                 }
             }
@@ -398,7 +373,7 @@ impl Topology {
                     let tg = self.triangles[g];
                     for c in [k, (k + 1) % 3] {
                         if let Some(cg) = tg.iter().position(|&v| v == t[c]) {
-                            union(&mut parent, (3 * f + c) as u32, (3 * g + cg) as u32);
+                            union_sets(&mut parent, (3 * f + c) as u32, (3 * g + cg) as u32);
                         }
                     }
                 }
@@ -409,7 +384,7 @@ impl Topology {
         for (f, t) in self.triangles.iter().enumerate() {
             for (k, &v) in t.iter().enumerate() {
                 if (v as usize) < nv {
-                    pairs.push((v, find(&mut parent, (3 * f + k) as u32)));
+                    pairs.push((v, find_set(&mut parent, (3 * f + k) as u32)));
                 }
             }
         }
@@ -437,7 +412,7 @@ impl Topology {
                 let mut out = [u32::MAX; 3];
                 for (k, &v) in t.iter().enumerate() {
                     if (v as usize) < nv {
-                        let g = find(&mut parent, (3 * f + k) as u32);
+                        let g = find_set(&mut parent, (3 * f + k) as u32);
                         if let Ok(i) = pairs.binary_search(&(v, g)) {
                             out[k] = i as u32;
                         }
@@ -788,6 +763,25 @@ fn for_each_neighbour(
 fn prefix_sum(v: &mut [u32]) {
     for i in 1..v.len() {
         v[i] += v[i - 1];
+    }
+}
+
+/// Union-find over `parent` (each entry its set's parent; a root is its own): the root of
+/// `x`'s set, halving the path on the way.
+pub(crate) fn find_set(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        let up = parent[parent[x as usize] as usize];
+        parent[x as usize] = up;
+        x = up;
+    }
+    x
+}
+
+/// Joins the sets of `a` and `b` under the smaller root (see [`find_set`]).
+pub(crate) fn union_sets(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (find_set(parent, a), find_set(parent, b));
+    if ra != rb {
+        parent[ra.max(rb) as usize] = ra.min(rb);
     }
 }
 

@@ -2,8 +2,7 @@
 //!
 //! Implements Huiwon Park (박희원) and Insung Ihm (임인성), "Post-Rendering 3D Warping using
 //! Projective Texture" (투영 텍스처를 이용한 렌더링 후 3차원 와핑), Journal of KIISE
-//! (정보과학회논문지), 2002 (received 2001-10-09, accepted 2002-06-18). The full text is
-//! `../shared/papers/post-rendering-warping-projective-texture.txt`.
+//! (정보과학회논문지), 2002 (received 2001-10-09, accepted 2002-06-18).
 //!
 //! Two reference images of the full-detail model, rendered at times t1 and t3
 //! ([`reference`](mod@reference)), are projected onto a simplified proxy ([`proxy`], §3.2) posed at an
