@@ -11,9 +11,11 @@
 struct Projector {
     // Eq. (9): world -> texture (u, v, depth, 1) for this orthographic projector.
     tex_from_world: mat4x4<f32>,
-    // xyz = world texture-u axis (e_max after rotation), w unused.
+    // xyz = world texture-u axis (e_max after rotation), w = the facing falloff's cosine
+    // where alpha reaches 0.
     axis_u: vec4<f32>,
-    // xyz = world texture-up axis (e_min after rotation), w unused.
+    // xyz = world texture-up axis (e_min after rotation), w = the falloff's cosine where
+    // alpha is whole.
     axis_v: vec4<f32>,
     // xyz = surface normal N at the centre, w unused.
     normal: vec4<f32>,
@@ -44,6 +46,10 @@ struct VertexOut {
     @location(4) @interpolate(flat) axis_u: vec3<f32>,
     @location(5) @interpolate(flat) axis_v: vec3<f32>,
     @location(6) @interpolate(flat) normal: vec3<f32>,
+    // The surface normal, interpolated (world space), for the facing falloff.
+    @location(7) surface_normal: vec3<f32>,
+    // (cos where alpha is 0, cos where alpha is whole).
+    @location(8) @interpolate(flat) falloff: vec2<f32>,
 };
 
 @vertex
@@ -65,6 +71,9 @@ fn vs_highlight(@builtin(vertex_index) index: u32) -> VertexOut {
     out.axis_u = p.axis_u.xyz;
     out.axis_v = p.axis_v.xyz;
     out.normal = p.normal.xyz;
+    let n = vec3<f32>(vertices[base + 3u], vertices[base + 4u], vertices[base + 5u]);
+    out.surface_normal = object.normal_from_object * n;
+    out.falloff = vec2<f32>(p.axis_u.w, p.axis_v.w);
     return out;
 }
 
@@ -89,6 +98,10 @@ fn fs_highlight(in: VertexOut) -> @location(0) vec4<f32> {
         rgb = in.tint.rgb * frame.light_color.rgb;
         alpha = alpha * intensity;
     }
+    // The normal limit as a falloff smooth per pixel (beyond the paper): the edge is where
+    // the surface turns away from the projector, not a triangle edge.
+    let facing = dot(normalize(in.surface_normal), in.normal);
+    alpha = alpha * smoothstep(in.falloff.x, in.falloff.y, facing);
     if alpha <= 0.0 {
         discard;
     }

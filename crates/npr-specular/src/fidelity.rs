@@ -388,7 +388,9 @@ pub fn blobs(mask: &[bool], width: usize, min_px: usize) -> usize {
 
 /// The worst stretch of a projected texture over every receiving triangle of `set`:
 /// `1/cos` of the angle between the triangle's world normal and its projector's axis
-/// (infinite for a triangle at or past 90°).
+/// (infinite for a triangle at or past 90°). Triangles whose normal is past the zero of
+/// the highlight's per-pixel falloff ([`crate::Highlight::falloff_cos`]) show nothing
+/// there and are not counted.
 pub fn stretch_max(set: &HighlightSet, world_from_object: Mat4) -> f32 {
     let topo = set.topology();
     let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
@@ -398,6 +400,9 @@ pub fn stretch_max(set: &HighlightSet, world_from_object: Mat4) -> f32 {
         for &f in &faces[h.receivers.clone()] {
             let n = (normal_from_object * topo.face_normals[f as usize]).normalize_or_zero();
             let c = n.dot(h.projector.normal);
+            if c <= h.falloff_cos.x {
+                continue;
+            }
             worst = worst.max(if c > 0.0 { 1.0 / c } else { f32::INFINITY });
         }
     }

@@ -33,5 +33,7 @@ pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
 };
 pub use region::Footprint;
-pub use set::{Highlight, HighlightSet, HighlightSizing, UpdateStats};
+pub use set::{
+    Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF, UpdateStats,
+};
 pub use textures::HighlightShape;

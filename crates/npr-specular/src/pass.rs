@@ -18,9 +18,9 @@ use wgpu::util::DeviceExt;
 pub struct ProjectorGpu {
     /// Eq. (9) world → texture.
     pub tex_from_world: [[f32; 4]; 4],
-    /// World u axis, w unused.
+    /// World u axis; w = the falloff's zero-alpha cosine ([`crate::Highlight::falloff_cos`] x).
     pub axis_u: [f32; 4],
-    /// World up axis, w unused.
+    /// World up axis; w = the falloff's full-alpha cosine ([`crate::Highlight::falloff_cos`] y).
     pub axis_v: [f32; 4],
     /// Normal at the centre, w unused.
     pub normal: [f32; 4],
@@ -57,8 +57,8 @@ pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> Proj
     let finite4 = |v: [f32; 4]| v.map(|x| if x.is_finite() { x } else { 0.0 });
     ProjectorGpu {
         tex_from_world: p.tex_from_world.to_cols_array_2d().map(finite4),
-        axis_u: finite4(p.axis_u.extend(0.0).to_array()),
-        axis_v: finite4(p.axis_v.extend(0.0).to_array()),
+        axis_u: finite4(p.axis_u.extend(h.falloff_cos.x).to_array()),
+        axis_v: finite4(p.axis_v.extend(h.falloff_cos.y).to_array()),
         normal: finite4(p.normal.extend(0.0).to_array()),
         tint: finite4(h.controls.tint.extend(h.opacity.clamp(0.0, 1.0)).to_array()),
         params: finite4([

@@ -19,7 +19,9 @@
 
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower};
-use crate::visibility::{FaceClusters, VisibilityScratch, receivers_within_clustered};
+use crate::visibility::{
+    FaceClusters, Facing, VisibilityScratch, face_slack, receivers_within_clustered,
+};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
 use npr_geometry::{
@@ -49,6 +51,35 @@ pub struct Highlight {
     pub found: bool,
     /// Its receiver faces: a range into [`HighlightSet::receiver_faces`].
     pub receivers: Range<usize>,
+    /// The per-pixel facing falloff ([`HighlightBoundary::Smooth`]): cosines between the
+    /// interpolated normal and the projector's axis where the highlight's alpha is 0 (x)
+    /// and where it is whole (y); `(−3, −2)` (never reached) where there is none.
+    pub falloff_cos: glam::Vec2,
+}
+
+/// No per-pixel falloff: every cosine is above both ends.
+pub const NO_FALLOFF: glam::Vec2 = glam::Vec2::new(-3.0, -2.0);
+
+/// Where a highlight's drawn boundary comes from, besides its texture's own edge.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HighlightBoundary {
+    /// Beyond the paper (default): the §4.2 search decides *which* connected surface
+    /// receives; the normal limit of [`HighlightSizing::Region`] (the region's normal
+    /// cone widened by [`HighlightSet::receiver_cone_margin_rad`], at most
+    /// [`HighlightSet::receiver_min_cos`]) is a falloff on the interpolated normal, smooth
+    /// per pixel ([`Highlight::falloff_cos`]), so edges follow the surface, not its
+    /// triangles. The cone follows the projector as drawn: a §3.4 translation widens it
+    /// by the normal's turn over that distance (`|t| · max |κ|`), a rotation or a scale by
+    /// the turn over the edited footprint's half extents, so an edit is never cut to the
+    /// unedited footprint.
+    #[default]
+    Smooth,
+    /// The normal limit per face: a face outside the cone is not a receiver (the
+    /// behaviour before the smooth falloff; edges step along triangles).
+    PerFace,
+    /// §4.2 alone: connected faces with `N·N_max > 0`, no normal limit (the reference an
+    /// edit's completeness is measured against).
+    Unrestricted,
 }
 
 /// Per-frame statistics of [`HighlightSet::update`].
@@ -114,6 +145,8 @@ pub struct HighlightSet {
     pub match_radius: f32,
     /// Projector sizing: the measured region (default) or the paper's Eq. (8).
     pub sizing: HighlightSizing,
+    /// How a highlight's edge meets the surface (default: a smooth per-pixel falloff).
+    pub boundary: HighlightBoundary,
     /// [`HighlightSizing::Region`]: smallest region kept, as a fraction of the squared
     /// bounding-sphere radius (default 5·10⁻⁴: about 20 px when the mesh fills a
     /// 640×480 view).
@@ -132,6 +165,8 @@ pub struct HighlightSet {
     pub max_area_change: f32,
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
+    /// Per face: largest angle between its normal and its corners' render normals.
+    face_slack: Vec<f32>,
     scratch: VisibilityScratch,
     face_clusters: FaceClusters,
     grower: RegionGrower,
@@ -151,7 +186,19 @@ impl HighlightSet {
         let (welded, topology, field) = CurvatureField::for_mesh(mesh, options);
         check(&topology, &field)?;
         let search = HighlightSearch::for_mesh(mesh, &welded, &topology, &field);
-        Ok(Self::with_search(topology, &field, search))
+        // The normals a fragment interpolates: the render mesh's own, else the search's.
+        let corners: Vec<Vec3> = if mesh.normals.len() == mesh.positions.len() {
+            mesh.indices
+                .iter()
+                .take(3 * topology.face_count())
+                .map(|&i| mesh.normals.get(i as usize).copied().unwrap_or(Vec3::ZERO))
+                .collect()
+        } else {
+            corner_normals(&topology, search.normals())
+        };
+        let mut set = Self::with_search(topology, &field, search);
+        set.face_slack = face_slack(&set.topology, &corners);
+        Ok(set)
     }
 
     /// Builds the set from a topology and its curvature field (one entry per welded
@@ -164,7 +211,10 @@ impl HighlightSet {
     pub fn from_parts(topology: Topology, field: &CurvatureField) -> Result<Self, SpecularError> {
         check(&topology, field)?;
         let search = HighlightSearch::new(&topology, field);
-        Ok(Self::with_search(topology, field, search))
+        let corners = corner_normals(&topology, search.normals());
+        let mut set = Self::with_search(topology, field, search);
+        set.face_slack = face_slack(&set.topology, &corners);
+        Ok(set)
     }
 
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
@@ -181,12 +231,14 @@ impl HighlightSet {
             fade_frames: 6,
             match_radius: 1.0,
             sizing: HighlightSizing::default(),
+            boundary: HighlightBoundary::default(),
             min_region_area: 5e-4,
             receiver_min_cos: 0.3,
             receiver_cone_margin_rad: 10f32.to_radians(),
             max_area_change: 0.25,
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
+            face_slack: Vec::new(),
             scratch: VisibilityScratch::default(),
             face_clusters,
             grower: RegionGrower::default(),
@@ -419,21 +471,33 @@ impl HighlightSet {
         // Receivers (§4.2).
         let visibility_start = std::time::Instant::now();
         self.receiver_faces.clear();
-        let min_cos = match self.sizing {
-            HighlightSizing::Paper => 0.0,
-            HighlightSizing::Region => self.receiver_min_cos,
-        };
+        let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
         for h in &mut kept {
             let start = self.receiver_faces.len();
             // Ours: also within the measured region's normal cone, widened by
-            // `receiver_cone_margin_rad` (no receiver outside it can be in the region).
-            let min_cos = if self.sizing == HighlightSizing::Region {
-                let cone = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
-                let widened =
-                    (cone + self.receiver_cone_margin_rad).min(std::f32::consts::FRAC_PI_2);
-                min_cos.max(widened.cos())
-            } else {
-                min_cos
+            // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
+            // per face or as a per-pixel falloff.
+            let cone = (self.sizing == HighlightSizing::Region
+                && self.boundary != HighlightBoundary::Unrestricted)
+                .then(|| {
+                    let measured = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
+                    (measured + edit_turn(h) + self.receiver_cone_margin_rad).min(grazing)
+                });
+            h.falloff_cos = NO_FALLOFF;
+            let facing = match (cone, self.boundary) {
+                (None, _) => Facing::Cos(0.0),
+                (Some(limit), HighlightBoundary::Smooth) => {
+                    // Alpha 1/2 at the limit (where the per-face rule cut), ramping over
+                    // half the margin either side.
+                    let band = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
+                    let zero = (limit + band).min(std::f32::consts::FRAC_PI_2);
+                    h.falloff_cos = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
+                    Facing::Interpolated {
+                        limit_rad: zero,
+                        slack_rad: &self.face_slack,
+                    }
+                }
+                (Some(limit), _) => Facing::Cos(limit.cos()),
             };
             receivers_within_clustered(
                 &self.topology,
@@ -441,7 +505,7 @@ impl HighlightSet {
                 world_from_object,
                 &h.projector,
                 h.centre.face,
-                min_cos,
+                facing,
                 &mut self.scratch,
                 &mut self.receiver_faces,
             );
@@ -483,6 +547,7 @@ impl HighlightSet {
             opacity,
             found,
             receivers: 0..0,
+            falloff_cos: NO_FALLOFF,
         })
     }
 }
@@ -500,6 +565,64 @@ fn limit_change(last: &Footprint, next: Footprint, max_area_change: f32) -> Foot
         half_extent: next.half_extent.clamp(lo, hi),
         ..next
     }
+}
+
+/// How far a highlight's §3.4 edits turn the surface normal under its footprint beyond
+/// what the unedited footprint spans (radians, ≥ 0). On the local quadric of the centre
+/// (its principal curvatures), a point at tangent offset `q` seen along the axis has a
+/// normal turned by `asin(min(1, |q| · |κ(q̂)|))`, `κ(d) = κ_max cos²φ + κ_min sin²φ` the
+/// normal curvature along `d` (exact on a sphere under the orthographic projector). The
+/// largest such turn over the drawn ellipse's rim, less the largest over the unedited
+/// footprint's rim: what a translation, rotation or scale adds to the measured cone.
+fn edit_turn(h: &Highlight) -> f32 {
+    let c = &h.centre;
+    let e_max = c.dir_kappa_max;
+    let e_min = c.normal_world.cross(e_max);
+    let turn_at = |q: Vec3| {
+        let len = q.length();
+        if len <= 0.0 {
+            return 0.0;
+        }
+        let cos = q.dot(e_max) / len;
+        let kappa = (c.kappa_max * cos * cos + c.kappa_min * (1.0 - cos * cos)).abs();
+        (len * kappa).min(1.0).asin()
+    };
+    // Largest turn over the rim of the ellipse centred `centre` (tangent offset from
+    // the N = H point) with half axes `a·u`, `b·v`.
+    let rim = |centre: Vec3, u: Vec3, v: Vec3, half: glam::Vec2| {
+        (0..24)
+            .map(|k| {
+                let (s, co) = (k as f32 * std::f32::consts::TAU / 24.0).sin_cos();
+                turn_at(centre + u * (half.x * co) + v * (half.y * s))
+            })
+            .fold(0f32, f32::max)
+    };
+    let p = &h.projector;
+    let drawn = rim(
+        p.centre_world - c.position_world,
+        p.axis_u,
+        p.axis_v,
+        p.half_extent,
+    );
+    let fp = &h.footprint;
+    let (s, co) = fp.rotate_rad.sin_cos();
+    let own = rim(
+        e_max * fp.offset.x + e_min * fp.offset.y,
+        e_max * co + e_min * s,
+        e_min * co - e_max * s,
+        fp.half_extent,
+    );
+    let turn = drawn - own;
+    if turn.is_finite() { turn.max(0.0) } else { 0.0 }
+}
+
+/// Per face corner (`3f + i`), the vertex normal of that corner.
+fn corner_normals(topology: &Topology, normals: &[Vec3]) -> Vec<Vec3> {
+    topology
+        .triangles
+        .iter()
+        .flat_map(|t| t.map(|v| normals.get(v as usize).copied().unwrap_or(Vec3::ZERO)))
+        .collect()
 }
 
 /// The set needs a usable face and one curvature entry per vertex.

@@ -58,6 +58,80 @@ impl VisibilityScratch {
     }
 }
 
+/// Which faces count as facing a projector in the §4.2 search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Facing<'a> {
+    /// The face normal makes `cos > c` with the projector's axis (`0` is §4.2's
+    /// `N·N_max > 0`). What a float converts to.
+    Cos(f32),
+    /// For a smooth per-pixel falloff on the *interpolated* normal (beyond the paper): a
+    /// face is kept when some point of it can have a normal within `limit_rad` of the
+    /// axis, i.e. its face normal lies within `limit_rad + slack_rad[f]` (the face's
+    /// largest angle between its face normal and its vertex normals, [`face_slack`]),
+    /// and it faces the projector (§4.2, `N·N_max > 0`). A face beyond that cannot show
+    /// a pixel of a falloff that reaches zero at `limit_rad`, so the search's face-wise
+    /// cut is never seen.
+    Interpolated {
+        /// Angle from the axis where the falloff reaches zero.
+        limit_rad: f32,
+        /// Per face (topology order); a face past its end has no slack.
+        slack_rad: &'a [f32],
+    },
+}
+
+impl From<f32> for Facing<'_> {
+    fn from(min_cos: f32) -> Self {
+        Self::Cos(min_cos)
+    }
+}
+
+impl Facing<'_> {
+    /// The cosine every face passing this test exceeds at the least (for whole patches,
+    /// a conservative bound).
+    fn strict_cos(&self) -> f32 {
+        match *self {
+            Self::Cos(c) => c,
+            Self::Interpolated { limit_rad, .. } => {
+                limit_rad.min(std::f32::consts::FRAC_PI_2).cos()
+            }
+        }
+    }
+
+    /// The face's own cosine threshold.
+    fn face_cos(&self, f: usize) -> f32 {
+        match *self {
+            Self::Cos(c) => c,
+            Self::Interpolated {
+                limit_rad,
+                slack_rad,
+            } => {
+                let slack = slack_rad.get(f).copied().unwrap_or(0.0);
+                (limit_rad + slack)
+                    .min(std::f32::consts::FRAC_PI_2)
+                    .cos()
+                    .max(0.0)
+            }
+        }
+    }
+}
+
+/// Per face of `topology`: the largest angle (radians) between its face normal and the
+/// normals at its three corners (`corner_normals[3f + i]`, e.g. the render mesh's, which
+/// a fragment interpolates). Zero where a normal is missing or not unit; what
+/// [`Facing::Interpolated`] needs.
+pub fn face_slack(topology: &Topology, corner_normals: &[Vec3]) -> Vec<f32> {
+    (0..topology.face_count())
+        .map(|f| {
+            let n = topology.face_normals[f];
+            (0..3)
+                .filter_map(|i| corner_normals.get(3 * f + i))
+                .filter(|c| c.is_finite() && (c.length_squared() - 1.0).abs() < 1e-2)
+                .map(|c| c.dot(n).clamp(-1.0, 1.0).acos())
+                .fold(0f32, f32::max)
+        })
+        .collect()
+}
+
 /// Whether the triangle with projector coordinates `q` can overlap the box
 /// `lo..hi` (the frustum is x, y in [−1, 1], z in [0, 1]): false only when all three
 /// vertices lie outside the same face of the box (a conservative separating-plane test:
@@ -107,12 +181,12 @@ pub fn receivers(
 /// and received only when its world normal makes `cos > min_cos` with the projector's
 /// axis, so the projected texture stretches at most `1/min_cos` on any receiver and the
 /// search does not wrap onto another limb. `min_cos = 0` is §4.2's `N·N_max > 0`.
-pub fn receivers_within(
+pub fn receivers_within<'a>(
     topology: &Topology,
     world_from_object: Mat4,
     projector: &Projector,
     start_face: u32,
-    min_cos: f32,
+    facing: impl Into<Facing<'a>>,
     scratch: &mut VisibilityScratch,
     out: &mut Vec<u32>,
 ) -> usize {
@@ -122,7 +196,7 @@ pub fn receivers_within(
         world_from_object,
         projector,
         start_face,
-        min_cos,
+        facing.into(),
         scratch,
         out,
     )
@@ -135,13 +209,13 @@ pub fn receivers_within(
 /// (tested), possibly in another order; per-face work only where the frustum or the
 /// normal limit cuts a run. `clusters` must be built from `topology`.
 #[allow(clippy::too_many_arguments)]
-pub fn receivers_within_clustered(
+pub fn receivers_within_clustered<'a>(
     topology: &Topology,
     clusters: &FaceClusters,
     world_from_object: Mat4,
     projector: &Projector,
     start_face: u32,
-    min_cos: f32,
+    facing: impl Into<Facing<'a>>,
     scratch: &mut VisibilityScratch,
     out: &mut Vec<u32>,
 ) -> usize {
@@ -152,7 +226,7 @@ pub fn receivers_within_clustered(
         world_from_object,
         projector,
         start_face,
-        min_cos,
+        facing.into(),
         scratch,
         out,
     )
@@ -165,10 +239,11 @@ fn receivers_impl(
     world_from_object: Mat4,
     projector: &Projector,
     start_face: u32,
-    min_cos: f32,
+    facing: Facing<'_>,
     scratch: &mut VisibilityScratch,
     out: &mut Vec<u32>,
 ) -> usize {
+    let min_cos = facing.strict_cos();
     let faces = topology.face_count();
     if start_face as usize >= faces {
         return 0;
@@ -257,8 +332,13 @@ fn receivers_impl(
     let mut visit = |f: usize| -> Option<bool> {
         // cos = (M⁻ᵀ n)·N_max / |M⁻ᵀ n| = n·(M⁻¹ N_max) / |M⁻ᵀ n|.
         let n = topology.face_normals[f];
+        let min_cos = facing.face_cos(f);
         let facing = if min_cos > 0.0 {
-            let floor = facing_floor.unwrap_or_else(|| min_cos * (normal_from_object * n).length());
+            let floor = if similar {
+                min_cos * k
+            } else {
+                min_cos * (normal_from_object * n).length()
+            };
             n.dot(n_max_object) > floor
         } else {
             n.dot(n_max_object) > 0.0 // false for NaN
