@@ -46,6 +46,7 @@ pub struct FrameStats {
 /// Highlight state: the set (per model and curvature smoothing) and its pass.
 struct SpecularState {
     smoothing_edges: f32,
+    abstraction: f32,
     shape: String,
     set: HighlightSet,
     pass: HighlightPass,
@@ -223,6 +224,7 @@ pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset, reach: f32) -> Vec<
 /// `reach`, see [`resolve_edit_ids`]).
 pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32, reach: f32) {
     set.global = global_controls(preset, layer);
+    set.boundary = preset.specular.boundary.into();
     let ids = resolve_edit_ids(set, preset, reach);
     for (e, id) in preset.specular.edits.iter().zip(ids) {
         *set.controls_mut(id) = HighlightControls {
@@ -339,10 +341,9 @@ impl Renderer {
         preset: &Preset,
     ) -> Result<(), AppError> {
         let sp = &preset.specular;
-        let rebuild_set = self
-            .specular
-            .as_ref()
-            .is_none_or(|s| s.smoothing_edges != sp.smoothing_edges);
+        let rebuild_set = self.specular.as_ref().is_none_or(|s| {
+            s.smoothing_edges != sp.smoothing_edges || s.abstraction != sp.abstraction
+        });
         let rebuild_pass = self.specular.as_ref().is_none_or(|s| s.shape != sp.shape);
         if !rebuild_set && !rebuild_pass {
             return Ok(());
@@ -379,17 +380,19 @@ impl Renderer {
         };
         let set = match self.specular.take() {
             Some(s) if !rebuild_set => s.set,
-            _ => HighlightSet::new(
+            _ => HighlightSet::with_abstraction(
                 &self.model.mesh,
                 &CurvatureOptions {
                     radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
                     ..CurvatureOptions::default()
                 },
+                sp.abstraction,
             )?,
         };
         let draw = pass.create_draw(device, &self.gpu_mesh);
         self.specular = Some(SpecularState {
             smoothing_edges: sp.smoothing_edges,
+            abstraction: sp.abstraction,
             shape: sp.shape.clone(),
             set,
             pass,

@@ -226,6 +226,9 @@ impl Default for HighlightEdit {
     }
 }
 
+/// Largest `specular.abstraction` a preset takes (a fifth of the model's radius).
+pub const MAX_ABSTRACTION: f32 = 0.2;
+
 /// Stylized specular highlights (npr-specular).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -239,6 +242,13 @@ pub struct SpecularPreset {
     pub up: UpPreset,
     /// Curvature ball radius in mean edge lengths (the curvature smoothing).
     pub smoothing_edges: f32,
+    /// The scale the highlights see the surface at, in units of the model's bounding
+    /// radius (`npr_specular::HighlightSet::with_abstraction`): 0 is one highlight per
+    /// bump of the raw surface, the default a cartoon scale (a few per form).
+    pub abstraction: f32,
+    /// Where a highlight's edge meets the surface: `smooth` (a per-pixel falloff) or
+    /// `per-face` (whole faces, the edge steps along triangles).
+    pub boundary: BoundaryPreset,
     /// k_s of the base shading under the highlights (0: the stylized highlight replaces
     /// the base's own).
     pub base_ks: f32,
@@ -253,8 +263,30 @@ impl Default for SpecularPreset {
             shape: "disc".into(),
             up: UpPreset::EMin,
             smoothing_edges: 3.0,
+            abstraction: npr_specular::DEFAULT_ABSTRACTION,
+            boundary: BoundaryPreset::Smooth,
             base_ks: 0.0,
             edits: Vec::new(),
+        }
+    }
+}
+
+/// Where a highlight's edge meets the surface (`npr_specular::HighlightBoundary`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BoundaryPreset {
+    /// A falloff on the interpolated normal, smooth per pixel; edits widen it.
+    #[default]
+    Smooth,
+    /// Whole faces in or out (edges step along triangles).
+    PerFace,
+}
+
+impl From<BoundaryPreset> for npr_specular::HighlightBoundary {
+    fn from(b: BoundaryPreset) -> Self {
+        match b {
+            BoundaryPreset::Smooth => Self::Smooth,
+            BoundaryPreset::PerFace => Self::PerFace,
         }
     }
 }
@@ -611,6 +643,12 @@ impl Preset {
         }
         if !(self.specular.smoothing_edges > 0.0 && self.specular.smoothing_edges.is_finite()) {
             return Err("specular.smoothing_edges must be > 0".into());
+        }
+        if !(0.0..=MAX_ABSTRACTION).contains(&self.specular.abstraction) {
+            return Err(format!(
+                "specular.abstraction must be in 0..={MAX_ABSTRACTION}, got {}",
+                self.specular.abstraction
+            ));
         }
         if self.base.cel_bands.is_empty() {
             return Err("base.cel_bands needs at least one band".into());

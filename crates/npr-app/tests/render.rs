@@ -187,12 +187,13 @@ fn specular_equals_the_library_snapshot_helper() {
     let view = View::new(&preset, &model.framing, size, 0.0);
 
     // The library's own path: a set, its controls, one snapshot render.
-    let mut set = npr_specular::HighlightSet::new(
+    let mut set = npr_specular::HighlightSet::with_abstraction(
         &model.mesh,
         &npr_geometry::CurvatureOptions {
             radius: npr_geometry::CurvatureRadius::EdgeLengths(preset.specular.smoothing_edges),
             ..Default::default()
         },
+        preset.specular.abstraction,
     )
     .unwrap();
     let layer = engine::builtin_shape("star").unwrap().layer();

@@ -23,6 +23,9 @@ struct Projector {
     tint: vec4<f32>,
     // x = texture layer, y = 1 for a normal-map layer, z = Blinn exponent, w unused.
     params: vec4<f32>,
+    // Highlights sharing this one's region (indices into `projectors`), 0xffffffff for
+    // none: a pixel inside several of their ellipses goes to the one it is deepest in.
+    neighbours: vec4<u32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -32,11 +35,14 @@ struct Projector {
 // (render vertex index, projector index) per emitted vertex.
 @group(2) @binding(1) var<storage, read> draw_list: array<vec2<u32>>;
 @group(2) @binding(2) var<storage, read> projectors: array<Projector>;
+// Per render vertex: the surface normal at the highlight set's abstraction scale (w = 1),
+// or zero where the set has none (the mesh's own normal is taken).
+@group(2) @binding(3) var<storage, read> surface_normals: array<vec4<f32>>;
 @group(3) @binding(0) var highlight_textures: texture_2d_array<f32>;
 @group(3) @binding(1) var highlight_sampler: sampler;
 
 // The projector's per-fragment data travels as flat varyings, read once per vertex from
-// storage, so fragments never index the storage buffer.
+// storage; fragments read storage only for the neighbours a region is shared with.
 struct VertexOut {
     @builtin(position) @invariant clip: vec4<f32>,
     @location(0) tex: vec3<f32>,
@@ -50,7 +56,19 @@ struct VertexOut {
     @location(7) surface_normal: vec3<f32>,
     // (cos where alpha is 0, cos where alpha is whole).
     @location(8) @interpolate(flat) falloff: vec2<f32>,
+    @location(9) @interpolate(flat) neighbours: vec4<u32>,
+    @location(10) @interpolate(flat) own: u32,
 };
+
+// Where a world point lies in projector `j`'s footprint ellipse: 0 at its centre, 1 on its
+// rim; above 1 outside it, its depth range or the surface facing it.
+fn ellipse_radius(j: u32, world: vec3<f32>, normal: vec3<f32>) -> f32 {
+    let p = projectors[j];
+    let q = p.tex_from_world * vec4<f32>(world, 1.0);
+    let t = q.xyz / q.w;
+    let inside = t.z >= 0.0 && t.z <= 1.0 && dot(normal, p.normal.xyz) > p.axis_u.w;
+    return select(2.0, length(t.xy * 2.0 - vec2<f32>(1.0)), inside);
+}
 
 @vertex
 fn vs_highlight(@builtin(vertex_index) index: u32) -> VertexOut {
@@ -71,9 +89,13 @@ fn vs_highlight(@builtin(vertex_index) index: u32) -> VertexOut {
     out.axis_u = p.axis_u.xyz;
     out.axis_v = p.axis_v.xyz;
     out.normal = p.normal.xyz;
-    let n = vec3<f32>(vertices[base + 3u], vertices[base + 4u], vertices[base + 5u]);
+    let own = vec3<f32>(vertices[base + 3u], vertices[base + 4u], vertices[base + 5u]);
+    let scaled = surface_normals[entry.x];
+    let n = select(own, scaled.xyz, scaled.w > 0.5);
     out.surface_normal = object.normal_from_object * n;
     out.falloff = vec2<f32>(p.axis_u.w, p.axis_v.w);
+    out.neighbours = p.neighbours;
+    out.own = entry.y;
     return out;
 }
 
@@ -100,7 +122,20 @@ fn fs_highlight(in: VertexOut) -> @location(0) vec4<f32> {
     }
     // The normal limit as a falloff smooth per pixel (beyond the paper): the edge is where
     // the surface turns away from the projector, not a triangle edge.
-    let facing = dot(normalize(in.surface_normal), in.normal);
+    let surface_normal = normalize(in.surface_normal);
+    // A region shared by several highlights is split between them (no pile-ups): the
+    // pixel goes to the ellipse it lies deepest in (ties to the lower index).
+    let mine = length(in.tex.xy * 2.0 - vec2<f32>(1.0));
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        let j = in.neighbours[k];
+        if j != 0xffffffffu && j < arrayLength(&projectors) {
+            let theirs = ellipse_radius(j, in.world, surface_normal);
+            if theirs < 1.0 && (theirs < mine || (theirs == mine && j < in.own)) {
+                discard;
+            }
+        }
+    }
+    let facing = dot(surface_normal, in.normal);
     alpha = alpha * smoothstep(in.falloff.x, in.falloff.y, facing);
     if alpha <= 0.0 {
         discard;

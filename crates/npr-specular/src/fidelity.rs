@@ -14,9 +14,23 @@
 //! of `N·H ≥ σ` pixels covered), the count of highlights seen (each drawn with its own
 //! tint code) against the count of `N·H ≥ σ` blobs, both larger than [`MIN_BLOB_PX`],
 //! and the worst stretch `1/cos` of the projected texture on a receiving triangle.
+//!
+//! Shapes, not only pixels (issue 19):
+//! - `overlap_share`: pixels covered by two or more projectors ÷ pixels covered by any
+//!   (a third render, every highlight at opacity 1/4: one layer reads 0.25, two 0.44);
+//! - `cut_boundary_share`: over every highlight's boundary pixels, the share where the
+//!   drawn highlight ends with a hard step (its alpha falls by ≥ 1/2 to the next pixel)
+//!   although its texture continues there (alpha ≥ 1/2) when projected with §4.2 alone
+//!   ([`HighlightBoundary::Unrestricted`]: connected surface facing the projector). Such
+//!   a pixel is on visible, connected surface by construction, so silhouettes never
+//!   count; a crease (a jump of the interpolated normal) would, and the shapes measured
+//!   have none;
+//! - edit completeness: the largest highlight, translated by a half extent along
+//!   `e_max`, turned 45° and grown 1.5×, each drawn ÷ the same edited texture drawn with
+//!   §4.2 alone.
 
 use crate::snapshot::{HighlightScene, Renderer};
-use crate::{HighlightSet, SpecularError};
+use crate::{HighlightBoundary, HighlightControls, HighlightSet, SpecularError};
 use glam::{Mat3, Mat4, Vec3};
 use npr_geometry::LightEye;
 use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, ShadingModel};
@@ -54,6 +68,15 @@ pub struct ViewScore {
     pub blobs: usize,
     /// Worst `1/cos` between a receiving triangle's normal and its projector's axis.
     pub stretch_max: f32,
+    /// Pixels covered by two or more highlights.
+    pub overlap_px: usize,
+    /// Boundary pixels of the highlights drawn.
+    pub boundary_px: usize,
+    /// Boundary pixels where a highlight is cut (see the module docs).
+    pub cut_px: usize,
+    /// Drawn ÷ unrestricted area of the largest highlight translated, turned and grown;
+    /// `None` without a highlight.
+    pub edits: Option<[f32; 3]>,
 }
 
 /// Scores over several views: pixel counts pooled, counts as medians.
@@ -73,6 +96,13 @@ pub struct FidelityScore {
     pub stretch_max: f32,
     /// Views where the count of highlights seen was within ±50 % of the blob count.
     pub count_within: usize,
+    /// Pixels covered by two or more highlights ÷ pixels covered by any (pooled).
+    pub overlap_share: f64,
+    /// Cut boundary pixels ÷ boundary pixels (pooled).
+    pub cut_boundary_share: f64,
+    /// Median over views and the three edits of drawn ÷ unrestricted area (1 without
+    /// highlights).
+    pub edit_completeness: f64,
     /// Views measured.
     pub views: usize,
 }
@@ -87,7 +117,20 @@ impl FidelityScore {
             sum(|v| v.both_px),
         );
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 1.0 };
+        let edits: Vec<f64> = views
+            .iter()
+            .filter_map(|v| v.edits)
+            .flatten()
+            .map(f64::from)
+            .collect();
         Self {
+            overlap_share: ratio(sum(|v| v.overlap_px), hl),
+            cut_boundary_share: ratio(sum(|v| v.cut_px), sum(|v| v.boundary_px)),
+            edit_completeness: if edits.is_empty() {
+                1.0
+            } else {
+                npr_geometry::stats::median(edits)
+            },
             precision: ratio(both, hl),
             recall: ratio(both, region),
             highlights_median: npr_geometry::stats::median(
@@ -103,6 +146,18 @@ impl FidelityScore {
             views: views.len(),
         }
     }
+}
+
+/// `mesh` with the normals its highlight set sees ([`HighlightSet::render_normals`], at
+/// the set's abstraction scale): the surface whose `N·H ≥ σ` region the highlights
+/// stylize, what [`FidelityRig::score`] measures against. `mesh` unchanged when the set
+/// has no normals for it.
+pub fn surface_at_scale(mesh: &npr_geometry::Mesh, set: &HighlightSet) -> npr_geometry::Mesh {
+    let mut out = mesh.clone();
+    if set.render_normals().len() == mesh.positions.len() {
+        out.normals = set.render_normals().to_vec();
+    }
+    out
 }
 
 /// The transform that fits `mesh` into the unit sphere at the origin (its bounding box's
@@ -181,7 +236,8 @@ impl FidelityRig {
     }
 
     /// Updates `set` afresh for `view` (no fades: every highlight at full opacity) and
-    /// scores it at the set's global σ.
+    /// scores it at the set's global σ. `mesh` is the render mesh with the normals the set
+    /// sees ([`surface_at_scale`]): the `N·H ≥ σ` mask is rendered with them.
     ///
     /// # Errors
     /// Readback failure.
@@ -194,13 +250,11 @@ impl FidelityRig {
         view: &FidelityView,
     ) -> Result<ViewScore, SpecularError> {
         set.reset();
-        set.update(
-            LightEye::Positions {
-                light: view.to_light * 1e4,
-                eye: view.camera.eye,
-            },
-            view.world_from_object,
-        );
+        let light_eye = LightEye::Positions {
+            light: view.to_light * 1e4,
+            eye: view.camera.eye,
+        };
+        set.update(light_eye, view.world_from_object);
         let sigma = set.global.sigma;
         let w = view.world_from_object;
         // Phong with k_s, specular colour and exponent 1 and no diffuse: N·H where N·L > 0;
@@ -213,32 +267,85 @@ impl FidelityRig {
         let n_dot_h = render(set, 1.0, false)?;
         // Each highlight's tint codes its index in (g, b) / r, so that overlapping
         // highlights stay apart; r alone is the coverage (tint r = 1).
-        for (k, h) in set.highlights_mut().iter_mut().enumerate() {
-            let code = |c: usize| (c % 16) as f32 / 15.0;
-            h.controls.tint = Vec3::new(1.0, code(k), code(k / 16));
-            h.opacity = 1.0;
-        }
-        let drawn = render(set, 0.0, true)?;
+        let ids: Vec<u64> = set.highlights().iter().map(|h| h.id).collect();
+        let drawn = coded(set, &ids, |set| render(set, 0.0, true))?;
         let region: Vec<bool> = n_dot_h.pixels().map(|p| linear(p.0[0]) >= sigma).collect();
         let mut own = vec![0usize; 256];
-        let highlight: Vec<bool> = drawn
-            .pixels()
-            .map(|p| {
-                let [r, g, b] = [p.0[0], p.0[1], p.0[2]].map(linear);
-                let covered = r >= 0.5;
-                if covered {
-                    let code = |c: f32| (c / r * 15.0).round().clamp(0.0, 15.0) as usize;
-                    own[code(g) + 16 * code(b)] += 1;
-                }
-                covered
-            })
-            .collect();
+        for &(code, alpha) in &drawn {
+            if alpha >= 0.5 {
+                own[code] += 1;
+            }
+        }
+        let highlight: Vec<bool> = drawn.iter().map(|p| p.1 >= 0.5).collect();
         let count = |m: &[bool]| m.iter().filter(|b| **b).count();
         let both = region
             .iter()
             .zip(&highlight)
             .filter(|(a, b)| **a && **b)
             .count();
+        // Overlaps: every highlight at opacity 1/4.
+        for h in set.highlights_mut() {
+            h.controls.tint = Vec3::ONE;
+            h.opacity = 0.25;
+        }
+        let layered = render(set, 0.0, true)?;
+        let overlap_px = layered.pixels().filter(|p| linear(p.0[0]) >= 0.34).count();
+        // Cuts: the same highlights with §4.2 alone.
+        let (boundary_px, cut_px) = {
+            let boundary = set.boundary;
+            set.boundary = HighlightBoundary::Unrestricted;
+            set.update(light_eye, w);
+            let unrestricted = coded(set, &ids, |set| render(set, 0.0, true))?;
+            set.boundary = boundary;
+            set.update(light_eye, w);
+            cuts(&drawn, &unrestricted, self.width as usize)
+        };
+        // Edits of the largest highlight.
+        let largest = (0..ids.len()).max_by_key(|&k| own.get(k % 256).copied().unwrap_or(0));
+        let edits = match largest {
+            Some(k) if own.get(k).is_some_and(|n| *n > MIN_BLOB_PX) => {
+                let id = ids[k];
+                let half = set.highlights()[k].projector.half_extent;
+                let mut ratios = [0f32; 3];
+                let edits = [
+                    HighlightControls {
+                        translate: glam::Vec2::new(half.x, 0.0),
+                        ..Default::default()
+                    },
+                    HighlightControls {
+                        rotate_rad: 45f32.to_radians(),
+                        ..Default::default()
+                    },
+                    HighlightControls {
+                        scale: glam::Vec2::splat(1.5),
+                        ..Default::default()
+                    },
+                ];
+                let boundary = set.boundary;
+                let area = |set: &mut HighlightSet| -> Result<usize, SpecularError> {
+                    set.update(light_eye, w);
+                    let px = coded(set, &ids, |set| render(set, 0.0, true))?;
+                    Ok(px.iter().filter(|p| p.0 == k % 256 && p.1 >= 0.5).count())
+                };
+                for (ratio, edit) in ratios.iter_mut().zip(edits) {
+                    *set.controls_mut(id) = edit;
+                    set.boundary = boundary;
+                    let got = area(set)?;
+                    set.boundary = HighlightBoundary::Unrestricted;
+                    let want = area(set)?;
+                    *ratio = if want > 0 {
+                        got as f32 / want as f32
+                    } else {
+                        1.0
+                    };
+                }
+                *set.controls_mut(id) = HighlightControls::default();
+                set.boundary = boundary;
+                set.update(light_eye, w);
+                Some(ratios)
+            }
+            _ => None,
+        };
         Ok(ViewScore {
             highlight_px: count(&highlight),
             region_px: count(&region),
@@ -247,8 +354,79 @@ impl FidelityRig {
             visible_highlights: own.iter().filter(|n| **n > MIN_BLOB_PX).count(),
             blobs: blobs(&region, self.width as usize, MIN_BLOB_PX),
             stretch_max: stretch_max(set, w),
+            overlap_px,
+            boundary_px,
+            cut_px,
+            edits,
         })
     }
+}
+
+/// Renders `set` with each highlight tinted by the code of its id's position in `ids`
+/// ((g, b) / r, r = 1) at opacity 1, and decodes each pixel to (code, alpha).
+fn coded(
+    set: &mut HighlightSet,
+    ids: &[u64],
+    render: impl Fn(&HighlightSet) -> Result<image::RgbaImage, SpecularError>,
+) -> Result<Vec<(usize, f32)>, SpecularError> {
+    let code = |c: usize| (c % 16) as f32 / 15.0;
+    for h in set.highlights_mut() {
+        let k = ids.iter().position(|id| *id == h.id).unwrap_or(255);
+        h.controls.tint = Vec3::new(1.0, code(k), code(k / 16));
+        h.opacity = 1.0;
+    }
+    let image = render(set)?;
+    Ok(image
+        .pixels()
+        .map(|p| {
+            let [r, g, b] = [p.0[0], p.0[1], p.0[2]].map(linear);
+            let decode = |c: f32| (c / r.max(1e-6) * 15.0).round().clamp(0.0, 15.0) as usize;
+            (decode(g) + 16 * decode(b), r)
+        })
+        .collect())
+}
+
+/// Boundary pixels of the drawn highlights, and those among them cut: a 4-neighbour
+/// where the drawn highlight's alpha is lower by ≥ 1/2 (a hard step, not a falloff)
+/// while the unrestricted projection of the same highlight has alpha ≥ 1/2.
+fn cuts(drawn: &[(usize, f32)], unrestricted: &[(usize, f32)], width: usize) -> (usize, usize) {
+    if width == 0 {
+        return (0, 0);
+    }
+    let height = drawn.len() / width;
+    let (mut boundary, mut cut) = (0, 0);
+    for y in 0..height {
+        for x in 0..width {
+            let i = y * width + x;
+            let (k, a) = drawn[i];
+            if a < 0.5 {
+                continue;
+            }
+            let neighbours = [
+                (x > 0).then(|| i - 1),
+                (x + 1 < width).then(|| i + 1),
+                (y > 0).then(|| i - width),
+                (y + 1 < height).then(|| i + width),
+            ];
+            let mut on_boundary = false;
+            let mut is_cut = false;
+            for j in neighbours.into_iter().flatten() {
+                let (kj, aj) = drawn[j];
+                let own = if kj == k { aj } else { 0.0 };
+                if own >= 0.5 {
+                    continue;
+                }
+                on_boundary = true;
+                let (ku, au) = unrestricted[j];
+                if ku == k && au >= 0.5 && a - own >= 0.5 {
+                    is_cut = true;
+                }
+            }
+            boundary += usize::from(on_boundary);
+            cut += usize::from(is_cut);
+        }
+    }
+    (boundary, cut)
 }
 
 /// The measuring scene of `view`: a black background, Phong base with `object`'s

@@ -34,6 +34,7 @@ pub use projector::{
 };
 pub use region::Footprint;
 pub use set::{
-    Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF, UpdateStats,
+    DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,
+    UpdateStats,
 };
 pub use textures::HighlightShape;

@@ -12,7 +12,7 @@ use crate::{HighlightSet, HighlightShape, SpecularError};
 use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout};
 use wgpu::util::DeviceExt;
 
-/// One projector as the shader reads it (`Projector` in WGSL, 144 bytes).
+/// One projector as the shader reads it (`Projector` in WGSL, 160 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct ProjectorGpu {
@@ -28,6 +28,9 @@ pub struct ProjectorGpu {
     pub tint: [f32; 4],
     /// x = layer, y = normal-map flag, z = Blinn exponent, w unused.
     pub params: [f32; 4],
+    /// Indices of the highlights this one shares its region with
+    /// ([`crate::Highlight::shared_with`]); `u32::MAX` for none.
+    pub neighbours: [u32; 4],
 }
 
 /// What [`HighlightPass::prepare`] uploads for one frame.
@@ -67,6 +70,7 @@ pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> Proj
             h.controls.shininess,
             0.0,
         ]),
+        neighbours: h.shared_with,
     }
 }
 
@@ -81,6 +85,11 @@ pub struct HighlightDraw {
     frame_group: wgpu::BindGroup,
     object_group: wgpu::BindGroup,
     storage_group: wgpu::BindGroup,
+    /// Per render vertex: the normal at the set's scale (w = 1), or zero (the shader
+    /// then takes the mesh's own normal).
+    normals: wgpu::Buffer,
+    /// [`HighlightSet::normals_id`] of the normals uploaded.
+    normals_id: Option<u64>,
     vertex_count: u32,
     capacity: (u64, u64),
 }
@@ -184,6 +193,7 @@ impl HighlightPass {
                 layout::storage_entry(0),
                 layout::storage_entry(1),
                 layout::storage_entry(2),
+                layout::storage_entry(3),
             ],
         });
         let texture_layout = layout::texture_sampler_layout(
@@ -339,8 +349,16 @@ impl HighlightPass {
         };
         let frame_group = group(&frame);
         let object_group = group(&object);
-        let (draw_list, projectors, storage_group) = self.storage(device, mesh, 1024, 16);
+        let normals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr highlight surface normals"),
+            size: u64::from(mesh.vertex_count.max(1)) * 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let (draw_list, projectors, storage_group) = self.storage(device, mesh, &normals, 1024, 16);
         HighlightDraw {
+            normals,
+            normals_id: None,
             frame,
             object,
             draw_list,
@@ -357,6 +375,7 @@ impl HighlightPass {
         &self,
         device: &wgpu::Device,
         mesh: &GpuMesh,
+        normals: &wgpu::Buffer,
         list_capacity: u64,
         projector_capacity: u64,
     ) -> (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup) {
@@ -388,6 +407,10 @@ impl HighlightPass {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: projectors.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: normals.as_entire_binding(),
                 },
             ],
         });
@@ -437,13 +460,37 @@ impl HighlightPass {
                 need.0.next_power_of_two().max(draw.capacity.0),
                 need.1.next_power_of_two().max(draw.capacity.1),
             );
-            let (l, p, g) = self.storage(device, mesh, cap.0, cap.1);
+            let (l, p, g) = self.storage(device, mesh, &draw.normals, cap.0, cap.1);
             (draw.draw_list, draw.projectors, draw.storage_group) = (l, p, g);
             draw.capacity = cap;
         }
         if !list.is_empty() {
             queue.write_buffer(&draw.draw_list, 0, bytemuck::cast_slice(list));
             queue.write_buffer(&draw.projectors, 0, bytemuck::cast_slice(&projectors));
+        }
+        if draw.normals_id != Some(set.normals_id()) {
+            // The set's normals (at its abstraction scale) where they fit the mesh, else
+            // zero: the shader falls back to the mesh's own.
+            let count = mesh.vertex_count as usize;
+            let normals = set.render_normals();
+            let data: Vec<[f32; 4]> = if normals.len() == count {
+                normals
+                    .iter()
+                    .map(|n| {
+                        if n.is_finite() {
+                            n.extend(1.0).to_array()
+                        } else {
+                            [0.0; 4]
+                        }
+                    })
+                    .collect()
+            } else {
+                vec![[0.0; 4]; count]
+            };
+            if !data.is_empty() {
+                queue.write_buffer(&draw.normals, 0, bytemuck::cast_slice(&data));
+            }
+            draw.normals_id = Some(set.normals_id());
         }
         draw.vertex_count = list.len() as u32;
     }
@@ -501,7 +548,15 @@ mod tests {
             crate::shaders::ALL,
             ProjectorGpu,
             "Projector",
-            [tex_from_world, axis_u, axis_v, normal, tint, params]
+            [
+                tex_from_world,
+                axis_u,
+                axis_v,
+                normal,
+                tint,
+                params,
+                neighbours
+            ]
         );
     }
 }

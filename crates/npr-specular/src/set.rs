@@ -55,7 +55,18 @@ pub struct Highlight {
     /// interpolated normal and the projector's axis where the highlight's alpha is 0 (x)
     /// and where it is whole (y); `(−3, −2)` (never reached) where there is none.
     pub falloff_cos: glam::Vec2,
+    /// Up to four highlights (indices into this frame's [`HighlightSet::highlights`])
+    /// whose footprints overlap this one's, neither edited by the user: the pass splits
+    /// the pixels they share (each goes to the ellipse it lies deepest in), so a pixel is
+    /// covered by one highlight unless the user placed two there. `u32::MAX` for none.
+    pub shared_with: [u32; 4],
 }
+
+/// The default abstraction of [`HighlightSet::new`], in units of the bounding-sphere
+/// radius: a cartoon scale (see [`HighlightSet::with_abstraction`]).
+pub const DEFAULT_ABSTRACTION: f32 = 0.05;
+
+static NEXT_NORMALS_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
 
 /// No per-pixel falloff: every cosine is above both ends.
 pub const NO_FALLOFF: glam::Vec2 = glam::Vec2::new(-3.0, -2.0);
@@ -167,6 +178,10 @@ pub struct HighlightSet {
     receiver_faces: Vec<u32>,
     /// Per face: largest angle between its normal and its corners' render normals.
     face_slack: Vec<f32>,
+    /// Per render vertex: the normal at the set's scale (empty from `from_parts`).
+    render_normals: Vec<Vec3>,
+    abstraction: f32,
+    normals_id: u64,
     scratch: VisibilityScratch,
     face_clusters: FaceClusters,
     grower: RegionGrower,
@@ -176,28 +191,90 @@ pub struct HighlightSet {
 }
 
 impl HighlightSet {
-    /// Builds the set for a render mesh: welds it, builds the topology and the curvature
-    /// field with `options`. The N = H search solves on the mesh's own normals (the ones
-    /// it is shaded with) when it has them ([`npr_geometry::NormalSource::Mesh`]).
+    /// Builds the set for a render mesh at the default abstraction
+    /// ([`DEFAULT_ABSTRACTION`]): welds it, builds the topology and the curvature field
+    /// with `options`. See [`HighlightSet::with_abstraction`].
     ///
     /// # Errors
     /// [`SpecularError::EmptyMesh`] when the mesh has no usable triangle.
     pub fn new(mesh: &Mesh, options: &CurvatureOptions) -> Result<Self, SpecularError> {
+        Self::with_abstraction(mesh, options, DEFAULT_ABSTRACTION)
+    }
+
+    /// Builds the set for a render mesh seeing its surface at scale `abstraction`, in
+    /// units of the mesh's bounding-sphere radius (beyond the paper). At 0 the N = H
+    /// search, the regions and the per-pixel falloff work on the mesh's own normals (the
+    /// ones it is shaded with, [`npr_geometry::NormalSource::Mesh`]): one highlight per
+    /// bump of a scan, faithful to `N·H ≥ σ` on the raw surface. Above 0 they work on the
+    /// curvature field smoothed over that scale ([`CurvatureField::at_scale`]): small
+    /// bumps cancel, limbs keep their shape, and a scan shows a few clean highlights per
+    /// form. Negative or non-finite values count as 0.
+    ///
+    /// # Errors
+    /// [`SpecularError::EmptyMesh`] when the mesh has no usable triangle.
+    pub fn with_abstraction(
+        mesh: &Mesh,
+        options: &CurvatureOptions,
+        abstraction: f32,
+    ) -> Result<Self, SpecularError> {
         let (welded, topology, field) = CurvatureField::for_mesh(mesh, options);
         check(&topology, &field)?;
-        let search = HighlightSearch::for_mesh(mesh, &welded, &topology, &field);
-        // The normals a fragment interpolates: the render mesh's own, else the search's.
-        let corners: Vec<Vec3> = if mesh.normals.len() == mesh.positions.len() {
-            mesh.indices
-                .iter()
-                .take(3 * topology.face_count())
-                .map(|&i| mesh.normals.get(i as usize).copied().unwrap_or(Vec3::ZERO))
-                .collect()
+        let abstraction = if abstraction.is_finite() {
+            abstraction.max(0.0)
         } else {
-            corner_normals(&topology, search.normals())
+            0.0
         };
+        let mesh_normals = mesh.normals.len() == mesh.positions.len();
+        let (search, render_normals) = if abstraction > 0.0 {
+            let sigma = abstraction * bounding_radius(&topology);
+            // Smooth the normals the mesh is shaded with, where it has them.
+            let mut shaded = field.clone();
+            if let Some(normals) = npr_geometry::welded_mesh_normals(mesh, &welded) {
+                for ((n, own), valid) in shaded.normal.iter_mut().zip(normals).zip(&field.valid) {
+                    if *valid && own != Vec3::ZERO {
+                        *n = own;
+                    }
+                }
+            }
+            let scaled = shaded.at_scale(&topology, sigma);
+            let search = HighlightSearch::new(&topology, &scaled);
+            let normals = search.normals();
+            let render = welded
+                .render_to_welded
+                .iter()
+                .map(|&w| normals.get(w as usize).copied().unwrap_or(Vec3::ZERO))
+                .collect();
+            (search, render)
+        } else {
+            let search = HighlightSearch::for_mesh(mesh, &welded, &topology, &field);
+            let render = if mesh_normals {
+                mesh.normals.clone()
+            } else {
+                let normals = search.normals();
+                welded
+                    .render_to_welded
+                    .iter()
+                    .map(|&w| normals.get(w as usize).copied().unwrap_or(Vec3::ZERO))
+                    .collect()
+            };
+            (search, render)
+        };
+        // The normals a fragment interpolates, per face corner.
+        let corners: Vec<Vec3> = mesh
+            .indices
+            .iter()
+            .take(3 * topology.face_count())
+            .map(|&i| {
+                render_normals
+                    .get(i as usize)
+                    .copied()
+                    .unwrap_or(Vec3::ZERO)
+            })
+            .collect();
         let mut set = Self::with_search(topology, &field, search);
         set.face_slack = face_slack(&set.topology, &corners);
+        set.render_normals = render_normals;
+        set.abstraction = abstraction;
         Ok(set)
     }
 
@@ -239,6 +316,9 @@ impl HighlightSet {
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             face_slack: Vec::new(),
+            render_normals: Vec::new(),
+            abstraction: 0.0,
+            normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
             face_clusters,
             grower: RegionGrower::default(),
@@ -274,6 +354,25 @@ impl HighlightSet {
     #[cfg(any(test, feature = "test-support"))]
     pub(crate) fn highlights_mut(&mut self) -> &mut [Highlight] {
         &mut self.highlights
+    }
+
+    /// The scale the set sees its surface at, in units of the bounding-sphere radius (see
+    /// [`HighlightSet::with_abstraction`]).
+    pub fn abstraction(&self) -> f32 {
+        self.abstraction
+    }
+
+    /// Per render vertex, the unit normal at the set's scale: what the search, the regions
+    /// and the per-pixel falloff see (the mesh's own at abstraction 0). Empty for a set
+    /// built [`HighlightSet::from_parts`] (it knows no render vertices).
+    pub fn render_normals(&self) -> &[Vec3] {
+        &self.render_normals
+    }
+
+    /// Identifies this set's [`HighlightSet::render_normals`] (unique per built set), so
+    /// a pass uploads them once.
+    pub fn normals_id(&self) -> u64 {
+        self.normals_id
     }
 
     /// Receiver faces of all highlights; each [`Highlight::receivers`] is a range of it.
@@ -477,11 +576,19 @@ impl HighlightSet {
             // Ours: also within the measured region's normal cone, widened by
             // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
             // per face or as a per-pixel falloff.
+            // An edit may take the texture past the grazing limit of unedited highlights
+            // (onto surface the user asked it onto): then only §4.2's facing bounds it.
+            let turn = edit_turn(h);
+            let cap = if turn > 0.0 {
+                std::f32::consts::FRAC_PI_2 - 0.5 * self.receiver_cone_margin_rad
+            } else {
+                grazing
+            };
             let cone = (self.sizing == HighlightSizing::Region
                 && self.boundary != HighlightBoundary::Unrestricted)
                 .then(|| {
                     let measured = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
-                    (measured + edit_turn(h) + self.receiver_cone_margin_rad).min(grazing)
+                    (measured + turn + self.receiver_cone_margin_rad).min(cap)
                 });
             h.falloff_cos = NO_FALLOFF;
             let facing = match (cone, self.boundary) {
@@ -511,6 +618,7 @@ impl HighlightSet {
             );
             h.receivers = start..self.receiver_faces.len();
         }
+        self.share_regions(&mut kept);
         let live: std::collections::HashSet<u64> = kept.iter().map(|h| h.id).collect();
         self.per_highlight.retain(|id, _| live.contains(id));
         self.stats = UpdateStats {
@@ -526,6 +634,41 @@ impl HighlightSet {
         };
         self.highlights = kept;
         &self.highlights
+    }
+
+    /// Fills [`Highlight::shared_with`]: for each highlight the (up to four) nearest
+    /// whose footprint can overlap its own (centres closer than the sum of their larger
+    /// half extents), when neither carries the user's own edits.
+    fn share_regions(&self, kept: &mut [Highlight]) {
+        let edited = |id: u64| {
+            self.per_highlight.get(&id).is_some_and(|c| {
+                c.translate != glam::Vec2::ZERO || c.rotate_rad != 0.0 || c.scale != glam::Vec2::ONE
+            })
+        };
+        let reach: Vec<(Vec3, f32, bool)> = kept
+            .iter()
+            .map(|h| {
+                let p = &h.projector;
+                (p.centre_world, p.half_extent.max_element(), edited(h.id))
+            })
+            .collect();
+        for (i, h) in kept.iter_mut().enumerate() {
+            h.shared_with = [u32::MAX; 4];
+            let (ci, ri, ei) = reach[i];
+            if ei {
+                continue;
+            }
+            let mut near: Vec<(f32, usize)> = reach
+                .iter()
+                .enumerate()
+                .filter(|&(j, &(cj, rj, ej))| j != i && !ej && ci.distance(cj) < ri + rj)
+                .map(|(j, &(cj, _, _))| (ci.distance(cj), j))
+                .collect();
+            near.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (slot, (_, j)) in h.shared_with.iter_mut().zip(near) {
+                *slot = j as u32;
+            }
+        }
     }
 
     fn make(
@@ -548,6 +691,7 @@ impl HighlightSet {
             found,
             receivers: 0..0,
             falloff_cos: NO_FALLOFF,
+            shared_with: [u32::MAX; 4],
         })
     }
 }

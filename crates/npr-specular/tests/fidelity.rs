@@ -8,7 +8,7 @@ use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuMesh, testing};
 use npr_specular::fidelity::{
-    Coherence, FidelityRig, FidelityScore, standard_views, unit_sphere_transform,
+    Coherence, FidelityRig, FidelityScore, standard_views, surface_at_scale, unit_sphere_transform,
 };
 use npr_specular::{HighlightSet, HighlightSizing, ProjectorControls};
 
@@ -25,7 +25,7 @@ fn score(ctx: &npr_gpu::GpuContext, mesh: &Mesh, sizing: HighlightSizing) -> Fid
     let rig = FidelityRig::new(&ctx.device, &ctx.queue, w, h).unwrap();
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
     set.sizing = sizing;
-    let gpu = GpuMesh::upload(&ctx.device, mesh).unwrap();
+    let gpu = GpuMesh::upload(&ctx.device, &surface_at_scale(mesh, &set)).unwrap();
     let views = standard_views(unit_sphere_transform(mesh), 3, w as f32 / h as f32);
     let scores: Vec<_> = views
         .iter()

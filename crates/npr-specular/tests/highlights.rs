@@ -306,8 +306,15 @@ fn check_finite(set: &HighlightSet) -> usize {
         let p = &h.projector;
         assert!(p.tex_from_world.is_finite() && p.normal.is_finite() && h.opacity.is_finite());
         let gpu = npr_specular::projector_gpu(h, h.controls.texture_layer, false);
-        let floats: &[f32] = bytemuck::cast_slice(std::slice::from_ref(&gpu));
-        assert!(floats.iter().all(|x| x.is_finite()), "{gpu:?}");
+        let floats = [gpu.axis_u, gpu.axis_v, gpu.normal, gpu.tint, gpu.params];
+        assert!(
+            gpu.tex_from_world
+                .iter()
+                .chain(&floats)
+                .flatten()
+                .all(|x| x.is_finite()),
+            "{gpu:?}"
+        );
     }
     set.highlights().len()
 }

@@ -12,9 +12,9 @@ use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
 use npr_specular::fidelity::{
-    Coherence, FidelityRig, FidelityScore, standard_views, unit_sphere_transform,
+    Coherence, FidelityRig, FidelityScore, standard_views, surface_at_scale, unit_sphere_transform,
 };
-use npr_specular::{HighlightSet, HighlightSizing};
+use npr_specular::{HighlightBoundary, HighlightSet, HighlightSizing};
 use std::path::{Path, PathBuf};
 
 const WIDTH: u32 = 640;
@@ -76,6 +76,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
         &[
             "mesh",
             "sizing",
+            "abstraction",
             "precision",
             "recall",
             "highlights_median",
@@ -83,34 +84,65 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
             "blobs_median",
             "count_within_50pct_views",
             "stretch_max",
+            "overlap_share",
+            "cut_boundary_share",
+            "edit_completeness",
             "adapter",
         ],
     );
     let aspect = WIDTH as f32 / HEIGHT as f32;
     for (name, mesh) in &meshes {
         let world_from_object = unit_sphere_transform(mesh);
-        let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-        let gpu = GpuMesh::upload(&ctx.device, mesh)?;
         let views = standard_views(world_from_object, VIEWS, aspect);
-        for sizing in [HighlightSizing::Paper, HighlightSizing::Region] {
+        // The surface at scale 0 (the raw mesh) and at the default abstraction; each scale
+        // is measured against its own N·H ≥ σ.
+        let raw = HighlightSet::with_abstraction(mesh, &CurvatureOptions::default(), 0.0)?;
+        let raw_gpu = GpuMesh::upload(&ctx.device, &surface_at_scale(mesh, &raw))?;
+        let scaled = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+        let scaled_gpu = GpuMesh::upload(&ctx.device, &surface_at_scale(mesh, &scaled))?;
+        let mut sets = [(raw, raw_gpu), (scaled, scaled_gpu)];
+        for (sizing, boundary, scale, label) in [
+            (
+                HighlightSizing::Paper,
+                HighlightBoundary::Unrestricted,
+                0,
+                "paper",
+            ),
+            (
+                HighlightSizing::Region,
+                HighlightBoundary::PerFace,
+                0,
+                "region, per-face",
+            ),
+            (
+                HighlightSizing::Region,
+                HighlightBoundary::Smooth,
+                0,
+                "region",
+            ),
+            (
+                HighlightSizing::Region,
+                HighlightBoundary::Smooth,
+                1,
+                "region",
+            ),
+        ] {
+            let (set, gpu) = &mut sets[scale];
             set.sizing = sizing;
-            let bar = super::progress(views.len() as u64, &format!("{name} {sizing:?}"));
+            set.boundary = boundary;
+            let abstraction = set.abstraction();
+            let bar = super::progress(views.len() as u64, &format!("{name} {label}"));
             let mut scores = Vec::with_capacity(views.len());
             for view in &views {
-                scores.push(rig.score(
-                    &ctx.device,
-                    &ctx.queue,
-                    (&gpu, &mesh.indices),
-                    &mut set,
-                    view,
-                )?);
+                scores.push(rig.score(&ctx.device, &ctx.queue, (gpu, &mesh.indices), set, view)?);
                 bar.inc(1);
             }
             bar.finish_and_clear();
             let s = FidelityScore::pool(&scores);
             table.push(vec![
                 name.as_str().into(),
-                format!("{sizing:?}").to_lowercase().into(),
+                label.into(),
+                Cell::Num(f64::from(abstraction), 3),
                 Cell::Num(s.precision, 3),
                 Cell::Num(s.recall, 3),
                 Cell::Num(s.highlights_median, 1),
@@ -118,6 +150,9 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
                 Cell::Num(s.blobs_median, 1),
                 format!("{}/{}", s.count_within, s.views).into(),
                 Cell::Num(f64::from(s.stretch_max), 2),
+                Cell::Num(s.overlap_share, 3),
+                Cell::Num(s.cut_boundary_share, 3),
+                Cell::Num(s.edit_completeness, 3),
                 adapter.as_str().into(),
             ]);
         }

@@ -4,7 +4,7 @@
 use super::state::{Button, HighlightInfo, Input, Key, ViewerState};
 use crate::engine::{FrameStats, Renderer};
 use crate::model::Model;
-use crate::preset::{BaseModel, BlendPreset, DirectionPreset, Effect, UpPreset};
+use crate::preset::{BaseModel, BlendPreset, BoundaryPreset, DirectionPreset, Effect, UpPreset};
 use egui::{Color32, Pos2, Sense, Stroke};
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;
@@ -257,6 +257,15 @@ pub fn panel(
                             egui::Slider::new(&mut p.specular.smoothing_edges, 1.0..=12.0)
                                 .text("curvature smoothing (edges)"),
                         );
+                        ui.add(
+                            egui::Slider::new(&mut p.specular.abstraction, 0.0..=crate::preset::MAX_ABSTRACTION)
+                                .text("abstraction (× radius)"),
+                        );
+                        ui.horizontal(|ui| {
+                            ui.label("edges");
+                            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::Smooth, "smooth");
+                            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::PerFace, "per face");
+                        });
                         ui.add(egui::Slider::new(&mut p.specular.base_ks, 0.0..=1.0).text("base k_s"));
                         if let Some(id) = state.selected {
                             ui.label(format!("selected highlight #{id}"));
