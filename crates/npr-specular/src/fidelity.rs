@@ -350,7 +350,7 @@ impl FidelityRig {
             highlight_px: count(&highlight),
             region_px: count(&region),
             both_px: both,
-            highlights: set.highlights().len(),
+            highlights: set.highlights().iter().filter(|h| h.piece == 0).count(),
             visible_highlights: own.iter().filter(|n| **n > MIN_BLOB_PX).count(),
             blobs: blobs(&region, self.width as usize, MIN_BLOB_PX),
             stretch_max: stretch_max(set, w),
@@ -491,6 +491,7 @@ impl Coherence {
         let now: Vec<(u64, f32, f32)> = set
             .highlights()
             .iter()
+            .filter(|h| h.piece == 0)
             .map(|h| {
                 let e = h.projector.half_extent;
                 (h.id, h.opacity, e.x * e.y)

@@ -80,6 +80,11 @@ pub struct RegionGrower {
     queue: VecDeque<(u32, u32)>,
     /// Faces classified whole (inside or outside) and on the sub-grid, last frame.
     counts: RegionCounts,
+    /// Per face taken this frame: its seed and its share of that seed's moments.
+    face_moments: Vec<(u32, Moments)>,
+    /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
+    pieces: Vec<Footprint>,
+    piece_ranges: Vec<std::ops::Range<usize>>,
     /// Tests: sample every face on the finest sub-grid with `H` computed at each point
     /// (the reference the classification is compared with).
     #[cfg(test)]
@@ -111,6 +116,16 @@ pub struct RegionFrame<'a> {
     /// Light and eye, world space.
     pub light_eye: LightEye,
 }
+
+/// A region is split into pieces along its length ([`RegionGrower::pieces`]) when its
+/// moment ellipse is this much larger than the region (an ellipse region reads 1, a
+/// rectangle 1.05; a band that bends reads more: the ellipse covers the inside of the
+/// bend) ...
+pub const SPLIT_AREA_RATIO: f32 = 1.3;
+/// ... and the ellipse is at least this elongated.
+pub const SPLIT_ELONGATION: f32 = 2.5;
+/// Most pieces a region is split into.
+pub const MAX_PIECES: usize = 6;
 
 /// Largest number of faces one region may visit (a flat mesh facing the light would
 /// otherwise be walked whole every frame; the fit of a truncated region is still its best).
@@ -237,6 +252,10 @@ impl RegionGrower {
         }
         let mut total = 0usize;
         self.counts = RegionCounts::default();
+        self.face_moments.clear();
+        self.pieces.clear();
+        self.piece_ranges.clear();
+        self.piece_ranges.resize(seeds.len(), 0..0);
         while let Some((face, k)) = self.queue.pop_front() {
             let fi = face as usize;
             let part = &parts[k as usize];
@@ -279,6 +298,7 @@ impl RegionGrower {
                 class
             };
             let part = &mut parts[k as usize];
+            let mut face = Moments::default();
             match class {
                 FaceClass::Outside => {
                     self.counts.outside += 1;
@@ -289,7 +309,7 @@ impl RegionGrower {
                     // cos with the axis is at least the vertices' smallest.
                     self.counts.inside += 1;
                     let [a, b, c] = vs.map(|v| project(v.0));
-                    part.moments.add_triangle(a, b, c);
+                    face.add_triangle(a, b, c);
                     part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
                 }
                 FaceClass::Linear => {
@@ -298,7 +318,7 @@ impl RegionGrower {
                     if tri.iter().all(|t| t.1 < 0.0) {
                         continue;
                     }
-                    part.moments.add_clipped(tri);
+                    face.add_clipped(tri);
                     part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
                 }
                 FaceClass::Grid { steps, delta } => {
@@ -364,10 +384,12 @@ impl RegionGrower {
                     }
                     part.cone = part.cone.min(cone);
                     for_sub_triangles(steps, |a, b, c| {
-                        part.moments.add_clipped([grid[a], grid[b], grid[c]]);
+                        face.add_clipped([grid[a], grid[b], grid[c]]);
                     });
                 }
             }
+            part.moments.add(&face);
+            self.face_moments.push((k, face));
             part.faces += 1;
             total += 1;
             if total >= MAX_REGION_FACES {
@@ -389,10 +411,72 @@ impl RegionGrower {
                         ..fp
                     };
                     out[k] = Region::Fit(fp, part.faces);
+                    let start = self.pieces.len();
+                    split_bent(&fp, k as u32, &self.face_moments, &mut self.pieces);
+                    self.piece_ranges[k] = start..self.pieces.len();
                 }
             }
         }
         out
+    }
+
+    /// The pieces seed `k`'s region was split into by the last [`RegionGrower::grow_all`]
+    /// (beyond the paper): empty for a region its moment ellipse fits; for a long bent
+    /// band (ellipse [`SPLIT_AREA_RATIO`] × larger than the region, [`SPLIT_ELONGATION`]
+    /// × longer than wide), up to [`MAX_PIECES`] footprints of equal area along its
+    /// length, each fitted to its own faces, in the same frame as the whole's, so that
+    /// several projectors follow the band where one ellipse cannot.
+    pub fn pieces(&self, k: usize) -> &[Footprint] {
+        self.piece_ranges
+            .get(k)
+            .and_then(|r| self.pieces.get(r.clone()))
+            .unwrap_or(&[])
+    }
+}
+
+/// Appends to `out` the pieces of the region of seed `k` fitted by `whole` (see
+/// [`RegionGrower::pieces`]), from its faces' moments; nothing when it needs none.
+fn split_bent(whole: &Footprint, k: u32, faces: &[(u32, Moments)], out: &mut Vec<Footprint>) {
+    let h = whole.half_extent;
+    let ellipse = std::f32::consts::PI * h.x * h.y;
+    let elongation = h.max_element() / h.min_element().max(f32::MIN_POSITIVE);
+    if !(ellipse > SPLIT_AREA_RATIO * whole.region_area && elongation >= SPLIT_ELONGATION) {
+        return;
+    }
+    let count = ((elongation / 1.5).round() as usize).clamp(2, MAX_PIECES);
+    let (s, c) = whole.rotate_rad.sin_cos();
+    let axis = if h.x >= h.y {
+        Vec2::new(c, s)
+    } else {
+        Vec2::new(-s, c)
+    };
+    let mut along: Vec<(f32, Moments)> = faces
+        .iter()
+        .filter(|(seed, m)| *seed == k && m.area > 0.0)
+        .map(|(_, m)| {
+            let centroid = Vec2::new((m.first[0] / m.area) as f32, (m.first[1] / m.area) as f32);
+            ((centroid - whole.offset).dot(axis), *m)
+        })
+        .collect();
+    along.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = along.iter().map(|(_, m)| m.area).sum();
+    let start = out.len();
+    let mut piece = Moments::default();
+    let mut cut = 1;
+    for (_, m) in &along {
+        piece.add(m);
+        if piece.area >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
+            out.extend(piece.footprint());
+            piece = Moments::default();
+            cut += 1;
+        }
+    }
+    out.extend(piece.footprint());
+    for p in &mut out[start..] {
+        p.normal_cone_cos = whole.normal_cone_cos;
+    }
+    if out.len() - start < 2 {
+        out.truncate(start);
     }
 }
 
@@ -566,6 +650,17 @@ struct Moments {
 }
 
 impl Moments {
+    /// Adds another region's moments (disjoint regions).
+    fn add(&mut self, other: &Moments) {
+        self.area += other.area;
+        for (a, b) in self.first.iter_mut().zip(&other.first) {
+            *a += b;
+        }
+        for (a, b) in self.second.iter_mut().zip(&other.second) {
+            *a += b;
+        }
+    }
+
     /// Adds a triangle (counter-clockwise seen from the normal for positive area).
     fn add_triangle(&mut self, a: Vec2, b: Vec2, c: Vec2) {
         let (a, b, c) = (a.as_dvec2(), b.as_dvec2(), c.as_dvec2());

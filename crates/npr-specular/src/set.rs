@@ -60,6 +60,15 @@ pub struct Highlight {
     /// the pixels they share (each goes to the ellipse it lies deepest in), so a pixel is
     /// covered by one highlight unless the user placed two there. `u32::MAX` for none.
     pub shared_with: [u32; 4],
+    /// 0 for a highlight itself; `i ≥ 1` for the i-th piece of a long bent highlight,
+    /// drawn in its place (same id, centre, controls and opacity; its own footprint,
+    /// projector and receivers; see [`crate::region::RegionGrower::pieces`]). The §3.4
+    /// edits move, turn and scale the pieces as one group about the whole's centre.
+    pub piece: u8,
+    /// How many pieces are drawn in this highlight's place (0: it is drawn itself; it
+    /// then has no receivers, its projector is the whole region's ellipse, what picking
+    /// and matching use).
+    pub pieces: u8,
 }
 
 /// The default abstraction of [`HighlightSet::new`], in units of the bounding-sphere
@@ -417,7 +426,9 @@ impl HighlightSet {
         let search_us = search_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
-        let previous = std::mem::take(&mut self.highlights);
+        // Pieces are made afresh from their highlight each frame.
+        let mut previous = std::mem::take(&mut self.highlights);
+        previous.retain(|h| h.piece == 0);
         let mut claimed = vec![false; centres.len()];
         // (id, centre, found, previous highlight index)
         let mut next: Vec<(u64, HighlightCentre, bool, Option<usize>)> =
@@ -499,7 +510,8 @@ impl HighlightSet {
                 self.grower.grow_all(&frame, &seeds)
             }
         }
-        .into_iter();
+        .into_iter()
+        .enumerate();
         let region_us = region_start.elapsed().as_secs_f64() * 1e6;
         let min_area = self.min_region_area * (self.radius_bound * scale).powi(2);
         let mut merged = 0;
@@ -507,13 +519,17 @@ impl HighlightSet {
         for (id, centre, found, prev) in next {
             let before = prev.map(|i| &previous[i]);
             let controls = controls_of(id);
+            let mut seed = None;
             let mut footprint = match (found, self.sizing) {
                 (false, _) => before.map(|h| h.footprint),
                 (true, HighlightSizing::Paper) => {
                     Some(eq8_footprint(&centre, controls.sigma, radius_world))
                 }
                 (true, HighlightSizing::Region) => match regions.next() {
-                    Some(Region::Fit(fp, _)) => (fp.region_area >= min_area).then_some(fp),
+                    Some((k, Region::Fit(fp, _))) => {
+                        seed = Some(k);
+                        (fp.region_area >= min_area).then_some(fp)
+                    }
                     _ => None,
                 },
             };
@@ -563,9 +579,25 @@ impl HighlightSet {
             if opacity <= 0.0 || footprint.half_extent.min_element() <= 0.0 {
                 continue;
             }
-            if let Some(h) = self.make(id, centre, controls, footprint, opacity, found) {
-                kept.push(h);
+            let Some(mut h) = self.make(id, centre, controls, footprint, opacity, found) else {
+                continue;
+            };
+            let pieces = match seed {
+                Some(k) if found => self.grower.pieces(k),
+                _ => &[],
+            };
+            let mut drawn = Vec::with_capacity(pieces.len());
+            for piece in pieces {
+                let edited = group_edit(&footprint, piece, &controls);
+                if let Some(mut p) = self.make(id, centre, controls, edited, opacity, found) {
+                    p.footprint = *piece;
+                    p.piece = (drawn.len() + 1) as u8;
+                    drawn.push(p);
+                }
             }
+            h.pieces = drawn.len() as u8;
+            kept.push(h);
+            kept.extend(drawn);
         }
         // Receivers (§4.2).
         let visibility_start = std::time::Instant::now();
@@ -573,6 +605,11 @@ impl HighlightSet {
         let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
         for h in &mut kept {
             let start = self.receiver_faces.len();
+            if h.pieces > 0 {
+                h.receivers = start..start;
+                h.falloff_cos = NO_FALLOFF;
+                continue;
+            }
             // Ours: also within the measured region's normal cone, widened by
             // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
             // per face or as a per-pixel falloff.
@@ -623,7 +660,7 @@ impl HighlightSet {
         self.per_highlight.retain(|id, _| live.contains(id));
         self.stats = UpdateStats {
             centres: centres.len(),
-            highlights: kept.len(),
+            highlights: kept.iter().filter(|h| h.piece == 0).count(),
             receiver_faces: self.receiver_faces.len(),
             merged,
             search_us,
@@ -645,24 +682,35 @@ impl HighlightSet {
                 c.translate != glam::Vec2::ZERO || c.rotate_rad != 0.0 || c.scale != glam::Vec2::ONE
             })
         };
-        let reach: Vec<(Vec3, f32, bool)> = kept
+        // (centre, reach, edited, id, drawn)
+        let reach: Vec<(Vec3, f32, bool, u64, bool)> = kept
             .iter()
             .map(|h| {
                 let p = &h.projector;
-                (p.centre_world, p.half_extent.max_element(), edited(h.id))
+                let drawn = h.pieces == 0;
+                (
+                    p.centre_world,
+                    p.half_extent.max_element(),
+                    edited(h.id),
+                    h.id,
+                    drawn,
+                )
             })
             .collect();
         for (i, h) in kept.iter_mut().enumerate() {
             h.shared_with = [u32::MAX; 4];
-            let (ci, ri, ei) = reach[i];
-            if ei {
+            let (ci, ri, ei, idi, drawn) = reach[i];
+            if !drawn {
                 continue;
             }
+            // Pieces of one highlight always share; others when neither is edited.
             let mut near: Vec<(f32, usize)> = reach
                 .iter()
                 .enumerate()
-                .filter(|&(j, &(cj, rj, ej))| j != i && !ej && ci.distance(cj) < ri + rj)
-                .map(|(j, &(cj, _, _))| (ci.distance(cj), j))
+                .filter(|&(j, &(cj, rj, ej, idj, dj))| {
+                    j != i && dj && (idi == idj || (!ei && !ej)) && ci.distance(cj) < ri + rj
+                })
+                .map(|(j, &(cj, ..))| (ci.distance(cj), j))
                 .collect();
             near.sort_by(|a, b| a.0.total_cmp(&b.0));
             for (slot, (_, j)) in h.shared_with.iter_mut().zip(near) {
@@ -692,6 +740,8 @@ impl HighlightSet {
             receivers: 0..0,
             falloff_cos: NO_FALLOFF,
             shared_with: [u32::MAX; 4],
+            piece: 0,
+            pieces: 0,
         })
     }
 }
@@ -758,6 +808,23 @@ fn edit_turn(h: &Highlight) -> f32 {
     );
     let turn = drawn - own;
     if turn.is_finite() { turn.max(0.0) } else { 0.0 }
+}
+
+/// A piece's footprint under the §3.4 controls applied to the whole highlight as one
+/// group: its offset from the whole's centre scaled along the whole's axes and turned by
+/// the rotation; the translation, its own turn and its half extents' scale are then
+/// applied by [`Projector::with_footprint`] as for any footprint.
+fn group_edit(whole: &Footprint, piece: &Footprint, c: &ProjectorControls) -> Footprint {
+    let d = piece.offset - whole.offset;
+    let (sw, cw) = whole.rotate_rad.sin_cos();
+    let local = glam::Vec2::new(d.x * cw + d.y * sw, d.y * cw - d.x * sw) * c.scale.abs();
+    let back = glam::Vec2::new(local.x * cw - local.y * sw, local.x * sw + local.y * cw);
+    let (sr, cr) = c.rotate_rad.sin_cos();
+    let turned = glam::Vec2::new(back.x * cr - back.y * sr, back.x * sr + back.y * cr);
+    Footprint {
+        offset: whole.offset + turned,
+        ..*piece
+    }
 }
 
 /// Per face corner (`3f + i`), the vertex normal of that corner.
