@@ -36,7 +36,13 @@ fn main() {
     let eye = Vec3::new(0.0, 0.0, 3.0);
     let to_light = Vec3::new(0.4, 0.7, 1.0).normalize();
     let t0 = Instant::now();
-    let mut set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+    // NPR_ABSTRACTION=A: the set's abstraction scale (default: the library's).
+    let abstraction = std::env::var("NPR_ABSTRACTION")
+        .ok()
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(npr_specular::DEFAULT_ABSTRACTION);
+    let mut set =
+        HighlightSet::with_abstraction(&mesh, &CurvatureOptions::default(), abstraction).unwrap();
     eprintln!(
         "build {:.1} ms, {} faces",
         t0.elapsed().as_secs_f64() * 1e3,

@@ -186,7 +186,7 @@ pub struct HighlightSet {
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
     /// Per face: largest angle between its normal and its corners' render normals.
-    face_slack: Vec<f32>,
+    face_slack: Vec<[f32; 2]>,
     /// Per render vertex: the normal at the set's scale (empty from `from_parts`).
     render_normals: Vec<Vec3>,
     abstraction: f32,
@@ -638,7 +638,7 @@ impl HighlightSet {
                     h.falloff_cos = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
                     Facing::Interpolated {
                         limit_rad: zero,
-                        slack_rad: &self.face_slack,
+                        slack: &self.face_slack,
                     }
                 }
                 (Some(limit), _) => Facing::Cos(limit.cos()),

@@ -66,16 +66,18 @@ pub enum Facing<'a> {
     Cos(f32),
     /// For a smooth per-pixel falloff on the *interpolated* normal (beyond the paper): a
     /// face is kept when some point of it can have a normal within `limit_rad` of the
-    /// axis, i.e. its face normal lies within `limit_rad + slack_rad[f]` (the face's
-    /// largest angle between its face normal and its vertex normals, [`face_slack`]),
+    /// axis, i.e. its face normal lies within `limit_rad + slack` (`slack[f]` holds the
+    /// cosine and sine of the face's largest angle between its face normal and its
+    /// vertex normals, [`face_slack`]),
     /// and it faces the projector (§4.2, `N·N_max > 0`). A face beyond that cannot show
     /// a pixel of a falloff that reaches zero at `limit_rad`, so the search's face-wise
     /// cut is never seen.
     Interpolated {
         /// Angle from the axis where the falloff reaches zero.
         limit_rad: f32,
-        /// Per face (topology order); a face past its end has no slack.
-        slack_rad: &'a [f32],
+        /// Per face (topology order), (cos, sin) of its slack angle; a face past its end
+        /// has none.
+        slack: &'a [[f32; 2]],
     },
 }
 
@@ -92,42 +94,42 @@ impl Facing<'_> {
         match *self {
             Self::Cos(c) => c,
             Self::Interpolated { limit_rad, .. } => {
-                limit_rad.min(std::f32::consts::FRAC_PI_2).cos()
+                limit_rad.clamp(0.0, std::f32::consts::FRAC_PI_2).cos()
             }
         }
     }
 
-    /// The face's own cosine threshold.
-    fn face_cos(&self, f: usize) -> f32 {
+    /// The face's own cosine threshold; `limit` is (sin, cos) of `limit_rad`.
+    fn face_cos(&self, f: usize, limit: (f32, f32)) -> f32 {
         match *self {
             Self::Cos(c) => c,
-            Self::Interpolated {
-                limit_rad,
-                slack_rad,
-            } => {
-                let slack = slack_rad.get(f).copied().unwrap_or(0.0);
-                (limit_rad + slack)
-                    .min(std::f32::consts::FRAC_PI_2)
-                    .cos()
-                    .max(0.0)
+            Self::Interpolated { slack, .. } => {
+                // cos(limit + slack) without a cosine per face; both are at most π/2, so
+                // below zero means past π/2: only §4.2's facing then.
+                let [c, s] = slack.get(f).copied().unwrap_or([1.0, 0.0]);
+                (limit.1 * c - limit.0 * s).max(0.0)
             }
         }
     }
 }
 
-/// Per face of `topology`: the largest angle (radians) between its face normal and the
-/// normals at its three corners (`corner_normals[3f + i]`, e.g. the render mesh's, which
+/// Per face of `topology`: the cosine and sine of the largest angle (at most π/2) between
+/// its face normal and the normals at its three corners (`corner_normals[3f + i]`, e.g. the render mesh's, which
 /// a fragment interpolates). Zero where a normal is missing or not unit; what
 /// [`Facing::Interpolated`] needs.
-pub fn face_slack(topology: &Topology, corner_normals: &[Vec3]) -> Vec<f32> {
+pub fn face_slack(topology: &Topology, corner_normals: &[Vec3]) -> Vec<[f32; 2]> {
     (0..topology.face_count())
         .map(|f| {
             let n = topology.face_normals[f];
             (0..3)
                 .filter_map(|i| corner_normals.get(3 * f + i))
                 .filter(|c| c.is_finite() && (c.length_squared() - 1.0).abs() < 1e-2)
-                .map(|c| c.dot(n).clamp(-1.0, 1.0).acos())
+                .map(|c| c.dot(n).clamp(0.0, 1.0).acos())
                 .fold(0f32, f32::max)
+        })
+        .map(|a| {
+            let (s, c) = a.sin_cos();
+            [c, s]
         })
         .collect()
 }
@@ -244,6 +246,12 @@ fn receivers_impl(
     out: &mut Vec<u32>,
 ) -> usize {
     let min_cos = facing.strict_cos();
+    let limit = match facing {
+        Facing::Interpolated { limit_rad, .. } => {
+            limit_rad.clamp(0.0, std::f32::consts::FRAC_PI_2).sin_cos()
+        }
+        Facing::Cos(_) => (0.0, 1.0),
+    };
     let faces = topology.face_count();
     if start_face as usize >= faces {
         return 0;
@@ -332,7 +340,7 @@ fn receivers_impl(
     let mut visit = |f: usize| -> Option<bool> {
         // cos = (M⁻ᵀ n)·N_max / |M⁻ᵀ n| = n·(M⁻¹ N_max) / |M⁻ᵀ n|.
         let n = topology.face_normals[f];
-        let min_cos = facing.face_cos(f);
+        let min_cos = facing.face_cos(f, limit);
         let facing = if min_cos > 0.0 {
             let floor = if similar {
                 min_cos * k
