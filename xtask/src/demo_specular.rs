@@ -7,7 +7,7 @@ use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
 use npr_gpu::{
     BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuContext, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba,
+    ObjectUniforms, OffscreenTarget, ShadingModel, TargetFormats, readback_rgba,
 };
 use npr_specular::snapshot::{HighlightScene, Renderer};
 use npr_specular::{
@@ -56,7 +56,7 @@ impl Unrestricted {
     fn new(ctx: &GpuContext) -> anyhow::Result<Self> {
         let (d, q) = (&ctx.device, &ctx.queue);
         Ok(Self {
-            base: BaseShading::new(d, q, COLOR_FORMAT, DEPTH_FORMAT),
+            base: BaseShading::new(d, q, TargetFormats::default()),
             pass: HighlightPass::new(d, q, COLOR_FORMAT, DEPTH_FORMAT)?,
             target: OffscreenTarget::new(d, TILE, TILE)?,
         })

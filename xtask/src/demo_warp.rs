@@ -15,7 +15,7 @@ use crate::warp_rig::{CLEAR, Rig, Variant, WarpModel, light, path_for};
 use glam::{Mat4, Vec3};
 use npr_geometry::generate;
 use npr_gpu::readback_rgba;
-use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms};
+use npr_gpu::{GpuContext, GpuMesh, ObjectUniforms, TargetFormats};
 use npr_warp::metrics::difference_image;
 use npr_warp::{
     Departures, PhongBase, Proxy, ReferenceFrame, ScenePose, WarpMode, WarpSchedule, WarpSequence,
@@ -125,8 +125,7 @@ pub fn run(
         ours.settings(&proxy, world_per_object),
         TILE,
         TILE,
-        COLOR_FORMAT,
-        DEPTH_FORMAT,
+        TargetFormats::default(),
     )?;
     let objects =
         [seq.pass()
@@ -224,7 +223,7 @@ pub fn run(
         Vec3::ZERO,
         1.0,
     );
-    let mut occluder = PhongBase::new(&square, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let mut occluder = PhongBase::new(&square, light(), red, TargetFormats::default());
     let over = npr_warp::Pose {
         camera: r0.pose.camera,
         world_from_object: world_from_square,

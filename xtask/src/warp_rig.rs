@@ -6,12 +6,12 @@ use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_gpu::{
     COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba,
+    OffscreenTarget, TargetFormats, readback_rgba,
 };
 use npr_warp::{
     Antialiasing, Departures, FrameReport, FullRenderer, MsaaTarget, PhongBase, Proxy,
-    ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass, WarpSequence,
-    WarpSettings,
+    ReferenceDraw, ReferenceFrame, ScenePose, SequenceFrame, Turntable, WarpMode, WarpObject,
+    WarpPass, WarpSequence, WarpSettings,
 };
 
 /// A warping test model and the three proxy ratios the warping paper's Fig. 8–10 and
@@ -167,27 +167,27 @@ impl<'a> Rig<'a> {
                 d,
                 size,
                 size,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing,
+                antialiasing.references(TargetFormats::default()),
             )?)
         } else {
             None
         };
         Ok(Self {
             ctx,
-            base: PhongBase::new(&full, light(), material(), COLOR_FORMAT, DEPTH_FORMAT)
-                .with_antialiasing(antialiasing),
-            full,
-            renderer: FullRenderer::with_antialiasing(
-                d,
-                q,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing,
+            base: PhongBase::new(
+                &full,
+                light(),
+                material(),
+                antialiasing.references(TargetFormats::default()),
             ),
+            full,
+            renderer: FullRenderer::new(d, q, antialiasing.references(TargetFormats::default())),
             target: OffscreenTarget::new(d, size, size)?,
-            pass: WarpPass::with_antialiasing(d, COLOR_FORMAT, DEPTH_FORMAT, antialiasing)?,
+            pass: WarpPass::new(
+                d,
+                antialiasing.references(TargetFormats::default()),
+                antialiasing.warp_target(TargetFormats::default()),
+            )?,
             antialiasing,
             msaa,
             size,
@@ -267,13 +267,11 @@ impl<'a> Rig<'a> {
 
     /// An empty reference slot of the rig's size and antialiasing.
     pub fn reference_slot(&self) -> anyhow::Result<ReferenceFrame> {
-        Ok(ReferenceFrame::with_antialiasing(
+        Ok(ReferenceFrame::new(
             &self.ctx.device,
             self.size,
             self.size,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
-            self.antialiasing,
+            self.antialiasing.references(TargetFormats::default()),
         )?)
     }
 
@@ -286,7 +284,15 @@ impl<'a> Rig<'a> {
     ) -> anyhow::Result<wgpu::CommandEncoder> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
-        r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR)?;
+        let pose = scene.object(0);
+        r.record(
+            d,
+            q,
+            &mut enc,
+            &mut self.base,
+            &ReferenceDraw::whole(&pose, 0),
+            CLEAR,
+        )?;
         Ok(enc)
     }
 
@@ -306,10 +312,12 @@ impl<'a> Rig<'a> {
             d,
             q,
             &mut enc,
-            &mut self.base,
-            objects,
-            path,
-            frame,
+            SequenceFrame {
+                base: &mut self.base,
+                objects,
+                path,
+                frame,
+            },
             &t.color_view,
             &t.depth_view,
         )?;

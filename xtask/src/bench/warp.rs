@@ -35,7 +35,7 @@ use crate::warp_rig::{
 };
 use glam::Vec3;
 use npr_geometry::stats::median;
-use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
+use npr_gpu::{GpuContext, TargetFormats};
 use npr_warp::{
     Antialiasing, Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
     WarpSchedule, WarpSequence, compare, metrics::flip_mean,
@@ -614,8 +614,7 @@ fn spreading(
             ours.settings(proxy, world_per_object),
             SIZE,
             SIZE,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
+            TargetFormats::default(),
         )?;
         let objects =
             [seq.pass()
