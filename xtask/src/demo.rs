@@ -5,11 +5,12 @@
 
 use crate::{fixture_mesh, project_root};
 use anyhow::Context;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use npr_geometry::{Mesh, generate};
 use npr_gpu::snapshot::{BaseScene, render_base};
-use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// Where demo images go.
 pub fn demo_dir() -> PathBuf {
@@ -39,25 +40,8 @@ pub fn demo_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
     Ok(meshes)
 }
 
-/// A camera framing `mesh` (bounding sphere) from a three-quarter view.
-pub fn framing_camera(mesh: &Mesh, aspect: f32) -> (Camera, Mat4) {
-    let (lo, hi) = mesh.positions.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-6);
-    // Normalize to a unit bounding sphere at the origin.
-    let world_from_object =
-        Mat4::from_scale(Vec3::splat(1.0 / radius)) * Mat4::from_translation(-centre);
-    let eye = Vec3::new(0.9, 0.6, 2.4).normalize() * 2.3;
-    (Camera::look_at(eye, Vec3::ZERO, aspect), world_from_object)
-}
-
-/// Copies `tile` into `sheet` at (x, y).
-pub fn paste(sheet: &mut image::RgbaImage, tile: &image::RgbaImage, x: u32, y: u32) {
-    image::imageops::replace(sheet, tile, i64::from(x), i64::from(y));
-}
+use npr_gpu::figures::paste;
+pub use npr_gpu::figures::{framing_camera, sheet};
 
 /// Writes `image` to `path` and records the path in `written`.
 pub fn save(
@@ -70,19 +54,6 @@ pub fn save(
         .with_context(|| format!("writing {}", path.display()))?;
     written.push(path.to_path_buf());
     Ok(())
-}
-
-/// `tiles` in a grid `columns` wide on white, each cell the size of the first tile.
-pub fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
-    let columns = columns.max(1);
-    let (tw, th) = tiles.first().map_or((1, 1), |t| t.dimensions());
-    let rows = (tiles.len() as u32).div_ceil(columns);
-    let mut s = image::RgbaImage::from_pixel(tw * columns, th * rows, image::Rgba([255; 4]));
-    for (i, t) in tiles.iter().enumerate() {
-        let i = i as u32;
-        paste(&mut s, t, (i % columns) * tw, (i / columns) * th);
-    }
-    s
 }
 
 /// A demo: writes its figures into the directory and returns their paths, naming its
@@ -98,7 +69,7 @@ pub fn run() -> anyhow::Result<()> {
     println!("demo: adapter {}", ctx.adapter_summary());
     let demos: [(&str, Demo); 4] = [
         ("base shading", base_shading),
-        ("specular", crate::demo_specular::run),
+        ("specular", specular),
         ("hatching", crate::demo_hatching::run),
         ("warp", crate::demo_warp::run),
     ];
@@ -122,6 +93,73 @@ pub fn run() -> anyhow::Result<()> {
         index.display()
     );
     Ok(())
+}
+
+/// The specular paper's figures: `npr-specular`'s figure examples.
+const SPECULAR_FIGURES: [&str; 7] = ["fig2", "fig4", "fig5", "fig6", "fig7", "fig8", "sizing"];
+
+fn specular(
+    _ctx: &GpuContext,
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
+    run_examples("npr-specular", &SPECULAR_FIGURES, dir, progress)
+}
+
+/// Builds `examples` of `krate`, runs each with `dir` as its output directory, and returns
+/// the files they report (`wrote PATH` lines, `npr_gpu::figures::save`).
+pub fn run_examples(
+    krate: &str,
+    examples: &[&str],
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut build = Command::new(&cargo);
+    build.args(["build", "--release", "--quiet", "-p", krate]);
+    for e in examples {
+        build.args(["--example", e]);
+    }
+    progress.set_message(format!("{krate}: building the figure examples"));
+    let status = build.current_dir(project_root()).status()?;
+    anyhow::ensure!(
+        status.success(),
+        "building {krate}'s examples failed ({status})"
+    );
+    progress.inc_length(examples.len() as u64);
+    let mut written = Vec::new();
+    for e in examples {
+        progress.set_message(format!("{krate}: example {e}"));
+        let out = Command::new(&cargo)
+            .args([
+                "run",
+                "--release",
+                "--quiet",
+                "-p",
+                krate,
+                "--example",
+                e,
+                "--",
+            ])
+            .arg(dir)
+            .current_dir(project_root())
+            .stderr(std::process::Stdio::inherit())
+            .output()?;
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        for line in stdout.lines() {
+            match line.strip_prefix("wrote ") {
+                Some(path) => written.push(PathBuf::from(path)),
+                None => println!("{line}"),
+            }
+        }
+        anyhow::ensure!(
+            out.status.success(),
+            "cargo run -p {krate} --example {e} failed ({})",
+            out.status
+        );
+        progress.inc(1);
+    }
+    Ok(written)
 }
 
 /// Base shadings (Phong, Gouraud, cel with outlines) of every demo mesh, one PNG each

@@ -4,7 +4,6 @@
 mod bench;
 mod demo;
 mod demo_hatching;
-mod demo_specular;
 mod demo_warp;
 mod fixtures;
 mod gallery;

@@ -24,6 +24,8 @@ pub mod color;
 mod context;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
+pub mod figures;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixtures;
 pub mod layout;
 mod mesh;
