@@ -40,8 +40,7 @@ pub fn demo_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
     Ok(meshes)
 }
 
-use npr_gpu::figures::paste;
-pub use npr_gpu::figures::{framing_camera, sheet};
+use npr_gpu::figures::{framing_camera, paste};
 
 /// Writes `image` to `path` and records the path in `written`.
 pub fn save(
@@ -70,7 +69,7 @@ pub fn run() -> anyhow::Result<()> {
     let demos: [(&str, Demo); 4] = [
         ("base shading", base_shading),
         ("specular", specular),
-        ("hatching", crate::demo_hatching::run),
+        ("hatching", hatching),
         ("warp", crate::demo_warp::run),
     ];
     let bar = crate::bench::progress(demos.len() as u64, "demo");
@@ -104,6 +103,26 @@ fn specular(
     progress: &indicatif::ProgressBar,
 ) -> anyhow::Result<Vec<PathBuf>> {
     run_examples("npr-specular", &SPECULAR_FIGURES, dir, progress)
+}
+
+/// The hatching paper's figures and ours: `npr-hatching`'s figure examples.
+const HATCHING_FIGURES: [&str; 8] = [
+    "tam",
+    "fig1",
+    "fig2",
+    "fig3",
+    "fig4",
+    "directions",
+    "coherence",
+    "flow",
+];
+
+fn hatching(
+    _ctx: &GpuContext,
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
+    run_examples("npr-hatching", &HATCHING_FIGURES, dir, progress)
 }
 
 /// Builds `examples` of `krate`, runs each with `dir` as its output directory, and returns

@@ -3,7 +3,6 @@
 
 mod bench;
 mod demo;
-mod demo_hatching;
 mod demo_warp;
 mod fixtures;
 mod gallery;
