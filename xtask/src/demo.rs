@@ -70,7 +70,7 @@ pub fn run() -> anyhow::Result<()> {
         ("base shading", base_shading),
         ("specular", specular),
         ("hatching", hatching),
-        ("warp", crate::demo_warp::run),
+        ("warp", warp),
     ];
     let bar = crate::bench::progress(demos.len() as u64, "demo");
     let mut written = Vec::new();
@@ -123,6 +123,17 @@ fn hatching(
     progress: &indicatif::ProgressBar,
 ) -> anyhow::Result<Vec<PathBuf>> {
     run_examples("npr-hatching", &HATCHING_FIGURES, dir, progress)
+}
+
+/// The warping paper's figures and ours: `npr-warp`'s figure examples.
+const WARP_FIGURES: [&str; 3] = ["fig8_10", "sequence", "occlusion"];
+
+fn warp(
+    _ctx: &GpuContext,
+    dir: &Path,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Vec<PathBuf>> {
+    run_examples("npr-warp", &WARP_FIGURES, dir, progress)
 }
 
 /// Builds `examples` of `krate`, runs each with `dir` as its output directory, and returns

@@ -3,12 +3,10 @@
 
 mod bench;
 mod demo;
-mod demo_warp;
 mod fixtures;
 mod gallery;
 mod gpu_setup;
 mod test;
-mod warp_rig;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;

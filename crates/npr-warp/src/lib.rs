@@ -78,6 +78,8 @@ pub mod msaa;
 pub mod pass;
 pub mod proxy;
 pub mod reference;
+#[cfg(any(test, feature = "test-support"))]
+pub mod rig;
 pub mod sequence;
 pub mod shaders;
 pub mod warper;

@@ -30,12 +30,12 @@
 //! of every measured frame).
 
 use super::table::{Cell, Table, emit};
-use crate::warp_rig::{
-    CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
-};
 use glam::Vec3;
 use npr_geometry::stats::median;
 use npr_gpu::{GpuContext, TargetFormats};
+use npr_warp::rig::{
+    CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
+};
 use npr_warp::{
     Antialiasing, Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
     WarpSchedule, WarpSequence, compare, metrics::flip_mean,
@@ -75,9 +75,25 @@ fn sampled_steps(k: u32) -> Vec<u32> {
     v
 }
 
-impl Rig<'_> {
-    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
+/// Timed frames of the rig.
+trait RigTimes {
     /// Full render of `scene` into the rig's target; returns ms (submit to idle).
+    fn full_ms(&mut self, scene: &ScenePose) -> anyhow::Result<f64>;
+    fn reference_ms(&mut self, slot: &mut ReferenceFrame, scene: &ScenePose)
+    -> anyhow::Result<f64>;
+    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms, bins
+    /// blended and triangles drawn.
+    fn warp_ms(
+        &self,
+        refs: [&ReferenceFrame; 2],
+        objects: &[Variant],
+        scene: &ScenePose,
+        s: f32,
+        mode: WarpMode,
+    ) -> (f64, usize, usize);
+}
+
+impl RigTimes for Rig<'_> {
     fn full_ms(&mut self, scene: &ScenePose) -> anyhow::Result<f64> {
         let enc = self.record_full(scene)?;
         Ok(timed(self.ctx, || {
@@ -85,7 +101,6 @@ impl Rig<'_> {
         }))
     }
 
-    /// A reference of object 0 at `scene` into `slot`, resolves included; returns ms.
     fn reference_ms(
         &mut self,
         slot: &mut ReferenceFrame,
