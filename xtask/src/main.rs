@@ -79,6 +79,4 @@ pub fn project_root() -> PathBuf {
 }
 
 /// `fixtures/meshes/NAME`: the real meshes the project ships (see its README).
-pub fn fixture_mesh(name: &str) -> PathBuf {
-    project_root().join("fixtures/meshes").join(name)
-}
+pub use npr_gpu::figures::fixture_mesh;
