@@ -526,8 +526,7 @@ impl Renderer {
                 &params,
                 vsm,
                 COLOR_FORMAT,
-                size.0,
-                size.1,
+                (size.0, size.1),
             )?;
             let uniforms = object_uniforms(preset, Mat4::IDENTITY);
             let direction = h.direction;

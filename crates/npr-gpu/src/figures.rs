@@ -87,11 +87,28 @@ pub fn save(image: &image::RgbaImage, path: &Path) -> std::io::Result<()> {
     image
         .save(path)
         .map_err(|e| std::io::Error::other(format!("writing {}: {e}", path.display())))?;
-    wrote(path);
+    println!("wrote {}", path.display());
     Ok(())
 }
 
-/// Prints `wrote PATH` for a file written another way (e.g. an animation).
-pub fn wrote(path: &Path) {
+/// Writes `frames` to `path` as a looping animated GIF, `delay_ms` per frame, and prints
+/// `wrote PATH`.
+///
+/// # Errors
+/// The encode or write failing (the error names the path).
+pub fn save_gif(path: &Path, frames: Vec<image::RgbaImage>, delay_ms: u32) -> std::io::Result<()> {
+    let named =
+        |e: image::ImageError| std::io::Error::other(format!("writing {}: {e}", path.display()));
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let mut enc = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
+    enc.set_repeat(image::codecs::gif::Repeat::Infinite)
+        .map_err(named)?;
+    for f in frames {
+        let delay = image::Delay::from_numer_denom_ms(delay_ms, 1);
+        enc.encode_frame(image::Frame::from_parts(f, 0, 0, delay))
+            .map_err(named)?;
+    }
+    drop(enc);
     println!("wrote {}", path.display());
+    Ok(())
 }

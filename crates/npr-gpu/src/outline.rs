@@ -380,15 +380,8 @@ impl OutlinePass {
                 },
             ],
         });
-        let mut pass = render::begin_pass(
-            encoder,
-            "npr outline",
-            &[Some(render::color_attachment(
-                color_view,
-                wgpu::LoadOp::Load,
-            ))],
-            None,
-        );
+        let mut pass =
+            render::begin_color_pass(encoder, "npr outline", color_view, wgpu::LoadOp::Load);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);

@@ -157,6 +157,17 @@ pub fn begin_pass<'e>(
     })
 }
 
+/// Begins a render pass labelled `label` over one colour attachment, `view` loaded with
+/// `load` and stored, without depth (a full-screen pass).
+pub fn begin_color_pass<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPass<'e> {
+    begin_pass(encoder, label, &[Some(color_attachment(view, load))], None)
+}
+
 /// A pipeline layout of `groups` (group `i` is `groups[i]`), without immediates.
 pub fn pipeline_layout(
     device: &wgpu::Device,

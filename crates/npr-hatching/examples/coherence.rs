@@ -13,7 +13,7 @@ mod common;
 
 use common::{Error, fixture, single_light};
 use glam::{Mat4, Vec3};
-use npr_gpu::figures::{framing_camera, out_dir, save, sheet, wrote};
+use npr_gpu::figures::{framing_camera, out_dir, save, save_gif, sheet};
 use npr_gpu::{Camera, GpuContext, GpuMesh};
 use npr_hatching::coherence::{rig, uniforms};
 use npr_hatching::{StrokeSpace, TamParams, TonalArtMap};
@@ -65,15 +65,7 @@ fn gif(ctx: &GpuContext, dir: &Path, name: &str, tam: &TonalArtMap) -> Result<()
     let strip_path = dir.join(format!("hatching-coherence-{name}-strip.png"));
     save(&sheet(&strip, 1), &strip_path)?;
     let gif_path = dir.join(format!("hatching-coherence-{name}.gif"));
-    let file = std::io::BufWriter::new(std::fs::File::create(&gif_path)?);
-    let mut enc = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
-    enc.set_repeat(image::codecs::gif::Repeat::Infinite)?;
-    for f in frames {
-        let delay = image::Delay::from_numer_denom_ms(80, 1);
-        enc.encode_frame(image::Frame::from_parts(f, 0, 0, delay))?;
-    }
-    drop(enc);
-    wrote(&gif_path);
+    save_gif(&gif_path, frames, 80)?;
     Ok(())
 }
 

@@ -45,12 +45,7 @@ pub fn record_hatching(
     // hatching pass draws one full-screen triangle into your target.
     gbuffer.write(queue, inputs);
     let white = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
-    let mut rpass = render::begin_pass(
-        encoder,
-        "my hatching pass",
-        &[Some(render::color_attachment(target, white))],
-        None,
-    );
+    let mut rpass = render::begin_color_pass(encoder, "my hatching pass", target, white);
     pass.draw(&mut rpass, &bind_group);
     Ok(())
 }

@@ -41,15 +41,7 @@ fn scene() -> Result<Scene, Error> {
         world_from_object: Mat4::IDENTITY,
         directions: dirs,
     }];
-    let knot = generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.15,
-        segments: 1800,
-        tube_segments: 200,
-    });
+    let knot = generate::torus_knot(&generate::TorusKnot::trefoil(0.15, 1800, 200));
     // Mesh, bounding radius, (x, z) on the ground, turn about y in degrees.
     let objects: Vec<(Mesh, f32, (f32, f32), f32)> = vec![
         (

@@ -292,8 +292,7 @@ pub fn rig(
         &params,
         crate::VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        width,
-        height,
+        (width, height),
     )?;
     frame.scene.set_anchor_period(period)?;
     let identity = uniforms(glam::Mat4::IDENTITY);

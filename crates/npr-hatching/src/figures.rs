@@ -7,15 +7,7 @@ use npr_geometry::{Mesh, generate};
 /// The hatching figures' knot: the (2, 3) knot of the specular paper, finer (480 × 40
 /// segments).
 pub fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.15,
-        segments: 480,
-        tube_segments: 40,
-    })
+    generate::torus_knot(&generate::TorusKnot::trefoil(0.15, 480, 40))
 }
 
 /// Stroke directions of `mesh` from `source`: the direction of maximum principal

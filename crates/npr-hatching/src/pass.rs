@@ -409,14 +409,11 @@ impl HatchPass {
         target: &wgpu::TextureView,
         bind_group: &wgpu::BindGroup,
     ) {
-        let mut pass = render::begin_pass(
+        let mut pass = render::begin_color_pass(
             encoder,
             "npr hatching",
-            &[Some(render::color_attachment(
-                target,
-                wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-            ))],
-            None,
+            target,
+            wgpu::LoadOp::Clear(wgpu::Color::WHITE),
         );
         self.draw(&mut pass, bind_group);
     }

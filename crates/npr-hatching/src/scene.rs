@@ -612,14 +612,11 @@ impl ScenePasses {
                 (&self.scratch_view, &self.blur_h, &self.blur_from_moments),
                 (&self.moments_view, &self.blur_v, &self.blur_from_scratch),
             ] {
-                let mut pass = render::begin_pass(
+                let mut pass = render::begin_color_pass(
                     encoder,
                     "npr vsm blur",
-                    &[Some(render::color_attachment(
-                        target,
-                        wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    ))],
-                    None,
+                    target,
+                    wgpu::LoadOp::Clear(wgpu::Color::BLACK),
                 );
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, source, &[]);

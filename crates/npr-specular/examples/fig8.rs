@@ -10,7 +10,7 @@ mod common;
 use common::{Draw, Error, star, tile};
 use glam::Mat4;
 use npr_gpu::ShadingModel;
-use npr_gpu::figures::{out_dir, row, save, wrote};
+use npr_gpu::figures::{out_dir, row, save, save_gif};
 
 fn main() -> Result<(), Error> {
     let dir = out_dir()?;
@@ -32,15 +32,6 @@ fn main() -> Result<(), Error> {
     }
     let strip: Vec<_> = frames.iter().step_by(9).cloned().collect();
     save(&row(&strip), &dir.join("specular-fig8-knot-strip.png"))?;
-    let gif = dir.join("specular-fig8-knot.gif");
-    let file = std::io::BufWriter::new(std::fs::File::create(&gif)?);
-    let mut enc = image::codecs::gif::GifEncoder::new_with_speed(file, 10);
-    enc.set_repeat(image::codecs::gif::Repeat::Infinite)?;
-    for f in frames {
-        let delay = image::Delay::from_numer_denom_ms(60, 1);
-        enc.encode_frame(image::Frame::from_parts(f, 0, 0, delay))?;
-    }
-    drop(enc);
-    wrote(&gif);
+    save_gif(&dir.join("specular-fig8-knot.gif"), frames, 60)?;
     Ok(())
 }

@@ -22,15 +22,7 @@ pub const SIZE: u32 = 256;
 
 /// The example's model: a (2, 3) torus knot of about 30k triangles.
 pub fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.22,
-        segments: 480,
-        tube_segments: 32,
-    })
+    generate::torus_knot(&generate::TorusKnot::trefoil(0.22, 480, 32))
 }
 
 /// World units per object unit: the knot is scaled to fit the view.

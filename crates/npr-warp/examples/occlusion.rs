@@ -43,15 +43,7 @@ fn paste_row(sheet: &mut image::RgbaImage, tiles: &[image::RgbaImage], y: i64) {
 fn main() -> Result<(), Error> {
     let dir = out_dir()?;
     let ctx = GpuContext::new()?;
-    let knot = generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.2,
-        segments: 600,
-        tube_segments: 48,
-    });
+    let knot = generate::torus_knot(&generate::TorusKnot::trefoil(0.2, 600, 48));
     let mut rig = Rig::new(&ctx, &knot, TILE)?;
     let (path, world_per_object) = path_for(&knot, vec![Vec3::ZERO], 3.3, false);
     let (r0, r1) = (

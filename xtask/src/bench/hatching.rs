@@ -52,15 +52,7 @@ fn workloads() -> Vec<Workload> {
     };
     let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
     let knot = |segments, tube_segments| {
-        generate::torus_knot(&generate::TorusKnot {
-            p: 2,
-            q: 3,
-            major_radius: 1.0,
-            minor_radius: 0.4,
-            tube_radius: 0.15,
-            segments,
-            tube_segments,
-        })
+        generate::torus_knot(&generate::TorusKnot::trefoil(0.15, segments, tube_segments))
     };
     vec![
         Workload {
@@ -166,8 +158,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             &params,
             VsmSettings::default(),
             npr_gpu::COLOR_FORMAT,
-            width,
-            height,
+            (width, height),
         )?;
         let mut gpu = Vec::new();
         let mut triangles = 0usize;

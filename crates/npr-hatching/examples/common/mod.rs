@@ -62,8 +62,7 @@ pub fn render(
         &first,
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        w,
-        h,
+        (w, h),
     )?;
     let mut gpu = Vec::new();
     for item in &scene.items {
