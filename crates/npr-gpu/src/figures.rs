@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 /// The environment variable naming the figures' directory when no argument does.
 pub const OUT_DIR_ENV: &str = "NPR_FIGURES_DIR";
 
-/// The workspace root (two levels above this crate's manifest).
+/// The repository's workspace root (two levels above this crate's manifest; where the
+/// fixtures are in a checkout, not in a packaged crate).
 pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .ancestors()
@@ -22,7 +23,8 @@ pub fn workspace_root() -> PathBuf {
 }
 
 /// Where an example writes its figures: its first command-line argument, else
-/// [`OUT_DIR_ENV`], else `target/figures` in the workspace; created if missing.
+/// [`OUT_DIR_ENV`], else `target/figures` under the current directory (the workspace
+/// root under `cargo run`); created if missing.
 ///
 /// # Errors
 /// Creating the directory failing.
@@ -31,7 +33,7 @@ pub fn out_dir() -> std::io::Result<PathBuf> {
         .nth(1)
         .map(PathBuf::from)
         .or_else(|| std::env::var_os(OUT_DIR_ENV).map(PathBuf::from))
-        .unwrap_or_else(|| workspace_root().join("target/figures"));
+        .unwrap_or_else(|| PathBuf::from("target/figures"));
     std::fs::create_dir_all(&dir)?;
     Ok(dir)
 }
