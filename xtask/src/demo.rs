@@ -1,112 +1,50 @@
-//! `cargo xtask demo`: renders the demo images into `target/demo/` and prints where.
-//! Base shadings of the procedural fixtures and the real meshes in `fixtures/meshes/`;
-//! each technique adds its figures here, and [`crate::gallery`] lists and captions them
-//! all in `target/demo/index.html`.
+//! `cargo xtask demo`: runs every crate's figure examples (`examples/fig*.rs` and the
+//! like, each writing its images into the directory it is given) into `target/demo/`,
+//! checks that they wrote exactly the gallery's files, and writes the gallery
+//! ([`crate::gallery`], `target/demo/index.html`).
 
-use crate::{fixture_mesh, project_root};
-use anyhow::Context;
-use glam::{Mat4, Vec3};
-use npr_geometry::{Mesh, generate};
-use npr_gpu::snapshot::{BaseScene, render_base};
-use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use crate::project_root;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// Where demo images go.
 pub fn demo_dir() -> PathBuf {
     project_root().join("target/demo")
 }
 
-/// The procedural demo meshes, plus the real meshes from `fixtures/meshes/`.
-pub fn demo_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
-    let mut meshes = vec![
-        ("sphere".to_string(), generate::icosphere(4, 1.0)),
-        ("torus".to_string(), generate::torus(1.0, 0.4, 96, 48)),
-        (
-            "ellipsoid".to_string(),
-            generate::ellipsoid(1.2, 0.8, 0.6, 24),
-        ),
-        (
-            "cylinder".to_string(),
-            generate::cylinder(0.6, 1.6, 64, 16, true),
-        ),
-        ("knot".to_string(), generate::paper_knot()),
-    ];
-    for name in ["spot.obj", "stanford-bunny.obj"] {
-        let mesh = npr_geometry::load_obj(fixture_mesh(name))
-            .with_context(|| format!("loading fixtures/meshes/{name}"))?;
-        meshes.push((name.trim_end_matches(".obj").to_string(), mesh));
-    }
-    Ok(meshes)
-}
+/// The figure examples, by crate, in the gallery's order: npr-gpu's base shadings, the
+/// specular paper's figures, the hatching paper's and ours, the warping paper's.
+const FIGURES: [(&str, &[&str]); 4] = [
+    ("npr-gpu", &["base_shading"]),
+    (
+        "npr-specular",
+        &["fig2", "fig4", "fig5", "fig6", "fig7", "fig8", "sizing"],
+    ),
+    (
+        "npr-hatching",
+        &[
+            "tam",
+            "fig1",
+            "fig2",
+            "fig3",
+            "fig4",
+            "directions",
+            "coherence",
+            "flow",
+        ],
+    ),
+    ("npr-warp", &["fig8_10", "sequence", "occlusion"]),
+];
 
-/// A camera framing `mesh` (bounding sphere) from a three-quarter view.
-pub fn framing_camera(mesh: &Mesh, aspect: f32) -> (Camera, Mat4) {
-    let (lo, hi) = mesh.positions.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let centre = (lo + hi) * 0.5;
-    let radius = ((hi - lo) * 0.5).length().max(1e-6);
-    // Normalize to a unit bounding sphere at the origin.
-    let world_from_object =
-        Mat4::from_scale(Vec3::splat(1.0 / radius)) * Mat4::from_translation(-centre);
-    let eye = Vec3::new(0.9, 0.6, 2.4).normalize() * 2.3;
-    (Camera::look_at(eye, Vec3::ZERO, aspect), world_from_object)
-}
-
-/// Copies `tile` into `sheet` at (x, y).
-pub fn paste(sheet: &mut image::RgbaImage, tile: &image::RgbaImage, x: u32, y: u32) {
-    image::imageops::replace(sheet, tile, i64::from(x), i64::from(y));
-}
-
-/// Writes `image` to `path` and records the path in `written`.
-pub fn save(
-    image: &image::RgbaImage,
-    path: &Path,
-    written: &mut Vec<PathBuf>,
-) -> anyhow::Result<()> {
-    image
-        .save(path)
-        .with_context(|| format!("writing {}", path.display()))?;
-    written.push(path.to_path_buf());
-    Ok(())
-}
-
-/// `tiles` in a grid `columns` wide on white, each cell the size of the first tile.
-pub fn sheet(tiles: &[image::RgbaImage], columns: u32) -> image::RgbaImage {
-    let columns = columns.max(1);
-    let (tw, th) = tiles.first().map_or((1, 1), |t| t.dimensions());
-    let rows = (tiles.len() as u32).div_ceil(columns);
-    let mut s = image::RgbaImage::from_pixel(tw * columns, th * rows, image::Rgba([255; 4]));
-    for (i, t) in tiles.iter().enumerate() {
-        let i = i as u32;
-        paste(&mut s, t, (i % columns) * tw, (i / columns) * th);
-    }
-    s
-}
-
-/// A demo: writes its figures into the directory and returns their paths, naming its
-/// long parts on the progress bar (and adding steps to it with `inc_length`).
-type Demo = fn(&GpuContext, &Path, &indicatif::ProgressBar) -> anyhow::Result<Vec<PathBuf>>;
-
-/// Runs every demo, checks that it wrote exactly the gallery's files, and writes the
-/// gallery page (`target/demo/index.html`).
+/// Runs every figure example, checks that they wrote exactly the gallery's files, and
+/// writes the gallery page (`target/demo/index.html`).
 pub fn run() -> anyhow::Result<()> {
     let dir = demo_dir();
     std::fs::create_dir_all(&dir)?;
-    let ctx = GpuContext::new()?;
-    println!("demo: adapter {}", ctx.adapter_summary());
-    let demos: [(&str, Demo); 4] = [
-        ("base shading", base_shading),
-        ("specular", crate::demo_specular::run),
-        ("hatching", crate::demo_hatching::run),
-        ("warp", crate::demo_warp::run),
-    ];
-    let bar = crate::bench::progress(demos.len() as u64, "demo");
+    let bar = crate::bench::progress(FIGURES.len() as u64, "demo");
     let mut written = Vec::new();
-    for (name, demo) in demos {
-        bar.set_message(name);
-        written.extend(demo(&ctx, &dir, &bar)?);
+    for (krate, examples) in FIGURES {
+        written.extend(run_examples(krate, examples, &dir, &bar)?);
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -124,55 +62,58 @@ pub fn run() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Base shadings (Phong, Gouraud, cel with outlines) of every demo mesh, one PNG each
-/// and a sheet.
-fn base_shading(
-    ctx: &GpuContext,
+/// Builds `examples` of `krate`, runs each with `dir` as its output directory, and returns
+/// the files they report (`wrote PATH` lines, `npr_gpu::figures::save`).
+pub fn run_examples(
+    krate: &str,
+    examples: &[&str],
     dir: &Path,
-    _progress: &indicatif::ProgressBar,
+    progress: &indicatif::ProgressBar,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    const TILE: u32 = 320;
-    let meshes = demo_meshes()?;
-    let models = ShadingModel::ALL;
-    let mut sheet = image::RgbaImage::new(TILE * models.len() as u32, TILE * meshes.len() as u32);
-    let mut written = Vec::new();
-    let light = Light::directional(Vec3::new(1.0, 1.5, 2.0));
-    for (row, (name, mesh)) in meshes.iter().enumerate() {
-        let gpu = GpuMesh::upload(&ctx.device, mesh)?;
-        let (camera, world_from_object) = framing_camera(mesh, 1.0);
-        let object = ObjectUniforms::new(
-            world_from_object,
-            Vec3::new(0.75, 0.45, 0.3),
-            0.5,
-            Vec3::ONE,
-            40.0,
-        );
-        let scene = BaseScene {
-            objects: &[(&gpu, object)],
-            camera,
-            light,
-            clear: [1.0, 1.0, 1.0, 1.0],
-        };
-        for (col, model) in models.iter().enumerate() {
-            let mut image = render_base(&ctx.device, &ctx.queue, &scene, *model, TILE, TILE)?;
-            if *model == ShadingModel::Cel {
-                // Cel shading with ink outlines (npr_gpu::outline), as cartoons are drawn.
-                let objects = [(&gpu, world_from_object)];
-                let settings = npr_gpu::outline::OutlineSettings::default();
-                image = npr_gpu::outline::outline_image(
-                    &ctx.device,
-                    &ctx.queue,
-                    &image,
-                    &camera,
-                    &objects,
-                    &settings,
-                )?;
-            }
-            let path = dir.join(format!("base-{name}-{}.png", model.name()));
-            save(&image, &path, &mut written)?;
-            paste(&mut sheet, &image, col as u32 * TILE, row as u32 * TILE);
-        }
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut build = Command::new(&cargo);
+    build.args(["build", "--release", "--quiet", "-p", krate]);
+    for e in examples {
+        build.args(["--example", e]);
     }
-    save(&sheet, &dir.join("base-shading-sheet.png"), &mut written)?;
+    progress.set_message(format!("{krate}: building the figure examples"));
+    let status = build.current_dir(project_root()).status()?;
+    anyhow::ensure!(
+        status.success(),
+        "building {krate}'s examples failed ({status})"
+    );
+    progress.inc_length(examples.len() as u64);
+    let mut written = Vec::new();
+    for e in examples {
+        progress.set_message(format!("{krate}: example {e}"));
+        let out = Command::new(&cargo)
+            .args([
+                "run",
+                "--release",
+                "--quiet",
+                "-p",
+                krate,
+                "--example",
+                e,
+                "--",
+            ])
+            .arg(dir)
+            .current_dir(project_root())
+            .stderr(std::process::Stdio::inherit())
+            .output()?;
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        for line in stdout.lines() {
+            match line.strip_prefix("wrote ") {
+                Some(path) => written.push(PathBuf::from(path)),
+                None => println!("{line}"),
+            }
+        }
+        anyhow::ensure!(
+            out.status.success(),
+            "cargo run -p {krate} --example {e} failed ({})",
+            out.status
+        );
+        progress.inc(1);
+    }
     Ok(written)
 }

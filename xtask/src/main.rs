@@ -3,14 +3,10 @@
 
 mod bench;
 mod demo;
-mod demo_hatching;
-mod demo_specular;
-mod demo_warp;
 mod fixtures;
 mod gallery;
 mod gpu_setup;
 mod test;
-mod warp_rig;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -83,6 +79,4 @@ pub fn project_root() -> PathBuf {
 }
 
 /// `fixtures/meshes/NAME`: the real meshes the project ships (see its README).
-pub fn fixture_mesh(name: &str) -> PathBuf {
-    project_root().join("fixtures/meshes").join(name)
-}
+pub use npr_gpu::figures::fixture_mesh;

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, CurvatureRadius};
 use npr_gpu::{
     BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuMesh, ObjectBinding, ObjectUniforms,
-    OffscreenTarget, ShadingModel,
+    OffscreenTarget, ShadingModel, TargetFormats,
 };
 use npr_hatching::{HatchFrame, HatchObject, HatchParams, ShadowLight, TamParams, TonalArtMap};
 use npr_specular::{
@@ -249,7 +249,7 @@ impl Renderer {
     ) -> Result<Self, AppError> {
         let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
         let target = OffscreenTarget::new(device, size.0, size.1)?;
-        let base = BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT);
+        let base = BaseShading::new(device, queue, TargetFormats::default());
         let object = base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
         Ok(Self {
             model,
@@ -529,8 +529,7 @@ impl Renderer {
                 &params,
                 vsm,
                 COLOR_FORMAT,
-                size.0,
-                size.1,
+                (size.0, size.1),
             )?;
             let uniforms = object_uniforms(preset, Mat4::IDENTITY);
             let direction = h.direction;
@@ -700,21 +699,9 @@ impl Renderer {
             .as_ref()
             .is_some_and(|m| m.size == size && m.antialiasing == antialiasing);
         if !keep {
-            let target = npr_warp::MsaaTarget::new(
-                device,
-                size.0,
-                size.1,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing,
-            )?;
-            let base = BaseShading::multisampled(
-                device,
-                queue,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing.sample_count(),
-            );
+            let formats = antialiasing.references(TargetFormats::default());
+            let target = npr_warp::MsaaTarget::new(device, size.0, size.1, formats)?;
+            let base = BaseShading::new(device, queue, formats);
             let object =
                 base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
             self.full_msaa = Some(FullMsaaState {
@@ -765,18 +752,16 @@ impl Renderer {
             .proxy_ratio
             .max((MIN_PROXY_TRIANGLES as f32 / tris as f32).min(1.0));
         let proxy = npr_warp::Proxy::simplify(&self.model.mesh, ratio)?;
-        let (width, height) = self.size();
         let antialiasing = npr_warp::Antialiasing::from(w.antialiasing);
-        let warper = npr_warp::Warper::with_antialiasing(
+        let references = antialiasing.references(TargetFormats::default());
+        let warper = npr_warp::Warper::new(
             device,
             &proxy,
             w.departures(),
             1.0 / self.model.framing.radius,
-            width,
-            height,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
-            antialiasing,
+            self.size(),
+            references,
+            antialiasing.warp_target(TargetFormats::default()),
         )?;
         let shades: Vec<[u8; 4]> = preset
             .base
@@ -788,11 +773,9 @@ impl Renderer {
             &self.gpu_mesh,
             view.light,
             object_uniforms(preset, view.world_from_object),
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
+            references,
         )
-        .with_model(model, Some(npr_gpu::toon_ramp(256, &shades)))
-        .with_antialiasing(antialiasing);
+        .with_model(model, Some(npr_gpu::toon_ramp(256, &shades)));
         self.warp = Some(WarpState {
             key,
             warper,

@@ -585,7 +585,7 @@ fn independent_full_frame(
     i: u32,
     antialiasing: npr_warp::Antialiasing,
 ) -> image::RgbaImage {
-    use npr_gpu::{BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuMesh};
+    use npr_gpu::{BaseShading, FrameUniforms, GpuMesh, TargetFormats};
     let (device, queue) = (&ctx.device, &ctx.queue);
     let size = (preset.output.width, preset.output.height);
     let view = View::new(
@@ -595,13 +595,8 @@ fn independent_full_frame(
         360.0 * i as f32 / frames as f32,
     );
     let mesh = GpuMesh::upload(device, &model.mesh).unwrap();
-    let mut base = BaseShading::multisampled(
-        device,
-        queue,
-        COLOR_FORMAT,
-        DEPTH_FORMAT,
-        antialiasing.sample_count(),
-    );
+    let formats = antialiasing.references(TargetFormats::default());
+    let mut base = BaseShading::new(device, queue, formats);
     let shades: Vec<[u8; 4]> = preset
         .base
         .cel_bands
@@ -620,9 +615,7 @@ fn independent_full_frame(
         device,
         size.0,
         size.1,
-        COLOR_FORMAT,
-        DEPTH_FORMAT,
-        antialiasing,
+        antialiasing.references(TargetFormats::default()),
     )
     .unwrap();
     let mut encoder = device.create_command_encoder(&Default::default());

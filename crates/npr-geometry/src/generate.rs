@@ -351,6 +351,21 @@ pub struct TorusKnot {
 }
 
 impl TorusKnot {
+    /// The (2, 3) knot (a trefoil) in the specular paper's proportions (major radius 1,
+    /// minor radius 0.4), with a tube of `tube_radius` and `segments × tube_segments`
+    /// segments: [`paper_knot`], [`benchmark_knot`] and the figures' knots.
+    pub fn trefoil(tube_radius: f32, segments: usize, tube_segments: usize) -> Self {
+        Self {
+            p: 2,
+            q: 3,
+            major_radius: 1.0,
+            minor_radius: 0.4,
+            tube_radius,
+            segments,
+            tube_segments,
+        }
+    }
+
     /// Centre line `c(t)`, its first and second derivatives, t ∈ [0, 2π).
     fn curve(&self, t: f64) -> [DVec3; 3] {
         let (p, q) = (f64::from(self.p), f64::from(self.q));
@@ -401,29 +416,13 @@ pub fn torus_knot(k: &TorusKnot) -> Mesh {
 /// The specular paper's test knot (§5, Fig. 8, Table 1: 2,880 faces): a (2, 3) torus
 /// knot tube with 144 segments along the curve and 10 around, 1,440 vertices.
 pub fn paper_knot() -> Mesh {
-    torus_knot(&TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.15,
-        segments: 144,
-        tube_segments: 10,
-    })
+    torus_knot(&TorusKnot::trefoil(0.15, 144, 10))
 }
 
 /// The large benchmark mesh: the same (2, 3) knot with 2,750 × 200 segments,
 /// 550,000 vertices and 1,100,000 triangles (the warping paper's Buddha is 1,085,634).
 pub fn benchmark_knot() -> Mesh {
-    torus_knot(&TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.15,
-        segments: 2750,
-        tube_segments: 200,
-    })
+    torus_knot(&TorusKnot::trefoil(0.15, 2750, 200))
 }
 
 /// Moves every vertex along its normal by a seeded uniform amount in

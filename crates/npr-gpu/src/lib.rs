@@ -11,6 +11,8 @@
 //! - [`projective`]: the projective-texture matrix `tex_from_world` shared by the specular
 //!   and warping crates.
 //! - [`BaseShading`]: Phong, Gouraud and cel shading passes over which techniques draw.
+//! - [`render`]: the wgpu boilerplate written once: [`TargetFormats`], uniform buffers,
+//!   attachments and passes, and [`PipelineBuilder`].
 //! - [`outline`]: silhouette and crease lines from a normal + depth prepass, over any
 //!   style.
 //!
@@ -22,6 +24,8 @@ pub mod color;
 mod context;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
+pub mod figures;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixtures;
 pub mod layout;
 mod mesh;
@@ -30,6 +34,7 @@ pub mod projective;
 mod readback;
 #[cfg(any(test, feature = "test-support"))]
 pub mod reference;
+pub mod render;
 pub mod shaders;
 mod shading;
 #[cfg(any(test, feature = "test-support"))]
@@ -44,8 +49,12 @@ pub use context::GpuContext;
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
+pub use render::{PipelineBuilder, TargetFormats};
 pub use shading::{BaseShading, ObjectBinding, ShadingModel, default_ramp, toon_ramp, upload_ramp};
-pub use targets::{COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, begin_views_pass, texture_2d};
+pub use targets::{
+    COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, begin_views_pass, check_size, texture_2d,
+    texture_2d_descriptor,
+};
 pub use uniforms::{FrameUniforms, ObjectUniforms};
 
 pub use wgpu;

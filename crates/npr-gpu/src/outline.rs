@@ -21,6 +21,7 @@
 //! angle (crease); neighbours outside the image are ignored. A pixel is drawn when an edge pixel lies within `(width_px − 1) / 2`
 //! pixels (Euclidean) of it, so widths 1, 3, 5 … draw lines that many pixels across.
 
+use crate::render::{self, PipelineBuilder};
 use crate::{Camera, GpuError, GpuMesh, ObjectUniforms, Vertex, texture_2d};
 use glam::Mat4;
 use wgpu::util::DeviceExt;
@@ -202,10 +203,7 @@ impl OutlineObject {
 }
 
 fn module(device: &wgpu::Device) -> wgpu::ShaderModule {
-    device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some("outline.wgsl"),
-        source: wgpu::ShaderSource::Wgsl(crate::shaders::OUTLINE_FILE.full_source().into()),
-    })
+    crate::shaders::OUTLINE_FILE.module(device)
 }
 
 /// The normal + depth prepass: any technique can run it over its meshes.
@@ -223,55 +221,30 @@ impl NormalDepthPass {
         let module = module(device);
         let camera_layout = crate::layout::uniform_layout(device, "npr outline camera");
         let object_layout = crate::layout::uniform_layout(device, "npr outline object");
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr normal+depth"),
-            bind_group_layouts: &[Some(&camera_layout), Some(&object_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr normal+depth"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_normal_depth"),
-                compilation_options: Default::default(),
-                buffers: &[Some(Vertex::layout())],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: crate::DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_normal_depth"),
-                compilation_options: Default::default(),
-                targets: &[Some(NORMAL_DEPTH_FORMAT.into())],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr outline camera"),
-            size: std::mem::size_of::<CameraUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let camera_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr outline camera"),
-            layout: &camera_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: camera_buffer.as_entire_binding(),
-            }],
-        });
+        let layout = render::pipeline_layout(
+            device,
+            "npr normal+depth",
+            &[&camera_layout, &object_layout],
+        );
+        let pipeline = PipelineBuilder::new(
+            "npr normal+depth",
+            &layout,
+            &module,
+            "vs_normal_depth",
+            "fs_normal_depth",
+        )
+        .buffers(&[Some(Vertex::layout())])
+        .cull(Some(wgpu::Face::Back))
+        .depth(crate::DEPTH_FORMAT, true, wgpu::CompareFunction::Less)
+        .targets(&[Some(NORMAL_DEPTH_FORMAT.into())])
+        .build(device);
+        let camera_buffer = render::uniform_buffer(
+            device,
+            "npr outline camera",
+            std::mem::size_of::<CameraUniforms>(),
+        );
+        let camera_group =
+            render::uniform_group(device, "npr outline camera", &camera_layout, &camera_buffer);
         Self {
             pipeline,
             camera_buffer,
@@ -292,19 +265,9 @@ impl NormalDepthPass {
     /// An object with transform `world_from_object`.
     pub fn create_object(&self, device: &wgpu::Device, world_from_object: Mat4) -> OutlineObject {
         let u = ObjectUniforms::default_material(world_from_object);
-        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("npr outline object"),
-            contents: bytemuck::bytes_of(&u),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr outline object"),
-            layout: &self.object_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
-        });
+        let buffer = render::uniform_buffer_init(device, "npr outline object", &u);
+        let bind_group =
+            render::uniform_group(device, "npr outline object", &self.object_layout, &buffer);
         OutlineObject { buffer, bind_group }
     }
 
@@ -315,18 +278,14 @@ impl NormalDepthPass {
         target: &NormalDepthTarget,
         objects: &[(&GpuMesh, &OutlineObject)],
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr normal+depth"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+        let mut pass = render::begin_pass(
+            encoder,
+            "npr normal+depth",
+            &[Some(render::color_attachment(
+                &target.view,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ))],
+            Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &target.depth_view,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(1.0),
@@ -334,10 +293,7 @@ impl NormalDepthPass {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        );
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.camera_group, &[]);
         for (mesh, object) in objects {
@@ -374,41 +330,21 @@ impl OutlinePass {
                 ),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr outline"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr outline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_outline"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: color_format,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("npr outline params"),
-            contents: bytemuck::bytes_of(&settings.uniforms()),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
+        let pipeline_layout = render::pipeline_layout(device, "npr outline", &[&layout]);
+        let pipeline = PipelineBuilder::new(
+            "npr outline",
+            &pipeline_layout,
+            &module,
+            "vs_fullscreen",
+            "fs_outline",
+        )
+        .targets(&[Some(wgpu::ColorTargetState {
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            ..color_format.into()
+        })])
+        .build(device);
+        let params =
+            render::uniform_buffer_init(device, "npr outline params", &settings.uniforms());
         Self {
             pipeline,
             layout,
@@ -444,22 +380,8 @@ impl OutlinePass {
                 },
             ],
         });
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr outline"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass =
+            render::begin_color_pass(encoder, "npr outline", color_view, wgpu::LoadOp::Load);
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &group, &[]);
         pass.draw(0..3, 0..1);
@@ -552,20 +474,14 @@ pub fn outline_image(
     let gbuffer = NormalDepthTarget::new(device, width, height)?;
     let color = device.create_texture_with_data(
         queue,
-        &wgpu::TextureDescriptor {
-            label: Some("npr outline image"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: crate::COLOR_FORMAT,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        },
+        &crate::texture_2d_descriptor(
+            "npr outline image",
+            width,
+            height,
+            crate::COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            1,
+        ),
         wgpu::util::TextureDataOrder::LayerMajor,
         image.as_raw(),
     );

@@ -37,6 +37,14 @@ impl ShaderFile {
         parts.push(self.source);
         compose(&parts)
     }
+
+    /// The shader module of [`ShaderFile::full_source`], labelled with the file's name.
+    pub fn module(&self, device: &wgpu::Device) -> wgpu::ShaderModule {
+        device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.name),
+            source: wgpu::ShaderSource::Wgsl(self.full_source().into()),
+        })
+    }
 }
 
 /// Concatenates WGSL parts (shared snippets first, then the shader), one per line.

@@ -3,7 +3,8 @@
 //! (Lake, Marshall, Harris, Blackstein, "Stylized Rendering Techniques for Scalable
 //! Real-Time 3D Animation", NPAR 2000). WGSL: `shaders/base_shading.wgsl`.
 
-use crate::{FrameUniforms, GpuMesh, ObjectUniforms, Vertex, shaders};
+use crate::render::{self, PipelineBuilder};
+use crate::{FrameUniforms, GpuMesh, ObjectUniforms, TargetFormats, Vertex, shaders};
 use wgpu::util::DeviceExt;
 
 /// Which base shading model to draw with.
@@ -126,30 +127,11 @@ pub struct BaseShading {
 }
 
 impl BaseShading {
-    /// Builds the three pipelines for `color_format` with `depth_format` depth testing
-    /// (less, write), and the default three-band ramp.
-    pub fn new(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-    ) -> Self {
-        Self::multisampled(device, queue, color_format, depth_format, 1)
-    }
-
-    /// As [`BaseShading::new`], for render passes whose targets have `sample_count`
-    /// samples per pixel (1, or 4 for MSAA: WebGPU guarantees 4 for renderable formats).
-    pub fn multisampled(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        sample_count: u32,
-    ) -> Self {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("base_shading.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(shaders::BASE_SHADING_FILE.full_source().into()),
-        });
+    /// Builds the three pipelines for render passes over targets of `formats` (colour,
+    /// depth tested less and written, samples per pixel: 1, or 4 for MSAA, which WebGPU
+    /// guarantees for renderable formats), and the default three-band ramp.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, formats: TargetFormats) -> Self {
+        let module = shaders::BASE_SHADING_FILE.module(device);
         let frame_layout = crate::layout::uniform_layout(device, "npr frame");
         let object_layout = crate::layout::uniform_layout(device, "npr object");
         let ramp_layout = crate::layout::texture_sampler_layout(
@@ -157,64 +139,27 @@ impl BaseShading {
             "npr ramp",
             wgpu::TextureViewDimension::D2,
         );
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr base shading"),
-            bind_group_layouts: &[
-                Some(&frame_layout),
-                Some(&object_layout),
-                Some(&ramp_layout),
-            ],
-            immediate_size: 0,
-        });
+        let layout = render::pipeline_layout(
+            device,
+            "npr base shading",
+            &[&frame_layout, &object_layout, &ramp_layout],
+        );
         let pipeline = |vs: &str, fs: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(fs),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(Vertex::layout())],
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: Some(wgpu::Face::Back),
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: depth_format,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState {
-                    count: sample_count.max(1),
-                    ..Default::default()
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(color_format.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            PipelineBuilder::new(fs, &layout, &module, vs, fs)
+                .buffers(&[Some(Vertex::layout())])
+                .cull(Some(wgpu::Face::Back))
+                .depth(formats.depth, true, wgpu::CompareFunction::Less)
+                .samples(formats.samples)
+                .targets(&[Some(formats.color.into())])
+                .build(device)
         };
-        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr frame uniforms"),
-            size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let frame_bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr frame"),
-            layout: &frame_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: frame_buffer.as_entire_binding(),
-            }],
-        });
+        let frame_buffer = render::uniform_buffer(
+            device,
+            "npr frame uniforms",
+            std::mem::size_of::<FrameUniforms>(),
+        );
+        let frame_bind_group =
+            render::uniform_group(device, "npr frame", &frame_layout, &frame_buffer);
         let ramp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("npr ramp sampler"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
@@ -277,19 +222,8 @@ impl BaseShading {
 
     /// Creates the per-object uniform buffer and bind group, filled with `uniforms`.
     pub fn create_object(&self, device: &wgpu::Device, uniforms: &ObjectUniforms) -> ObjectBinding {
-        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("npr object uniforms"),
-            contents: bytemuck::bytes_of(uniforms),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr object"),
-            layout: &self.object_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: buffer.as_entire_binding(),
-            }],
-        });
+        let buffer = render::uniform_buffer_init(device, "npr object uniforms", uniforms);
+        let bind_group = render::uniform_group(device, "npr object", &self.object_layout, &buffer);
         ObjectBinding { buffer, bind_group }
     }
 

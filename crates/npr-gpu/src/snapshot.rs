@@ -3,8 +3,8 @@
 //! for use inside a caller's frame.
 
 use crate::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuError, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, readback_rgba,
+    BaseShading, Camera, FrameUniforms, GpuError, GpuMesh, Light, ObjectUniforms, OffscreenTarget,
+    ShadingModel, TargetFormats, readback_rgba,
 };
 
 /// What [`render_base`] draws: meshes with their object uniforms, seen by a camera.
@@ -33,7 +33,7 @@ pub fn render_base(
     height: u32,
 ) -> Result<image::RgbaImage, GpuError> {
     let target = OffscreenTarget::new(device, width, height)?;
-    let shading = BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT);
+    let shading = BaseShading::new(device, queue, TargetFormats::default());
     shading.set_frame(queue, &FrameUniforms::new(&scene.camera, &scene.light));
     let bindings: Vec<_> = scene
         .objects

@@ -17,7 +17,23 @@ pub fn texture_2d(
     format: wgpu::TextureFormat,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
+    device.create_texture(&texture_2d_descriptor(
+        label, width, height, format, usage, 1,
+    ))
+}
+
+/// The descriptor of a single-mip 2-D texture of `width × height` texels with `samples`
+/// samples per texel (at least one), e.g. for `create_texture_with_data` or a
+/// multisampled render attachment.
+pub fn texture_2d_descriptor(
+    label: &str,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+    samples: u32,
+) -> wgpu::TextureDescriptor<'_> {
+    wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
             width,
@@ -25,12 +41,12 @@ pub fn texture_2d(
             depth_or_array_layers: 1,
         },
         mip_level_count: 1,
-        sample_count: 1,
+        sample_count: samples.max(1),
         dimension: wgpu::TextureDimension::D2,
         format,
         usage,
         view_formats: &[],
-    })
+    }
 }
 
 /// `Ok` when a `width × height` 2-D target fits the device: each side in
@@ -38,7 +54,7 @@ pub fn texture_2d(
 ///
 /// # Errors
 /// [`GpuError::InvalidSize`] otherwise.
-pub(crate) fn check_size(device: &wgpu::Device, width: u32, height: u32) -> Result<(), GpuError> {
+pub fn check_size(device: &wgpu::Device, width: u32, height: u32) -> Result<(), GpuError> {
     let max = device.limits().max_texture_dimension_2d;
     if width == 0 || height == 0 || width > max || height > max {
         return Err(GpuError::InvalidSize {
@@ -149,27 +165,10 @@ pub fn begin_views_pass<'e>(
     color: wgpu::LoadOp<wgpu::Color>,
     depth: wgpu::LoadOp<f32>,
 ) -> wgpu::RenderPass<'e> {
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("npr offscreen pass"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: color_view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: color,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: depth_view,
-            depth_ops: Some(wgpu::Operations {
-                load: depth,
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    })
+    crate::render::begin_pass(
+        encoder,
+        "npr offscreen pass",
+        &[Some(crate::render::color_attachment(color_view, color))],
+        Some(crate::render::depth_attachment(depth_view, depth)),
+    )
 }

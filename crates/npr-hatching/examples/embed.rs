@@ -8,6 +8,7 @@
 //! into your target, recorded into your encoder. `tests/embed.rs` renders through the same
 //! code and compares the image with the CPU reference, `CpuHatcher`.
 
+use npr_gpu::render;
 use npr_hatching::{GBuffer, HatchInputs, HatchParams, HatchPass, TamParams, TonalArtMap};
 
 /// The renderer's colour format in this example (any renderable format works).
@@ -43,22 +44,8 @@ pub fn record_hatching(
     // Per frame: your G-buffer pass writes tone and θ (here: an upload), then the
     // hatching pass draws one full-screen triangle into your target.
     gbuffer.write(queue, inputs);
-    let mut rpass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("my hatching pass"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: target,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    let white = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
+    let mut rpass = render::begin_color_pass(encoder, "my hatching pass", target, white);
     pass.draw(&mut rpass, &bind_group);
     Ok(())
 }
@@ -73,20 +60,8 @@ pub fn render(
     width: u32,
     height: u32,
 ) -> Result<image::RgbaImage, Box<dyn std::error::Error>> {
-    let target = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("my renderer target"),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: COLOR,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        view_formats: &[],
-    });
+    let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+    let target = npr_gpu::texture_2d(device, "my renderer target", width, height, COLOR, usage);
     let view = target.create_view(&Default::default());
     let mut encoder = device.create_command_encoder(&Default::default());
     record_hatching(device, queue, &mut encoder, &view, &inputs(width, height)?)?;

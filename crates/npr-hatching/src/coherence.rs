@@ -252,3 +252,52 @@ mod tests {
         assert!((sample_bilinear(&img, 2, 2, 1.0, 0.5) - 0.5).abs() < 1e-6);
     }
 }
+
+/// A hatching rig of one stroke space: frame passes and one object, for coherence
+/// measurements and figures of a turning object.
+#[derive(Debug)]
+pub struct Rig {
+    /// The frame passes.
+    pub frame: crate::HatchFrame,
+    /// The object (material of [`uniforms`]).
+    pub object: crate::HatchObject,
+}
+
+/// The object material of the coherence sequences, at `world_from_object`.
+pub fn uniforms(world_from_object: glam::Mat4) -> npr_gpu::ObjectUniforms {
+    let white = glam::Vec3::splat(0.9);
+    npr_gpu::ObjectUniforms::new(world_from_object, white, 0.35, glam::Vec3::ONE, 24.0)
+}
+
+/// A `width × height` rig hatching `mesh` (stroke `directions` per render vertex) with
+/// `tam` in `space`, with surface anchors re-taken every `period` frames.
+///
+/// # Errors
+/// As [`crate::HatchFrame::new`] and [`crate::ScenePasses::create_object`].
+pub fn rig(
+    ctx: &npr_gpu::GpuContext,
+    tam: &crate::TonalArtMap,
+    (space, period): (crate::StrokeSpace, u32),
+    (mesh, directions): (&npr_gpu::GpuMesh, &[glam::Vec3]),
+    (width, height): (u32, u32),
+) -> Result<Rig, crate::HatchError> {
+    let params = crate::HatchParams {
+        space,
+        ..Default::default()
+    };
+    let mut frame = crate::HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        tam,
+        &params,
+        crate::VsmSettings::default(),
+        npr_gpu::COLOR_FORMAT,
+        (width, height),
+    )?;
+    frame.scene.set_anchor_period(period)?;
+    let identity = uniforms(glam::Mat4::IDENTITY);
+    let object = frame
+        .scene
+        .create_object(&ctx.device, mesh, &identity, directions)?;
+    Ok(Rig { frame, object })
+}

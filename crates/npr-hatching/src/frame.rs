@@ -23,11 +23,10 @@ pub struct HatchFrame {
 }
 
 impl HatchFrame {
-    /// Passes for `width × height` targets of `color_format`.
+    /// Passes for targets of `color_format` and `size` (width, height).
     ///
     /// # Errors
     /// [`HatchError::InvalidSize`], [`HatchError::InvalidParams`].
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -35,8 +34,7 @@ impl HatchFrame {
         params: &HatchParams,
         vsm: VsmSettings,
         color_format: wgpu::TextureFormat,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
     ) -> Result<Self, HatchError> {
         let scene = ScenePasses::new(device, color_format, vsm)?;
         let hatch = HatchPass::new(device, queue, tam, params, color_format)?;

@@ -55,6 +55,8 @@
 pub mod coherence;
 pub mod directions;
 mod error;
+#[cfg(any(test, feature = "test-support"))]
+pub mod figures;
 pub mod frame;
 pub mod inputs;
 pub mod params;

@@ -9,7 +9,7 @@
 
 use crate::inputs::pixel_count;
 use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
-use wgpu::util::DeviceExt;
+use npr_gpu::render::{self, PipelineBuilder};
 
 /// Format of the G-buffer: r = tone, g = θ, b = weight of the second surface anchor,
 /// a = 1 + the stroke direction's turn rate (rad/pixel) on surfaces, 0 on the background, full 32-bit floats (so θ's bin and the
@@ -249,10 +249,7 @@ impl HatchPass {
         target_format: wgpu::TextureFormat,
     ) -> Result<Self, HatchError> {
         let u = HatchUniforms::new(params, tam)?;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("hatching.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::HATCHING.full_source().into()),
-        });
+        let module = crate::shaders::HATCHING.module(device);
         use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
         let texture_entry = |binding, view_dimension| {
             npr_gpu::layout::texture_entry(binding, view_dimension, UNFILTERABLE)
@@ -266,40 +263,23 @@ impl HatchPass {
                 texture_entry(3, wgpu::TextureViewDimension::D2),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr hatching"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
+        let pipeline_layout = render::pipeline_layout(device, "npr hatching", &[&layout]);
+        let targets = [Some(target_format.into())];
         let variant = |surface: bool, short: bool| {
             let constants = [
                 ("SURFACE", f64::from(u8::from(surface))),
                 ("SHORT_STROKES", f64::from(u8::from(short))),
             ];
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("npr hatching fs_hatch"),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_hatch"),
-                    compilation_options: wgpu::PipelineCompilationOptions {
-                        constants: &constants,
-                        ..Default::default()
-                    },
-                    targets: &[Some(target_format.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            PipelineBuilder::new(
+                "npr hatching fs_hatch",
+                &pipeline_layout,
+                &module,
+                "vs_fullscreen",
+                "fs_hatch",
+            )
+            .constants(&constants)
+            .targets(&targets)
+            .build(device)
         };
         let pipelines = vec![
             variant(false, false),
@@ -307,11 +287,7 @@ impl HatchPass {
             variant(true, false),
             variant(true, true),
         ];
-        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("npr hatching uniforms"),
-            contents: bytemuck::bytes_of(&u),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
+        let uniforms = render::uniform_buffer_init(device, "npr hatching uniforms", &u);
         let tam_view = tam
             .upload(device, queue)
             .create_view(&wgpu::TextureViewDescriptor {
@@ -433,22 +409,12 @@ impl HatchPass {
         target: &wgpu::TextureView,
         bind_group: &wgpu::BindGroup,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr hatching"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = render::begin_color_pass(
+            encoder,
+            "npr hatching",
+            target,
+            wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+        );
         self.draw(&mut pass, bind_group);
     }
 }

@@ -12,6 +12,7 @@
 use crate::HatchError;
 use crate::pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer};
 use glam::{Mat4, Vec3};
+use npr_gpu::render::{self, PipelineBuilder};
 use npr_gpu::{Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, Vertex};
 use std::sync::atomic::{AtomicU64, Ordering};
 use wgpu::util::DeviceExt;
@@ -272,14 +273,8 @@ impl ScenePasses {
                 reason: "shadow map side must be in 16..=max_texture_dimension_2d",
             });
         }
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("hatching_scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::HATCHING_SCENE.full_source().into()),
-        });
-        let blur_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("vsm_blur.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::VSM_BLUR.full_source().into()),
-        });
+        let module = crate::shaders::HATCHING_SCENE.module(device);
+        let blur_module = crate::shaders::VSM_BLUR.module(device);
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr hatching frame"),
             entries: &[
@@ -296,76 +291,38 @@ impl ScenePasses {
             ],
         });
         let moments_layout = texture_layout(device, "npr vsm moments");
-        let shadow_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr vsm shadow"),
-            bind_group_layouts: &[Some(&frame_layout), Some(&object_layout)],
-            immediate_size: 0,
-        });
-        let shade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr hatching shade"),
-            bind_group_layouts: &[
-                Some(&frame_layout),
-                Some(&object_layout),
-                Some(&moments_layout),
-            ],
-            immediate_size: 0,
-        });
-        let blur_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr vsm blur"),
-            bind_group_layouts: &[Some(&moments_layout)],
-            immediate_size: 0,
-        });
+        let shadow_layout =
+            render::pipeline_layout(device, "npr vsm shadow", &[&frame_layout, &object_layout]);
+        let shade_layout = render::pipeline_layout(
+            device,
+            "npr hatching shade",
+            &[&frame_layout, &object_layout, &moments_layout],
+        );
+        let blur_layout = render::pipeline_layout(device, "npr vsm blur", &[&moments_layout]);
         let direction_layout = wgpu::VertexBufferLayout {
             array_stride: 12,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &DIRECTION_ATTRIBUTES,
         };
-        let depth_state = Some(wgpu::DepthStencilState {
-            format: npr_gpu::DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        });
         let mesh_pipeline = |label: &str,
                              layout: &wgpu::PipelineLayout,
-                             vs: &str,
-                             fs: &str,
+                             (vs, fs): (&str, &str),
                              targets: &[Option<wgpu::ColorTargetState>],
                              buffers: &[Option<wgpu::VertexBufferLayout<'_>>],
                              cull: Option<wgpu::Face>| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    ..Default::default()
-                },
-                depth_stencil: depth_state.clone(),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets,
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            PipelineBuilder::new(label, layout, &module, vs, fs)
+                .buffers(buffers)
+                .cull(cull)
+                .depth(npr_gpu::DEPTH_FORMAT, true, wgpu::CompareFunction::Less)
+                .targets(targets)
+                .build(device)
         };
         let scene_buffers = [Some(Vertex::layout()), Some(direction_layout)];
         // The shadow pass draws both faces so thin or open meshes still cast shadows.
         let shadow_pipeline = mesh_pipeline(
             "npr vsm shadow",
             &shadow_layout,
-            "vs_shadow",
-            "fs_shadow",
+            ("vs_shadow", "fs_shadow"),
             &[Some(MOMENTS_FORMAT.into())],
             &[Some(Vertex::layout())],
             None,
@@ -373,8 +330,7 @@ impl ScenePasses {
         let gbuffer_pipeline = mesh_pipeline(
             "npr hatching g-buffer",
             &shade_layout,
-            "vs_scene",
-            "fs_gbuffer",
+            ("vs_scene", "fs_gbuffer"),
             &[Some(GBUFFER_FORMAT.into()), Some(ANCHOR_FORMAT.into())],
             &scene_buffers,
             Some(wgpu::Face::Back),
@@ -382,55 +338,32 @@ impl ScenePasses {
         let phong_pipeline = mesh_pipeline(
             "npr phong + vsm",
             &shade_layout,
-            "vs_scene",
-            "fs_phong_vsm",
+            ("vs_scene", "fs_phong_vsm"),
             &[Some(color_format.into())],
             &scene_buffers,
             Some(wgpu::Face::Back),
         );
         let blur = |fs: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(fs),
-                layout: Some(&blur_layout),
-                vertex: wgpu::VertexState {
-                    module: &blur_module,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &blur_module,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(MOMENTS_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+            PipelineBuilder::new(fs, &blur_layout, &blur_module, "vs_fullscreen", fs)
+                .targets(&[Some(MOMENTS_FORMAT.into())])
+                .build(device)
         };
         let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr hatching frame"),
             size: std::mem::size_of::<FrameUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
+            usage: render::UNIFORM_USAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let scene_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr hatching scene"),
-            size: std::mem::size_of::<SceneUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let coherence_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr hatching coherence"),
-            size: std::mem::size_of::<CoherenceUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let scene_buffer = render::uniform_buffer(
+            device,
+            "npr hatching scene",
+            std::mem::size_of::<SceneUniforms>(),
+        );
+        let coherence_buffer = render::uniform_buffer(
+            device,
+            "npr hatching coherence",
+            std::mem::size_of::<CoherenceUniforms>(),
+        );
         let frame_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr hatching frame"),
             layout: &frame_layout,
@@ -525,16 +458,9 @@ impl ScenePasses {
         let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr hatching object"),
             contents: bytemuck::bytes_of(uniforms),
-            usage: wgpu::BufferUsages::UNIFORM
-                | wgpu::BufferUsages::COPY_DST
-                | wgpu::BufferUsages::COPY_SRC,
+            usage: render::UNIFORM_USAGE | wgpu::BufferUsages::COPY_SRC,
         });
-        let anchor = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr hatching anchor"),
-            size: ANCHOR_BYTES,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let anchor = render::uniform_buffer(device, "npr hatching anchor", ANCHOR_BYTES as usize);
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr hatching object"),
             layout: &self.object_layout,
@@ -665,27 +591,15 @@ impl ScenePasses {
             return;
         }
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("npr vsm shadow"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.moments_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 1.0,
-                            g: 1.0,
-                            b: 0.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(depth_attachment(&self.shadow_depth_view)),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = render::begin_pass(
+                encoder,
+                "npr vsm shadow",
+                &[Some(render::color_attachment(
+                    &self.moments_view,
+                    render::clear_color([1.0, 1.0, 0.0, 0.0]),
+                ))],
+                Some(depth_attachment(&self.shadow_depth_view)),
+            );
             pass.set_pipeline(&self.shadow_pipeline);
             pass.set_bind_group(0, &self.frame_group, &[]);
             for (mesh, object) in objects {
@@ -698,22 +612,12 @@ impl ScenePasses {
                 (&self.scratch_view, &self.blur_h, &self.blur_from_moments),
                 (&self.moments_view, &self.blur_v, &self.blur_from_scratch),
             ] {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("npr vsm blur"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: target,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: None,
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = render::begin_color_pass(
+                    encoder,
+                    "npr vsm blur",
+                    target,
+                    wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                );
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, source, &[]);
                 pass.draw(0..3, 0..1);
@@ -789,38 +693,21 @@ impl ScenePasses {
         for (_, object) in objects {
             self.record_anchors(encoder, object);
         }
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr hatching g-buffer"),
-            color_attachments: &[
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &gbuffer.view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 1.0,
-                            g: 0.0,
-                            b: 0.0,
-                            a: 0.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
-                Some(wgpu::RenderPassColorAttachment {
-                    view: &gbuffer.anchors_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                }),
+        let mut pass = render::begin_pass(
+            encoder,
+            "npr hatching g-buffer",
+            &[
+                Some(render::color_attachment(
+                    &gbuffer.view,
+                    render::clear_color([1.0, 0.0, 0.0, 0.0]),
+                )),
+                Some(render::color_attachment(
+                    &gbuffer.anchors_view,
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                )),
             ],
-            depth_stencil_attachment: Some(depth_attachment(&gbuffer.depth_view)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+            Some(depth_attachment(&gbuffer.depth_view)),
+        );
         self.draw_objects(&mut pass, &self.gbuffer_pipeline, objects);
     }
 
@@ -835,40 +722,21 @@ impl ScenePasses {
         clear: [f64; 4],
         objects: &[(&GpuMesh, &HatchObject)],
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr phong + vsm"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color {
-                        r: clear[0],
-                        g: clear[1],
-                        b: clear[2],
-                        a: clear[3],
-                    }),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(depth_attachment(depth)),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = render::begin_pass(
+            encoder,
+            "npr phong + vsm",
+            &[Some(render::color_attachment(
+                color,
+                render::clear_color(clear),
+            ))],
+            Some(depth_attachment(depth)),
+        );
         self.draw_objects(&mut pass, &self.phong_pipeline, objects);
     }
 }
 
 fn depth_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassDepthStencilAttachment<'_> {
-    wgpu::RenderPassDepthStencilAttachment {
-        view,
-        depth_ops: Some(wgpu::Operations {
-            load: wgpu::LoadOp::Clear(1.0),
-            store: wgpu::StoreOp::Store,
-        }),
-        stencil_ops: None,
-    }
+    render::depth_attachment(view, wgpu::LoadOp::Clear(1.0))
 }
 
 #[cfg(test)]

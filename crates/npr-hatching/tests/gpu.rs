@@ -116,8 +116,7 @@ fn scene_frame_matches_cpu_on_its_gbuffer() {
         &params,
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        w,
-        h,
+        (w, h),
     )
     .unwrap();
     // Diffuse only, so tone = ambient + N·L.
@@ -222,8 +221,7 @@ fn vsm_darkens_the_shadowed_plane() {
                 ..Default::default()
             },
             npr_gpu::COLOR_FORMAT,
-            w,
-            h,
+            (w, h),
         )
         .unwrap();
         let mut objs = Vec::new();
@@ -287,8 +285,7 @@ fn gpu_bad_inputs_are_typed_errors() {
         &HatchParams::default(),
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        64,
-        48,
+        (64, 48),
     )
     .unwrap();
     let mesh = npr_geometry::generate::icosphere(2, 1.0);
@@ -346,8 +343,7 @@ fn spot_light_cone_and_shadow() {
         &HatchParams::default(),
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        w,
-        h,
+        (w, h),
     )
     .unwrap();
     let mut objs = Vec::new();
@@ -438,8 +434,7 @@ fn switching_style_rebinds_the_map() {
         &params,
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        w,
-        h,
+        (w, h),
     )
     .unwrap();
     let mesh = npr_geometry::generate::icosphere(3, 1.0);
@@ -489,8 +484,7 @@ fn gbuffer_theta_is_counter_clockwise_on_screen() {
         &HatchParams::default(),
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        w,
-        h,
+        (w, h),
     )
     .unwrap();
     // The xz plane turned to face +z.
@@ -556,8 +550,7 @@ fn sphere_rig(
         &params,
         VsmSettings::default(),
         npr_gpu::COLOR_FORMAT,
-        RIG,
-        RIG,
+        (RIG, RIG),
     )
     .unwrap();
     frame.scene.set_anchor_period(period).unwrap();

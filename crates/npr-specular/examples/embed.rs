@@ -9,7 +9,9 @@
 
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh};
-use npr_gpu::{BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use npr_gpu::{
+    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, ShadingModel, TargetFormats,
+};
 use npr_specular::{FrameInput, HighlightDraw, HighlightPass, HighlightSet, SpecularError};
 
 /// One mesh with stylized highlights over Phong (your own base shading works the same).
@@ -31,7 +33,8 @@ impl Highlights {
         gpu_mesh: &GpuMesh,
         (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
     ) -> Result<Self, SpecularError> {
-        let base = BaseShading::new(device, queue, color_format, depth_format);
+        let formats = TargetFormats::new(color_format, depth_format);
+        let base = BaseShading::new(device, queue, formats);
         let object = base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
         let pass = HighlightPass::new(device, queue, color_format, depth_format)?;
         let draw = pass.create_draw(device, gpu_mesh);
@@ -106,20 +109,7 @@ pub fn render_sphere(
     let camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
     hl.prepare(device, queue, &mesh, &gpu_mesh, &camera, &Light::point(eye));
     let target = |format, usage| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("my renderer target"),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
+        npr_gpu::texture_2d(device, "my renderer target", size, size, format, usage)
     };
     let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
     let color = target(COLOR, attach | wgpu::TextureUsages::COPY_SRC);
@@ -130,29 +120,13 @@ pub fn render_sphere(
     );
     let mut encoder = device.create_command_encoder(&Default::default());
     {
-        let mut rpass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("my frame"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut rpass = npr_gpu::begin_views_pass(
+            &mut encoder,
+            &color_view,
+            &depth_view,
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            wgpu::LoadOp::Clear(1.0),
+        );
         hl.draw(&mut rpass, &gpu_mesh, highlights);
     }
     queue.submit(Some(encoder.finish()));

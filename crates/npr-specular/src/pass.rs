@@ -9,6 +9,7 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
+use npr_gpu::render::{self, PipelineBuilder};
 use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout};
 use wgpu::util::DeviceExt;
 
@@ -215,56 +216,31 @@ impl HighlightPass {
                 },
             ],
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("specular_highlight.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(
-                crate::shaders::SPECULAR_HIGHLIGHT.full_source().into(),
-            ),
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr highlight"),
-            bind_group_layouts: &[
-                Some(&uniform_layout),
-                Some(&uniform_layout),
-                Some(&storage_layout),
-                Some(&texture_layout),
+        let module = crate::shaders::SPECULAR_HIGHLIGHT.module(device);
+        let layout = render::pipeline_layout(
+            device,
+            "npr highlight",
+            &[
+                &uniform_layout,
+                &uniform_layout,
+                &storage_layout,
+                &texture_layout,
             ],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr highlight"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_highlight"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState {
-                cull_mode: Some(wgpu::Face::Back),
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: depth_format,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_highlight"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: color_format,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
+        let pipeline = PipelineBuilder::new(
+            "npr highlight",
+            &layout,
+            &module,
+            "vs_highlight",
+            "fs_highlight",
+        )
+        .cull(Some(wgpu::Face::Back))
+        .depth(depth_format, false, wgpu::CompareFunction::LessEqual)
+        .targets(&[Some(wgpu::ColorTargetState {
+            blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+            ..color_format.into()
+        })])
+        .build(device);
         let mut normal_map_layers = normal_map.to_vec();
         normal_map_layers.resize(layers.len(), false);
         Ok(Self {
@@ -324,28 +300,19 @@ impl HighlightPass {
 
     /// Creates the per-mesh buffers for `mesh` (its vertex buffer is read as storage).
     pub fn create_draw(&self, device: &wgpu::Device, mesh: &GpuMesh) -> HighlightDraw {
-        let uniform = |label, size: usize| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: size as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let uniform = |label, size| render::uniform_buffer(device, label, size);
         let frame = uniform("npr highlight frame", std::mem::size_of::<FrameUniforms>());
         let object = uniform(
             "npr highlight object",
             std::mem::size_of::<ObjectUniforms>(),
         );
         let group = |buffer: &wgpu::Buffer| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("npr highlight uniform"),
-                layout: &self.uniform_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: buffer.as_entire_binding(),
-                }],
-            })
+            render::uniform_group(
+                device,
+                "npr highlight uniform",
+                &self.uniform_layout,
+                buffer,
+            )
         };
         let frame_group = group(&frame);
         let object_group = group(&object);

@@ -5,7 +5,7 @@
 use crate::{HighlightPass, HighlightSet, SpecularError};
 use npr_gpu::{
     BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, ShadingModel, readback_rgba,
+    OffscreenTarget, ShadingModel, TargetFormats, readback_rgba,
 };
 
 /// Everything [`render`] draws.
@@ -58,7 +58,7 @@ impl Renderer {
         height: u32,
     ) -> Result<Self, SpecularError> {
         Ok(Self {
-            base: BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT),
+            base: BaseShading::new(device, queue, TargetFormats::default()),
             pass: HighlightPass::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT)?,
             target: OffscreenTarget::new(device, width, height)?,
         })
@@ -78,7 +78,7 @@ impl Renderer {
         normal_map: &[bool],
     ) -> Result<Self, SpecularError> {
         Ok(Self {
-            base: BaseShading::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT),
+            base: BaseShading::new(device, queue, TargetFormats::default()),
             pass: HighlightPass::with_textures(
                 device,
                 queue,

@@ -10,7 +10,7 @@
 
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms};
+use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, TargetFormats};
 use npr_warp::{Departures, PhongBase, Pose, Proxy, WarpError, Warper};
 
 /// The renderer's colour format in this example.
@@ -22,15 +22,7 @@ pub const SIZE: u32 = 256;
 
 /// The example's model: a (2, 3) torus knot of about 30k triangles.
 pub fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.22,
-        segments: 480,
-        tube_segments: 32,
-    })
+    generate::torus_knot(&generate::TorusKnot::trefoil(0.22, 480, 32))
 }
 
 /// World units per object unit: the knot is scaled to fit the view.
@@ -66,18 +58,19 @@ pub fn record_frames(
 ) -> Result<(), WarpError> {
     // Once: the proxy (§3.2), the warper in your formats, your base pass.
     let proxy = Proxy::simplify(mesh, 0.02)?;
+    let formats = TargetFormats::new(COLOR, DEPTH);
+    let size = (SIZE, SIZE);
     let mut warper = Warper::new(
         device,
         &proxy,
         Departures::OURS,
         SCALE,
-        SIZE,
-        SIZE,
-        COLOR,
-        DEPTH,
+        size,
+        formats,
+        formats,
     )?;
     let (light, material) = look();
-    let mut base = PhongBase::new(gpu_mesh, light, material, COLOR, DEPTH);
+    let mut base = PhongBase::new(gpu_mesh, light, material, formats);
     // Every k-th frame: a full render of the model becomes the newest reference.
     for t in [0.0, 10.0] {
         warper.record_reference(device, queue, encoder, &mut base, &pose(t))?;

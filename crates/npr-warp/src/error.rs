@@ -41,10 +41,10 @@ pub enum WarpError {
     #[error("invalid setting: {0}")]
     InvalidSetting(String),
     /// A base pass, renderer or caller's target has another sample count than the pass it
-    /// is recorded into (e.g. a [`crate::PhongBase`] not built
-    /// [`crate::PhongBase::with_antialiasing`] for a multisampled reference, or a
-    /// multisampled [`crate::FullRenderer`] recorded into a one-sample target); wgpu would
-    /// reject the draw. Fix: build both with the same [`crate::Antialiasing`].
+    /// is recorded into (e.g. a [`crate::PhongBase`] built for one-sample targets recorded
+    /// into a multisampled reference, or a multisampled [`crate::FullRenderer`] recorded
+    /// into a one-sample target); wgpu would reject the draw. Fix: build both for the same
+    /// [`npr_gpu::TargetFormats`] (e.g. [`crate::Antialiasing::references`]).
     #[error("{what} has {got} sample(s) per pixel, the pass it is recorded into {expected}")]
     SampleCountMismatch {
         /// What mismatches (the base pass, the renderer, the target).

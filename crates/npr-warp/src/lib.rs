@@ -41,11 +41,12 @@
 //! let (color_format, depth_format) =
 //!     (wgpu::TextureFormat::Bgra8UnormSrgb, wgpu::TextureFormat::Depth32Float);
 //! let proxy = Proxy::simplify(mesh, 0.02)?; // §3.2: 2 % of the triangles
-//! let mut warper = Warper::new(device, &proxy, Departures::OURS, 1.0, 512, 512,
-//!     color_format, depth_format)?;
+//! let formats = npr_gpu::TargetFormats::new(color_format, depth_format);
+//! let mut warper = Warper::new(device, &proxy, Departures::OURS, 1.0, (512, 512),
+//!     formats, formats)?;
 //! let light = npr_gpu::Light::directional(glam::Vec3::new(1.0, 1.5, 2.0));
 //! let material = npr_gpu::ObjectUniforms::default_material(glam::Mat4::IDENTITY);
-//! let mut base = PhongBase::new(gpu_mesh, light, material, color_format, depth_format);
+//! let mut base = PhongBase::new(gpu_mesh, light, material, formats);
 //! let color = target.create_view(&Default::default());
 //! for (frame, pose) in poses.iter().enumerate() {
 //!     let mut encoder = device.create_command_encoder(&Default::default());
@@ -77,6 +78,8 @@ pub mod msaa;
 pub mod pass;
 pub mod proxy;
 pub mod reference;
+#[cfg(any(test, feature = "test-support"))]
+pub mod rig;
 pub mod sequence;
 pub mod shaders;
 pub mod warper;
@@ -90,5 +93,7 @@ pub use msaa::{Antialiasing, MsaaTarget};
 pub use pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
 pub use proxy::Proxy;
 pub use reference::{BasePass, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame};
-pub use sequence::{FrameReport, FrameRole, ScenePose, Turntable, WarpSchedule, WarpSequence};
+pub use sequence::{
+    FrameReport, FrameRole, ScenePose, SequenceFrame, Turntable, WarpSchedule, WarpSequence,
+};
 pub use warper::Warper;

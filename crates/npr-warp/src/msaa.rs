@@ -15,6 +15,8 @@
 //! [`Antialiasing::check`] asks what the device enforces.
 
 use crate::WarpError;
+use npr_gpu::TargetFormats;
+use npr_gpu::render::{self, PipelineBuilder};
 
 /// Antialiasing of references, warped frames and full renders.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -69,6 +71,34 @@ impl Antialiasing {
         Self::ALL.into_iter().find(|a| a.name() == name)
     }
 
+    /// The setting of references (and full renders) drawn with `references.samples` and a
+    /// warped frame drawn with `target.samples` per pixel: 1 and 1 [`Antialiasing::None`],
+    /// 4 and 4 [`Antialiasing::Msaa4`], 4 and 1 [`Antialiasing::Msaa4Blend`].
+    ///
+    /// # Errors
+    /// [`WarpError::InvalidSetting`] for any other pair.
+    pub fn from_samples(references: u32, target: u32) -> Result<Self, WarpError> {
+        Self::ALL
+            .into_iter()
+            .find(|a| a.sample_count() == references && a.warp_sample_count() == target)
+            .ok_or_else(|| {
+                WarpError::InvalidSetting(format!(
+                    "references with {references} and a warp target with {target} samples \
+                     per pixel: the warp supports 1 and 1, 4 and 4, 4 and 1"
+                ))
+            })
+    }
+
+    /// `formats` at the sample count of references and full renders.
+    pub fn references(self, formats: TargetFormats) -> TargetFormats {
+        formats.with_samples(self.sample_count())
+    }
+
+    /// `formats` at the sample count of the warped frame.
+    pub fn warp_target(self, formats: TargetFormats) -> TargetFormats {
+        formats.with_samples(self.warp_sample_count())
+    }
+
     /// Whether references and full renders are multisampled.
     pub fn is_multisampled(self) -> bool {
         self.sample_count() > 1
@@ -119,13 +149,6 @@ impl Antialiasing {
         }
         Ok(())
     }
-
-    pub(crate) fn warp_multisample_state(self) -> wgpu::MultisampleState {
-        wgpu::MultisampleState {
-            count: self.warp_sample_count(),
-            ..Default::default()
-        }
-    }
 }
 
 /// Multisampled colour and depth textures of one size: what a multisampled pass draws
@@ -144,8 +167,8 @@ pub struct MsaaTarget {
 }
 
 impl MsaaTarget {
-    /// Textures of `width × height` with `antialiasing`'s sample count in the caller's
-    /// formats (render attachments only).
+    /// Textures of `width × height` in `formats` (colour, depth, samples per pixel;
+    /// render attachments only).
     ///
     /// # Errors
     /// [`WarpError::Gpu`] for a zero size or one past the device's limit.
@@ -153,12 +176,9 @@ impl MsaaTarget {
         device: &wgpu::Device,
         width: u32,
         height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
+        formats: TargetFormats,
     ) -> Result<Self, WarpError> {
-        let formats = (color_format, depth_format);
-        Self::create(device, width, height, formats, antialiasing, false)
+        Self::create(device, width, height, formats, false)
     }
 
     /// As [`MsaaTarget::new`], its depth sampleable too (for [`DepthResolve`]).
@@ -166,50 +186,28 @@ impl MsaaTarget {
         device: &wgpu::Device,
         width: u32,
         height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
+        formats: TargetFormats,
     ) -> Result<Self, WarpError> {
-        let formats = (color_format, depth_format);
-        Self::create(device, width, height, formats, antialiasing, true)
+        Self::create(device, width, height, formats, true)
     }
 
     fn create(
         device: &wgpu::Device,
         width: u32,
         height: u32,
-        (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
-        antialiasing: Antialiasing,
+        formats: TargetFormats,
         sampled_depth: bool,
     ) -> Result<Self, WarpError> {
-        let max = device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(npr_gpu::GpuError::InvalidSize {
-                width,
-                height,
-                reason: format!("each side must be in 1..={max}"),
-            }
-            .into());
-        }
+        npr_gpu::check_size(device, width, height)?;
         let make = |label, format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: antialiasing.sample_count(),
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
+            let samples = formats.samples;
+            device.create_texture(&npr_gpu::texture_2d_descriptor(
+                label, width, height, format, usage, samples,
+            ))
         };
         let color = make(
             "npr-warp msaa colour",
-            color_format,
+            formats.color,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
         let depth_usage = if sampled_depth {
@@ -217,7 +215,7 @@ impl MsaaTarget {
         } else {
             wgpu::TextureUsages::RENDER_ATTACHMENT
         };
-        let depth = make("npr-warp msaa depth", depth_format, depth_usage);
+        let depth = make("npr-warp msaa depth", formats.depth, depth_usage);
         Ok(Self {
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
@@ -235,35 +233,18 @@ impl MsaaTarget {
         clear: Option<[f64; 4]>,
     ) -> wgpu::RenderPass<'e> {
         let (color, depth) = match clear {
-            Some([r, g, b, a]) => (
-                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                wgpu::LoadOp::Clear(1.0),
-            ),
+            Some(rgba) => (render::clear_color(rgba), wgpu::LoadOp::Clear(1.0)),
             None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
         };
-        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr-warp msaa pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &self.color_view,
-                depth_slice: None,
+        render::begin_pass(
+            encoder,
+            "npr-warp msaa pass",
+            &[Some(wgpu::RenderPassColorAttachment {
                 resolve_target: Some(resolve),
-                ops: wgpu::Operations {
-                    load: color,
-                    store: wgpu::StoreOp::Store,
-                },
+                ..render::color_attachment(&self.color_view, color)
             })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: depth,
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        })
+            Some(render::depth_attachment(&self.depth_view, depth)),
+        )
     }
 }
 
@@ -278,10 +259,7 @@ pub(crate) struct DepthResolve {
 
 impl DepthResolve {
     pub(crate) fn new(device: &wgpu::Device, depth_format: wgpu::TextureFormat) -> Self {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("warp.wgsl depth resolve"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::WARP.full_source().into()),
-        });
+        let module = crate::shaders::WARP.module(device);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr-warp depth resolve"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -295,38 +273,16 @@ impl DepthResolve {
                 count: None,
             }],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr-warp depth resolve"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("npr-warp depth resolve"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: depth_format,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_resolve_depth"),
-                compilation_options: Default::default(),
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline_layout = render::pipeline_layout(device, "npr-warp depth resolve", &[&layout]);
+        let pipeline = PipelineBuilder::new(
+            "npr-warp depth resolve",
+            &pipeline_layout,
+            &module,
+            "vs_fullscreen",
+            "fs_resolve_depth",
+        )
+        .depth(depth_format, true, wgpu::CompareFunction::Always)
+        .build(device);
         Self { pipeline, layout }
     }
 
@@ -354,21 +310,12 @@ impl DepthResolve {
         source: &wgpu::BindGroup,
         target: &wgpu::TextureView,
     ) {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("npr-warp depth resolve"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: target,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = render::begin_pass(
+            encoder,
+            "npr-warp depth resolve",
+            &[],
+            Some(render::depth_attachment(target, wgpu::LoadOp::Clear(1.0))),
+        );
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, source, &[]);
         pass.draw(0..3, 0..1);

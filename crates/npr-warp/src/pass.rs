@@ -12,7 +12,8 @@ use crate::msaa::Antialiasing;
 use crate::reference::{Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
-use npr_gpu::{GpuMesh, Vertex, projective};
+use npr_gpu::render::{self, PipelineBuilder};
+use npr_gpu::{GpuMesh, TargetFormats, Vertex, projective};
 use wgpu::util::DeviceExt;
 
 /// The `WarpObject` uniform block of `warp.wgsl` (272 bytes).
@@ -228,43 +229,32 @@ pub struct WarpPass {
 }
 
 impl WarpPass {
-    /// Builds the pipelines for the caller's targets: colour `color_format` (linear colour
-    /// is written; an sRGB format encodes it) with `depth_format` depth (less-equal, write).
+    /// Builds the pipelines that warp references drawn into targets of `references`
+    /// into the caller's targets of `target`: colour `target.color` (linear colour is
+    /// written; an sRGB format encodes it) with `target.depth` depth (less-equal, write).
+    ///
+    /// The two sample counts choose the antialiasing ([`Antialiasing::from_samples`]):
+    /// with one sample each, the paper's warp. With 4-sample references and a 1-sample
+    /// target ([`Antialiasing::Msaa4Blend`]) the depth-tested warp blends its rim by the
+    /// references' coverage (premultiplied alpha). With 4 samples each
+    /// ([`Antialiasing::Msaa4`]), the depth-tested warp ([`WarpMode::DepthTested`]) writes a
+    /// sample mask from the references' coverage (`warp.wgsl`, `coverage_mask`), so the
+    /// warped silhouette is antialiased as a multisampled full render's is. The paper's
+    /// shaders are the paper's, multisampled only at the proxy's edges.
     ///
     /// # Errors
-    /// [`WarpError::InvalidSetting`] when `depth_format` has no depth aspect or
-    /// `color_format` is not a renderable colour format.
+    /// [`WarpError::InvalidSetting`] when `target.depth` has no depth aspect,
+    /// `target.color` is not a renderable colour format, or the sample counts are not a
+    /// pair the warp supports.
     pub fn new(
         device: &wgpu::Device,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        references: TargetFormats,
+        target: TargetFormats,
     ) -> Result<Self, WarpError> {
-        Self::with_antialiasing(device, color_format, depth_format, Antialiasing::None)
-    }
-
-    /// As [`WarpPass::new`], for passes with `antialiasing`'s warp sample count
-    /// ([`Antialiasing::warp_sample_count`]). With [`Antialiasing::Msaa4Blend`] the
-    /// depth-tested warp is one sample per pixel and blends its rim by the references'
-    /// coverage (premultiplied alpha). With [`Antialiasing::Msaa4`], the depth-tested warp
-    /// ([`WarpMode::DepthTested`]) writes a sample mask from the references' coverage
-    /// (`warp.wgsl`, `coverage_mask`): with references drawn with the same antialiasing
-    /// ([`ReferenceFrame::with_antialiasing`]) the warped silhouette is antialiased as a
-    /// multisampled full render's is. The paper's shaders are the
-    /// paper's, multisampled only at the proxy's edges.
-    ///
-    /// # Errors
-    /// As [`WarpPass::new`].
-    pub fn with_antialiasing(
-        device: &wgpu::Device,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
-    ) -> Result<Self, WarpError> {
+        let antialiasing = Antialiasing::from_samples(references.samples, target.samples)?;
+        let (color_format, depth_format) = (target.color, target.depth);
         check_formats(color_format, depth_format)?;
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("warp.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(crate::shaders::WARP.full_source().into()),
-        });
+        let module = crate::shaders::WARP.module(device);
         use npr_gpu::layout::{
             FILTERABLE, sampler_entry, storage_entry, texture_entry, uniform_entry,
         };
@@ -286,49 +276,26 @@ impl WarpPass {
             label: Some("npr-warp object"),
             entries: &[uniform_entry(0), storage_entry(1)],
         });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("npr-warp"),
-            bind_group_layouts: &[Some(&ref_layout), Some(&object_layout)],
-            immediate_size: 0,
-        });
-        let pipeline =
-            |fs: &str, topology: wgpu::PrimitiveTopology, blend: Option<wgpu::BlendState>| {
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(fs),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_warp"),
-                        compilation_options: Default::default(),
-                        buffers: &[Some(Vertex::layout())],
-                    },
-                    primitive: wgpu::PrimitiveState {
-                        topology,
-                        cull_mode: (topology == wgpu::PrimitiveTopology::TriangleList)
-                            .then_some(wgpu::Face::Back),
-                        ..Default::default()
-                    },
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: depth_format,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: antialiasing.warp_multisample_state(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some(fs),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            blend,
-                            ..color_format.into()
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-            };
+        let layout = render::pipeline_layout(device, "npr-warp", &[&ref_layout, &object_layout]);
+        let buffers = [Some(Vertex::layout())];
+        let pipeline = |fs: &str,
+                        topology: wgpu::PrimitiveTopology,
+                        blend: Option<wgpu::BlendState>| {
+            let targets = [Some(wgpu::ColorTargetState {
+                blend,
+                ..color_format.into()
+            })];
+            PipelineBuilder::new(fs, &layout, &module, "vs_warp", fs)
+                .buffers(&buffers)
+                .topology(topology)
+                .cull(
+                    (topology == wgpu::PrimitiveTopology::TriangleList).then_some(wgpu::Face::Back),
+                )
+                .depth(depth_format, true, wgpu::CompareFunction::LessEqual)
+                .samples(target.samples)
+                .targets(&targets)
+                .build(device)
+        };
         let tri = wgpu::PrimitiveTopology::TriangleList;
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("npr-warp reference sampler"),
@@ -376,9 +343,10 @@ impl WarpPass {
         })
     }
 
-    /// The colour and depth formats the pipelines draw into (and references use).
-    pub fn formats(&self) -> (wgpu::TextureFormat, wgpu::TextureFormat) {
-        (self.color_format, self.depth_format)
+    /// The formats and sample count of the targets the pipelines draw into.
+    pub fn target_formats(&self) -> TargetFormats {
+        TargetFormats::new(self.color_format, self.depth_format)
+            .with_samples(self.antialiasing.warp_sample_count())
     }
 
     /// The antialiasing the pipelines draw with.
@@ -448,12 +416,11 @@ impl WarpPass {
         let mesh = proxy.inflated(inflate_object);
         let bins = NormalBins::build(&mesh, bins_per_axis)?;
         let gpu = GpuMesh::upload(device, &bins.sorted_mesh(&mesh))?;
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("npr-warp object uniforms"),
-            size: std::mem::size_of::<WarpObjectUniforms>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let uniforms = render::uniform_buffer(
+            device,
+            "npr-warp object uniforms",
+            std::mem::size_of::<WarpObjectUniforms>(),
+        );
         let weights = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr-warp bin weights"),
             contents: bytemuck::cast_slice(&vec![[1.0f32, 0.0, 0.0, 0.0]; bins.len()]),

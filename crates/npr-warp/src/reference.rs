@@ -6,14 +6,16 @@
 //! reference's render pass (targets of the caller's colour and depth formats), given the
 //! reference camera ([`ReferenceDraw`]). [`PhongBase`] is the default: npr-gpu's full Phong.
 //! A reference can be rendered at once ([`ReferenceFrame::record`]) or in slices spread
-//! over the intermediate frames ([`ReferenceFrame::record_slice`]), as the paper's §3.4
+//! over the intermediate frames (a [`ReferenceDraw`] of several slices), as the paper's §3.4
 //! suggests for hiding the reference cost behind a third off-screen buffer.
 
 use crate::WarpError;
-use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
+use crate::msaa::{DepthResolve, MsaaTarget};
 use glam::{Mat4, Vec3};
+use npr_gpu::render::clear_color;
 use npr_gpu::{
-    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectBinding, ObjectUniforms, ShadingModel,
+    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectBinding, ObjectUniforms,
+    ShadingModel, TargetFormats,
 };
 use std::ops::Range;
 
@@ -51,7 +53,17 @@ pub struct ReferenceDraw<'a> {
     pub slices: u32,
 }
 
-impl ReferenceDraw<'_> {
+impl<'a> ReferenceDraw<'a> {
+    /// The whole reference at `pose` as slot `slot` (one slice).
+    pub fn whole(pose: &'a Pose, slot: usize) -> Self {
+        Self {
+            pose,
+            slot,
+            slice: 0,
+            slices: 1,
+        }
+    }
+
     /// The range of a `count`-long triangle-list index buffer this slice draws: the
     /// triangles `[slice/slices, (slice+1)/slices)`, whole triangles only.
     pub fn index_range(&self, count: u32) -> Range<u32> {
@@ -129,24 +141,21 @@ pub struct PhongBase {
     mesh: GpuMesh,
     light: Light,
     material: ObjectUniforms,
-    color_format: wgpu::TextureFormat,
-    depth_format: wgpu::TextureFormat,
+    formats: TargetFormats,
     model: ShadingModel,
     ramp: Option<Vec<[u8; 4]>>,
-    antialiasing: Antialiasing,
     slots: Vec<(BaseShading, ObjectBinding)>,
 }
 
 impl PhongBase {
     /// Full Phong of `mesh` (its buffers are shared, not copied) lit by `light` with
-    /// `material` (whose transform is replaced by each pose's), into targets of
-    /// `color_format` / `depth_format`.
+    /// `material` (whose transform is replaced by each pose's), into references of
+    /// `formats` (the references' formats and sample count, see [`ReferenceFrame::new`]).
     pub fn new(
         mesh: &GpuMesh,
         light: Light,
         material: ObjectUniforms,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        formats: TargetFormats,
     ) -> Self {
         Self {
             mesh: GpuMesh {
@@ -157,11 +166,9 @@ impl PhongBase {
             },
             light,
             material,
-            color_format,
-            depth_format,
+            formats,
             model: ShadingModel::Phong,
             ramp: None,
-            antialiasing: Antialiasing::None,
             slots: Vec::new(),
         }
     }
@@ -175,14 +182,6 @@ impl PhongBase {
         self
     }
 
-    /// The same base drawing into references of `antialiasing` (it must match the
-    /// references' [`ReferenceFrame::antialiasing`]: the pipelines are built for it).
-    pub fn with_antialiasing(mut self, antialiasing: Antialiasing) -> Self {
-        self.antialiasing = antialiasing;
-        self.slots.clear();
-        self
-    }
-
     /// Changes the light and material of the references recorded from now on.
     pub fn set_lighting(&mut self, light: Light, material: ObjectUniforms) {
         self.light = light;
@@ -192,18 +191,12 @@ impl PhongBase {
 
 impl BasePass for PhongBase {
     fn sample_count(&self) -> u32 {
-        self.antialiasing.sample_count()
+        self.formats.samples
     }
 
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
         while self.slots.len() <= target.slot {
-            let mut shading = BaseShading::multisampled(
-                device,
-                queue,
-                self.color_format,
-                self.depth_format,
-                self.antialiasing.sample_count(),
-            );
+            let mut shading = BaseShading::new(device, queue, self.formats);
             if let Some(texels) = &self.ramp {
                 let view = npr_gpu::upload_ramp(device, queue, texels);
                 shading.set_ramp(device, &view);
@@ -246,6 +239,8 @@ pub struct ReferenceFrame {
     pub pose: Pose,
     /// `pose.camera.clip_from_world()`, kept for the projective texture matrix.
     pub clip_from_world: Mat4,
+    /// The formats and samples per pixel the base pass draws into.
+    formats: TargetFormats,
     /// Multisampled: the textures drawn into, the depth resolve and its source binding.
     msaa: Option<ReferenceMsaa>,
 }
@@ -256,74 +251,48 @@ struct ReferenceMsaa {
     target: MsaaTarget,
     resolve: DepthResolve,
     source: wgpu::BindGroup,
-    antialiasing: Antialiasing,
 }
 
 impl ReferenceFrame {
-    /// A reference slot of `width × height` with colour `color_format` and depth
-    /// `depth_format` (as given to [`crate::WarpPass::new`]).
+    /// A reference slot of `width × height` with colour `formats.color` and depth
+    /// `formats.depth`, drawn with `formats.samples` samples per pixel: one, or 4
+    /// (multisampled: the base pass draws into multisampled textures, its pipelines built
+    /// for them, e.g. [`PhongBase::new`] with the same formats, whose colour is resolved
+    /// into [`Self::color`] (alpha = coverage) and whose depth is resolved, nearest sample
+    /// per texel, into [`Self::depth`] after every recorded pass).
     ///
     /// # Errors
     /// [`WarpError::Gpu`] for a zero size or one past the device's limit;
-    /// [`WarpError::InvalidSetting`] for formats the warp cannot sample.
+    /// [`WarpError::InvalidSetting`] for formats the warp cannot sample or a sample count
+    /// other than 1 or 4.
     pub fn new(
         device: &wgpu::Device,
         width: u32,
         height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        formats: TargetFormats,
     ) -> Result<Self, WarpError> {
-        Self::with_antialiasing(
-            device,
-            width,
-            height,
-            color_format,
-            depth_format,
-            Antialiasing::None,
-        )
+        Self::with_resolve(device, width, height, formats, None)
     }
 
-    /// As [`ReferenceFrame::new`], drawn with `antialiasing`: multisampled, the base pass
-    /// draws into multisampled textures (its pipelines built for them, e.g.
-    /// [`PhongBase::with_antialiasing`]) whose colour is resolved into [`Self::color`]
-    /// (alpha = coverage) and whose depth is resolved, nearest sample per texel, into
-    /// [`Self::depth`] after every recorded pass.
-    ///
-    /// # Errors
-    /// As [`ReferenceFrame::new`].
-    pub fn with_antialiasing(
-        device: &wgpu::Device,
-        width: u32,
-        height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
-    ) -> Result<Self, WarpError> {
-        let formats = (color_format, depth_format);
-        Self::with_resolve(device, width, height, formats, antialiasing, None)
-    }
-
-    /// As [`ReferenceFrame::with_antialiasing`]; multisampled, with `resolve` (built for
-    /// `depth_format`: one shared by the references of a [`crate::Warper`]) or, `None`, a
+    /// As [`ReferenceFrame::new`]; multisampled, with `resolve` (built for
+    /// `formats.depth`: one shared by the references of a [`crate::Warper`]) or, `None`, a
     /// depth resolve of its own.
     pub(crate) fn with_resolve(
         device: &wgpu::Device,
         width: u32,
         height: u32,
-        (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
-        antialiasing: Antialiasing,
+        formats: TargetFormats,
         resolve: Option<DepthResolve>,
     ) -> Result<Self, WarpError> {
-        crate::pass::check_formats(color_format, depth_format)?;
-        let max = device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(npr_gpu::GpuError::InvalidSize {
-                width,
-                height,
-                reason: format!("each side must be in 1..={max}"),
-            }
-            .into());
+        let (color_format, depth_format) = (formats.color, formats.depth);
+        if !matches!(formats.samples, 1 | 4) {
+            return Err(WarpError::InvalidSetting(format!(
+                "references of {} samples per pixel: the warp supports 1 or 4",
+                formats.samples
+            )));
         }
+        crate::pass::check_formats(color_format, depth_format)?;
+        npr_gpu::check_size(device, width, height)?;
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
             | wgpu::TextureUsages::COPY_SRC;
@@ -331,22 +300,14 @@ impl ReferenceFrame {
         let color = make("npr-warp reference colour", color_format);
         let depth = make("npr-warp reference depth", depth_format);
         let camera = Camera::look_at(Vec3::Z * 3.0, Vec3::ZERO, width as f32 / height as f32);
-        let msaa = if antialiasing.is_multisampled() {
+        let msaa = if formats.is_multisampled() {
             let resolve = resolve.unwrap_or_else(|| DepthResolve::new(device, depth_format));
-            let target = MsaaTarget::with_sampled_depth(
-                device,
-                width,
-                height,
-                color_format,
-                depth_format,
-                antialiasing,
-            )?;
+            let target = MsaaTarget::with_sampled_depth(device, width, height, formats)?;
             let source = resolve.bind(device, &target);
             Some(ReferenceMsaa {
                 target,
                 resolve,
                 source,
-                antialiasing,
             })
         } else {
             None
@@ -367,20 +328,19 @@ impl ReferenceFrame {
                 world_from_object: Mat4::IDENTITY,
             },
             clip_from_world: camera.clip_from_world(),
+            formats,
             msaa,
         })
     }
 
-    /// The antialiasing the reference is drawn with.
-    pub fn antialiasing(&self) -> Antialiasing {
-        self.msaa
-            .as_ref()
-            .map_or(Antialiasing::None, |m| m.antialiasing)
+    /// The formats and samples per pixel of the pass a base pass draws into.
+    pub fn formats(&self) -> TargetFormats {
+        self.formats
     }
 
     /// Samples per pixel of the pass a base pass draws into (1, or 4 multisampled).
     pub fn sample_count(&self) -> u32 {
-        self.antialiasing().sample_count()
+        self.formats.samples
     }
 
     /// `Ok` when `base`'s pipelines are built for this reference's sample count.
@@ -398,7 +358,6 @@ impl ReferenceFrame {
     /// # Errors
     /// [`WarpError::SampleCountMismatch`] (recording nothing) when `base` is built for
     /// another sample count than the reference ([`ReferenceFrame::check_base`]).
-    #[allow(clippy::too_many_arguments)]
     pub fn record_over(
         &self,
         device: &wgpu::Device,
@@ -409,13 +368,14 @@ impl ReferenceFrame {
         slot: usize,
     ) -> Result<(), WarpError> {
         self.check_base(base)?;
-        let draw = ReferenceDraw {
-            pose,
-            slot,
-            slice: 0,
-            slices: 1,
-        };
-        self.draw_base(device, queue, encoder, base, &draw, None);
+        self.draw_base(
+            device,
+            queue,
+            encoder,
+            base,
+            &ReferenceDraw::whole(pose, slot),
+            None,
+        );
         Ok(())
     }
 
@@ -432,10 +392,7 @@ impl ReferenceFrame {
     ) {
         base.prepare(device, queue, draw);
         let (color, depth) = match clear {
-            Some([r, g, b, a]) => (
-                wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                wgpu::LoadOp::Clear(1.0),
-            ),
+            Some(rgba) => (clear_color(rgba), wgpu::LoadOp::Clear(1.0)),
             None => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
         };
         if let Some(msaa) = &self.msaa {
@@ -451,46 +408,33 @@ impl ReferenceFrame {
         base.draw(&mut pass, draw);
     }
 
-    /// Records the whole reference at `pose` drawn by `base` into `encoder`, cleared to
-    /// `clear` (use alpha 0 so the object's pixels are those with alpha), as slot `slot`
-    /// of `base`. Submit the encoder before binding the reference for a warp.
+    /// Records `draw` by `base` into `encoder`: the whole reference at `draw.pose`
+    /// ([`ReferenceDraw::whole`]), or slice `draw.slice` of `draw.slices`, as slot
+    /// `draw.slot` of `base`. Slice 0 clears to `clear` (use alpha 0 so the object's
+    /// pixels are those with alpha) and sets the pose; later slices load what earlier ones
+    /// drew, so after all slices the reference equals the whole one (§3.4: the next
+    /// reference spread over the frames between). Submit the encoder before binding the
+    /// reference for a warp.
     ///
     /// # Errors
-    /// As [`ReferenceFrame::record_over`].
-    #[allow(clippy::too_many_arguments)]
+    /// As [`ReferenceFrame::record_over`] (the reference is left as it was).
     pub fn record(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
-        pose: &Pose,
-        slot: usize,
+        draw: &ReferenceDraw<'_>,
         clear: [f64; 4],
     ) -> Result<(), WarpError> {
-        self.record_slice(device, queue, encoder, base, pose, slot, clear, 0, 1)
-    }
-
-    /// Records slice `slice` of `slices` of the reference at `pose`: slice 0 clears and
-    /// sets the pose; later slices load what earlier ones drew, so after all slices the
-    /// reference equals [`ReferenceFrame::record`] (§3.4: the next reference spread over
-    /// the frames between).
-    ///
-    /// # Errors
-    /// As [`ReferenceFrame::record_over`] (the reference is left as it was).
-    #[allow(clippy::too_many_arguments)]
-    pub fn record_slice(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        encoder: &mut wgpu::CommandEncoder,
-        base: &mut dyn BasePass,
-        pose: &Pose,
-        slot: usize,
-        clear: [f64; 4],
-        slice: u32,
-        slices: u32,
-    ) -> Result<(), WarpError> {
+        let ReferenceDraw {
+            pose,
+            slot,
+            slice,
+            slices,
+        } = *draw;
+        self.check_base(base)?;
+        let slices = slices.max(1);
         self.check_base(base)?;
         let slices = slices.max(1);
         let slice = slice.min(slices - 1);
@@ -517,12 +461,11 @@ pub fn begin_clear_pass<'e>(
     depth: &wgpu::TextureView,
     clear: [f64; 4],
 ) -> wgpu::RenderPass<'e> {
-    let [r, g, b, a] = clear;
     npr_gpu::begin_views_pass(
         encoder,
         color,
         depth,
-        wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+        clear_color(clear),
         wgpu::LoadOp::Clear(1.0),
     )
 }
@@ -538,40 +481,12 @@ pub struct FullRenderer {
 }
 
 impl FullRenderer {
-    /// A renderer for targets of `color_format` / `depth_format`.
-    pub fn new(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-    ) -> Self {
-        Self::with_antialiasing(
-            device,
-            queue,
-            color_format,
-            depth_format,
-            Antialiasing::None,
-        )
-    }
-
-    /// As [`FullRenderer::new`], for passes with `antialiasing`'s sample count (e.g.
+    /// A renderer for targets of `formats` (e.g. multisampled for
     /// [`MsaaTarget::begin_pass`]; see [`FullRenderer::record_msaa`]).
-    pub fn with_antialiasing(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
-    ) -> Self {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, formats: TargetFormats) -> Self {
         Self {
-            shading: BaseShading::multisampled(
-                device,
-                queue,
-                color_format,
-                depth_format,
-                antialiasing.sample_count(),
-            ),
-            sample_count: antialiasing.sample_count(),
+            shading: BaseShading::new(device, queue, formats),
+            sample_count: formats.samples.max(1),
             objects: Vec::new(),
             count: 0,
         }
@@ -623,7 +538,7 @@ impl FullRenderer {
     ///
     /// # Errors
     /// [`WarpError::SampleCountMismatch`] (recording nothing) when `color` or `depth` has
-    /// another sample count than the renderer ([`FullRenderer::with_antialiasing`]).
+    /// another sample count than the renderer ([`FullRenderer::new`]).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -646,7 +561,7 @@ impl FullRenderer {
 
     /// Records a multisampled pass over `target`, cleared to `clear`, with the full
     /// render, its colour resolved into `resolve` (for a renderer built
-    /// [`FullRenderer::with_antialiasing`] at the target's sample count).
+    /// [`FullRenderer::new`] at the target's sample count).
     ///
     /// # Errors
     /// [`WarpError::SampleCountMismatch`] (recording nothing) when `target` has another

@@ -6,9 +6,9 @@
 use crate::WarpError;
 use crate::bins::BinPlan;
 use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
-use crate::reference::{BasePass, Pose, ReferenceFrame};
+use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
 use glam::Mat4;
-use npr_gpu::Camera;
+use npr_gpu::{Camera, TargetFormats};
 
 /// Which references a frame interpolates and where it lies between them.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,28 +125,30 @@ pub struct WarpSequence {
 }
 
 impl WarpSequence {
-    /// A sequence rendering references of `width × height` in the caller's formats.
+    /// A sequence rendering references of `width × height` in the caller's `formats`
+    /// (references and warped frames alike: a sequence is not antialiased).
     ///
     /// # Errors
     /// [`WarpError::Gpu`] for a bad size, [`WarpError::InvalidSetting`] for settings out
-    /// of range or formats the warp cannot use.
+    /// of range or formats the warp cannot use; [`WarpError::SampleCountMismatch`] when
+    /// `formats` has more than one sample per pixel.
     pub fn new(
         device: &wgpu::Device,
         schedule: WarpSchedule,
         settings: WarpSettings,
         width: u32,
         height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        formats: TargetFormats,
     ) -> Result<Self, WarpError> {
         settings.validate()?;
-        let slot = || ReferenceFrame::new(device, width, height, color_format, depth_format);
+        WarpError::check_samples("a warp sequence's targets", formats.samples, 1)?;
+        let slot = || ReferenceFrame::new(device, width, height, formats);
         Ok(Self {
             schedule,
             settings,
             mode: WarpMode::DepthTested,
             clear: [0.0; 4],
-            pass: WarpPass::new(device, color_format, depth_format)?,
+            pass: WarpPass::new(device, formats, formats)?,
             slots: [slot()?, slot()?, slot()?],
             held: [None; 3],
             pair: None,
@@ -176,16 +178,15 @@ impl WarpSequence {
     }
 
     /// Records reference `index` slice by slice (or whole when not spreading) into its slot
-    /// (base-pass slot `index % 3`): one slice, or with `complete` every remaining one.
-    /// Returns the slices recorded, or the error of [`ReferenceFrame::record_slice`].
-    #[allow(clippy::too_many_arguments)]
+    /// (base-pass slot `index % 3`), drawn by `input.base` at `input.path`'s pose: one
+    /// slice, or with `complete` every remaining one. Returns the slices recorded, or the
+    /// error of [`ReferenceFrame::record`].
     fn advance_reference(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        base: &mut dyn BasePass,
-        path: &dyn Fn(u32) -> ScenePose,
+        input: &mut SequenceFrame<'_>,
         index: u32,
         complete: bool,
     ) -> Result<u32, WarpError> {
@@ -195,12 +196,16 @@ impl WarpSequence {
             Some((i, done)) if i == index => done,
             _ => 0,
         };
-        let pose = path(index * self.schedule.period).object(0);
+        let pose = (input.path)(index * self.schedule.period).object(0);
         let mut n = 0;
         while done < slices {
-            self.slots[slot].record_slice(
-                device, queue, encoder, base, &pose, slot, self.clear, done, slices,
-            )?;
+            let draw = ReferenceDraw {
+                pose: &pose,
+                slot,
+                slice: done,
+                slices,
+            };
+            self.slots[slot].record(device, queue, encoder, input.base, &draw, self.clear)?;
             done += 1;
             n += 1;
             if !complete {
@@ -211,33 +216,30 @@ impl WarpSequence {
         Ok(n)
     }
 
-    /// Records frame `frame` into `encoder`: the references it needs (recorded now if
-    /// missing, drawn by `base`; the one after next advanced by one slice when spreading),
-    /// then a pass over `color` / `depth` (cleared to [`WarpSequence::clear`]) with every
-    /// object of `path(frame)` warped with `objects[i]` (`path(frame).objects` gives their
-    /// poses). Submit the encoder before recording the next frame (uniforms are written per
-    /// frame). Submits nothing and does not wait.
+    /// Records frame `input.frame` into `encoder`: the references it needs (recorded now if
+    /// missing, drawn by `input.base`; the one after next advanced by one slice when
+    /// spreading), then a pass over `color` / `depth` (cleared to [`WarpSequence::clear`])
+    /// with every object of `path(frame)` warped with `objects[i]` (`path(frame).objects`
+    /// gives their poses). Submit the encoder before recording the next frame (uniforms are
+    /// written per frame). Submits nothing and does not wait.
     ///
     /// # Errors
     /// [`WarpError::SampleCountMismatch`], recording nothing, when `base` or `color` /
     /// `depth` are not one sample per pixel (a sequence is not antialiased).
-    #[allow(clippy::too_many_arguments)]
     pub fn record_frame(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        base: &mut dyn BasePass,
-        objects: &[WarpObject],
-        path: &dyn Fn(u32) -> ScenePose,
-        frame: u32,
+        mut input: SequenceFrame<'_>,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
     ) -> Result<FrameReport, WarpError> {
         let samples = self.slots[0].sample_count();
-        WarpError::check_samples("the base pass", base.sample_count(), samples)?;
+        WarpError::check_samples("the base pass", input.base.sample_count(), samples)?;
         WarpError::check_samples("the colour target", color.texture().sample_count(), 1)?;
         WarpError::check_samples("the depth target", depth.texture().sample_count(), 1)?;
+        let frame = input.frame;
         let role = self.schedule.role(frame);
         let j = role.segment;
         let mut report = FrameReport {
@@ -246,7 +248,7 @@ impl WarpSequence {
         };
         for index in [j, j + 1] {
             report.reference_slices +=
-                self.advance_reference(device, queue, encoder, base, path, index, true)?;
+                self.advance_reference(device, queue, encoder, &mut input, index, true)?;
         }
         if self.pair.as_ref().map(|p| p.0) != Some(j) {
             let (a, b) = ((j % 3) as usize, ((j + 1) % 3) as usize);
@@ -257,9 +259,10 @@ impl WarpSequence {
         }
         if self.schedule.spread {
             report.reference_slices +=
-                self.advance_reference(device, queue, encoder, base, path, j + 2, false)?;
+                self.advance_reference(device, queue, encoder, &mut input, j + 2, false)?;
         }
-        let scene = path(frame);
+        let scene = (input.path)(frame);
+        let objects = input.objects;
         if let Some((_, pair)) = &self.pair {
             for (i, object) in objects.iter().enumerate() {
                 let plan = self.pass.prepare(
@@ -279,6 +282,19 @@ impl WarpSequence {
         }
         Ok(report)
     }
+}
+
+/// One frame of a [`WarpSequence`] as the caller describes it to
+/// [`WarpSequence::record_frame`].
+pub struct SequenceFrame<'a> {
+    /// The base pass that draws the references (one sample per pixel).
+    pub base: &'a mut dyn BasePass,
+    /// The warp objects, one per object of the path's scene.
+    pub objects: &'a [WarpObject],
+    /// The scene at each frame: the camera and every object's pose.
+    pub path: &'a dyn Fn(u32) -> ScenePose,
+    /// The frame to record.
+    pub frame: u32,
 }
 
 /// A known path (§1: "an object moving along a set path"): objects turning about the

@@ -6,8 +6,9 @@ use crate::bins::BinPlan;
 use crate::departures::Departures;
 use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
 use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
-use crate::reference::{BasePass, Pose, ReferenceFrame};
+use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
 use crate::{Proxy, WarpError};
+use npr_gpu::TargetFormats;
 
 /// Bins per axis of a [`Warper`]'s proxy (§3.3.2; the benchmark's N).
 pub const WARPER_BINS: u32 = 16;
@@ -38,56 +39,28 @@ pub struct Warper {
 impl Warper {
     /// A warper for `proxy` (see [`Proxy::simplify`]) drawn with a transform that scales
     /// object units by `world_per_object`, with `departures` ([`Departures::OURS`] or
-    /// [`Departures::PAPER`]), references of `width × height`, and the caller's colour and
-    /// depth formats.
+    /// [`Departures::PAPER`]) and references of `size` (width, height) in texels.
+    ///
+    /// The references are drawn into targets of `references` (the base pass given to
+    /// [`Warper::record_reference`] must be built for them, e.g. [`crate::PhongBase::new`]
+    /// with the same formats); the warped frames into the caller's targets of `target`.
+    /// The two sample counts choose the antialiasing ([`Antialiasing::from_samples`]; 1
+    /// and 1: none). With a multisampled warp (4 and 4, [`Antialiasing::Msaa4`]),
+    /// [`Warper::record_warp`] draws into the warper's own multisampled textures and
+    /// resolves into the caller's one-sample colour, and [`Warper::draw`] needs a pass
+    /// with 4 samples per pixel.
     ///
     /// # Errors
-    /// [`WarpError::InvalidSetting`] for formats the warp cannot use or a non-finite
-    /// `world_per_object`; [`WarpError::Gpu`] for a bad size or a failed upload.
-    #[allow(clippy::too_many_arguments)]
+    /// [`WarpError::InvalidSetting`] for formats or sample counts the warp cannot use or a
+    /// non-finite `world_per_object`; [`WarpError::Gpu`] for a bad size or a failed upload.
     pub fn new(
         device: &wgpu::Device,
         proxy: &Proxy,
         departures: Departures,
         world_per_object: f32,
-        width: u32,
-        height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-    ) -> Result<Self, WarpError> {
-        Self::with_antialiasing(
-            device,
-            proxy,
-            departures,
-            world_per_object,
-            width,
-            height,
-            color_format,
-            depth_format,
-            Antialiasing::None,
-        )
-    }
-
-    /// As [`Warper::new`], with references and warped frames drawn with `antialiasing`
-    /// (the base pass given to [`Warper::record_reference`] must be built for it, e.g.
-    /// [`crate::PhongBase::with_antialiasing`]). With a multisampled warp
-    /// ([`Antialiasing::Msaa4`]), [`Warper::record_warp`] draws into the warper's own
-    /// multisampled textures and resolves into the caller's colour, and [`Warper::draw`]
-    /// needs a pass with 4 samples per pixel.
-    ///
-    /// # Errors
-    /// As [`Warper::new`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn with_antialiasing(
-        device: &wgpu::Device,
-        proxy: &Proxy,
-        departures: Departures,
-        world_per_object: f32,
-        width: u32,
-        height: u32,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
-        antialiasing: Antialiasing,
+        (width, height): (u32, u32),
+        references: TargetFormats,
+        target: TargetFormats,
     ) -> Result<Self, WarpError> {
         if !(world_per_object.is_finite() && world_per_object > 0.0) {
             return Err(WarpError::InvalidSetting(format!(
@@ -96,7 +69,7 @@ impl Warper {
         }
         let settings = departures.settings(proxy, world_per_object);
         settings.validate()?;
-        let pass = WarpPass::with_antialiasing(device, color_format, depth_format, antialiasing)?;
+        let pass = WarpPass::new(device, references, target)?;
         let object = pass.create_object(
             device,
             proxy,
@@ -105,28 +78,13 @@ impl Warper {
             false,
         )?;
         // One depth resolve (shader and pipeline) for both slots.
-        let resolve = antialiasing
+        let resolve = references
             .is_multisampled()
-            .then(|| DepthResolve::new(device, depth_format));
-        let slot = || {
-            ReferenceFrame::with_resolve(
-                device,
-                width,
-                height,
-                (color_format, depth_format),
-                antialiasing,
-                resolve.clone(),
-            )
-        };
-        let msaa = if antialiasing.warp_is_multisampled() {
-            Some(MsaaTarget::new(
-                device,
-                width,
-                height,
-                color_format,
-                depth_format,
-                antialiasing,
-            )?)
+            .then(|| DepthResolve::new(device, references.depth));
+        let slot =
+            || ReferenceFrame::with_resolve(device, width, height, references, resolve.clone());
+        let msaa = if target.is_multisampled() {
+            Some(MsaaTarget::new(device, width, height, target)?)
         } else {
             None
         };
@@ -163,7 +121,8 @@ impl Warper {
         pose: &Pose,
     ) -> Result<(), WarpError> {
         let slot = (self.recorded % 2) as usize;
-        self.refs[slot].record(device, queue, encoder, base, pose, slot, self.clear)?;
+        let draw = ReferenceDraw::whole(pose, slot);
+        self.refs[slot].record(device, queue, encoder, base, &draw, self.clear)?;
         self.recorded += 1;
         let [older, newer] = self.ordered();
         // With one reference recorded, it pairs with itself.

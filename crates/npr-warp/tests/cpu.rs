@@ -9,15 +9,7 @@ use npr_warp::{Proxy, WarpError, WarpSchedule};
 use proptest::prelude::*;
 
 fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.2,
-        segments: 300,
-        tube_segments: 24,
-    })
+    generate::torus_knot(&generate::TorusKnot::trefoil(0.2, 300, 24))
 }
 
 fn face_normal_and_centroid(mesh: &Mesh, t: &[u32]) -> (Vec3, Vec3) {

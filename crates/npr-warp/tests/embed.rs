@@ -7,7 +7,7 @@
 #[path = "../examples/embed.rs"]
 mod embed;
 
-use npr_gpu::GpuMesh;
+use npr_gpu::{GpuMesh, TargetFormats};
 use npr_warp::FullRenderer;
 
 #[test]
@@ -22,7 +22,7 @@ fn embed_example_is_close_to_the_full_render() {
     let mesh = GpuMesh::upload(d, &embed::knot()).unwrap();
     let pose = embed::pose(4.0);
     let (light, material) = embed::look();
-    let mut full = FullRenderer::new(d, q, embed::COLOR, embed::DEPTH);
+    let mut full = FullRenderer::new(d, q, TargetFormats::new(embed::COLOR, embed::DEPTH));
     full.set_scene(
         d,
         q,

@@ -7,12 +7,12 @@ use glam::{Mat4, Vec3};
 use npr_geometry::generate;
 use npr_gpu::{
     COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget,
-    readback_rgba, testing::context_or_skip,
+    TargetFormats, readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
-    Departures, FullRenderer, PhongBase, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
-    WarpObject, WarpPass, WarpSchedule, WarpSequence, WarpSettings, Warper, compare,
-    metrics::read_rgba,
+    Departures, FullRenderer, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, ScenePose,
+    SequenceFrame, Turntable, WarpMode, WarpObject, WarpPass, WarpSchedule, WarpSequence,
+    WarpSettings, Warper, compare, metrics::read_rgba,
 };
 
 mod common;
@@ -35,7 +35,8 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
     // Inflated by 1.5 x its error the proxy's silhouette covers the knot's at the reference
     // poses (the default 0.75 x trades a few silhouette holes for a thinner rim).
     let inflation = 1.5 * proxy.error_object;
-    let pass = WarpPass::new(&ctx.device, COLOR_FORMAT, DEPTH_FORMAT).unwrap();
+    let formats = TargetFormats::default();
+    let pass = WarpPass::new(&ctx.device, formats, formats).unwrap();
     let object = pass
         .create_object(&ctx.device, &proxy, 8, inflation, false)
         .unwrap();
@@ -62,23 +63,35 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
 impl Rig {
     fn reference(&self, t: f32) -> ReferenceFrame {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut r = ReferenceFrame::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT).unwrap();
+        let mut r = ReferenceFrame::new(d, SIZE, SIZE, TargetFormats::default()).unwrap();
         let mut base = self.base(COLOR_FORMAT);
         let mut encoder = d.create_command_encoder(&Default::default());
         let pose = self.path.pose(t).object(0);
-        r.record(d, q, &mut encoder, &mut base, &pose, 0, CLEAR)
-            .unwrap();
+        r.record(
+            d,
+            q,
+            &mut encoder,
+            &mut base,
+            &ReferenceDraw::whole(&pose, 0),
+            CLEAR,
+        )
+        .unwrap();
         q.submit(Some(encoder.finish()));
         r
     }
 
     fn base(&self, color_format: wgpu::TextureFormat) -> PhongBase {
-        PhongBase::new(&self.full, light(), material(), color_format, DEPTH_FORMAT)
+        PhongBase::new(
+            &self.full,
+            light(),
+            material(),
+            TargetFormats::new(color_format, DEPTH_FORMAT),
+        )
     }
 
     fn full_image(&self, scene: &ScenePose) -> image::RgbaImage {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut renderer = FullRenderer::new(d, q, COLOR_FORMAT, DEPTH_FORMAT);
+        let mut renderer = FullRenderer::new(d, q, TargetFormats::default());
         renderer.set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
@@ -289,7 +302,7 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
     let m = Mat4::from_translation(at)
         * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, towards_eye));
     let red = ObjectUniforms::new(m, Vec3::new(1.0, 0.0, 0.0), 0.0, Vec3::ZERO, 1.0);
-    let mut occluder = PhongBase::new(&quad_gpu, light(), red, COLOR_FORMAT, DEPTH_FORMAT);
+    let mut occluder = PhongBase::new(&quad_gpu, light(), red, TargetFormats::default());
     let over = npr_warp::Pose {
         camera: r0.pose.camera,
         world_from_object: m,
@@ -358,8 +371,7 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
             rig.settings,
             SIZE,
             SIZE,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
+            TargetFormats::default(),
         )
         .unwrap();
         let objects = [seq
@@ -376,10 +388,12 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
                     d,
                     q,
                     &mut encoder,
-                    &mut base,
-                    &objects,
-                    &path,
-                    f,
+                    SequenceFrame {
+                        base: &mut base,
+                        objects: &objects,
+                        path: &path,
+                        frame: f,
+                    },
                     &target.color_view,
                     &target.depth_view,
                 )
@@ -441,10 +455,9 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
             &rig.proxy,
             Departures::OURS,
             0.6,
-            SIZE,
-            SIZE,
-            format,
-            DEPTH_FORMAT,
+            (SIZE, SIZE),
+            TargetFormats::new(format, DEPTH_FORMAT),
+            TargetFormats::new(format, DEPTH_FORMAT),
         )
         .unwrap();
         let mut base = rig.base(format);
@@ -483,7 +496,11 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
     assert!(q_full.psnr_db > 20.0, "{q_full:?}");
     // A depth format without a depth aspect is a typed error, not a panic.
     assert!(matches!(
-        WarpPass::new(d, COLOR_FORMAT, COLOR_FORMAT),
+        WarpPass::new(
+            d,
+            TargetFormats::new(COLOR_FORMAT, COLOR_FORMAT),
+            TargetFormats::new(COLOR_FORMAT, COLOR_FORMAT)
+        ),
         Err(npr_warp::WarpError::InvalidSetting(_))
     ));
 }
@@ -507,10 +524,9 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
             &rig.proxy,
             Departures::PAPER,
             0.6,
-            SIZE,
-            SIZE,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
+            (SIZE, SIZE),
+            TargetFormats::default(),
+            TargetFormats::default(),
         )
         .unwrap();
         warper.mode = mode;

@@ -6,8 +6,8 @@
 
 use glam::{Mat4, Vec3};
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, OffscreenTarget, readback_rgba,
-    testing::context_or_skip,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, OffscreenTarget, TargetFormats,
+    readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
     Antialiasing, Antialiasing::Msaa4, BasePass, Departures, FullRenderer, MsaaTarget, PhongBase,
@@ -32,12 +32,12 @@ fn path() -> Turntable {
 fn full(ctx: &GpuContext, mesh: &GpuMesh, t: f32, aa: Antialiasing) -> image::RgbaImage {
     let (d, q) = (&ctx.device, &ctx.queue);
     let scene = path().pose(t);
-    let mut renderer = FullRenderer::with_antialiasing(d, q, COLOR_FORMAT, DEPTH_FORMAT, aa);
+    let mut renderer = FullRenderer::new(d, q, aa.references(TargetFormats::default()));
     renderer.set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
     let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
     let mut encoder = d.create_command_encoder(&Default::default());
     if aa.is_multisampled() {
-        let ms = MsaaTarget::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, aa).unwrap();
+        let ms = MsaaTarget::new(d, SIZE, SIZE, aa.references(TargetFormats::default())).unwrap();
         renderer
             .record_msaa(&mut encoder, &ms, &target.color_view, mesh, CLEAR)
             .unwrap();
@@ -162,21 +162,23 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
     let proxy = Proxy::simplify(&mesh, 0.05).unwrap();
     let mut errors = Vec::new();
     for aa in Antialiasing::ALL {
-        let mut warper = Warper::with_antialiasing(
+        let mut warper = Warper::new(
             d,
             &proxy,
             Departures::OURS,
             0.6,
-            SIZE,
-            SIZE,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
-            aa,
+            (SIZE, SIZE),
+            aa.references(TargetFormats::default()),
+            aa.warp_target(TargetFormats::default()),
         )
         .unwrap();
         assert_eq!(warper.antialiasing(), aa);
-        let mut base = PhongBase::new(&gpu, light(), material(), COLOR_FORMAT, DEPTH_FORMAT)
-            .with_antialiasing(aa);
+        let mut base = PhongBase::new(
+            &gpu,
+            light(),
+            material(),
+            aa.references(TargetFormats::default()),
+        );
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
         for t in [0.0, 10.0] {
@@ -257,7 +259,7 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     let gpu = GpuMesh::upload(d, &mesh).unwrap();
     let proxy = Proxy::simplify(&mesh, 0.05).unwrap();
     let pose = path().pose(0.0).object(0);
-    let one_sample = || PhongBase::new(&gpu, light(), material(), COLOR_FORMAT, DEPTH_FORMAT);
+    let one_sample = || PhongBase::new(&gpu, light(), material(), TargetFormats::default());
     let mismatch = |r: Result<(), WarpError>, got, expected| match r {
         Err(WarpError::SampleCountMismatch {
             got: g,
@@ -270,9 +272,8 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     // What recording did before the check: the one-sample base's pipelines in the
     // reference's 4x pass, which wgpu rejects (a validation error; uncaptured, a panic).
     let reference =
-        ReferenceFrame::with_antialiasing(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, Msaa4)
-            .unwrap();
-    let ms = MsaaTarget::new(d, SIZE, SIZE, COLOR_FORMAT, DEPTH_FORMAT, Msaa4).unwrap();
+        ReferenceFrame::new(d, SIZE, SIZE, Msaa4.references(TargetFormats::default())).unwrap();
+    let ms = MsaaTarget::new(d, SIZE, SIZE, Msaa4.references(TargetFormats::default())).unwrap();
     let mut base = one_sample();
     let draw = ReferenceDraw {
         pose: &pose,
@@ -291,16 +292,14 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     );
 
     // Now: the reference checks the base pass first and records nothing.
-    let mut warper = Warper::with_antialiasing(
+    let mut warper = Warper::new(
         d,
         &proxy,
         Departures::OURS,
         0.6,
-        SIZE,
-        SIZE,
-        COLOR_FORMAT,
-        DEPTH_FORMAT,
-        Msaa4,
+        (SIZE, SIZE),
+        Msaa4.references(TargetFormats::default()),
+        Msaa4.warp_target(TargetFormats::default()),
     )
     .unwrap();
     let (r, err) = validated(ctx, |e| warper.record_reference(d, q, e, &mut base, &pose));
@@ -313,13 +312,17 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
         &proxy,
         Departures::OURS,
         0.6,
-        SIZE,
-        SIZE,
-        COLOR_FORMAT,
-        DEPTH_FORMAT,
+        (SIZE, SIZE),
+        TargetFormats::default(),
+        TargetFormats::default(),
     )
     .unwrap();
-    let mut base4 = one_sample().with_antialiasing(Msaa4);
+    let mut base4 = PhongBase::new(
+        &gpu,
+        light(),
+        material(),
+        Msaa4.references(TargetFormats::default()),
+    );
     assert_eq!(base4.sample_count(), 4);
     let (r, err) = validated(ctx, |e| plain.record_reference(d, q, e, &mut base4, &pose));
     mismatch(r, 4, 1);
@@ -327,19 +330,19 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     // A matching base records with no validation error.
     let mut reference = reference;
     let (r, err) = validated(ctx, |e| {
-        reference.record(d, q, e, &mut base4, &pose, 0, CLEAR)
+        reference.record(d, q, e, &mut base4, &ReferenceDraw::whole(&pose, 0), CLEAR)
     });
     r.unwrap();
     assert!(err.is_none(), "{err:?}");
 
     // The full renderer: 4x into a one-sample target, and one-sample into a 4x target.
     let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
-    let full4 = FullRenderer::with_antialiasing(d, q, COLOR_FORMAT, DEPTH_FORMAT, Msaa4);
+    let full4 = FullRenderer::new(d, q, Msaa4.references(TargetFormats::default()));
     let (c, z) = (&target.color_view, &target.depth_view);
     let (r, err) = validated(ctx, |e| full4.record(e, c, z, &gpu, CLEAR));
     mismatch(r, 1, 4);
     assert!(err.is_none(), "{err:?}");
-    let full1 = FullRenderer::new(d, q, COLOR_FORMAT, DEPTH_FORMAT);
+    let full1 = FullRenderer::new(d, q, TargetFormats::default());
     let (r, err) = validated(ctx, |e| full1.record_msaa(e, &ms, c, &gpu, CLEAR));
     mismatch(r, 4, 1);
     assert!(err.is_none(), "{err:?}");

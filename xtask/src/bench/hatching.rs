@@ -17,11 +17,11 @@
 //! (G-buffer + hatching pass) divided by the Phong pass.
 
 use super::table::{Cell, Table, emit};
-use crate::demo_hatching::demo_directions;
 use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
+use npr_hatching::figures::directions;
 use npr_hatching::{
     CpuHatcher, HatchFrame, HatchParams, ShadowLight, TamParams, TonalArtMap, VsmSettings,
 };
@@ -39,8 +39,8 @@ struct Workload {
     frames: usize,
 }
 
-fn object(name: &str, mesh: Mesh, m: Mat4) -> (Mesh, Mat4, Vec<Vec3>) {
-    let d = demo_directions(name, &mesh);
+fn object(mesh: Mesh, m: Mat4) -> (Mesh, Mat4, Vec<Vec3>) {
+    let d = directions(&mesh);
     (mesh, m, d)
 }
 
@@ -52,24 +52,12 @@ fn workloads() -> Vec<Workload> {
     };
     let t = |x: f32, y: f32, z: f32| Mat4::from_translation(Vec3::new(x, y, z));
     let knot = |segments, tube_segments| {
-        generate::torus_knot(&generate::TorusKnot {
-            p: 2,
-            q: 3,
-            major_radius: 1.0,
-            minor_radius: 0.4,
-            tube_radius: 0.15,
-            segments,
-            tube_segments,
-        })
+        generate::torus_knot(&generate::TorusKnot::trefoil(0.15, segments, tube_segments))
     };
     vec![
         Workload {
             name: "single object (torus)",
-            objects: vec![object(
-                "torus",
-                generate::torus(1.0, 0.4, 96, 48),
-                Mat4::IDENTITY,
-            )],
+            objects: vec![object(generate::torus(1.0, 0.4, 96, 48), Mat4::IDENTITY)],
             size: (640, 480),
             eye: Vec3::new(1.2, 2.0, 3.2),
             light: light(1.5),
@@ -79,28 +67,18 @@ fn workloads() -> Vec<Workload> {
         Workload {
             name: "scene (6 objects on a plane)",
             objects: vec![
-                object("plane", generate::plane(9.0, 7.0, 8, 8), Mat4::IDENTITY),
-                object("sphere", generate::icosphere(4, 0.8), t(-2.2, 0.8, 0.6)),
+                object(generate::plane(9.0, 7.0, 8, 8), Mat4::IDENTITY),
+                object(generate::icosphere(4, 0.8), t(-2.2, 0.8, 0.6)),
+                object(generate::torus(0.9, 0.35, 96, 48), t(0.2, 0.35, 1.4)),
                 object(
-                    "torus",
-                    generate::torus(0.9, 0.35, 96, 48),
-                    t(0.2, 0.35, 1.4),
-                ),
-                object(
-                    "cylinder",
                     generate::cylinder(0.5, 1.8, 64, 16, true),
                     t(2.3, 0.9, -0.4),
                 ),
                 object(
-                    "knot",
                     knot(280, 24),
                     t(0.0, 1.3, -1.3) * Mat4::from_scale(Vec3::splat(0.8)),
                 ),
-                object(
-                    "ellipsoid",
-                    generate::ellipsoid(0.9, 0.5, 0.6, 16),
-                    t(-1.4, 0.5, -1.8),
-                ),
+                object(generate::ellipsoid(0.9, 0.5, 0.6, 16), t(-1.4, 0.5, -1.8)),
             ],
             size: (640, 480),
             eye: Vec3::new(1.5, 4.2, 7.0),
@@ -110,7 +88,7 @@ fn workloads() -> Vec<Workload> {
         },
         Workload {
             name: "benchmark_knot",
-            objects: vec![object("knot", generate::benchmark_knot(), Mat4::IDENTITY)],
+            objects: vec![object(generate::benchmark_knot(), Mat4::IDENTITY)],
             size: (1280, 480),
             eye: Vec3::new(0.0, 1.2, 3.4),
             light: light(1.7),
@@ -180,8 +158,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             &params,
             VsmSettings::default(),
             npr_gpu::COLOR_FORMAT,
-            width,
-            height,
+            (width, height),
         )?;
         let mut gpu = Vec::new();
         let mut triangles = 0usize;

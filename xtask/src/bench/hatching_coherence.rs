@@ -30,16 +30,17 @@
 //! (issue 22: on the CAD parts too, `npr_geometry::generate::cad_parts`).
 
 use super::table::{Cell, Table, emit};
-use crate::demo::framing_camera;
-use crate::demo_hatching::{demo_directions, demo_knot};
 use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_geometry::stats::median;
-use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
-use npr_hatching::coherence::{ink_image, phase_correlation, sample_bilinear, stroke_density};
+use npr_gpu::figures::framing_camera;
+use npr_gpu::{Camera, GpuContext, GpuMesh};
+use npr_hatching::coherence::{
+    Rig, ink_image, phase_correlation, rig, sample_bilinear, stroke_density, uniforms,
+};
+use npr_hatching::figures::{directions, knot};
 use npr_hatching::{
-    GBuffer, HatchFrame, HatchInputs, HatchObject, HatchParams, ShadowLight, StrokeSpace,
-    TamParams, TonalArtMap, VsmSettings, hatch_image_gpu,
+    GBuffer, HatchInputs, ShadowLight, StrokeSpace, TamParams, TonalArtMap, hatch_image_gpu,
 };
 use std::path::{Path, PathBuf};
 
@@ -50,14 +51,6 @@ pub const FRAMES: usize = 25;
 const TILE: usize = 32;
 /// The constant tone of the density measurement.
 const DENSITY_TONE: f32 = 0.55;
-
-/// A hatching rig of one mode: frame passes and the object.
-pub struct Rig {
-    /// The frame passes.
-    pub frame: HatchFrame,
-    /// The object (material of [`uniforms`]).
-    pub object: HatchObject,
-}
 
 /// One mode's measurements.
 struct Measured {
@@ -101,42 +94,6 @@ pub fn light() -> ShadowLight {
         center: Vec3::ZERO,
         radius: 1.05,
     }
-}
-
-/// The object material of the sequence, at `world_from_object`.
-pub fn uniforms(world_from_object: Mat4) -> ObjectUniforms {
-    ObjectUniforms::new(world_from_object, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0)
-}
-
-/// A `size` rig hatching `mesh` in `space` with anchors re-taken every `period` frames.
-pub fn rig(
-    ctx: &GpuContext,
-    tam: &TonalArtMap,
-    (space, period): (StrokeSpace, u32),
-    mesh: &GpuMesh,
-    directions: &[Vec3],
-    (width, height): (u32, u32),
-) -> anyhow::Result<Rig> {
-    let params = HatchParams {
-        space,
-        ..Default::default()
-    };
-    let mut frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        tam,
-        &params,
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        width,
-        height,
-    )?;
-    frame.scene.set_anchor_period(period)?;
-    let object =
-        frame
-            .scene
-            .create_object(&ctx.device, mesh, &uniforms(Mat4::IDENTITY), directions)?;
-    Ok(Rig { frame, object })
 }
 
 /// Renders frame `t` of the sequence with `rig`: the hatched image.
@@ -235,22 +192,16 @@ fn tile_of(img: &[f32], (tx, ty): (usize, usize)) -> Vec<f32> {
 }
 
 /// Measures one mesh in every mode.
-fn measure(
-    ctx: &GpuContext,
-    tam: &TonalArtMap,
-    name: &str,
-    mesh: &Mesh,
-) -> anyhow::Result<Vec<Measured>> {
+fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<Vec<Measured>> {
     let gpu_mesh = GpuMesh::upload(&ctx.device, mesh)?;
-    let directions = demo_directions(name, mesh);
+    let directions = directions(mesh);
     // Reprojection rig: anchors re-taken every frame.
     let size = (WIDTH, HEIGHT);
     let motion = rig(
         ctx,
         tam,
         (StrokeSpace::Surface, 1),
-        &gpu_mesh,
-        &directions,
+        (&gpu_mesh, &directions),
         size,
     )?;
     let mut prev_pos = Vec::with_capacity(FRAMES);
@@ -264,7 +215,7 @@ fn measure(
     let (w, h) = (WIDTH as usize, HEIGHT as usize);
     let mut out = Vec::new();
     for (mode, space, period) in MODES {
-        let r = rig(ctx, tam, (space, period), &gpu_mesh, &directions, size)?;
+        let r = rig(ctx, tam, (space, period), (&gpu_mesh, &directions), size)?;
         let mut inks = Vec::with_capacity(FRAMES);
         let (mut first, mut last) = ((0.0, 0.0), (0.0, 0.0));
         for t in 0..FRAMES {
@@ -323,7 +274,7 @@ fn measure(
 }
 
 fn default_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
-    let mut out = vec![("knot".to_string(), demo_knot())];
+    let mut out = vec![("knot".to_string(), knot())];
     for name in ["spot.obj", "stanford-bunny.obj"] {
         out.push((
             name.trim_end_matches(".obj").to_string(),
@@ -367,7 +318,7 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     );
     let bar = super::progress(cases.len() as u64, "hatching-coherence");
     for (name, mesh) in &cases {
-        let rows = measure(&ctx, &tam, name, mesh)?;
+        let rows = measure(&ctx, &tam, mesh)?;
         let screen_flicker = rows
             .iter()
             .find(|r| r.mode == "screen")

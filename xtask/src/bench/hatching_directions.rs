@@ -28,13 +28,13 @@
 //! before issue 22), shows what the crease cuts and the planar rule change.
 
 use super::table::{Cell, Table, emit};
-use crate::demo_hatching::directions_from;
 use glam::Vec3;
 use npr_geometry::{
     CurvatureField, CurvatureOptions, LineFieldStats, Mesh, RenderFieldStats, StrokeFieldOptions,
     analytic, generate, line_angle_deg,
 };
 use npr_hatching::DirectionSource;
+use npr_hatching::figures::directions_from;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -107,7 +107,7 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             ),
         ] {
             let start = Instant::now();
-            let render = directions_from(name, mesh, &source);
+            let render = directions_from(mesh, &source);
             let ms = start.elapsed().as_secs_f64() * 1e3;
             let dirs: Vec<Vec3> = rep
                 .iter()

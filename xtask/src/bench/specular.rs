@@ -82,7 +82,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         let reordered = npr_geometry::locality::reorder_for_locality(file_mesh).mesh;
         let mesh = &reordered;
         let (camera, world_from_normalized) =
-            crate::demo::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
+            npr_gpu::figures::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
         let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
         let gpu = GpuMesh::upload(&ctx.device, mesh)?;
         let mut res = renderer.resources(&ctx.device, &gpu);

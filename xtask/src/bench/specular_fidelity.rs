@@ -163,7 +163,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
 /// The bunny turning 360° in 1° steps under a fixed light and eye, for both sizings.
 fn turning() -> anyhow::Result<Table> {
     let mesh = load(&crate::fixture_mesh("stanford-bunny.obj"))?;
-    let (camera, world_from_normalized) = crate::demo::framing_camera(&mesh, 4.0 / 3.0);
+    let (camera, world_from_normalized) = npr_gpu::figures::framing_camera(&mesh, 4.0 / 3.0);
     let mut table = Table::new(
         "specular-fidelity: the bunny turning 360° in 1° steps (fade rule, footprint area)",
         &[

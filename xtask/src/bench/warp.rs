@@ -30,12 +30,12 @@
 //! of every measured frame).
 
 use super::table::{Cell, Table, emit};
-use crate::warp_rig::{
-    CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
-};
 use glam::Vec3;
 use npr_geometry::stats::median;
-use npr_gpu::{COLOR_FORMAT, DEPTH_FORMAT, GpuContext};
+use npr_gpu::{GpuContext, TargetFormats};
+use npr_warp::rig::{
+    CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
+};
 use npr_warp::{
     Antialiasing, Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
     WarpSchedule, WarpSequence, compare, metrics::flip_mean,
@@ -75,62 +75,64 @@ fn sampled_steps(k: u32) -> Vec<u32> {
     v
 }
 
-impl Rig<'_> {
-    /// One warped frame of `objects` (object i at `scene.object(i)`); returns ms.
-    /// Full render of `scene` into the rig's target; returns ms (submit to idle).
-    fn full_ms(&mut self, scene: &ScenePose) -> anyhow::Result<f64> {
-        let enc = self.record_full(scene)?;
-        Ok(timed(self.ctx, || {
-            self.ctx.queue.submit(Some(enc.finish()));
-        }))
-    }
+/// Submits `enc` and waits for the GPU to idle; returns ms.
+fn submit_ms(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> f64 {
+    timed(ctx, || {
+        ctx.queue.submit(Some(enc.finish()));
+    })
+}
 
-    /// A reference of object 0 at `scene` into `slot`, resolves included; returns ms.
-    fn reference_ms(
-        &mut self,
-        slot: &mut ReferenceFrame,
-        scene: &ScenePose,
-    ) -> anyhow::Result<f64> {
-        let enc = self.record_reference(slot, scene)?;
-        Ok(timed(self.ctx, || {
-            self.ctx.queue.submit(Some(enc.finish()));
-        }))
-    }
+/// Full render of `scene` into the rig's target; returns ms (submit to idle).
+fn full_ms(rig: &mut Rig<'_>, scene: &ScenePose) -> anyhow::Result<f64> {
+    let enc = rig.record_full(scene)?;
+    Ok(submit_ms(rig.ctx, enc))
+}
 
-    fn warp_ms(
-        &self,
-        refs: [&ReferenceFrame; 2],
-        objects: &[Variant],
-        scene: &ScenePose,
-        s: f32,
-        mode: WarpMode,
-    ) -> (f64, usize, usize) {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let pair = self.pass.bind_pair(d, refs);
-        let mut blended = 0;
-        let mut tris = 0;
-        let ms = timed(self.ctx, || {
-            let plans: Vec<_> = objects
-                .iter()
-                .enumerate()
-                .map(|(i, o)| {
-                    self.pass
-                        .prepare(q, &o.object, &pair, &scene.object(i), s, &o.settings)
-                })
-                .collect();
-            let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let mut rpass = self.begin_clear_pass(&mut enc, CLEAR);
-                for (o, p) in objects.iter().zip(&plans) {
-                    self.pass.draw(&mut rpass, &pair, &o.object, p, mode);
-                }
+/// A reference of object 0 at `scene` into `slot`, resolves included; returns ms.
+fn reference_ms(
+    rig: &mut Rig<'_>,
+    slot: &mut ReferenceFrame,
+    scene: &ScenePose,
+) -> anyhow::Result<f64> {
+    let enc = rig.record_reference(slot, scene)?;
+    Ok(submit_ms(rig.ctx, enc))
+}
+
+/// One warped frame of `objects` (object i at `scene.object(i)`); returns ms, bins
+/// blended and triangles drawn.
+fn warp_ms(
+    rig: &Rig<'_>,
+    refs: [&ReferenceFrame; 2],
+    objects: &[Variant],
+    scene: &ScenePose,
+    s: f32,
+    mode: WarpMode,
+) -> (f64, usize, usize) {
+    let (d, q) = (&rig.ctx.device, &rig.ctx.queue);
+    let pair = rig.pass.bind_pair(d, refs);
+    let mut blended = 0;
+    let mut tris = 0;
+    let ms = timed(rig.ctx, || {
+        let plans: Vec<_> = objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                rig.pass
+                    .prepare(q, &o.object, &pair, &scene.object(i), s, &o.settings)
+            })
+            .collect();
+        let mut enc = d.create_command_encoder(&Default::default());
+        {
+            let mut rpass = rig.begin_clear_pass(&mut enc, CLEAR);
+            for (o, p) in objects.iter().zip(&plans) {
+                rig.pass.draw(&mut rpass, &pair, &o.object, p, mode);
             }
-            q.submit(Some(enc.finish()));
-            blended = plans.iter().map(|p| p.bins_blended).sum();
-            tris = plans.iter().map(|p| p.triangles_drawn).sum();
-        });
-        (ms, blended, tris)
-    }
+        }
+        q.submit(Some(enc.finish()));
+        blended = plans.iter().map(|p| p.bins_blended).sum();
+        tris = plans.iter().map(|p| p.triangles_drawn).sum();
+    });
+    (ms, blended, tris)
 }
 
 /// Quality and timing of the warped frames of one segment of length k.
@@ -176,7 +178,7 @@ fn segment(
         }
         let mut runs = Vec::new();
         for _ in 0..3 {
-            let (ms, b, t) = rig.warp_ms([&r0, &r1], objects, &scene, s, mode);
+            let (ms, b, t) = warp_ms(rig, [&r0, &r1], objects, &scene, s, mode);
             runs.push(ms);
             blended.push(b as f64);
             tris.push(t as f64);
@@ -200,10 +202,7 @@ fn segment(
         }
         if fill {
             let fills: Vec<f64> = (0..3)
-                .map(|_| {
-                    rig.warp_ms([&r0, &r1], objects, &scene, s, WarpMode::Fill)
-                        .0
-                })
+                .map(|_| warp_ms(rig, [&r0, &r1], objects, &scene, s, WarpMode::Fill).0)
                 .collect();
             fills_ms.push(median(fills));
         }
@@ -372,15 +371,15 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let mut rigs = Vec::new();
         for &aa in &aas {
             let mut r = Rig::with_antialiasing(&ctx, &bm.mesh, SIZE, aa)?;
-            r.full_ms(&path.pose(0.0))?;
+            full_ms(&mut r, &path.pose(0.0))?;
             let full = (0..5)
-                .map(|i| r.full_ms(&path.pose(i as f32)))
+                .map(|i| full_ms(&mut r, &path.pose(i as f32)))
                 .collect::<anyhow::Result<Vec<_>>>()?;
             let full = median(full);
             let mut slot = r.reference_slot()?;
-            r.reference_ms(&mut slot, &path.pose(0.0))?;
+            reference_ms(&mut r, &mut slot, &path.pose(0.0))?;
             let reference = (0..5)
-                .map(|i| r.reference_ms(&mut slot, &path.pose(i as f32)))
+                .map(|i| reference_ms(&mut r, &mut slot, &path.pose(i as f32)))
                 .collect::<anyhow::Result<Vec<_>>>()?;
             let reference = median(reference);
             println!(
@@ -560,18 +559,18 @@ fn table3(
         let objects: Vec<Variant> = (0..n)
             .map(|_| rig.variant(proxy, Departures::OURS, world_per_object, BINS, false))
             .collect::<Result<_, _>>()?;
-        rig.full_ms(&path.pose(0.0))?;
-        let full_ms = (0..3)
-            .map(|i| rig.full_ms(&path.pose(i as f32)))
+        full_ms(rig, &path.pose(0.0))?;
+        let full = (0..3)
+            .map(|i| full_ms(rig, &path.pose(i as f32)))
             .collect::<anyhow::Result<Vec<_>>>()?;
-        let full_ms = median(full_ms);
+        let full = median(full);
         // The shared reference renders object 0 only.
         let one = ScenePose {
             camera: path.camera,
             objects: vec![path.pose(0.0).objects[0]],
         };
         let ref_ms = (0..3)
-            .map(|_| rig.full_ms(&one))
+            .map(|_| full_ms(rig, &one))
             .collect::<anyhow::Result<Vec<_>>>()?;
         let ref_ms = median(ref_ms);
         let r = segment(rig, &path, k, &objects, false, &mut fulls)?;
@@ -579,12 +578,12 @@ fn table3(
         table.push(vec![
             bm.name.clone().into(),
             n.into(),
-            Cell::Num(full_ms, 2),
-            Cell::Num(full_ms / n as f64, 2),
+            Cell::Num(full, 2),
+            Cell::Num(full / n as f64, 2),
             Cell::Num(r.warp_ms, 2),
             Cell::Num(amortized, 2),
             Cell::Num(amortized / n as f64, 2),
-            Cell::Num(full_ms / amortized, 2),
+            Cell::Num(full / amortized, 2),
             Cell::Num(r.psnr_mean, 2),
             adapter.to_string().into(),
         ]);
@@ -614,8 +613,7 @@ fn spreading(
             ours.settings(proxy, world_per_object),
             SIZE,
             SIZE,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
+            TargetFormats::default(),
         )?;
         let objects =
             [seq.pass()

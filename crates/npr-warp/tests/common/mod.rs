@@ -12,15 +12,7 @@ pub const CLEAR: [f64; 4] = [0.0; 4];
 
 /// The test knot (about 30k triangles).
 pub fn knot() -> Mesh {
-    generate::torus_knot(&generate::TorusKnot {
-        p: 2,
-        q: 3,
-        major_radius: 1.0,
-        minor_radius: 0.4,
-        tube_radius: 0.22,
-        segments: 480,
-        tube_segments: 32,
-    })
+    generate::torus_knot(&generate::TorusKnot::trefoil(0.22, 480, 32))
 }
 
 /// Its material.

@@ -1,19 +1,21 @@
-//! The GPU rig shared by the warping demo and benchmark: the full-detail renderer, the
-//! reference frames (drawn by npr-warp's default Phong base pass) and the warp pass,
-//! drawing into one square target; the turntable path; the paper's and our warp variants.
+//! The GPU rig shared by the warping figures (`examples/fig8_10.rs`, ...) and
+//! `cargo xtask bench warp`: the full-detail renderer, the reference frames (drawn by the
+//! default Phong base pass) and the warp pass, drawing into one square target; the
+//! turntable path; the paper's and our warp variants; the warping models.
 
+use crate::{
+    Antialiasing, Departures, FrameReport, FullRenderer, MsaaTarget, PhongBase, Proxy,
+    ReferenceDraw, ReferenceFrame, ScenePose, SequenceFrame, Turntable, WarpError, WarpMode,
+    WarpObject, WarpPass, WarpSequence, WarpSettings,
+};
 use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_gpu::{
     COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, readback_rgba,
-};
-use npr_warp::{
-    Antialiasing, Departures, FrameReport, FullRenderer, MsaaTarget, PhongBase, Proxy,
-    ReferenceFrame, ScenePose, Turntable, WarpMode, WarpObject, WarpPass, WarpSequence,
-    WarpSettings,
+    OffscreenTarget, TargetFormats, readback_rgba,
 };
 
+#[derive(Debug)]
 /// A warping test model and the three proxy ratios the warping paper's Fig. 8–10 and
 /// Table 1 show for it (the shape starts to read; good enough; hard to tell apart).
 pub struct WarpModel {
@@ -30,12 +32,12 @@ pub struct WarpModel {
 /// The warping models: the bunny from `fixtures/meshes/` (the paper's own Bunny, Fig. 8),
 /// and two smooth torus-knot tubes standing in for the paper's Dragon (871,414 triangles,
 /// Fig. 9) and Buddha (1,085,634, Fig. 10), which the project does not ship.
-pub fn warp_models() -> anyhow::Result<Vec<WarpModel>> {
+pub fn warp_models() -> Result<Vec<WarpModel>, WarpError> {
     Ok(vec![
         WarpModel {
             name: "bunny".into(),
             slug: "bunny",
-            mesh: npr_geometry::load_obj(crate::fixture_mesh("stanford-bunny.obj"))?,
+            mesh: npr_geometry::load_obj(npr_gpu::figures::fixture_mesh("stanford-bunny.obj"))?,
             ratios: [0.05, 0.02, 0.01],
         },
         WarpModel {
@@ -94,7 +96,7 @@ pub fn path_for(
     distance: f32,
     orbit_camera: bool,
 ) -> (Turntable, f32) {
-    let (centre, radius) = npr_warp::proxy::bounding_sphere(&mesh.positions);
+    let (centre, radius) = crate::proxy::bounding_sphere(&mesh.positions);
     let scale = 1.0 / radius.max(1e-6);
     let normalize = Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-centre);
     let eye = Vec3::new(0.0, 0.35, 1.0).normalize() * distance;
@@ -112,6 +114,7 @@ pub fn path_for(
     )
 }
 
+#[derive(Debug)]
 /// One warp variant of a proxy: the object (binned, inflated per the departures), its
 /// settings and fragment shader.
 pub struct Variant {
@@ -123,6 +126,7 @@ pub struct Variant {
     pub mode: WarpMode,
 }
 
+#[derive(Debug)]
 /// Full mesh, renderer, target and warp pass for one mesh.
 pub struct Rig<'a> {
     /// The GPU.
@@ -147,7 +151,7 @@ pub struct Rig<'a> {
 
 impl<'a> Rig<'a> {
     /// A rig for `mesh` drawing `size × size` frames.
-    pub fn new(ctx: &'a GpuContext, mesh: &Mesh, size: u32) -> anyhow::Result<Self> {
+    pub fn new(ctx: &'a GpuContext, mesh: &Mesh, size: u32) -> Result<Self, WarpError> {
         Self::with_antialiasing(ctx, mesh, size, Antialiasing::None)
     }
 
@@ -158,7 +162,7 @@ impl<'a> Rig<'a> {
         mesh: &Mesh,
         size: u32,
         antialiasing: Antialiasing,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, WarpError> {
         let (d, q) = (&ctx.device, &ctx.queue);
         antialiasing.check(&ctx.adapter, &ctx.device, COLOR_FORMAT, DEPTH_FORMAT)?;
         let full = GpuMesh::upload(d, mesh)?;
@@ -167,27 +171,27 @@ impl<'a> Rig<'a> {
                 d,
                 size,
                 size,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing,
+                antialiasing.references(TargetFormats::default()),
             )?)
         } else {
             None
         };
         Ok(Self {
             ctx,
-            base: PhongBase::new(&full, light(), material(), COLOR_FORMAT, DEPTH_FORMAT)
-                .with_antialiasing(antialiasing),
-            full,
-            renderer: FullRenderer::with_antialiasing(
-                d,
-                q,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
-                antialiasing,
+            base: PhongBase::new(
+                &full,
+                light(),
+                material(),
+                antialiasing.references(TargetFormats::default()),
             ),
+            full,
+            renderer: FullRenderer::new(d, q, antialiasing.references(TargetFormats::default())),
             target: OffscreenTarget::new(d, size, size)?,
-            pass: WarpPass::with_antialiasing(d, COLOR_FORMAT, DEPTH_FORMAT, antialiasing)?,
+            pass: WarpPass::new(
+                d,
+                antialiasing.references(TargetFormats::default()),
+                antialiasing.warp_target(TargetFormats::default()),
+            )?,
             antialiasing,
             msaa,
             size,
@@ -218,7 +222,7 @@ impl<'a> Rig<'a> {
         world_per_object: f32,
         bins: u32,
         wireframe: bool,
-    ) -> anyhow::Result<Variant> {
+    ) -> Result<Variant, WarpError> {
         Ok(Variant {
             object: self.pass.create_object(
                 &self.ctx.device,
@@ -233,7 +237,7 @@ impl<'a> Rig<'a> {
     }
 
     /// Records (without submitting) the full render of `scene` into the target.
-    pub fn record_full(&mut self, scene: &ScenePose) -> anyhow::Result<wgpu::CommandEncoder> {
+    pub fn record_full(&mut self, scene: &ScenePose) -> Result<wgpu::CommandEncoder, WarpError> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         self.renderer
             .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
@@ -251,14 +255,14 @@ impl<'a> Rig<'a> {
     }
 
     /// The full render of `scene`, read back.
-    pub fn full(&mut self, scene: &ScenePose) -> anyhow::Result<image::RgbaImage> {
+    pub fn full(&mut self, scene: &ScenePose) -> Result<image::RgbaImage, WarpError> {
         let enc = self.record_full(scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
         self.image()
     }
 
     /// A reference frame of object 0 at `scene`.
-    pub fn reference(&mut self, scene: &ScenePose) -> anyhow::Result<ReferenceFrame> {
+    pub fn reference(&mut self, scene: &ScenePose) -> Result<ReferenceFrame, WarpError> {
         let mut r = self.reference_slot()?;
         let enc = self.record_reference(&mut r, scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
@@ -266,15 +270,13 @@ impl<'a> Rig<'a> {
     }
 
     /// An empty reference slot of the rig's size and antialiasing.
-    pub fn reference_slot(&self) -> anyhow::Result<ReferenceFrame> {
-        Ok(ReferenceFrame::with_antialiasing(
+    pub fn reference_slot(&self) -> Result<ReferenceFrame, WarpError> {
+        ReferenceFrame::new(
             &self.ctx.device,
             self.size,
             self.size,
-            COLOR_FORMAT,
-            DEPTH_FORMAT,
-            self.antialiasing,
-        )?)
+            self.antialiasing.references(TargetFormats::default()),
+        )
     }
 
     /// Records (without submitting) a reference of object 0 at `scene` into `r`,
@@ -283,10 +285,18 @@ impl<'a> Rig<'a> {
         &mut self,
         r: &mut ReferenceFrame,
         scene: &ScenePose,
-    ) -> anyhow::Result<wgpu::CommandEncoder> {
+    ) -> Result<wgpu::CommandEncoder, WarpError> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
-        r.record(d, q, &mut enc, &mut self.base, &scene.object(0), 0, CLEAR)?;
+        let pose = scene.object(0);
+        r.record(
+            d,
+            q,
+            &mut enc,
+            &mut self.base,
+            &ReferenceDraw::whole(&pose, 0),
+            CLEAR,
+        )?;
         Ok(enc)
     }
 
@@ -298,7 +308,7 @@ impl<'a> Rig<'a> {
         objects: &[WarpObject],
         path: &dyn Fn(u32) -> ScenePose,
         frame: u32,
-    ) -> anyhow::Result<FrameReport> {
+    ) -> Result<FrameReport, WarpError> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
         let t = &self.target;
@@ -306,10 +316,12 @@ impl<'a> Rig<'a> {
             d,
             q,
             &mut enc,
-            &mut self.base,
-            objects,
-            path,
-            frame,
+            SequenceFrame {
+                base: &mut self.base,
+                objects,
+                path,
+                frame,
+            },
             &t.color_view,
             &t.depth_view,
         )?;
@@ -317,8 +329,52 @@ impl<'a> Rig<'a> {
         Ok(report)
     }
 
+    /// `variant` warped from `refs` to object 0 at `scene` (position `s` between them)
+    /// with `mode`, read back; with `wire`, the proxy filled light grey with its edges
+    /// over it instead.
+    ///
+    /// # Errors
+    /// [`WarpError::Gpu`] when the readback fails.
+    pub fn warp_image(
+        &self,
+        refs: [&ReferenceFrame; 2],
+        variant: &Variant,
+        (scene, s): (&ScenePose, f32),
+        mode: WarpMode,
+        wire: bool,
+    ) -> Result<image::RgbaImage, WarpError> {
+        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let pair = self.pass.bind_pair(d, refs);
+        let object = &variant.object;
+        let mut settings = variant.settings;
+        if wire {
+            settings.fill_color = [0.8, 0.8, 0.8, 1.0];
+        }
+        let plan = self
+            .pass
+            .prepare(q, object, &pair, &scene.object(0), s, &settings);
+        let mut enc = d.create_command_encoder(&Default::default());
+        {
+            let mut rpass = self.target.begin_clear_pass(&mut enc, CLEAR);
+            self.pass.draw(&mut rpass, &pair, object, &plan, mode);
+        }
+        q.submit(Some(enc.finish()));
+        if wire {
+            settings.fill_color = [0.05, 0.1, 0.3, 1.0];
+            self.pass
+                .prepare(q, object, &pair, &scene.object(0), s, &settings);
+            let mut enc = d.create_command_encoder(&Default::default());
+            {
+                let mut rpass = self.target.begin_load_pass(&mut enc);
+                self.pass.draw_wireframe(&mut rpass, &pair, object);
+            }
+            q.submit(Some(enc.finish()));
+        }
+        Ok(readback_rgba(d, q, &self.target.color)?)
+    }
+
     /// The target's current image.
-    pub fn image(&self) -> anyhow::Result<image::RgbaImage> {
+    pub fn image(&self) -> Result<image::RgbaImage, WarpError> {
         Ok(readback_rgba(
             &self.ctx.device,
             &self.ctx.queue,
