@@ -58,6 +58,40 @@ fn npr_under(runner: &[String]) -> Command {
     cmd
 }
 
+/// The display runner for `test`; `None` when it may skip without one (it panics when
+/// it may not, naming what `cargo xtask test` installs).
+fn runner_for(test: &str) -> Option<Vec<String>> {
+    match display_runner() {
+        Some(runner) => Some(runner),
+        None if skip_allowed(test) => None,
+        None => panic!(
+            "{test}: no display and no xvfb-run; `cargo xtask test` installs Xvfb \
+             (xvfb, xauth and the X client libraries; see `cargo xtask doctor`), or set NPR_SKIP_GPU=1 to skip"
+        ),
+    }
+}
+
+/// A JSON file the script wrote into `dir`.
+fn read_json(dir: &Path, name: &str) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(dir.join(name)).unwrap()).unwrap()
+}
+
+/// The selected highlight of the script's `report before.json` and `report after.json`,
+/// checked to be the same one.
+fn selected_pair(dir: &Path) -> (serde_json::Value, serde_json::Value) {
+    let (b, a) = (read_json(dir, "before.json"), read_json(dir, "after.json"));
+    assert_eq!(
+        b["selected"]["id"], a["selected"]["id"],
+        "the same highlight stays selected"
+    );
+    (b["selected"].clone(), a["selected"].clone())
+}
+
+/// A pixel pair of a report entry.
+fn px(v: &serde_json::Value, key: &str) -> [f64; 2] {
+    [v[key][0].as_f64().unwrap(), v[key][1].as_f64().unwrap()]
+}
+
 fn skip_allowed(test: &str) -> bool {
     use npr_gpu::testing::{NoAdapter, REQUIRE_GPU_ENV, SKIP_GPU_ENV, no_adapter_action};
     let skip = std::env::var(SKIP_GPU_ENV).ok();
@@ -108,14 +142,8 @@ fn without_a_display_view_exits_at_once_naming_npr_render() {
 #[test]
 fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
     let test = "scripted_window_picks_moves_turns_and_scales_a_highlight";
-    let Some(runner) = display_runner() else {
-        if skip_allowed(test) {
-            return;
-        }
-        panic!(
-            "{test}: no display and no xvfb-run; `cargo xtask test` installs Xvfb \
-             (xvfb, xauth and the X client libraries; see `cargo xtask doctor`), or set NPR_SKIP_GPU=1 to skip"
-        );
+    let Some(runner) = runner_for(test) else {
+        return;
     };
     let dir = out_dir("script");
     let p = |n: &str| dir.join(n).display().to_string();
@@ -167,14 +195,9 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
     assert!(!stderr.contains("panicked"), "{stderr}");
 
     // The highlight moved along the drag, turned and grew.
-    let read = |n: &str| -> serde_json::Value {
-        serde_json::from_slice(&std::fs::read(dir.join(n)).unwrap()).unwrap()
-    };
-    let (b, a) = (read("before.json"), read("after.json"));
-    let (b, a) = (&b["selected"], &a["selected"]);
-    assert_eq!(b["id"], a["id"], "the same highlight stays selected");
-    let px =
-        |v: &serde_json::Value, k: &str| [v[k][0].as_f64().unwrap(), v[k][1].as_f64().unwrap()];
+    let read = |n: &str| read_json(&dir, n);
+    let (b, a) = selected_pair(&dir);
+    let (b, a) = (&b, &a);
     let (c0, c1) = (px(b, "centre_px"), px(a, "centre_px"));
     let moved = [c1[0] - c0[0], c1[1] - c0[1]];
     assert!(
@@ -239,11 +262,8 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
 #[test]
 fn warp_mode_full_frames_follow_the_warp_antialiasing() {
     let test = "warp_mode_full_frames_follow_the_warp_antialiasing";
-    let Some(runner) = display_runner() else {
-        if skip_allowed(test) {
-            return;
-        }
-        panic!("{test}: no display and no xvfb-run; see `cargo xtask doctor`");
+    let Some(runner) = runner_for(test) else {
+        return;
     };
     let dir = out_dir("warp-aa");
     let p = |n: &str| dir.join(n).display().to_string();
@@ -437,11 +457,8 @@ fn random_session(
 #[test]
 fn a_random_500_event_session_keeps_memory_flat() {
     let test = "a_random_500_event_session_keeps_memory_flat";
-    let Some(runner) = display_runner() else {
-        if skip_allowed(test) {
-            return;
-        }
-        panic!("{test}: no display and no xvfb-run; see `cargo xtask doctor`");
+    let Some(runner) = runner_for(test) else {
+        return;
     };
     let dir = out_dir("soak");
     let meshes = root().join("fixtures/meshes");
@@ -552,11 +569,8 @@ fn bright_component(image: &image::RgbaImage, seed: [f64; 2]) -> usize {
 #[test]
 fn a_dragged_highlight_keeps_its_area_in_the_window() {
     let test = "a_dragged_highlight_keeps_its_area_in_the_window";
-    let Some(runner) = display_runner() else {
-        if skip_allowed(test) {
-            return;
-        }
-        panic!("{test}: no display and no xvfb-run; `cargo xtask test` installs Xvfb");
+    let Some(runner) = runner_for(test) else {
+        return;
     };
     let dir = out_dir("drag");
     let p = |n: &str| dir.join(n).display().to_string();
@@ -606,15 +620,8 @@ fn a_dragged_highlight_keeps_its_area_in_the_window() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "npr view failed: {stderr}");
-    let read = |n: &str| -> serde_json::Value {
-        serde_json::from_slice(&std::fs::read(dir.join(n)).unwrap()).unwrap()
-    };
-    let (b, a) = (read("before.json"), read("after.json"));
-    let (b, a) = (&b["selected"], &a["selected"]);
-    assert_eq!(b["id"], a["id"], "the same highlight stays selected");
-    let px =
-        |v: &serde_json::Value, k: &str| [v[k][0].as_f64().unwrap(), v[k][1].as_f64().unwrap()];
-    let (c0, c1) = (px(b, "centre_px"), px(a, "centre_px"));
+    let (b, a) = selected_pair(&dir);
+    let (c0, c1) = (px(&b, "centre_px"), px(&a, "centre_px"));
     assert!(c1[0] - c0[0] > 30.0, "moved from {c0:?} to {c1:?}");
     let shot = |n: &str| image::open(dir.join(n)).unwrap().to_rgba8();
     let before = bright_component(&shot("before.png"), c0);

@@ -31,6 +31,39 @@ pub struct HighlightScene<'a> {
     pub clear: [f64; 4],
 }
 
+impl<'a> HighlightScene<'a> {
+    /// The highlights alone, on the identity transform over a black base (no ambient,
+    /// diffuse or k_s) and a black background: what the highlight tests measure.
+    pub fn on_black(
+        mesh: &'a GpuMesh,
+        indices: &'a [u32],
+        set: &'a HighlightSet,
+        camera: Camera,
+        light: Light,
+    ) -> Self {
+        Self {
+            mesh,
+            indices,
+            set,
+            object: ObjectUniforms::new(
+                glam::Mat4::IDENTITY,
+                glam::Vec3::ZERO,
+                0.0,
+                glam::Vec3::ZERO,
+                1.0,
+            ),
+            camera,
+            light: Light {
+                ambient: glam::Vec3::ZERO,
+                ..light
+            },
+            base: ShadingModel::Phong,
+            highlights: true,
+            clear: [0.0, 0.0, 0.0, 1.0],
+        }
+    }
+}
+
 /// Per-mesh buffers of [`Renderer::submit`]: the object uniforms and the highlight draw.
 #[derive(Debug)]
 pub struct FrameResources {

@@ -8,7 +8,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, generate};
-use npr_gpu::{GpuMesh, ObjectUniforms, ShadingModel, testing};
+use npr_gpu::{GpuMesh, testing};
 use npr_specular::snapshot::{HighlightScene, Renderer, light_eye_along};
 use npr_specular::{HighlightBoundary, HighlightControls, HighlightSet, Projector};
 
@@ -87,20 +87,7 @@ fn dragged_turned_and_grown_highlights_match_the_analytic_footprint() {
     // not at the image centre.
     let (le, camera, light) = light_eye_along(Vec3::new(0.2, 0.3, 1.0), 4.0, 1.0);
     let render = |set: &HighlightSet| {
-        let scene = HighlightScene {
-            mesh: &gpu,
-            indices: &mesh.indices,
-            set,
-            object: ObjectUniforms::new(Mat4::IDENTITY, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0),
-            camera,
-            light: npr_gpu::Light {
-                ambient: Vec3::ZERO,
-                ..light
-            },
-            base: ShadingModel::Phong,
-            highlights: true,
-            clear: [0.0, 0.0, 0.0, 1.0],
-        };
+        let scene = HighlightScene::on_black(&gpu, &mesh.indices, set, camera, light);
         drawn(&renderer.render(&ctx.device, &ctx.queue, &scene).unwrap())
     };
 

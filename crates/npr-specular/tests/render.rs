@@ -5,7 +5,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, Mesh, generate};
-use npr_gpu::{GpuMesh, ObjectUniforms, ShadingModel, testing};
+use npr_gpu::{GpuMesh, testing};
 use npr_specular::snapshot::{HighlightScene, Renderer, light_eye_along};
 use npr_specular::{HighlightSet, HighlightShape, ProjectorControls};
 
@@ -33,20 +33,7 @@ fn shoot(
     let (le, camera, light) = light_eye_along(Vec3::Z, 4.0, 1.0);
     set.update(le, Mat4::IDENTITY);
     assert_eq!(set.highlights().len(), 1);
-    let scene = HighlightScene {
-        mesh: gpu,
-        indices: &mesh.indices,
-        set: &set,
-        object: ObjectUniforms::new(Mat4::IDENTITY, Vec3::ZERO, 0.0, Vec3::ZERO, 1.0),
-        camera,
-        light: npr_gpu::Light {
-            ambient: Vec3::ZERO,
-            ..light
-        },
-        base: ShadingModel::Phong,
-        highlights: true,
-        clear: [0.0, 0.0, 0.0, 1.0],
-    };
+    let scene = HighlightScene::on_black(gpu, &mesh.indices, &set, camera, light);
     let image = renderer.render(&ctx.device, &ctx.queue, &scene).unwrap();
     let to_px = |p: Vec3| {
         let ndc = camera.clip_from_world().project_point3(p);
