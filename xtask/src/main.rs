@@ -1,5 +1,5 @@
 //! Project automation (the cargo-xtask pattern): `cargo xtask test | demo | bench NAME |
-//! fixtures | curvature`. One module per subcommand.
+//! fixtures | curvature | web`. One module per subcommand.
 
 mod bench;
 mod demo;
@@ -7,6 +7,7 @@ mod fixtures;
 mod gallery;
 mod gpu_setup;
 mod test;
+mod web;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -43,6 +44,15 @@ enum Command {
     Doctor,
     /// Per-vertex principal curvatures of a model, as CSV (an alias of `npr curvature`).
     Curvature(npr_app::curvature::CurvatureArgs),
+    /// Build the browser viewer into target/web/ (a static site) and serve it on 127.0.0.1.
+    Web {
+        /// Build only; do not serve.
+        #[arg(long)]
+        build_only: bool,
+        /// The port to serve on.
+        #[arg(long, default_value_t = 8000)]
+        port: u16,
+    },
 }
 
 fn main() -> std::process::ExitCode {
@@ -69,6 +79,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
+        Command::Web { build_only, port } => web::run(build_only, port),
     }
 }
 

@@ -9,7 +9,8 @@ use anyhow::bail;
 use std::process::Command;
 use std::time::Instant;
 
-fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
+/// Runs `cargo ARGS` in the workspace root with `extra_env`, timed; fails on failure.
+pub fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
     let started = Instant::now();
     println!("xtask: cargo {}", args.join(" "));
     let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
