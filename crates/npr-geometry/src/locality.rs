@@ -106,6 +106,20 @@ fn triangle_order(input: &[u32], reordered: &[u32]) -> Option<Vec<u32>> {
         .collect()
 }
 
+/// meshoptimizer's vertex-cache optimizer: the C++ library on native, its pure-Rust port
+/// on wasm32 (the same algorithm; no C++ toolchain targets the browser).
+#[cfg(not(target_arch = "wasm32"))]
+fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    meshopt::optimize_vertex_cache(indices, vertex_count)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    let mut out = vec![0; indices.len()];
+    meshopt_rs::vertex::cache::optimize_vertex_cache(&mut out, indices, vertex_count);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -186,18 +200,4 @@ mod tests {
         let empty = Mesh::default();
         assert_eq!(reorder_for_locality(&empty).mesh, empty);
     }
-}
-
-/// meshoptimizer's vertex-cache optimizer: the C++ library on native, its pure-Rust port
-/// on wasm32 (the same algorithm; no C++ toolchain targets the browser).
-#[cfg(not(target_arch = "wasm32"))]
-fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
-    meshopt::optimize_vertex_cache(indices, vertex_count)
-}
-
-#[cfg(target_arch = "wasm32")]
-fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
-    let mut out = vec![0; indices.len()];
-    meshopt_rs::vertex::cache::optimize_vertex_cache(&mut out, indices, vertex_count);
-    out
 }
