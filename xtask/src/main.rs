@@ -2,6 +2,7 @@
 //! fixtures | curvature | web`. One module per subcommand.
 
 mod bench;
+mod browser;
 mod demo;
 mod fixtures;
 mod gallery;
@@ -49,6 +50,10 @@ enum Command {
         /// Build only; do not serve.
         #[arg(long)]
         build_only: bool,
+        /// Open the page in headless Chromium and compare each effect with the native
+        /// render (FLIP); needs chromium and chromium-driver.
+        #[arg(long, conflicts_with = "build_only")]
+        check: bool,
         /// The port to serve on.
         #[arg(long, default_value_t = 8000)]
         port: u16,
@@ -79,7 +84,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
-        Command::Web { build_only, port } => web::run(build_only, port),
+        Command::Web {
+            build_only,
+            check,
+            port,
+        } => web::run(build_only, check, port),
     }
 }
 

@@ -1,6 +1,8 @@
-//! `cargo xtask web [--build-only] [--port N]`: builds the browser viewer (`npr-web`) into
-//! `target/web/` as a static site (`index.html`, `npr_web.js`, `npr_web_bg.wasm`) and
-//! serves it on 127.0.0.1 (WebGPU needs a secure context; localhost is one).
+//! `cargo xtask web [--build-only | --check] [--port N]`: builds the browser viewer
+//! (`npr-web`) into `target/web/` as a static site (`index.html`, `npr_web.js`,
+//! `npr_web_bg.wasm`) and serves it on 127.0.0.1 (WebGPU needs a secure context; localhost
+//! is one). `--check` serves it on a free port to headless Chromium instead and compares
+//! the page with the native render ([`crate::browser`]).
 //!
 //! The wasm-bindgen CLI must match the `wasm-bindgen` crate of the lockfile exactly; when
 //! it is missing or another version it is installed with `cargo install` (about 4 minutes
@@ -18,8 +20,9 @@ use std::process::Command;
 /// The wasm target the page is built for.
 const WASM_TARGET: &str = "wasm32-unknown-unknown";
 
-/// Builds the site and, unless `build_only`, serves it on `127.0.0.1:port` until killed.
-pub fn run(build_only: bool, port: u16) -> anyhow::Result<()> {
+/// Builds the site; then with `check` runs the browser check on it, else unless
+/// `build_only` serves it on `127.0.0.1:port` until killed.
+pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
     let root = project_root();
     let out = root.join("target/web");
     let version = lockfile_version(&root.join("Cargo.lock"), "wasm-bindgen")?;
@@ -58,6 +61,13 @@ pub fn run(build_only: bool, port: u16) -> anyhow::Result<()> {
     std::fs::copy(&page, out.join("index.html"))
         .with_context(|| format!("copying {}", page.display()))?;
     println!("xtask: the site is in {}", out.display());
+    if check {
+        let listener = TcpListener::bind(("127.0.0.1", 0))?;
+        let port = listener.local_addr()?.port();
+        let site = out.clone();
+        std::thread::spawn(move || serve_on(listener, &site));
+        return crate::browser::run(&out, port);
+    }
     if build_only {
         return Ok(());
     }
@@ -143,6 +153,12 @@ fn serve(dir: &Path, port: u16) -> anyhow::Result<()> {
         "xtask: serving {} on http://127.0.0.1:{port}/ (Ctrl-C stops)",
         dir.display()
     );
+    serve_on(listener, dir);
+    Ok(())
+}
+
+/// Answers `listener`'s connections from `dir`, one thread each, until the process ends.
+fn serve_on(listener: TcpListener, dir: &Path) {
     for stream in listener.incoming().flatten() {
         let dir = dir.to_path_buf();
         std::thread::spawn(move || {
@@ -151,7 +167,6 @@ fn serve(dir: &Path, port: u16) -> anyhow::Result<()> {
             }
         });
     }
-    Ok(())
 }
 
 /// Answers one HTTP/1.0-style request (the connection is closed after it).

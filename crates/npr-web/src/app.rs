@@ -230,6 +230,25 @@ impl Viewer {
         }
     }
 
+    /// The highlights of the last frame as JSON: each one's id and the canvas pixel of its
+    /// centre (`null` when off screen), for picking from a script or a test.
+    pub fn highlights_json(&self) -> String {
+        let size = self.renderer.size();
+        let view = self.state.view(&self.renderer.model().framing, size);
+        let list: Vec<serde_json::Value> = self
+            .renderer
+            .highlight_set()
+            .map(HighlightInfo::of_set)
+            .unwrap_or_default()
+            .iter()
+            .map(|h| {
+                let px = view.to_pixel(h.centre_world, size).map(|p| [p.x, p.y]);
+                serde_json::json!({ "id": h.id, "pixel": px })
+            })
+            .collect();
+        serde_json::Value::from(list).to_string()
+    }
+
     /// The last frame's statistics and the time between the last two frames, as JSON.
     pub fn stats_json(&self) -> String {
         let mut value = serde_json::to_value(&self.stats).unwrap_or_default();
