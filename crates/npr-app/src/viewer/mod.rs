@@ -1,5 +1,5 @@
 //! `npr view [MODEL]`: the live window (winit + egui). The 3-D view is the same
-//! [`Renderer`] as `npr render`, drawn into its offscreen target and shown as an egui image,
+//! [`Renderer`](crate::engine::Renderer) as `npr render`, drawn into its offscreen target and shown as an egui image,
 //! so a screenshot of the view equals `npr render` of the saved preset.
 //!
 //! Mouse: left-drag orbits (or moves the picked highlight along e_max/e_min), Shift-drag
