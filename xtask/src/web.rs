@@ -5,13 +5,14 @@
 //! the page with the native render ([`crate::browser`]).
 //!
 //! The wasm-bindgen CLI must match the `wasm-bindgen` crate of the lockfile exactly; when
-//! it is missing or another version it is installed with `cargo install` (about 4 minutes
-//! on 2 cores). Not with `--locked`: the CLI's own lockfile asks for a `webpki-roots`
+//! it is missing or another version it is installed with `cargo install` (3 min 36 s on
+//! 2 cores). Not with `--locked`: the CLI's own lockfile asks for a `webpki-roots`
 //! release some registries do not serve.
 
 use crate::project_root;
 use crate::test::cargo;
 use anyhow::{Context, bail};
+use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader, Write};
 use std::net::{TcpListener, TcpStream};
 use std::path::{Path, PathBuf};
@@ -25,21 +26,30 @@ const WASM_TARGET: &str = "wasm32-unknown-unknown";
 pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
     let root = project_root();
     let out = root.join("target/web");
-    let version = lockfile_version(&root.join("Cargo.lock"), "wasm-bindgen")?;
+    let web_lock = root.join("crates/npr-web/Cargo.lock");
+    check_lockfiles(&root.join("Cargo.lock"), &web_lock)?;
+    let version = lockfile_version(&web_lock, "wasm-bindgen")?;
     ensure_wasm_target();
     let bindgen = ensure_wasm_bindgen(&version)?;
+    // npr-web is its own workspace (see its manifest); it builds into the main target
+    // folder, so the library crates' wasm artifacts are shared with any other wasm build.
+    let target = target_dir(&root);
+    let target_arg = target.to_string_lossy();
     cargo(
         &[
             "build",
             "--release",
+            "--locked",
+            "--manifest-path",
+            "crates/npr-web/Cargo.toml",
+            "--target-dir",
+            &target_arg,
             "--target",
             WASM_TARGET,
-            "-p",
-            "npr-web",
         ],
         &[],
     )?;
-    let wasm = target_dir(&root).join(format!("{WASM_TARGET}/release/npr_web.wasm"));
+    let wasm = target.join(format!("{WASM_TARGET}/release/npr_web.wasm"));
     std::fs::create_dir_all(&out)?;
     let status = Command::new(&bindgen)
         .args([
@@ -72,6 +82,48 @@ pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
         return Ok(());
     }
     serve(&out, port)
+}
+
+/// Every `(name, version)` a `Cargo.lock` lists.
+fn lockfile_packages(lockfile: &Path) -> anyhow::Result<BTreeSet<(String, String)>> {
+    let text = std::fs::read_to_string(lockfile)
+        .with_context(|| format!("reading {}", lockfile.display()))?;
+    let mut out = BTreeSet::new();
+    let mut lines = text.lines().map(str::trim);
+    while let Some(line) = lines.next() {
+        if let Some(name) = line.strip_prefix("name = ")
+            && let Some(version) = lines.next().and_then(|l| l.strip_prefix("version = "))
+        {
+            out.insert((
+                name.trim_matches('"').into(),
+                version.trim_matches('"').into(),
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The browser build's lockfile must pin what the main one pins: for every package both
+/// name, the same versions (the page then runs the code the native tests ran).
+fn check_lockfiles(main: &Path, web: &Path) -> anyhow::Result<()> {
+    let (main_set, web_set) = (lockfile_packages(main)?, lockfile_packages(web)?);
+    let main_names: BTreeSet<&str> = main_set.iter().map(|(n, _)| n.as_str()).collect();
+    let differ: Vec<String> = web_set
+        .iter()
+        .filter(|(n, v)| {
+            main_names.contains(n.as_str()) && !main_set.contains(&(n.clone(), v.clone()))
+        })
+        .map(|(n, v)| format!("{n} {v}"))
+        .collect();
+    if !differ.is_empty() {
+        bail!(
+            "{} pins versions the main Cargo.lock does not ({}); copy Cargo.lock over it \
+             and run `cargo xtask web --build-only` (cargo then drops what the page does not use)",
+            web.display(),
+            differ.join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// The version of `package` in a `Cargo.lock` (the first entry of that name).
@@ -126,6 +178,11 @@ fn ensure_wasm_bindgen(version: &str) -> anyhow::Result<PathBuf> {
             "wasm-bindgen-cli",
             "--version",
             &format!("={version}"),
+            // The one binary the build runs, without the TLS stack its test runner's
+            // downloads need (ring's C build).
+            "--bin",
+            "wasm-bindgen",
+            "--no-default-features",
         ],
         &[],
     )?;
@@ -223,6 +280,26 @@ mod tests {
     fn reads_a_version_from_a_lockfile() -> anyhow::Result<()> {
         let v = lockfile_version(&project_root().join("Cargo.lock"), "wasm-bindgen")?;
         assert!(v.starts_with("0.2."), "{v}");
+        Ok(())
+    }
+
+    #[test]
+    fn the_browser_lockfile_pins_what_the_main_one_pins() -> anyhow::Result<()> {
+        let root = project_root();
+        let web = root.join("crates/npr-web/Cargo.lock");
+        check_lockfiles(&root.join("Cargo.lock"), &web)?;
+        assert!(lockfile_packages(&web)?.iter().any(|(n, _)| n == "wgpu"));
+        // A lockfile that pins another wgpu is refused.
+        let dir = std::env::temp_dir().join(format!("npr-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir)?;
+        let other = dir.join("Cargo.lock");
+        std::fs::write(
+            &other,
+            "[[package]]\nname = \"wgpu\"\nversion = \"0.1.0\"\n",
+        )?;
+        let refused = check_lockfiles(&root.join("Cargo.lock"), &other);
+        std::fs::remove_dir_all(&dir)?;
+        assert!(refused.is_err_and(|e| e.to_string().contains("wgpu 0.1.0")));
         Ok(())
     }
 }
