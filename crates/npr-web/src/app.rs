@@ -4,7 +4,11 @@ use glam::Vec2;
 use npr_app::engine::{FrameStats, Renderer};
 use npr_app::model::Model;
 use npr_app::preset::{Effect, Preset};
-use npr_app::viewer::state::{Button, HighlightInfo, Input, Key, ViewerState};
+use npr_app::viewer::live::WarpLive;
+use npr_app::viewer::script::{self, Command, Event};
+use npr_app::viewer::state::{
+    Button, CameraPredictor, HighlightInfo, Input, Key, Pose, ViewerState,
+};
 use std::path::Path;
 use wasm_bindgen::prelude::*;
 use web_time::Instant;
@@ -25,6 +29,16 @@ pub struct Viewer {
     stats: FrameStats,
     last_frame: Option<Instant>,
     frame_ms: f64,
+    /// Frames drawn since the start (live warping's clock).
+    frame: u64,
+    predictor: CameraPredictor,
+    warp: WarpLive,
+    /// The loaded script, the frame it started at, and how far it has run.
+    script: Vec<Event>,
+    script_start: u64,
+    script_pos: usize,
+    /// What the script asked of the page (downloads), as JSON objects, until taken.
+    actions: Vec<serde_json::Value>,
 }
 
 #[wasm_bindgen]
@@ -73,6 +87,13 @@ impl Viewer {
             stats: FrameStats::default(),
             last_frame: None,
             frame_ms: 0.0,
+            frame: 0,
+            predictor: CameraPredictor::default(),
+            warp: WarpLive::default(),
+            script: Vec::new(),
+            script_start: 0,
+            script_pos: 0,
+            actions: Vec::new(),
         })
     }
 
@@ -88,21 +109,38 @@ impl Viewer {
             self.frame_ms = now.duration_since(last).as_secs_f64() * 1e3;
         }
         self.last_frame = Some(now);
+        let scripted = self.run_script();
         self.state.tick();
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);
+        self.predictor.push(
+            self.frame,
+            Pose::of(&self.state.preset, self.state.turntable_deg),
+        );
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        self.stats = self
-            .renderer
-            .render(device, queue, &self.state.preset, &view)
-            .map_err(js_error)?;
+        let drawn = if self.state.preset.effect == Effect::Warp {
+            self.warp.frame(
+                &mut self.renderer,
+                &self.ctx,
+                &self.predictor,
+                &self.state,
+                &view,
+                self.frame,
+            )
+        } else {
+            self.warp.last_reference = None;
+            self.renderer
+                .render(device, queue, &self.state.preset, &view)
+        };
+        self.frame += 1;
+        self.stats = drawn.map_err(js_error)?;
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
             _ => {
                 // The canvas changed under us: reconfigure and draw the next frame.
                 self.surface.configure(device, &self.config);
-                return Ok(());
+                return scripted;
             }
         };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -119,7 +157,8 @@ impl Viewer {
         );
         queue.submit(Some(encoder.finish()));
         queue.present(frame);
-        Ok(())
+        // A script's failure shows once the frame is drawn (the model and view stay).
+        scripted
     }
 
     /// Resizes the canvas surface and the engine's target.
@@ -157,12 +196,72 @@ impl Viewer {
         preset.output.height = size.1;
         self.state = ViewerState::new(preset);
         self.renderer.reset_sequence();
+        self.warp = WarpLive::default();
         Ok(())
     }
 
-    /// The current preset as TOML (what `npr render --preset` reads).
+    /// The current preset as TOML (what `npr render --preset` reads): the view's size and
+    /// the turntable's angle included.
     pub fn preset_toml(&self) -> Result<String, JsValue> {
-        self.state.preset.to_toml().map_err(js_error)
+        self.state
+            .preset_for_render(self.renderer.size())
+            .to_toml()
+            .map_err(js_error)
+    }
+
+    /// Loads an `npr view --script` (the same format: `@FRAME COMMAND ARGS...`); frame 0
+    /// is the next frame drawn. Input commands go through the shared viewer state, as in
+    /// the window; `resize` resizes the canvas; `screenshot`, `save-preset` and `report`
+    /// become downloads ([`Viewer::take_actions`]); `exit` ends the script; `memory` and
+    /// `load` need a file system and are refused with their line's message.
+    pub fn load_script(&mut self, text: &str, name: &str) -> Result<(), JsValue> {
+        let events = script::parse(text, Path::new(name)).map_err(js_error)?;
+        if let Some(e) = events
+            .iter()
+            .find(|e| matches!(e.command, Command::Memory(_) | Command::Load(_)))
+        {
+            return Err(js_error(format!(
+                "{name}: @{} {:?} needs a file system; the browser has none",
+                e.frame, e.command
+            )));
+        }
+        self.script = events;
+        self.script_start = self.frame;
+        self.script_pos = 0;
+        Ok(())
+    }
+
+    /// Whether the loaded script has run to its end (true when there is none).
+    pub fn script_done(&self) -> bool {
+        self.script_pos >= self.script.len()
+    }
+
+    /// The downloads the script asked for since the last call, as a JSON array of
+    /// `{"file", "kind", "text"}` (`kind`: `screenshot`, whose text is empty: the page
+    /// saves its canvas; `preset`, TOML; `report`, JSON).
+    pub fn take_actions(&mut self) -> String {
+        serde_json::Value::from(std::mem::take(&mut self.actions)).to_string()
+    }
+
+    /// Every WGSL shader the passes create, composed as they compose it
+    /// (`ShaderFile::full_source`), as a JSON array of `{"crate", "name", "source"}`:
+    /// what the page's test hands to the browser's own compiler.
+    pub fn shader_sources(&self) -> String {
+        let crates = [
+            ("npr-gpu", npr_gpu::shaders::ALL),
+            ("npr-specular", npr_specular::shaders::ALL),
+            ("npr-hatching", npr_hatching::shaders::ALL),
+            ("npr-warp", npr_warp::shaders::ALL),
+        ];
+        let list: Vec<serde_json::Value> = crates
+            .iter()
+            .flat_map(|(krate, files)| {
+                files.iter().map(move |f| {
+                    serde_json::json!({ "crate": krate, "name": f.name, "source": f.full_source() })
+                })
+            })
+            .collect();
+        serde_json::Value::from(list).to_string()
     }
 
     /// Replaces the model with a file's bytes (OBJ, PLY, glTF, GLB by `name`'s extension).
@@ -173,6 +272,7 @@ impl Viewer {
             .set_model(&self.ctx.device, model)
             .map_err(js_error)?;
         self.state.selected = None;
+        self.warp = WarpLive::default();
         Ok(())
     }
 
@@ -236,10 +336,7 @@ impl Viewer {
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);
         let list: Vec<serde_json::Value> = self
-            .renderer
-            .highlight_set()
-            .map(HighlightInfo::of_set)
-            .unwrap_or_default()
+            .highlights()
             .iter()
             .map(|h| {
                 let px = view.to_pixel(h.centre_world, size).map(|p| [p.x, p.y]);
@@ -261,15 +358,77 @@ impl Viewer {
 }
 
 impl Viewer {
+    /// Runs the script's commands due at this frame. Input goes through the shared viewer
+    /// state; the rest is the page's to do (or refused).
+    fn run_script(&mut self) -> Result<(), JsValue> {
+        while let Some(event) = self.script.get(self.script_pos) {
+            if self.script_start + event.frame > self.frame {
+                break;
+            }
+            let command = event.command.clone();
+            self.script_pos += 1;
+            let size = self.renderer.size();
+            let view = self.state.view(&self.renderer.model().framing, size);
+            let highlights = self.highlights();
+            let shell = self
+                .state
+                .script(command, &view, size, &highlights)
+                .map_err(js_error)?;
+            let file = |p: &Path| {
+                p.file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+            };
+            match shell {
+                Some(Command::Resize(w, h)) => self.resize(w, h)?,
+                Some(Command::Screenshot(p)) => self.actions.push(
+                    serde_json::json!({ "file": file(&p), "kind": "screenshot", "text": "" }),
+                ),
+                Some(Command::SavePreset(p)) => {
+                    let text = self.preset_toml()?;
+                    self.actions.push(
+                        serde_json::json!({ "file": file(&p), "kind": "preset", "text": text }),
+                    );
+                }
+                Some(Command::Report(p)) => {
+                    let report = serde_json::json!({
+                        "frame": self.frame,
+                        "view_size": [size.0, size.1],
+                        "effect": self.state.preset.effect.name(),
+                        "model": self.renderer.model().name,
+                        "highlights": highlights.len(),
+                        "selected": self.state.selected_report(&view, size, &highlights),
+                        "stats": self.stats,
+                    });
+                    self.actions.push(serde_json::json!({
+                        "file": file(&p), "kind": "report", "text": report.to_string()
+                    }));
+                }
+                Some(Command::Exit) => self.script_pos = self.script.len(),
+                Some(other) => {
+                    return Err(js_error(format!(
+                        "script: {other:?} is not available in the browser"
+                    )));
+                }
+                None => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The highlights of the last frame, for picking.
+    fn highlights(&self) -> Vec<HighlightInfo> {
+        self.renderer
+            .highlight_set()
+            .map(HighlightInfo::of_set)
+            .unwrap_or_default()
+    }
+
     /// One input event through the shared viewer state, as the window dispatches it.
     fn input(&mut self, input: Input) {
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);
-        let highlights = self
-            .renderer
-            .highlight_set()
-            .map(HighlightInfo::of_set)
-            .unwrap_or_default();
+        let highlights = self.highlights();
         self.state.input(input, &view, size, &highlights);
     }
 }

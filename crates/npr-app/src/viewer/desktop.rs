@@ -1,14 +1,14 @@
 //! The desktop shell of `npr view`: the winit window, the egui panel and the frame loop
 //! around the shared [`super::state::ViewerState`]. Native only.
 
+use super::live::WarpLive;
 use super::script::{self, Command, Event};
-use super::state::{Button, CameraPredictor, HighlightInfo, Input, Key, Pose, ViewerState};
+use super::state::{CameraPredictor, HighlightInfo, Input, Pose, ViewerState};
 use super::ui;
 use crate::engine::{FrameStats, Renderer};
 use crate::model::Model;
 use crate::preset::Preset;
 use crate::{AppError, output};
-use glam::Vec2;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -141,26 +141,6 @@ struct App {
     warp: WarpLive,
 }
 
-/// Live warping (SPEC §4): references every k frames at the current pose and at the pose
-/// predicted k frames ahead, warped frames between, and now and then a full render to
-/// measure the last warped frame. Full frames (shown, and measured against) use the warp's
-/// antialiasing, as references and warped frames do.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct WarpLive {
-    /// Frame of the last pair of references.
-    pub last_reference: Option<u64>,
-    /// Smoothed time of a full frame (references), ms (GPU waited for).
-    pub full_ms: f64,
-    /// Smoothed time of a warped frame, ms (GPU waited for).
-    pub warped_ms: f64,
-    /// PSNR of the last measured warped frame against a full render, dB.
-    pub psnr_db: Option<f64>,
-}
-
-fn smooth(avg: f64, x: f64) -> f64 {
-    if avg == 0.0 { x } else { 0.8 * avg + 0.2 * x }
-}
-
 impl App {
     fn fail(&mut self, event_loop: &ActiveEventLoop, e: AppError) {
         self.result = Err(e);
@@ -291,101 +271,21 @@ impl App {
             .input(input, &view, gfx.view_size, &gfx.highlights);
     }
 
-    fn selected_pixel(&self) -> Option<Vec2> {
-        let gfx = self.gfx.as_ref()?;
-        let id = self.state.selected?;
-        let h = gfx.highlights.iter().find(|h| h.id == id)?;
-        let view = self
-            .state
-            .view(&gfx.renderer.model().framing, gfx.view_size);
-        view.to_pixel(h.centre_world, gfx.view_size)
-    }
-
-    fn drag(&mut self, from: Vec2, to: Vec2, button: Button) {
-        self.dispatch(Input::Press { at: from, button });
-        for i in 1..=8 {
-            self.dispatch(Input::Move {
-                at: from + (to - from) * (i as f32 / 8.0),
-            });
-        }
-        self.dispatch(Input::Release { at: to });
-    }
-
     fn script_command(&mut self, event_loop: &ActiveEventLoop, c: Command) -> Result<(), AppError> {
-        match c {
-            Command::Key(k) => {
-                let key = Key::from_name(&k)
-                    .ok_or_else(|| AppError::Usage(format!("script: unknown key '{k}'")))?;
-                self.dispatch(Input::Key(key));
-            }
-            Command::Click(x, y) => {
-                let at = Vec2::new(x, y);
-                self.drag(at, at, Button::Left);
-            }
-            Command::ClickHighlight => {
-                let Some(gfx) = &self.gfx else { return Ok(()) };
+        let command = match &self.gfx {
+            Some(gfx) => {
                 let view = self
                     .state
                     .view(&gfx.renderer.model().framing, gfx.view_size);
-                let target = gfx
-                    .highlights
-                    .iter()
-                    .filter(|h| h.normal.dot(view.camera.eye - h.centre_world) > 0.0)
-                    .max_by(|a, b| {
-                        (a.half_extent.x * a.half_extent.y)
-                            .total_cmp(&(b.half_extent.x * b.half_extent.y))
-                    })
-                    .and_then(|h| view.to_pixel(h.centre_world, gfx.view_size));
-                let at = target.ok_or_else(|| {
-                    AppError::Usage("script: click-highlight: no highlight is visible".into())
-                })?;
-                self.drag(at, at, Button::Left);
+                self.state
+                    .script(c, &view, gfx.view_size, &gfx.highlights)?
             }
-            Command::Drag([x0, y0, x1, y1], m) => {
-                let button = match m.as_str() {
-                    "shift" => Button::ShiftLeft,
-                    "ctrl" => Button::CtrlLeft,
-                    "right" => Button::Right,
-                    _ => Button::Left,
-                };
-                self.drag(Vec2::new(x0, y0), Vec2::new(x1, y1), button);
-            }
-            Command::DragSelected(dx, dy) => {
-                let at = self.selected_pixel().ok_or_else(|| {
-                    AppError::Usage("script: drag-selected: no highlight is selected".into())
-                })?;
-                self.drag(at, at + Vec2::new(dx, dy), Button::Left);
-            }
-            Command::RotateSelected(deg) => {
-                let c = self.selected_pixel().ok_or_else(|| {
-                    AppError::Usage("script: rotate-selected: no highlight is selected".into())
-                })?;
-                // A Shift drag along a circle of 40 px around the centre, in 8 steps.
-                let r = 40.0;
-                let at = |a: f32| c + Vec2::new(a.cos(), -a.sin()) * r;
-                self.dispatch(Input::Press {
-                    at: at(0.0),
-                    button: Button::ShiftLeft,
-                });
-                for i in 1..=8 {
-                    self.dispatch(Input::Move {
-                        at: at(deg.to_radians() * i as f32 / 8.0),
-                    });
-                }
-                self.dispatch(Input::Release {
-                    at: at(deg.to_radians()),
-                });
-            }
-            Command::Scroll(x, y, n) => self.dispatch(Input::Scroll {
-                at: Vec2::new(x, y),
-                notches: n,
-            }),
-            Command::ScrollSelected(n) => {
-                let at = self.selected_pixel().ok_or_else(|| {
-                    AppError::Usage("script: scroll-selected: no highlight is selected".into())
-                })?;
-                self.dispatch(Input::Scroll { at, notches: n });
-            }
+            None => Some(c),
+        };
+        let Some(command) = command else {
+            return Ok(());
+        };
+        match command {
             Command::Resize(w, h) => {
                 if let Some(gfx) = &mut self.gfx {
                     // The window system applies the request (it cannot make a real 0×0
@@ -398,14 +298,14 @@ impl App {
                     self.pending_resize = Some((w, h));
                 }
             }
-            Command::Effect(e) => self.state.preset.effect = e,
-            Command::Turntable(on) => self.state.turntable = on,
             Command::Screenshot(p) => self.screenshot(&p)?,
             Command::SavePreset(p) => self.save_preset(&p)?,
             Command::Report(p) => self.report(&p)?,
             Command::Memory(p) => self.memory(&p)?,
             Command::Load(p) => self.load_model(&p),
             Command::Exit => event_loop.exit(),
+            // Input: [`ViewerState::script`] ran it (or there is no window yet).
+            _ => {}
         }
         Ok(())
     }
@@ -419,13 +319,13 @@ impl App {
     /// The preset as `npr render` needs it to draw this view: the current parameters, the
     /// view's size, and the turntable's angle folded into the model turn.
     fn preset_for_render(&self) -> Preset {
-        let mut p = self.state.preset.clone();
-        if let Some(gfx) = &self.gfx {
-            p.output.width = gfx.view_size.0.max(1);
-            p.output.height = gfx.view_size.1.max(1);
+        match &self.gfx {
+            Some(gfx) => self.state.preset_for_render(gfx.view_size),
+            None => self.state.preset_for_render((
+                self.state.preset.output.width,
+                self.state.preset.output.height,
+            )),
         }
-        p.turn_deg += self.state.turntable_deg;
-        p
     }
 
     fn save_preset(&self, path: &std::path::Path) -> Result<(), AppError> {
@@ -454,10 +354,6 @@ impl App {
         let view = self
             .state
             .view(&gfx.renderer.model().framing, gfx.view_size);
-        let selected = self
-            .state
-            .selected
-            .and_then(|id| gfx.highlights.iter().find(|h| h.id == id));
         let report = serde_json::json!({
             "frame": self.frame,
             "view_size": [gfx.view_size.0, gfx.view_size.1],
@@ -465,20 +361,7 @@ impl App {
             "model": gfx.renderer.model().name,
             "status": self.status,
             "highlights": gfx.highlights.len(),
-            "selected": selected.map(|h| {
-                let c = view.to_pixel(h.centre_world, gfx.view_size);
-                let u = view.to_pixel(h.centre_world + h.axis_u * h.half_extent.x, gfx.view_size);
-                let edit = self.state.edit(h.id);
-                serde_json::json!({
-                    "id": h.id,
-                    "centre_px": c.map(|c| [c.x, c.y]),
-                    "u_axis_px": match (c, u) { (Some(c), Some(u)) => Some([u.x - c.x, u.y - c.y]), _ => None },
-                    "half_extent": [h.half_extent.x, h.half_extent.y],
-                    "translate": edit.translate,
-                    "rotate_deg": edit.rotate_deg,
-                    "scale": edit.scale,
-                })
-            }),
+            "selected": self.state.selected_report(&view, gfx.view_size, &gfx.highlights),
             "stats": self.stats,
         });
         let text = serde_json::to_string_pretty(&report).map_err(|e| AppError::Encode {
@@ -578,9 +461,9 @@ impl App {
             Pose::of(&self.state.preset, self.state.turntable_deg),
         );
         let result = if self.state.preset.effect == crate::preset::Effect::Warp {
-            Self::warp_frame(
-                gfx,
-                &mut self.warp,
+            self.warp.frame(
+                &mut gfx.renderer,
+                &gfx.ctx,
                 &self.predictor,
                 &self.state,
                 &view,
@@ -701,65 +584,6 @@ impl App {
             event_loop.exit();
         }
         Ok(())
-    }
-
-    /// One frame of live warping (see [`WarpLive`]).
-    fn warp_frame(
-        gfx: &mut Gfx,
-        live: &mut WarpLive,
-        predictor: &CameraPredictor,
-        state: &ViewerState,
-        view: &crate::view::View,
-        frame: u64,
-    ) -> Result<FrameStats, AppError> {
-        let (device, queue) = (&gfx.ctx.device, &gfx.ctx.queue);
-        let preset = &state.preset;
-        let k = u64::from(preset.warp.k.max(1));
-        let wait = || {
-            let _ = device.poll(wgpu::PollType::wait_indefinitely());
-        };
-        let due = live.last_reference.is_none_or(|f| frame >= f + k)
-            || gfx.renderer.warp_references() == 0;
-        if due {
-            // The references: now, and where the camera will be in k frames.
-            let started = Instant::now();
-            gfx.renderer.warp_reference(device, queue, preset, view)?;
-            let ahead = predictor
-                .predict(k as f32)
-                .unwrap_or(Pose::of(preset, state.turntable_deg));
-            let mut future = preset.clone();
-            future.camera.yaw_deg = ahead.yaw_deg;
-            future.camera.pitch_deg = ahead.pitch_deg;
-            future.camera.distance = ahead.distance;
-            future.turn_deg = ahead.turn_deg;
-            let future_view =
-                crate::view::View::new(&future, &gfx.renderer.model().framing, gfx.view_size, 0.0);
-            gfx.renderer
-                .warp_reference(device, queue, preset, &future_view)?;
-            // This frame is the full render.
-            let stats = gfx.renderer.render(device, queue, preset, view)?;
-            wait();
-            live.full_ms = smooth(live.full_ms, started.elapsed().as_secs_f64() * 1e3);
-            live.last_reference = Some(frame);
-            return Ok(FrameStats {
-                psnr_db: live.psnr_db,
-                ..stats
-            });
-        }
-        let started = Instant::now();
-        let mut stats = gfx.renderer.warp_frame(device, queue, preset, view, None)?;
-        wait();
-        live.warped_ms = smooth(live.warped_ms, started.elapsed().as_secs_f64() * 1e3);
-        // Half-way between references, measure this warped frame against a full render
-        // (which is then shown instead, so the measurement costs no stale frame).
-        if live.last_reference.is_some_and(|f| frame == f + k / 2) {
-            let warped = gfx.renderer.read(device, queue)?;
-            gfx.renderer.render(device, queue, preset, view)?;
-            let full = gfx.renderer.read(device, queue)?;
-            live.psnr_db = Some(npr_warp::metrics::compare(&full, &warped).psnr_db);
-        }
-        stats.psnr_db = live.psnr_db;
-        Ok(stats)
     }
 
     fn handle_actions(&mut self, a: ui::Actions) -> Result<(), AppError> {

@@ -8,10 +8,11 @@
 //! view, Escape deselects. Models can be dropped on the window.
 
 //!
-//! The window's state and input ([`state`]) and the script format ([`script`]) are plain
-//! data with no window, shared with the web front end (`npr-web`); the winit + egui shell
-//! around them is native only.
+//! The window's state and input ([`state`]), the script format ([`script`]) and live
+//! warping ([`live`]) need no window, and are shared with the web front end (`npr-web`);
+//! the winit + egui shell around them is native only.
 
+pub mod live;
 pub mod script;
 pub mod state;
 
