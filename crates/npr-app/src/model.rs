@@ -83,7 +83,7 @@ impl Model {
                 extension: ext.clone(),
             })
         })?;
-        let loaded = npr_geometry::io::load_bytes(bytes, format).map_err(load_error)?;
+        let loaded = npr_geometry::io::load_bytes_named(bytes, format, name).map_err(load_error)?;
         let mut model = Self::from_mesh(name, loaded.mesh);
         model.notes = loaded.report.iter().map(ToString::to_string).collect();
         Ok(model)
@@ -98,5 +98,32 @@ impl Model {
         // What the loader did to the built-in file is no news to the user.
         bunny.notes.clear();
         Ok(bunny)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dropped file's error is one line that names the file as its user knows it (not
+    /// `<bytes>.ply`) and says what is wrong without the parser's internals.
+    #[test]
+    fn a_broken_dropped_file_is_named_in_its_error() {
+        let Err(e) = Model::from_bytes("broken.ply", b"ply\nc") else {
+            panic!("a broken PLY loaded");
+        };
+        let said = e.to_string();
+        assert!(said.starts_with("broken.ply: header line 2: "), "{said}");
+        assert!(
+            !said.contains("ParseError") && !said.contains('\n'),
+            "{said}"
+        );
+        let Err(e) = Model::from_bytes("scan.stl", b"solid") else {
+            panic!("an STL loaded");
+        };
+        assert!(
+            e.to_string().starts_with("scan.stl: unsupported format"),
+            "{e}"
+        );
     }
 }
