@@ -13,7 +13,8 @@ use npr_app::engine::Renderer;
 use npr_app::model::Model;
 use npr_app::preset::Preset;
 use npr_app::view::View;
-use npr_app::viewer::state::{Button, HighlightInfo, Input, ViewerState};
+use npr_app::viewer::script;
+use npr_app::viewer::state::{HighlightInfo, ViewerState};
 use serde_json::{Value, json};
 use std::io::{Read, Write};
 use std::net::{TcpListener, TcpStream};
@@ -52,13 +53,7 @@ struct Row {
 
 /// Runs the check on the site in `site` (already built), served on `site_port`.
 pub fn run(site: &Path, site_port: u16) -> anyhow::Result<()> {
-    for tool in ["chromium", "chromedriver"] {
-        if Command::new(tool).arg("--version").output().is_err() {
-            bail!(
-                "{tool} is missing; on Debian/Ubuntu: apt-get install -y chromium chromium-driver"
-            );
-        }
-    }
+    crate::gpu_setup::ensure_chromium()?;
     let driver = Driver::start()?;
     let session = driver.session()?;
     let result = check(&driver, &session, site, site_port);
@@ -84,104 +79,275 @@ pub fn run(site: &Path, site_port: u16) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The script the specular check runs on both sides (`npr view --script` format): pick
+/// the largest highlight, then the three §3.4 edits — drag, turn, grow.
+const EDIT_SCRIPT: &str = "\
+@4 click-highlight
+@5 drag-selected 40 0
+@6 rotate-selected 30
+@7 scroll-selected 1
+";
+
 fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow::Result<Vec<Row>> {
     let ctx = npr_gpu::GpuContext::new()?;
     let model = Model::bunny()?;
     let mut rows = Vec::new();
+    std::fs::write(site.join("check-edits.txt"), EDIT_SCRIPT)?;
     for effect in EFFECTS {
         let text = format!("effect = \"{effect}\"\n");
         let name = format!("check-{effect}.toml");
         std::fs::write(site.join(&name), &text)?;
-        let url = format!("http://127.0.0.1:{site_port}/index.html?preset={name}");
-        let page = driver.load(session, &url)?;
-        let error = driver.script(
-            session,
-            "return document.getElementById('error').textContent",
-        )?;
-        if error.as_str().is_some_and(|e| !e.is_empty()) {
-            bail!("{effect}: the page says: {error}");
-        }
-        // The native frame: the engine `npr render` runs, on this machine's adapter.
         let preset = Preset::from_toml(&text, Path::new(&name))?;
         let size = (preset.output.width, preset.output.height);
         let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size)?;
         let view = View::new(&preset, &model.framing, size, 0.0);
-        renderer.render(&ctx.device, &ctx.queue, &preset, &view)?;
-        let native = renderer.read(&ctx.device, &ctx.queue)?;
-        if page.dimensions() != native.dimensions() {
-            bail!(
-                "{effect}: the canvas is {:?}, the native render {:?}",
-                page.dimensions(),
-                native.dimensions()
-            );
-        }
-        rows.push(compare(driver, session, site, effect, &native, &page)?);
-        if effect == "specular" {
-            // §3.4: pick the first highlight on screen and drag it 40 px to the right,
-            // through the shared viewer state on both sides.
+        for scripted in [false, true] {
+            if scripted && effect != "specular" {
+                continue;
+            }
+            let mut url = format!("http://127.0.0.1:{site_port}/index.html?preset={name}");
+            let mut label = effect.to_string();
+            // The native frame: the engine `npr render` runs, on this machine's adapter,
+            // after the same script through the same viewer state.
             let mut state = ViewerState::new(preset.clone());
-            let highlights = renderer
-                .highlight_set()
-                .map(HighlightInfo::of_set)
-                .unwrap_or_default();
-            let (id, from) = highlights
-                .iter()
-                .find_map(|h| view.to_pixel(h.centre_world, size).map(|p| (h.id, p)))
-                .context("no highlight on screen to pick")?;
-            let to = from + glam::Vec2::new(40.0, 0.0);
-            state.input(
-                Input::Press {
-                    at: from,
-                    button: Button::Left,
-                },
-                &view,
-                size,
-                &highlights,
-            );
-            for i in 1..=8 {
-                let at = from + (to - from) * (i as f32 / 8.0);
-                state.input(Input::Move { at }, &view, size, &highlights);
-            }
-            state.input(Input::Release { at: to }, &view, size, &highlights);
             renderer.render(&ctx.device, &ctx.queue, &state.preset, &view)?;
-            let native = renderer.read(&ctx.device, &ctx.queue)?;
-            let picked = driver.script(
-                session,
-                "const v = window.nprViewer; \
-                 const h = JSON.parse(v.highlights_json()).find((h) => h.pixel); \
-                 const [x, y] = h.pixel; v.pointer_down(x, y, 0, false, false); \
-                 for (let i = 1; i <= 8; i++) v.pointer_move(x + 5 * i, y); \
-                 v.pointer_up(x + 40, y); return h.id;",
-            )?;
-            if picked.as_u64() != Some(id) {
-                bail!("the page picked highlight {picked}, the native side {id}");
+            if scripted {
+                url.push_str("&script=check-edits.txt");
+                label.push_str("-edited");
+                let mut last_frame = None;
+                for event in script::parse(EDIT_SCRIPT, Path::new("check-edits.txt"))? {
+                    if last_frame.is_some_and(|f| f != event.frame) {
+                        renderer.render(&ctx.device, &ctx.queue, &state.preset, &view)?;
+                    }
+                    last_frame = Some(event.frame);
+                    let highlights = renderer
+                        .highlight_set()
+                        .map(HighlightInfo::of_set)
+                        .unwrap_or_default();
+                    state.script(event.command, &view, size, &highlights)?;
+                }
+                renderer.render(&ctx.device, &ctx.queue, &state.preset, &view)?;
             }
-            std::thread::sleep(Duration::from_secs(3));
-            let page = driver.canvas(session)?;
-            rows.push(compare(
-                driver,
+            let native = object_frame(&ctx, &mut renderer, &state.preset, &view)?;
+            let page = driver.load(session, &url)?;
+            let error = driver.script(
                 session,
-                site,
-                "specular-dragged",
-                &native,
-                &page,
-            )?);
+                "return document.getElementById('error').textContent",
+            )?;
+            if error.as_str().is_some_and(|e| !e.is_empty()) {
+                bail!("{label}: the page says: {error}");
+            }
+            if page.dimensions() != native.dimensions() {
+                bail!(
+                    "{label}: the canvas is {:?}, the native render {:?}",
+                    page.dimensions(),
+                    native.dimensions()
+                );
+            }
+            if scripted {
+                let stats = driver.script(session, "return window.nprViewer.stats_json()")?;
+                let stats: Value = serde_json::from_str(stats.as_str().unwrap_or("{}"))?;
+                if stats["selected"].as_u64() != state.selected || state.selected.is_none() {
+                    bail!(
+                        "the page selected highlight {}, the native side {:?}",
+                        stats["selected"],
+                        state.selected
+                    );
+                }
+            }
+            let row = compare(driver, session, site, &label, &native, &page)?;
+            if scripted {
+                // The edits must show: the page is nearer the edited native frame than the
+                // unedited one (FLIP ≤ 0.05 alone would pass a page that ignored them).
+                let unedited = image::open(site.join(format!("check-{effect}-native.png")))?;
+                let mut masked = page.clone();
+                for (p, n) in masked.pixels_mut().zip(native.pixels()) {
+                    p[3] = n[3];
+                }
+                let (to_unedited, _) = npr_warp::metrics::flip_stats(&unedited.to_rgba8(), &masked)
+                    .context("FLIP of an empty object")?;
+                println!(
+                    "xtask: the edited page is FLIP {:.4} from the edited native frame, {:.4} \
+                     from the unedited one",
+                    row.flip_mean, to_unedited
+                );
+                if to_unedited < 2.0 * row.flip_mean {
+                    bail!(
+                        "the page's edits do not show: FLIP {:.4} to the edited native frame, \
+                         {to_unedited:.4} to the unedited one",
+                        row.flip_mean
+                    );
+                }
+            }
+            rows.push(row);
         }
     }
-    // A bad model file: its message on the page, and the bunny still there.
-    let said = driver.script(
-        session,
-        "try { window.nprViewer.load_model('broken.ply', new Uint8Array([112, 108, 121, 10, 99])); \
-         return 'accepted'; } catch (e) { return String(e) + ' | ' + window.nprViewer.model_name(); }",
-    )?;
-    let said = said.as_str().unwrap_or("");
-    if !said.contains(".ply") || !said.ends_with("| stanford-bunny.obj") {
-        bail!("a broken model file: expected its error and the bunny kept, got `{said}`");
-    }
+    check_shaders(driver, session)?;
+    check_bad_drop(driver, session, site, site_port, &ctx, &model)?;
     Ok(rows)
 }
 
-/// Saves both images into the site folder and measures the page against the native frame.
+/// Every shader the passes create, composed as they compose it, through Chromium's own
+/// WGSL compiler (naga accepts some WGSL Chromium rejects, and the page then shows a black
+/// canvas with no error). A shader Chromium must refuse is fed first, so a check that
+/// cannot see errors fails.
+fn check_shaders(driver: &Driver, session: &str) -> anyhow::Result<()> {
+    let result = driver.script_async(
+        session,
+        "const done = arguments[arguments.length - 1];
+         (async () => {
+           const adapter = await navigator.gpu.requestAdapter();
+           const device = await adapter.requestDevice();
+           const known_bad = { crate: 'control', name: 'ends-in-discard.wgsl', source:
+             '@fragment fn fs() -> @location(0) vec4<f32> { discard; }' };
+           const shaders = [known_bad].concat(JSON.parse(window.nprViewer.shader_sources()));
+           const out = [];
+           for (const s of shaders) {
+             const m = device.createShaderModule({ code: s.source, label: s.name });
+             const info = await m.getCompilationInfo();
+             out.push({ name: s.crate + '/' + s.name, errors: info.messages
+               .filter((m) => m.type === 'error')
+               .map((m) => m.lineNum + ':' + m.linePos + ' ' + m.message) });
+           }
+           device.destroy();
+           done(out);
+         })().catch((e) => done({ error: String(e) }));",
+    )?;
+    if let Some(e) = result.get("error") {
+        bail!("compiling the shaders in the page: {e}");
+    }
+    let list = result.as_array().context("no shader list from the page")?;
+    let (control, shaders) = list.split_first().context("no shaders compiled")?;
+    if control["errors"].as_array().is_none_or(Vec::is_empty) {
+        bail!("Chromium accepted a shader it must refuse: the shader check sees no errors");
+    }
+    let failed: Vec<String> = shaders
+        .iter()
+        .filter(|s| s["errors"].as_array().is_some_and(|e| !e.is_empty()))
+        .map(|s| format!("{}: {}", s["name"], s["errors"]))
+        .collect();
+    if !failed.is_empty() {
+        bail!("Chromium's WGSL compiler refuses: {}", failed.join("; "));
+    }
+    // The page must list what the crates list (`shaders::ALL` of each).
+    let native: Vec<String> = [
+        ("npr-gpu", npr_gpu::shaders::ALL),
+        ("npr-specular", npr_specular::shaders::ALL),
+        ("npr-hatching", npr_hatching::shaders::ALL),
+        ("npr-warp", npr_warp::shaders::ALL),
+    ]
+    .iter()
+    .flat_map(|(krate, files)| files.iter().map(move |f| format!("{krate}/{}", f.name)))
+    .collect();
+    let listed: Vec<&str> = shaders.iter().filter_map(|s| s["name"].as_str()).collect();
+    if listed != native {
+        bail!("the page compiled {listed:?}, the crates have {native:?}");
+    }
+    println!(
+        "xtask: Chromium compiles all {} shaders as the passes compose them",
+        shaders.len()
+    );
+    Ok(())
+}
+
+/// A broken model dropped on the canvas (a real `drop` event with the file): its
+/// one-line message on the page, naming the file, and the bunny still drawn as before.
+fn check_bad_drop(
+    driver: &Driver,
+    session: &str,
+    site: &Path,
+    site_port: u16,
+    ctx: &npr_gpu::GpuContext,
+    model: &Model,
+) -> anyhow::Result<()> {
+    let url = format!("http://127.0.0.1:{site_port}/index.html?preset=check-phong.toml");
+    driver.load(session, &url)?;
+    driver.script(
+        session,
+        "const dt = new DataTransfer();
+         dt.items.add(new File([new Uint8Array([112, 108, 121, 10, 99])], 'broken.ply'));
+         document.getElementById('view').dispatchEvent(
+           new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+         return true;",
+    )?;
+    let started = Instant::now();
+    let said = loop {
+        let said = driver.script(
+            session,
+            "return document.getElementById('error').textContent",
+        )?;
+        let said = said.as_str().unwrap_or("").to_string();
+        if !said.is_empty() {
+            break said;
+        }
+        if started.elapsed() > Duration::from_secs(20) {
+            bail!("a broken model was dropped and the page said nothing");
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    };
+    if !said.contains("broken.ply") {
+        bail!("a broken model's message does not name the file: `{said}`");
+    }
+    let name = driver.script(session, "return window.nprViewer.model_name()")?;
+    if name.as_str() != Some(model.name.as_str()) {
+        bail!(
+            "after a broken drop the model is {name}, not {}",
+            model.name
+        );
+    }
+    std::thread::sleep(Duration::from_secs(2));
+    let page = driver.canvas(session)?;
+    let preset = Preset::from_toml("effect = \"phong\"\n", Path::new("check-phong.toml"))?;
+    let size = (preset.output.width, preset.output.height);
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size)?;
+    let view = View::new(&preset, &model.framing, size, 0.0);
+    let native = object_frame(ctx, &mut renderer, &preset, &view)?;
+    let row = compare(
+        driver,
+        session,
+        site,
+        "phong-after-bad-drop",
+        &native,
+        &page,
+    )?;
+    if row.flip_mean > MAX_FLIP {
+        bail!(
+            "after a broken drop the page no longer draws the bunny (FLIP {:.3})",
+            row.flip_mean
+        );
+    }
+    println!(
+        "xtask: a broken drop says `{said}` and the bunny stays (FLIP {:.4})",
+        row.flip_mean
+    );
+    Ok(())
+}
+
+/// The native frame of `preset`, its alpha the object's coverage: the frame is drawn on
+/// the preset's background and on black, and a pixel the background does not change is
+/// the object's (partly, at edges). The comparisons then weigh the object, not the empty
+/// background around it.
+fn object_frame(
+    ctx: &npr_gpu::GpuContext,
+    renderer: &mut Renderer,
+    preset: &Preset,
+    view: &View,
+) -> anyhow::Result<image::RgbaImage> {
+    let mut on_black = preset.clone();
+    on_black.base.background = [0.0, 0.0, 0.0];
+    renderer.render(&ctx.device, &ctx.queue, &on_black, view)?;
+    let black = renderer.read(&ctx.device, &ctx.queue)?;
+    renderer.render(&ctx.device, &ctx.queue, preset, view)?;
+    let mut frame = renderer.read(&ctx.device, &ctx.queue)?;
+    for (p, b) in frame.pixels_mut().zip(black.pixels()) {
+        let moved = (0..3).map(|c| p[c].abs_diff(b[c])).max().unwrap_or(0);
+        p[3] = 255 - moved;
+    }
+    Ok(frame)
+}
+
+/// Saves both images into the site folder and measures the page against the native frame
+/// over the object (the native frame's alpha, see [`object_frame`], masks both).
 fn compare(
     driver: &Driver,
     session: &str,
@@ -192,9 +358,13 @@ fn compare(
 ) -> anyhow::Result<Row> {
     page.save(site.join(format!("check-{effect}.png")))?;
     native.save(site.join(format!("check-{effect}-native.png")))?;
+    let mut page = page.clone();
+    for (p, n) in page.pixels_mut().zip(native.pixels()) {
+        p[3] = n[3];
+    }
     let (flip_mean, flip_max) =
-        npr_warp::metrics::flip_stats(native, page).context("FLIP of an empty object")?;
-    let psnr_db = npr_warp::metrics::compare(native, page).psnr_db;
+        npr_warp::metrics::flip_stats(native, &page).context("FLIP of an empty object")?;
+    let psnr_db = npr_warp::metrics::compare(native, &page).psnr_db;
     let frame_ms = driver.script(
         session,
         "return document.getElementById('stats').dataset.frameMs || ''",
@@ -248,7 +418,9 @@ impl Driver {
     /// A new headless Chromium session; its id.
     fn session(&self) -> anyhow::Result<String> {
         let caps = json!({ "capabilities": { "alwaysMatch": {
-            "goog:chromeOptions": { "binary": chromium_binary(), "args": CHROMIUM_FLAGS }
+            "goog:chromeOptions": { "binary": chromium_binary(), "args": CHROMIUM_FLAGS },
+            // SwiftShader compiles and draws on the CPU: give scripts and loads time.
+            "timeouts": { "script": 180_000, "pageLoad": 180_000 }
         }}});
         let v = self.call("POST", "/session", Some(&caps))?;
         v["sessionId"]
@@ -296,6 +468,16 @@ impl Driver {
         )?;
         let bytes = base64_decode(png.as_str().context("no screenshot")?)?;
         Ok(image::load_from_memory(&bytes)?.to_rgba8())
+    }
+
+    /// Runs `script` in the page as an asynchronous script: its value is what it passes to
+    /// its last argument (the callback).
+    fn script_async(&self, session: &str, script: &str) -> anyhow::Result<Value> {
+        self.call(
+            "POST",
+            &format!("/session/{session}/execute/async"),
+            Some(&json!({ "script": script, "args": [] })),
+        )
     }
 
     /// Runs `script` in the page; its return value.
