@@ -251,7 +251,8 @@ fn check_shaders(driver: &Driver, session: &str) -> anyhow::Result<()> {
 }
 
 /// A broken model dropped on the canvas (a real `drop` event with the file): its
-/// one-line message on the page, naming the file, and the bunny still drawn as before.
+/// one-line message on the page, naming the file, and the bunny still drawn as before;
+/// then a bad preset dropped the same way: its message, and the effect in use kept.
 fn check_bad_drop(
     driver: &Driver,
     session: &str,
@@ -270,21 +271,7 @@ fn check_bad_drop(
            new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
          return true;",
     )?;
-    let started = Instant::now();
-    let said = loop {
-        let said = driver.script(
-            session,
-            "return document.getElementById('error').textContent",
-        )?;
-        let said = said.as_str().unwrap_or("").to_string();
-        if !said.is_empty() {
-            break said;
-        }
-        if started.elapsed() > Duration::from_secs(20) {
-            bail!("a broken model was dropped and the page said nothing");
-        }
-        std::thread::sleep(Duration::from_millis(250));
-    };
+    let said = page_error(driver, session, "a broken model was dropped")?;
     if !said.contains("broken.ply") {
         bail!("a broken model's message does not name the file: `{said}`");
     }
@@ -295,6 +282,22 @@ fn check_bad_drop(
             model.name
         );
     }
+    // A bad preset dropped the same way: its message, and the preset in use stays.
+    driver.script(
+        session,
+        "document.getElementById('error').textContent = '';
+         const dt = new DataTransfer();
+         dt.items.add(new File(['effect = \"hatching-crayon\"\\n'], 'bad.toml'));
+         document.getElementById('view').dispatchEvent(
+           new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+         return true;",
+    )?;
+    let said_preset = page_error(driver, session, "a bad preset was dropped")?;
+    let effect = driver.script(session, "return window.nprViewer.effect()")?;
+    if !said_preset.contains("bad.toml") || effect.as_str() != Some("phong") {
+        bail!("a bad preset: expected its message and phong kept, got `{said_preset}`, {effect}");
+    }
+    println!("xtask: a bad preset says `{said_preset}` and phong stays");
     std::thread::sleep(Duration::from_secs(2));
     let page = driver.canvas(session)?;
     let preset = Preset::from_toml("effect = \"phong\"\n", Path::new("check-phong.toml"))?;
@@ -321,6 +324,25 @@ fn check_bad_drop(
         row.flip_mean
     );
     Ok(())
+}
+
+/// The one-line message the page shows after `what`, waited for (up to 20 s).
+fn page_error(driver: &Driver, session: &str, what: &str) -> anyhow::Result<String> {
+    let started = Instant::now();
+    loop {
+        let said = driver.script(
+            session,
+            "return document.getElementById('error').textContent",
+        )?;
+        let said = said.as_str().unwrap_or("").to_string();
+        if !said.is_empty() {
+            return Ok(said);
+        }
+        if started.elapsed() > Duration::from_secs(20) {
+            bail!("{what} and the page said nothing");
+        }
+        std::thread::sleep(Duration::from_millis(250));
+    }
 }
 
 /// The native frame of `preset`, its alpha the object's coverage: the frame is drawn on

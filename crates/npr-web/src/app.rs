@@ -9,6 +9,7 @@ use npr_app::viewer::script::{self, Command, Event};
 use npr_app::viewer::state::{
     Button, CameraPredictor, HighlightInfo, Input, Key, Pose, ViewerState,
 };
+use std::collections::VecDeque;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
 use web_time::Instant;
@@ -27,7 +28,8 @@ pub struct Viewer {
     renderer: Renderer,
     state: ViewerState,
     stats: FrameStats,
-    last_frame: Option<Instant>,
+    /// When the last frames started (up to 31), for the frame time.
+    frame_times: VecDeque<Instant>,
     frame_ms: f64,
     /// Frames drawn since the start (live warping's clock).
     frame: u64,
@@ -85,7 +87,7 @@ impl Viewer {
             renderer,
             state: ViewerState::new(preset),
             stats: FrameStats::default(),
-            last_frame: None,
+            frame_times: VecDeque::new(),
             frame_ms: 0.0,
             frame: 0,
             predictor: CameraPredictor::default(),
@@ -104,11 +106,18 @@ impl Viewer {
 
     /// Renders one frame of the current preset and view onto the canvas.
     pub fn frame(&mut self) -> Result<(), JsValue> {
+        // The frame time: the mean interval over the last 30 frames (one interval says
+        // little when the browser runs callbacks back to back while the GPU catches up).
         let now = Instant::now();
-        if let Some(last) = self.last_frame {
-            self.frame_ms = now.duration_since(last).as_secs_f64() * 1e3;
+        self.frame_times.push_back(now);
+        if self.frame_times.len() > 31 {
+            self.frame_times.pop_front();
         }
-        self.last_frame = Some(now);
+        if let (Some(first), n) = (self.frame_times.front(), self.frame_times.len())
+            && n > 1
+        {
+            self.frame_ms = now.duration_since(*first).as_secs_f64() * 1e3 / (n - 1) as f64;
+        }
         let scripted = self.run_script();
         self.state.tick();
         let size = self.renderer.size();
