@@ -140,3 +140,44 @@ pub fn ensure_xvfb() -> anyhow::Result<()> {
     }
     Ok(())
 }
+
+/// The exact command that installs the headless browser the page's test drives.
+pub const CHROMIUM_HINT: &str = "apt-get install -y chromium chromium-driver";
+
+/// Whether `chromium` and `chromedriver` both run.
+fn has_chromium() -> bool {
+    ["chromium", "chromedriver"].iter().all(|tool| {
+        Command::new(tool)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    })
+}
+
+/// Makes sure Chromium and chromedriver exist for the browser test (`cargo xtask web
+/// --check`), installing them on Debian/Ubuntu as root (and saying so; about 70 s).
+///
+/// # Errors
+/// When they are missing and cannot be installed here; the message gives the command.
+pub fn ensure_chromium() -> anyhow::Result<()> {
+    if has_chromium() {
+        return Ok(());
+    }
+    if !(is_debian_like() && is_root()) {
+        bail!(
+            "chromium or chromedriver is missing: the browser test runs the page in headless \
+             Chromium. On Debian/Ubuntu run as root:\n    {CHROMIUM_HINT}\nthen run \
+             `cargo xtask test` again."
+        );
+    }
+    eprintln!("xtask: installing Chromium so the browser test can run: {CHROMIUM_HINT}");
+    let install = ["install", "-y", "-qq", "chromium", "chromium-driver"];
+    if apt(&install).is_err() {
+        apt(&["update", "-qq"])?;
+        apt(&install)?;
+    }
+    if !has_chromium() {
+        bail!("still no chromium or chromedriver after installing them; try: {CHROMIUM_HINT}");
+    }
+    Ok(())
+}

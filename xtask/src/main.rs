@@ -1,12 +1,14 @@
 //! Project automation (the cargo-xtask pattern): `cargo xtask test | demo | bench NAME |
-//! fixtures | curvature`. One module per subcommand.
+//! fixtures | curvature | web`. One module per subcommand.
 
 mod bench;
+mod browser;
 mod demo;
 mod fixtures;
 mod gallery;
 mod gpu_setup;
 mod test;
+mod web;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -43,6 +45,19 @@ enum Command {
     Doctor,
     /// Per-vertex principal curvatures of a model, as CSV (an alias of `npr curvature`).
     Curvature(npr_app::curvature::CurvatureArgs),
+    /// Build the browser viewer into target/web/ (a static site) and serve it on 127.0.0.1.
+    Web {
+        /// Build only; do not serve.
+        #[arg(long)]
+        build_only: bool,
+        /// Open the page in headless Chromium and compare each effect with the native
+        /// render (FLIP); needs chromium and chromium-driver.
+        #[arg(long, conflicts_with = "build_only")]
+        check: bool,
+        /// The port to serve on.
+        #[arg(long, default_value_t = 8000)]
+        port: u16,
+    },
 }
 
 fn main() -> std::process::ExitCode {
@@ -69,6 +84,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
+        Command::Web {
+            build_only,
+            check,
+            port,
+        } => web::run(build_only, check, port),
     }
 }
 

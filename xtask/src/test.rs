@@ -2,14 +2,16 @@
 //! rustdoc warnings denied (broken intra-doc links included), every workspace test with
 //! `NPR_REQUIRE_GPU=1` (a GPU test without an adapter fails, even when the caller's
 //! environment has `NPR_SKIP_GPU=1`; see `npr_gpu::testing`), then every library crate's
-//! `embed` example, each writing its PNG to `target/embed/`.
+//! `embed` example, each writing its PNG to `target/embed/`; then the browser build in
+//! headless Chromium (`cargo xtask web --check`, installing Chromium as root when missing).
 
 use crate::{gpu_setup, project_root};
 use anyhow::bail;
 use std::process::Command;
 use std::time::Instant;
 
-fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
+/// Runs `cargo ARGS` in the workspace root with `extra_env`, timed; fails on failure.
+pub fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
     let started = Instant::now();
     println!("xtask: cargo {}", args.join(" "));
     let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
@@ -36,6 +38,17 @@ pub const EMBED_CRATES: [&str; 3] = ["npr-specular", "npr-hatching", "npr-warp"]
 pub fn run() -> anyhow::Result<()> {
     let started = Instant::now();
     cargo(&["fmt", "--all", "--", "--check"], &[])?;
+    // The browser front end is its own workspace (see crates/npr-web/Cargo.toml).
+    cargo(
+        &[
+            "fmt",
+            "--manifest-path",
+            "crates/npr-web/Cargo.toml",
+            "--",
+            "--check",
+        ],
+        &[],
+    )?;
     cargo(
         &[
             "clippy",
@@ -81,6 +94,15 @@ pub fn run() -> anyhow::Result<()> {
             bail!("the {krate} embed example did not write {png}");
         }
     }
+    // The browser: the page built for wasm32 and run in headless Chromium against the
+    // native render (`cargo xtask web --check`).
+    gpu_setup::ensure_chromium()?;
+    let web_started = Instant::now();
+    crate::web::run(false, true, 0)?;
+    println!(
+        "xtask: the browser build and test took {:.1} s",
+        web_started.elapsed().as_secs_f64()
+    );
     println!(
         "xtask: all checks passed in {:.1} s",
         started.elapsed().as_secs_f64()

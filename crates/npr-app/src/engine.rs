@@ -20,7 +20,11 @@ use npr_specular::{
 };
 use serde::Serialize;
 use std::collections::HashMap;
+// std's `Instant::now()` panics in the browser (wasm32-unknown-unknown has no clock).
+#[cfg(not(target_arch = "wasm32"))]
 use std::time::Instant;
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
 
 /// Statistics of one rendered frame (`npr render --json`, the viewer's heads-up line).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -949,6 +953,8 @@ fn set_ramp(
 ///
 /// # Errors
 /// GPU or technique errors, or what `sink` returns.
+// Batch only (a progress bar; PSNR from npr-warp's test-support metrics): native only.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn render_warp_frames(
     ctx: &npr_gpu::GpuContext,
     model: Model,

@@ -8,16 +8,25 @@
 //! The pieces are a library so that tests (and the viewer) drive the same code paths:
 //! [`preset::Preset`] (every parameter, TOML), [`model::Model`] (loading and framing),
 //! [`view`] (camera and light), [`engine::Renderer`] (the GPU frame).
+//!
+//! On wasm32 (the browser, through `npr-web`) the library keeps what a page shares with the
+//! desktop viewer (presets, models, views, the engine, [`viewer::state`] and
+//! [`viewer::script`]); the command line, the batch renderer and the winit + egui window
+//! are native only.
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
+#[cfg(not(target_arch = "wasm32"))]
 pub mod curvature;
 pub mod engine;
 mod error;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod memory;
 pub mod model;
 pub mod output;
 pub mod preset;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod progress;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod render;
 pub mod view;
 pub mod viewer;
@@ -31,6 +40,7 @@ pub use error::AppError;
 ///
 /// # Errors
 /// [`AppError::Io`] when the directory cannot be created.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn ensure_runtime_dir() -> Result<(), AppError> {
     if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
         return Ok(());

@@ -7,9 +7,12 @@
 //! npr curvature IN OUT.csv [--radius R | --radius-edges K] [--method M]
 //! ```
 
+#[cfg(not(target_arch = "wasm32"))]
 use clap::{Parser, Subcommand};
+#[cfg(not(target_arch = "wasm32"))]
 use std::process::ExitCode;
 
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Parser)]
 #[command(name = "npr", version, about = "Real-time NPR on your own model")]
 struct Cli {
@@ -17,6 +20,7 @@ struct Cli {
     command: Command,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(Subcommand)]
 enum Command {
     /// Render a model with an effect to PNG, numbered PNG frames or a GIF.
@@ -27,6 +31,7 @@ enum Command {
     Curvature(npr_app::curvature::CurvatureArgs),
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Err(e) = npr_app::ensure_runtime_dir() {
@@ -52,3 +57,8 @@ fn main() -> ExitCode {
         }
     }
 }
+
+/// The command line needs a process: on wasm32 the library is used by the web front end
+/// (`npr-web`) instead, and this binary does nothing.
+#[cfg(target_arch = "wasm32")]
+fn main() {}

@@ -63,17 +63,67 @@ impl Model {
         Ok(model)
     }
 
+    /// A model from a file's bytes (what a browser's file picker or drop hands over):
+    /// `name` is the file name, whose extension gives the format.
+    ///
+    /// # Errors
+    /// [`AppError::Load`] with the loader's one-line reason (an unknown extension too).
+    pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Self, AppError> {
+        let load_error = |source| AppError::Load {
+            path: name.into(),
+            source,
+        };
+        let ext = Path::new(name)
+            .extension()
+            .map(|e| e.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let format = npr_geometry::io::Format::from_extension(&ext).ok_or_else(|| {
+            load_error(npr_geometry::io::LoadError::UnsupportedFormat {
+                file: name.to_string(),
+                extension: ext.clone(),
+            })
+        })?;
+        let loaded = npr_geometry::io::load_bytes_named(bytes, format, name).map_err(load_error)?;
+        let mut model = Self::from_mesh(name, loaded.mesh);
+        model.notes = loaded.report.iter().map(ToString::to_string).collect();
+        Ok(model)
+    }
+
     /// The built-in bunny.
     ///
     /// # Errors
     /// [`AppError::Load`] if the embedded file does not parse (it always does).
     pub fn bunny() -> Result<Self, AppError> {
-        let loaded =
-            npr_geometry::io::load_bytes(BUNNY_OBJ.as_bytes(), npr_geometry::io::Format::Obj)
-                .map_err(|source| AppError::Load {
-                    path: "stanford-bunny.obj".into(),
-                    source,
-                })?;
-        Ok(Self::from_mesh("stanford-bunny.obj", loaded.mesh))
+        let mut bunny = Self::from_bytes("stanford-bunny.obj", BUNNY_OBJ.as_bytes())?;
+        // What the loader did to the built-in file is no news to the user.
+        bunny.notes.clear();
+        Ok(bunny)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dropped file's error is one line that names the file as its user knows it (not
+    /// `<bytes>.ply`) and says what is wrong without the parser's internals.
+    #[test]
+    fn a_broken_dropped_file_is_named_in_its_error() {
+        let Err(e) = Model::from_bytes("broken.ply", b"ply\nc") else {
+            panic!("a broken PLY loaded");
+        };
+        let said = e.to_string();
+        assert!(said.starts_with("broken.ply: header line 2: "), "{said}");
+        assert!(
+            !said.contains("ParseError") && !said.contains('\n'),
+            "{said}"
+        );
+        let Err(e) = Model::from_bytes("scan.stl", b"solid") else {
+            panic!("an STL loaded");
+        };
+        assert!(
+            e.to_string().starts_with("scan.stl: unsupported format"),
+            "{e}"
+        );
     }
 }

@@ -10,9 +10,8 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// What `npr render` draws.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize, clap::ValueEnum,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(not(target_arch = "wasm32"), derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum Effect {
     /// Per-pixel Blinn-Phong.
@@ -563,7 +562,7 @@ impl Preset {
     pub fn from_toml(text: &str, origin: &Path) -> Result<Self, AppError> {
         let preset: Preset = toml::from_str(text).map_err(|e| AppError::Preset {
             path: origin.to_path_buf(),
-            reason: e.to_string().trim().replace('\n', " "),
+            reason: toml_reason(text, &e),
         })?;
         preset.validate().map_err(|reason| AppError::Preset {
             path: origin.to_path_buf(),
@@ -685,8 +684,43 @@ impl Preset {
     }
 }
 
+/// A TOML error in one line: where (line and column of its span) and what, without the
+/// source excerpt and caret lines toml's `Display` adds.
+fn toml_reason(text: &str, e: &toml::de::Error) -> String {
+    let what = e.message().trim().replace('\n', " ");
+    match e.span() {
+        Some(span) => {
+            let before = text.get(..span.start).unwrap_or(text);
+            let line = before.matches('\n').count() + 1;
+            let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+            format!("line {line}, column {column}: {what}")
+        }
+        None => what,
+    }
+}
+
 #[cfg(test)]
 mod tests {
+
+    /// A bad preset is one line naming the place and what is wrong, without the excerpt
+    /// and caret lines of toml's own message.
+    #[test]
+    fn a_bad_preset_is_one_plain_line() {
+        let text = "# mine\n\n# more\n\neffect = \"hatching-crayon\"\n";
+        let Err(e) = Preset::from_toml(text, Path::new("bad.toml")) else {
+            panic!("a bad effect was accepted");
+        };
+        let said = e.to_string();
+        assert!(
+            said.contains("bad.toml")
+                && said.contains("line 5, column 10: unknown variant `hatching-crayon`"),
+            "{said}"
+        );
+        assert!(
+            !said.contains('|') && !said.contains('^') && !said.contains('\n'),
+            "{said}"
+        );
+    }
     use super::*;
 
     #[test]

@@ -39,7 +39,7 @@ pub fn reorder_for_locality(mesh: &Mesh) -> Reordered {
     {
         return identity();
     }
-    let cached = meshopt::optimize_vertex_cache(&mesh.indices, nv);
+    let cached = optimize_vertex_cache(&mesh.indices, nv);
     let triangle_from_input = match triangle_order(&mesh.indices, &cached) {
         Some(order) => order,
         None => return identity(),
@@ -104,6 +104,20 @@ fn triangle_order(input: &[u32], reordered: &[u32]) -> Option<Vec<u32>> {
         .chunks_exact(3)
         .map(|t| slots.get_mut(&key(t))?.pop())
         .collect()
+}
+
+/// meshoptimizer's vertex-cache optimizer: the C++ library on native, its pure-Rust port
+/// on wasm32 (the same algorithm; no C++ toolchain targets the browser).
+#[cfg(not(target_arch = "wasm32"))]
+fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    meshopt::optimize_vertex_cache(indices, vertex_count)
+}
+
+#[cfg(target_arch = "wasm32")]
+fn optimize_vertex_cache(indices: &[u32], vertex_count: usize) -> Vec<u32> {
+    let mut out = vec![0; indices.len()];
+    meshopt_rs::vertex::cache::optimize_vertex_cache(&mut out, indices, vertex_count);
+    out
 }
 
 #[cfg(test)]

@@ -53,9 +53,23 @@ impl GpuContext {
             &wgpu::Instance,
         ) -> Result<wgpu::Surface<'static>, wgpu::CreateSurfaceError>,
     ) -> Result<(Self, wgpu::Surface<'static>), GpuError> {
+        pollster::block_on(Self::for_surface_async(descriptor, make_surface))
+    }
+
+    /// [`GpuContext::for_surface`] without blocking, for where a thread cannot wait (the
+    /// browser's event loop: a canvas surface there, with `Backends::BROWSER_WEBGPU`).
+    ///
+    /// # Errors
+    /// As [`GpuContext::for_surface`].
+    pub async fn for_surface_async(
+        descriptor: wgpu::InstanceDescriptor,
+        make_surface: impl FnOnce(
+            &wgpu::Instance,
+        ) -> Result<wgpu::Surface<'static>, wgpu::CreateSurfaceError>,
+    ) -> Result<(Self, wgpu::Surface<'static>), GpuError> {
         let instance = wgpu::Instance::new(descriptor);
         let surface = make_surface(&instance).map_err(|e| GpuError::Surface(e.to_string()))?;
-        let ctx = pollster::block_on(Self::with_instance(instance, Some(&surface)))?;
+        let ctx = Self::with_instance(instance, Some(&surface)).await?;
         Ok((ctx, surface))
     }
 

@@ -30,6 +30,11 @@ use npr_geometry::{
 };
 use std::collections::HashMap;
 use std::ops::Range;
+// std's `Instant::now()` panics in the browser (wasm32-unknown-unknown has no clock).
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
 
 /// One highlight of the current frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -416,7 +421,7 @@ impl HighlightSet {
             }
             LightEye::Positions { light, eye } => light.is_finite() && eye.is_finite(),
         };
-        let search_start = std::time::Instant::now();
+        let search_start = Instant::now();
         let centres = if valid_input && world_from_object.is_finite() {
             self.search
                 .find_coherent(&mut self.coherence, light_eye, world_from_object)
@@ -492,7 +497,7 @@ impl HighlightSet {
             self.global
                 .compose(&self.per_highlight.get(&id).copied().unwrap_or_default())
         };
-        let region_start = std::time::Instant::now();
+        let region_start = Instant::now();
         let mut regions = match self.sizing {
             HighlightSizing::Paper => Vec::new(),
             HighlightSizing::Region => {
@@ -600,7 +605,7 @@ impl HighlightSet {
             kept.extend(drawn);
         }
         // Receivers (§4.2).
-        let visibility_start = std::time::Instant::now();
+        let visibility_start = Instant::now();
         self.receiver_faces.clear();
         let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
         for h in &mut kept {

@@ -1,6 +1,7 @@
 //! The simplified proxy mesh (§3.2): the geometry onto which the reference images are
 //! projected. Built once per mesh with a quadric-error simplifier (meshoptimizer, through
-//! the `meshopt` crate), where the paper used VripPack (§4).
+//! the `meshopt` crate; its pure-Rust port `meshopt-rs` on wasm32), where the paper used
+//! VripPack (§4).
 //!
 //! The proxy may be *inflated* along its vertex normals by a multiple of the simplifier's
 //! achieved error, so that its silhouette covers the full mesh's: the warp pass discards
@@ -50,23 +51,15 @@ impl Proxy {
         let indices: Vec<u32> = welded.indices.iter().flatten().copied().collect();
         let triangles = indices.len() / 3;
         let target_indices = ((triangles as f64 * f64::from(ratio)).round() as usize).max(1) * 3;
-        let mut error_relative = 0.0f32;
-        let simplified = if target_indices >= indices.len() {
-            indices.clone()
+        let (simplified, error_relative) = if target_indices >= indices.len() {
+            (indices.clone(), 0.0)
         } else {
-            meshopt::simplify_decoder(
-                &indices,
-                &positions,
-                target_indices,
-                f32::MAX,
-                meshopt::SimplifyOptions::None,
-                Some(&mut error_relative),
-            )
+            simplify_indices(&indices, &positions, target_indices)
         };
         if simplified.len() < 3 {
             return Err(WarpError::SimplifiedAway { triangles, ratio });
         }
-        let scale = meshopt::simplify_scale_decoder(&positions);
+        let scale = simplify_scale(&positions);
         // Compact: keep referenced vertices only, in first-use order.
         let mut remap = vec![u32::MAX; positions.len()];
         let mut out = Mesh::default();
@@ -131,6 +124,108 @@ impl Proxy {
             *p += *n * distance_object;
         }
         m
+    }
+}
+
+/// meshoptimizer's attribute-free simplifier to `target_indices` with no error bound: the
+/// simplified indices (into `positions`) and the achieved error relative to
+/// [`simplify_scale`].
+#[cfg(not(target_arch = "wasm32"))]
+fn simplify_indices(
+    indices: &[u32],
+    positions: &[[f32; 3]],
+    target_indices: usize,
+) -> (Vec<u32>, f32) {
+    let mut error_relative = 0.0f32;
+    let simplified = meshopt::simplify_decoder(
+        indices,
+        positions,
+        target_indices,
+        f32::MAX,
+        meshopt::SimplifyOptions::None,
+        Some(&mut error_relative),
+    );
+    (simplified, error_relative)
+}
+
+/// On wasm32, meshoptimizer's pure-Rust port (no C++ toolchain targets the browser). It
+/// reports no error, so the error is measured: the largest distance from a vertex of the
+/// full mesh to the tangent plane of its nearest proxy vertex, relative to
+/// [`simplify_scale`] (an estimate of the same quantity, not bit-equal to native).
+#[cfg(target_arch = "wasm32")]
+fn simplify_indices(
+    indices: &[u32],
+    positions: &[[f32; 3]],
+    target_indices: usize,
+) -> (Vec<u32>, f32) {
+    let mut out = vec![0; indices.len()];
+    let n = meshopt_rs::simplify::simplify(&mut out, indices, positions, target_indices, f32::MAX);
+    out.truncate(n);
+    let scale = simplify_scale(positions);
+    if out.len() < 3 || scale <= 0.0 {
+        return (out, 0.0);
+    }
+    let points: Vec<Vec3> = positions.iter().map(|p| Vec3::from_array(*p)).collect();
+    let triangles: Vec<[u32; 3]> = out.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+    let normals = npr_geometry::mesh::welded_area_normals(&points, &triangles);
+    let mut kept: Vec<u32> = out.clone();
+    kept.sort_unstable();
+    kept.dedup();
+    // Nearest kept vertex through a uniform grid of about one kept vertex per cell.
+    let lo = points.iter().fold(Vec3::splat(f32::MAX), |a, p| a.min(*p));
+    let cell = scale / (kept.len() as f32).cbrt().max(1.0);
+    let key = |p: Vec3| ((p - lo) / cell).floor().as_ivec3();
+    let mut grid: std::collections::HashMap<glam::IVec3, Vec<u32>> = Default::default();
+    for &k in &kept {
+        grid.entry(key(points[k as usize])).or_default().push(k);
+    }
+    let mut worst = 0.0f32;
+    for p in &points {
+        let c = key(*p);
+        let mut best: Option<(f32, u32)> = None;
+        // Widen the search ring until a kept vertex is found and no closer one can exist.
+        for r in 0i32.. {
+            for dz in -r..=r {
+                for dy in -r..=r {
+                    for dx in -r..=r {
+                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
+                            continue;
+                        }
+                        for &k in grid
+                            .get(&(c + glam::IVec3::new(dx, dy, dz)))
+                            .into_iter()
+                            .flatten()
+                        {
+                            let d = points[k as usize].distance_squared(*p);
+                            if best.is_none_or(|(b, _)| d < b) {
+                                best = Some((d, k));
+                            }
+                        }
+                    }
+                }
+            }
+            if best.is_some_and(|(b, _)| b.sqrt() <= r as f32 * cell) || r > 64 {
+                break;
+            }
+        }
+        if let Some((_, k)) = best {
+            let q = points[k as usize];
+            worst = worst.max((*p - q).dot(normals[k as usize]).abs());
+        }
+    }
+    (out, worst / scale)
+}
+
+/// meshoptimizer's simplification scale: the largest extent of the bounding box.
+fn simplify_scale(positions: &[[f32; 3]]) -> f32 {
+    let (lo, hi) = positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(Vec3::from_array(*p)), hi.max(Vec3::from_array(*p))),
+    );
+    if positions.is_empty() {
+        0.0
+    } else {
+        (hi - lo).max_element()
     }
 }
 

@@ -4,6 +4,8 @@
 //! warping. Every mouse and key action — a person's or a script's — goes through
 //! [`ViewerState::input`], so the tests here exercise the same code the window runs.
 
+use super::script::Command;
+use crate::AppError;
 use crate::preset::{Effect, HighlightEdit, Preset};
 use crate::view::View;
 use glam::{Vec2, Vec3};
@@ -484,6 +486,165 @@ impl ViewerState {
     /// The view for a `size` image of `framing`'s model at the current turntable angle.
     pub fn view(&self, framing: &crate::view::Framing, size: (u32, u32)) -> View {
         View::new(&self.preset, framing, size, self.turntable_deg)
+    }
+
+    /// The selected highlight's centre in `view`'s pixels (None when nothing is selected
+    /// or it is off screen).
+    pub fn selected_pixel(
+        &self,
+        view: &View,
+        size: (u32, u32),
+        highlights: &[HighlightInfo],
+    ) -> Option<Vec2> {
+        let id = self.selected?;
+        let h = highlights.iter().find(|h| h.id == id)?;
+        view.to_pixel(h.centre_world, size)
+    }
+
+    /// The preset as `npr render` needs it to draw this view: the current parameters, the
+    /// view's `size`, and the turntable's angle folded into the model turn.
+    pub fn preset_for_render(&self, size: (u32, u32)) -> Preset {
+        let mut p = self.preset.clone();
+        p.output.width = size.0.max(1);
+        p.output.height = size.1.max(1);
+        p.turn_deg += self.turntable_deg;
+        p
+    }
+
+    /// The selected highlight as a script's `report` writes it: id, centre and u axis in
+    /// pixels, half extents and its §3.4 edit (`null` when nothing is selected).
+    pub fn selected_report(
+        &self,
+        view: &View,
+        size: (u32, u32),
+        highlights: &[HighlightInfo],
+    ) -> serde_json::Value {
+        let Some(h) = self
+            .selected
+            .and_then(|id| highlights.iter().find(|h| h.id == id))
+        else {
+            return serde_json::Value::Null;
+        };
+        let c = view.to_pixel(h.centre_world, size);
+        let u = view.to_pixel(h.centre_world + h.axis_u * h.half_extent.x, size);
+        let edit = self.edit(h.id);
+        serde_json::json!({
+            "id": h.id,
+            "centre_px": c.map(|c| [c.x, c.y]),
+            "u_axis_px": match (c, u) { (Some(c), Some(u)) => Some([u.x - c.x, u.y - c.y]), _ => None },
+            "half_extent": [h.half_extent.x, h.half_extent.y],
+            "translate": edit.translate,
+            "rotate_deg": edit.rotate_deg,
+            "scale": edit.scale,
+        })
+    }
+
+    /// Runs one `npr view --script` command that is input — keys, clicks, drags, the
+    /// wheel, effect and turntable switches — as the events a person's hand would send
+    /// through [`ViewerState::input`]; the window and the browser page both run scripts
+    /// through here. Commands that need the shell (resize, screenshot, files, exit) are
+    /// handed back for it to do.
+    ///
+    /// # Errors
+    /// A command that names what is not there: an unknown key, no visible highlight to
+    /// click, no selected highlight to drag, turn or grow.
+    pub fn script(
+        &mut self,
+        command: Command,
+        view: &View,
+        size: (u32, u32),
+        highlights: &[HighlightInfo],
+    ) -> Result<Option<Command>, AppError> {
+        let send = |state: &mut Self, input: Input| state.input(input, view, size, highlights);
+        // A press, 8 moves along the way and a release (what a hand's drag sends).
+        let drag = |state: &mut Self, from: Vec2, to: Vec2, button: Button| {
+            state.input(Input::Press { at: from, button }, view, size, highlights);
+            for i in 1..=8 {
+                let at = from + (to - from) * (i as f32 / 8.0);
+                state.input(Input::Move { at }, view, size, highlights);
+            }
+            state.input(Input::Release { at: to }, view, size, highlights);
+        };
+        let selected = |state: &Self, what: &str| {
+            state
+                .selected_pixel(view, size, highlights)
+                .ok_or_else(|| AppError::Usage(format!("script: {what}: no highlight is selected")))
+        };
+        match command {
+            Command::Key(k) => {
+                let key = Key::from_name(&k)
+                    .ok_or_else(|| AppError::Usage(format!("script: unknown key '{k}'")))?;
+                send(self, Input::Key(key));
+            }
+            Command::Click(x, y) => {
+                let at = Vec2::new(x, y);
+                drag(self, at, at, Button::Left);
+            }
+            Command::ClickHighlight => {
+                let at = highlights
+                    .iter()
+                    .filter(|h| h.normal.dot(view.camera.eye - h.centre_world) > 0.0)
+                    .max_by(|a, b| {
+                        (a.half_extent.x * a.half_extent.y)
+                            .total_cmp(&(b.half_extent.x * b.half_extent.y))
+                    })
+                    .and_then(|h| view.to_pixel(h.centre_world, size))
+                    .ok_or_else(|| {
+                        AppError::Usage("script: click-highlight: no highlight is visible".into())
+                    })?;
+                drag(self, at, at, Button::Left);
+            }
+            Command::Drag([x0, y0, x1, y1], m) => {
+                let button = match m.as_str() {
+                    "shift" => Button::ShiftLeft,
+                    "ctrl" => Button::CtrlLeft,
+                    "right" => Button::Right,
+                    _ => Button::Left,
+                };
+                drag(self, Vec2::new(x0, y0), Vec2::new(x1, y1), button);
+            }
+            Command::DragSelected(dx, dy) => {
+                let at = selected(self, "drag-selected")?;
+                drag(self, at, at + Vec2::new(dx, dy), Button::Left);
+            }
+            Command::RotateSelected(deg) => {
+                let c = selected(self, "rotate-selected")?;
+                // A Shift drag along a circle of 40 px around the centre, in 8 steps.
+                let at = |a: f32| c + Vec2::new(a.cos(), -a.sin()) * 40.0;
+                send(
+                    self,
+                    Input::Press {
+                        at: at(0.0),
+                        button: Button::ShiftLeft,
+                    },
+                );
+                for i in 1..=8 {
+                    let a = deg.to_radians() * i as f32 / 8.0;
+                    send(self, Input::Move { at: at(a) });
+                }
+                send(
+                    self,
+                    Input::Release {
+                        at: at(deg.to_radians()),
+                    },
+                );
+            }
+            Command::Scroll(x, y, notches) => send(
+                self,
+                Input::Scroll {
+                    at: Vec2::new(x, y),
+                    notches,
+                },
+            ),
+            Command::ScrollSelected(notches) => {
+                let at = selected(self, "scroll-selected")?;
+                send(self, Input::Scroll { at, notches });
+            }
+            Command::Effect(e) => self.preset.effect = e,
+            Command::Turntable(on) => self.turntable = on,
+            shell => return Ok(Some(shell)),
+        }
+        Ok(None)
     }
 }
 

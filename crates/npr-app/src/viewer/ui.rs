@@ -139,7 +139,7 @@ pub fn panel(
     state: &mut ViewerState,
     debug: &mut Debug,
     stats: &FrameStats,
-    warp: &super::WarpLive,
+    warp: &super::live::WarpLive,
     frame_ms: f64,
     model: &Model,
     status: Option<&str>,

@@ -208,6 +208,15 @@ pub fn load_bytes(bytes: &[u8], format: Format) -> Result<Loaded, LoadError> {
     )
 }
 
+/// As [`load_bytes`], with errors naming the file `name` (a dropped or uploaded file's
+/// name, as its user knows it).
+///
+/// # Errors
+/// As [`load_bytes`].
+pub fn load_bytes_named(bytes: &[u8], format: Format, name: &str) -> Result<Loaded, LoadError> {
+    load_source(bytes, format, name, None)
+}
+
 fn load_source(
     bytes: &[u8],
     format: Format,

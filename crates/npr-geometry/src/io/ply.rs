@@ -110,6 +110,24 @@ impl PropertyAccess for Skip {
     }
 }
 
+/// ply-rs's message in a person's words: `Line 2: Couldn't parse line.; String: 'c'; Error:
+/// ParseError { .. }` becomes `couldn't parse line: 'c'` (the line is already in `at`, and
+/// the grammar's internals say nothing to the user).
+fn parser_message(e: &ply_rs_bw::parser::ParseError) -> String {
+    let text = super::error::one_line(&e.to_string());
+    let text = text.split("; Error:").next().unwrap_or("");
+    let text = match text.split_once(": ") {
+        Some((line, rest)) if line.starts_with("Line ") => rest,
+        _ => text,
+    };
+    let text = text.replace(".; String:", ":");
+    let mut chars = text.chars();
+    match chars.next() {
+        Some(first) => first.to_lowercase().chain(chars).collect(),
+        None => "unreadable".into(),
+    }
+}
+
 fn has(e: &ElementDef, names: &[&str]) -> bool {
     names.iter().any(|n| e.properties.contains_key(*n))
 }
@@ -145,7 +163,7 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
                     reason: expected.to_string(),
                 }
             } else {
-                parse_err(at, super::error::one_line(&e.to_string()))
+                parse_err(at, parser_message(e))
             }
         };
     let mut reader = Reader::new(BufReader::new(bytes));
