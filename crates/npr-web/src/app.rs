@@ -6,9 +6,7 @@ use npr_app::model::Model;
 use npr_app::preset::{Effect, Preset};
 use npr_app::viewer::live::WarpLive;
 use npr_app::viewer::script::{self, Command, Event};
-use npr_app::viewer::state::{
-    Button, CameraPredictor, HighlightInfo, Input, Key, Pose, ViewerState,
-};
+use npr_app::viewer::state::{Button, HighlightInfo, Input, Key, ViewerState};
 use std::collections::VecDeque;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
@@ -33,7 +31,6 @@ pub struct Viewer {
     frame_ms: f64,
     /// Frames drawn since the start (live warping's clock).
     frame: u64,
-    predictor: CameraPredictor,
     warp: WarpLive,
     /// The loaded script, the frame it started at, and how far it has run.
     script: Vec<Event>,
@@ -90,7 +87,6 @@ impl Viewer {
             frame_times: VecDeque::new(),
             frame_ms: 0.0,
             frame: 0,
-            predictor: CameraPredictor::default(),
             warp: WarpLive::default(),
             script: Vec::new(),
             script_start: 0,
@@ -122,27 +118,16 @@ impl Viewer {
         self.state.tick();
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);
-        self.predictor.push(
+        let drawn = self.warp.draw(
+            &mut self.renderer,
+            &self.ctx,
+            &self.state,
+            &view,
             self.frame,
-            Pose::of(&self.state.preset, self.state.turntable_deg),
         );
-        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
-        let drawn = if self.state.preset.effect == Effect::Warp {
-            self.warp.frame(
-                &mut self.renderer,
-                &self.ctx,
-                &self.predictor,
-                &self.state,
-                &view,
-                self.frame,
-            )
-        } else {
-            self.warp.last_reference = None;
-            self.renderer
-                .render(device, queue, &self.state.preset, &view)
-        };
         self.frame += 1;
         self.stats = drawn.map_err(js_error)?;
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
             | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,

@@ -3,7 +3,7 @@
 
 use super::live::WarpLive;
 use super::script::{self, Command, Event};
-use super::state::{CameraPredictor, HighlightInfo, Input, Pose, ViewerState};
+use super::state::{HighlightInfo, Input, ViewerState};
 use super::ui;
 use crate::engine::{FrameStats, Renderer};
 use crate::model::Model;
@@ -96,7 +96,6 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
         pending_resize: None,
         debug: ui::Debug::default(),
         debug_texture: None,
-        predictor: CameraPredictor::default(),
         warp: WarpLive::default(),
     };
     event_loop
@@ -137,8 +136,16 @@ struct App {
     pending_resize: Option<(u32, u32)>,
     debug: ui::Debug,
     debug_texture: Option<egui::TextureHandle>,
-    predictor: CameraPredictor,
     warp: WarpLive,
+}
+
+/// Writes `value` as pretty JSON, atomically.
+fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<(), AppError> {
+    let text = serde_json::to_string_pretty(value).map_err(|e| AppError::Encode {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    output::write_atomic(path, text.as_bytes())
 }
 
 impl App {
@@ -342,11 +349,7 @@ impl App {
             "resident_bytes": reading.resident_bytes,
             "gpu_objects": reading.gpu_objects,
         });
-        let text = serde_json::to_string_pretty(&report).map_err(|e| AppError::Encode {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        output::write_atomic(path, text.as_bytes())
+        write_json(path, &report)
     }
 
     fn report(&self, path: &std::path::Path) -> Result<(), AppError> {
@@ -364,11 +367,7 @@ impl App {
             "selected": self.state.selected_report(&view, gfx.view_size, &gfx.highlights),
             "stats": self.stats,
         });
-        let text = serde_json::to_string_pretty(&report).map_err(|e| AppError::Encode {
-            path: path.to_path_buf(),
-            reason: e.to_string(),
-        })?;
-        output::write_atomic(path, text.as_bytes())
+        write_json(path, &report)
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), AppError> {
@@ -456,24 +455,9 @@ impl App {
         let view = self
             .state
             .view(&gfx.renderer.model().framing, gfx.view_size);
-        self.predictor.push(
-            self.frame,
-            Pose::of(&self.state.preset, self.state.turntable_deg),
-        );
-        let result = if self.state.preset.effect == crate::preset::Effect::Warp {
-            self.warp.frame(
-                &mut gfx.renderer,
-                &gfx.ctx,
-                &self.predictor,
-                &self.state,
-                &view,
-                self.frame,
-            )
-        } else {
-            self.warp.last_reference = None;
-            gfx.renderer
-                .render(&gfx.ctx.device, &gfx.ctx.queue, &self.state.preset, &view)
-        };
+        let result = self
+            .warp
+            .draw(&mut gfx.renderer, &gfx.ctx, &self.state, &view, self.frame);
         match result {
             Ok(stats) => self.stats = stats,
             Err(e) => self.status = Some(format!("error: {e}")),

@@ -16,8 +16,10 @@ use web_time::Instant;
 /// predicted k frames ahead, warped frames between, and (native only) now and then a full
 /// render to measure the last warped frame. Full frames (shown, and measured against) use
 /// the warp's antialiasing, as references and warped frames do.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct WarpLive {
+    /// The camera's recent poses, for the reference k frames ahead.
+    pub predictor: CameraPredictor,
     /// Frame of the last pair of references.
     pub last_reference: Option<u64>,
     /// Smoothed time of a full frame (references), ms (GPU waited for where the platform
@@ -36,6 +38,30 @@ fn smooth(avg: f64, x: f64) -> f64 {
 }
 
 impl WarpLive {
+    /// One frame of the viewer into `renderer`'s target, as the window and the page draw
+    /// it: the camera's pose is recorded for prediction, then the warp effect warps
+    /// ([`WarpLive::frame`]) and every other effect renders.
+    ///
+    /// # Errors
+    /// GPU or technique errors from the renderer.
+    pub fn draw(
+        &mut self,
+        renderer: &mut Renderer,
+        ctx: &npr_gpu::GpuContext,
+        state: &ViewerState,
+        view: &View,
+        frame: u64,
+    ) -> Result<FrameStats, AppError> {
+        self.predictor
+            .push(frame, Pose::of(&state.preset, state.turntable_deg));
+        if state.preset.effect == crate::preset::Effect::Warp {
+            self.frame(renderer, ctx, state, view, frame)
+        } else {
+            self.last_reference = None;
+            renderer.render(&ctx.device, &ctx.queue, &state.preset, view)
+        }
+    }
+
     /// One frame of live warping into `renderer`'s target: at `frame` a pair of references
     /// is due every `preset.warp.k` frames (that frame is the full render), else the frame
     /// is warped from the two references around it.
@@ -46,7 +72,6 @@ impl WarpLive {
         &mut self,
         renderer: &mut Renderer,
         ctx: &npr_gpu::GpuContext,
-        predictor: &CameraPredictor,
         state: &ViewerState,
         view: &View,
         frame: u64,
@@ -63,7 +88,8 @@ impl WarpLive {
             // The references: now, and where the camera will be in k frames.
             let started = Instant::now();
             renderer.warp_reference(device, queue, preset, view)?;
-            let ahead = predictor
+            let ahead = self
+                .predictor
                 .predict(k as f32)
                 .unwrap_or(Pose::of(preset, state.turntable_deg));
             let mut future = preset.clone();
