@@ -33,7 +33,13 @@ struct Hatch {
 // sides of a uniform branch). `HatchPass` builds the four variants and picks one.
 override SURFACE: bool = false;
 override SHORT_STROKES: bool = false;
-// The tonal art map, one R8Unorm layer per tone, light to dark; fetched nearest.
+// Which surface anchors the variant reads (issue 21): 2 = both, cross-faded by the
+// G-buffer's weight; 0 or 1 = that anchor alone, for a frame whose weight is 0 or 1 on
+// every pixel (`ScenePasses::anchor_weight`), with the same result as 2 there.
+override ANCHORS: u32 = 2u;
+// The tonal art map as tone pairs (`TonalArtMap::upload_tone_pairs`): layer s holds slice
+// s in r and slice s + 1 in g (Rg8Unorm), light to dark; fetched nearest, one fetch per
+// rotated position for both slices the tone blends.
 @group(0) @binding(1) var tam: texture_2d_array<f32>;
 // The G-buffer: r = tone (1 = paper), g = theta in [0, pi), b = weight of anchor 1,
 // a = 1 + the direction field's turn rate in rad/pixel on surfaces, 0 elsewhere.
@@ -52,14 +58,18 @@ fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32, k: f32) -> f32 
     let v = cs.y * p.x + cs.x * p.y;
     let mask = i32(hatch.config.z);
     let t = vec2<i32>(i32(floor(u)) & mask, i32(floor(v)) & mask);
-    let t0 = textureLoad(tam, t, slice, 0).r;
-    let t1 = textureLoad(tam, t, slice + 1, 0).r;
-    return t0 + (t1 - t0) * a;
+    let pair = textureLoad(tam, t, slice, 0).rg;
+    return pair.x + (pair.y - pair.x) * a;
 }
 
+// Bin k's (cos, sin) / stroke scale, k taken modulo the bin count. The modulo is
+// k - n*floor(k/n) in floats, exact for any |k| below 2^20 (k/n is then at least 1/n away
+// from the next integer or exactly on it), because integer `%` has no vector instruction
+// and a software rasterizer runs it lane by lane (issue 21). The CPU twin indexes the
+// same bin (`CpuHatcher::bin_cs`, `rem_euclid`).
 fn bin_cs(k: i32, offset: bool) -> vec2<f32> {
-    let n = i32(hatch.config.x);
-    let b = hatch.bins[((k % n) + n) % n];
+    let n = f32(hatch.config.x);
+    let b = hatch.bins[k - i32(n) * i32(floor(f32(k) / n))];
     if offset {
         return b.zw;
     }
@@ -138,6 +148,14 @@ fn length_blended(p: vec2<f32>, tone: f32, theta: f32, turn: f32) -> f32 {
 // views are re-taken in turn, so the scale never drifts far). Mirrors
 // `CpuHatcher::anchored_coverage`.
 fn anchored_coverage(an: vec4<f32>, w: f32, tone: f32, theta: f32, turn: f32) -> f32 {
+    // Outside the cross-fade: one anchor's lookups, not both (lavapipe runs both sides of
+    // a per-pixel branch, so the variant is chosen per frame on the CPU).
+    if ANCHORS == 0u {
+        return length_blended(an.xy, tone, theta, turn);
+    }
+    if ANCHORS == 1u {
+        return length_blended(an.zw, tone, theta, turn);
+    }
     var c0 = 0.0;
     var c1 = 0.0;
     if w < 1.0 {
@@ -147,6 +165,17 @@ fn anchored_coverage(an: vec4<f32>, w: f32, tone: f32, theta: f32, turn: f32) ->
         c1 = length_blended(an.zw, tone, theta, turn);
     }
     return c0 + (c1 - c0) * w;
+}
+
+// `vs_fullscreen` at the far plane (depth 1), for the pass that tests against the scene's
+// G-buffer depth (`HatchPass::record_scene`): the background (depth cleared to 1) fails
+// `Greater` and is never shaded, its paper colour coming from the pass's clear.
+@vertex
+fn vs_fullscreen_far(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    var out: FullscreenOut;
+    out.clip = vec4<f32>(uv * 2.0 - 1.0, 1.0, 1.0);
+    return out;
 }
 
 @fragment

@@ -82,7 +82,20 @@ impl HatchFrame {
     ) {
         self.scene.record_shadow(encoder, objects);
         self.scene.record_gbuffer(encoder, &self.gbuffer, objects);
-        self.hatch.record(encoder, target, &self.hatch_group);
+        self.record_hatching(encoder, target);
+    }
+
+    /// Records the frame's hatching pass alone, over the G-buffer recorded before it
+    /// ([`HatchPass::record_scene`]: the background unshaded, one anchor outside the
+    /// cross-fade).
+    pub fn record_hatching(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView) {
+        self.hatch.record_scene(
+            encoder,
+            target,
+            &self.hatch_group,
+            &self.gbuffer,
+            self.scene.anchor_weight(),
+        );
     }
 
     /// Records the comparison frame: the same shadow map, then Phong + VSM as colour.

@@ -10,6 +10,7 @@
 use crate::inputs::pixel_count;
 use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
 use npr_gpu::render::{self, PipelineBuilder};
+use std::sync::OnceLock;
 
 /// Format of the G-buffer: r = tone, g = θ, b = weight of the second surface anchor,
 /// a = 1 + the stroke direction's turn rate (rad/pixel) on surfaces, 0 on the background, full 32-bit floats (so θ's bin and the
@@ -226,8 +227,13 @@ impl GBuffer {
 /// own renderer.
 #[derive(Debug)]
 pub struct HatchPass {
-    /// Variants by (surface space, short strokes): index `2·surface + short`.
-    pipelines: Vec<wgpu::RenderPipeline>,
+    /// Pipeline variants by [`Variant::index`], compiled on first use (a software
+    /// adapter compiles each in tens of milliseconds; a frame uses one or two).
+    pipelines: Vec<OnceLock<wgpu::RenderPipeline>>,
+    device: wgpu::Device,
+    module: wgpu::ShaderModule,
+    pipeline_layout: wgpu::PipelineLayout,
+    target_format: wgpu::TextureFormat,
     layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
     tam_view: wgpu::TextureView,
@@ -264,38 +270,19 @@ impl HatchPass {
             ],
         });
         let pipeline_layout = render::pipeline_layout(device, "npr hatching", &[&layout]);
-        let targets = [Some(target_format.into())];
-        let variant = |surface: bool, short: bool| {
-            let constants = [
-                ("SURFACE", f64::from(u8::from(surface))),
-                ("SHORT_STROKES", f64::from(u8::from(short))),
-            ];
-            PipelineBuilder::new(
-                "npr hatching fs_hatch",
-                &pipeline_layout,
-                &module,
-                "vs_fullscreen",
-                "fs_hatch",
-            )
-            .constants(&constants)
-            .targets(&targets)
-            .build(device)
-        };
-        let pipelines = vec![
-            variant(false, false),
-            variant(false, true),
-            variant(true, false),
-            variant(true, true),
-        ];
         let uniforms = render::uniform_buffer_init(device, "npr hatching uniforms", &u);
-        let tam_view = tam
-            .upload(device, queue)
-            .create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            });
+        let tam_view =
+            tam.upload_tone_pairs(device, queue)
+                .create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                });
         Ok(Self {
-            pipelines,
+            pipelines: (0..Variant::COUNT).map(|_| OnceLock::new()).collect(),
+            device: device.clone(),
+            module,
+            pipeline_layout,
+            target_format,
             layout,
             uniforms,
             tam_view,
@@ -337,12 +324,12 @@ impl HatchPass {
     ) -> Result<(), HatchError> {
         let u = HatchUniforms::new(&self.params, tam)?;
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
-        self.tam_view = tam
-            .upload(device, queue)
-            .create_view(&wgpu::TextureViewDescriptor {
-                dimension: Some(wgpu::TextureViewDimension::D2Array),
-                ..Default::default()
-            });
+        self.tam_view =
+            tam.upload_tone_pairs(device, queue)
+                .create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                });
         self.tam = tam.clone();
         Ok(())
     }
@@ -383,18 +370,73 @@ impl HatchPass {
         })
     }
 
+    /// The pipeline of `variant`, compiled the first time it is asked for.
+    fn pipeline(&self, variant: Variant) -> Option<&wgpu::RenderPipeline> {
+        let cell = self.pipelines.get(variant.index())?;
+        Some(cell.get_or_init(|| {
+            let constants = [
+                ("SURFACE", f64::from(u8::from(variant.surface))),
+                ("SHORT_STROKES", f64::from(u8::from(variant.short))),
+                ("ANCHORS", f64::from(variant.anchors)),
+            ];
+            let targets = [Some(self.target_format.into())];
+            let vs = if variant.masked {
+                "vs_fullscreen_far"
+            } else {
+                "vs_fullscreen"
+            };
+            let builder = PipelineBuilder::new(
+                "npr hatching fs_hatch",
+                &self.pipeline_layout,
+                &self.module,
+                vs,
+                "fs_hatch",
+            )
+            .constants(&constants)
+            .targets(&targets);
+            if variant.masked {
+                builder
+                    .depth(npr_gpu::DEPTH_FORMAT, false, wgpu::CompareFunction::Greater)
+                    .build(&self.device)
+            } else {
+                builder.build(&self.device)
+            }
+        }))
+    }
+
+    /// The variant for the current parameters, a frame-wide anchor-1 weight (`None`: read
+    /// the G-buffer's per-pixel weight, both anchors) and the depth mask.
+    fn variant(&self, anchor_weight: Option<f32>, masked: bool) -> Variant {
+        let surface = self.params.space == crate::StrokeSpace::Surface;
+        let anchors = match anchor_weight {
+            Some(w) if surface && w == 0.0 => 0,
+            Some(w) if surface && w == 1.0 => 1,
+            _ => 2,
+        };
+        Variant {
+            surface,
+            short: self.params.stroke_length.is_some(),
+            anchors,
+            masked,
+        }
+    }
+
     /// Records the full-screen hatching draw into the caller's render pass (whose colour
     /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
-        let surface = self.params.space == crate::StrokeSpace::Surface;
-        let short = self.params.stroke_length.is_some();
-        let Some(pipeline) = self
-            .pipelines
-            .get(2 * usize::from(surface) + usize::from(short))
-        else {
+        self.draw_variant(pass, bind_group, self.variant(None, false));
+    }
+
+    fn draw_variant(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        bind_group: &wgpu::BindGroup,
+        variant: Variant,
+    ) {
+        let Some(pipeline) = self.pipeline(variant) else {
             return;
         };
         pass.set_pipeline(pipeline);
@@ -416,6 +458,67 @@ impl HatchPass {
             wgpu::LoadOp::Clear(wgpu::Color::WHITE),
         );
         self.draw(&mut pass, bind_group);
+    }
+
+    /// Records the hatching pass of a scene frame (issue 21): as [`HatchPass::record`],
+    /// for a `gbuffer` written by [`crate::ScenePasses::record_gbuffer`] in the same frame
+    /// and bound in `bind_group`, with `anchor_weight` the weight of anchor 1 that pass
+    /// wrote on every pixel ([`crate::ScenePasses::anchor_weight`]). Two savings, the
+    /// image unchanged:
+    /// - the background is not shaded: the draw sits at the far plane and tests `Greater`
+    ///   against the G-buffer's depth (cleared to 1), and the pass clears `target` to the
+    ///   paper colour, which is what the shader writes where there is no ink;
+    /// - outside the cross-fade (weight 0 or 1) a variant reads only the weighted anchor
+    ///   (lavapipe runs both sides of a per-pixel branch, so the choice is made here).
+    pub fn record_scene(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        target: &wgpu::TextureView,
+        bind_group: &wgpu::BindGroup,
+        gbuffer: &GBuffer,
+        anchor_weight: f32,
+    ) {
+        let [r, g, b] = self.params.paper;
+        let mut pass = render::begin_pass(
+            encoder,
+            "npr hatching (scene)",
+            &[Some(render::color_attachment(
+                target,
+                render::clear_color([f64::from(r), f64::from(g), f64::from(b), 1.0]),
+            ))],
+            Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &gbuffer.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+        );
+        let variant = self.variant(Some(anchor_weight), true);
+        self.draw_variant(&mut pass, bind_group, variant);
+    }
+}
+
+/// One compiled form of the hatching shader: its pipeline-overridable constants (see
+/// `shaders/hatching.wgsl`) and whether it draws at the far plane against a depth buffer.
+#[derive(Clone, Copy, Debug)]
+struct Variant {
+    surface: bool,
+    short: bool,
+    /// 0 or 1: that anchor alone; 2: both, cross-faded.
+    anchors: u8,
+    masked: bool,
+}
+
+impl Variant {
+    const COUNT: usize = 2 * 2 * 3 * 2;
+
+    fn index(self) -> usize {
+        ((usize::from(self.surface) * 2 + usize::from(self.short)) * 3
+            + usize::from(self.anchors.min(2)))
+            * 2
+            + usize::from(self.masked)
     }
 }
 

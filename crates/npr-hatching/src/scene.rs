@@ -522,6 +522,23 @@ impl ScenePasses {
         (slot, taken, (c % n) as f32 / n as f32)
     }
 
+    /// The weight of anchor 1 at frame `c` (anchor 0 gets 1 − it).
+    fn weight_b(&self, c: u64) -> f32 {
+        let (slot, _, w) = self.anchor_phase(c);
+        if slot == 1 { w } else { 1.0 - w }
+    }
+
+    /// The weight of anchor 1 that [`ScenePasses::record_gbuffer`] writes on every
+    /// surface pixel of the frame last set by [`ScenePasses::set_frame`] (0 before the
+    /// first): 0 or 1 outside the anchors' cross-fade, where the hatching pass reads one
+    /// anchor only ([`crate::HatchPass::record_scene`]).
+    pub fn anchor_weight(&self) -> f32 {
+        match self.frames.load(Ordering::Relaxed).checked_sub(1) {
+            Some(c) => self.weight_b(c),
+            None => 0.0,
+        }
+    }
+
     /// Writes the frame's camera, light and viewport size (pixels of the G-buffer or
     /// colour target drawn next), and advances the frame counter that schedules the
     /// surface anchors' reference views ([`ScenePasses::anchor_period`]): call once per
@@ -534,8 +551,7 @@ impl ScenePasses {
         viewport: (u32, u32),
     ) {
         let c = self.frames.fetch_add(1, Ordering::Relaxed);
-        let (slot, _, w) = self.anchor_phase(c);
-        let weight_b = if slot == 1 { w } else { 1.0 - w };
+        let weight_b = self.weight_b(c);
         queue.write_buffer(
             &self.coherence_buffer,
             0,

@@ -409,6 +409,48 @@ impl TonalArtMap {
             &self.texels,
         )
     }
+
+    /// Uploads the map for the hatching pass as a `size × size × (tones − 1)` `Rg8Unorm`
+    /// 2-D texture array: layer `s` holds slice `s` in r and slice `s + 1` in g, the two
+    /// slices the pass blends for a tone between them (the volume lookup of the paper's
+    /// §3.1, without mipmaps), so one fetch reads both: half the texture fetches of one
+    /// `R8Unorm` layer per slice (issue 21), the same texel values.
+    pub fn upload_tone_pairs(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::Texture {
+        use wgpu::util::DeviceExt;
+        let area = (self.params.size * self.params.size) as usize;
+        let layers = self.params.tones.saturating_sub(1).max(1);
+        let mut pairs = Vec::with_capacity(area * 2 * layers as usize);
+        for s in 0..layers {
+            let (a, b) = match (self.slice(s), self.slice(s + 1)) {
+                (Some(a), Some(b)) => (a, b),
+                _ => break,
+            };
+            for (&x, &y) in a.iter().zip(b) {
+                pairs.push(x);
+                pairs.push(y);
+            }
+        }
+        pairs.resize(area * 2 * layers as usize, 0);
+        device.create_texture_with_data(
+            queue,
+            &wgpu::TextureDescriptor {
+                label: Some("npr tonal art map (tone pairs)"),
+                size: wgpu::Extent3d {
+                    width: self.params.size,
+                    height: self.params.size,
+                    depth_or_array_layers: layers,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::Rg8Unorm,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            &pairs,
+        )
+    }
 }
 
 #[cfg(test)]

@@ -759,3 +759,62 @@ fn surface_hatching_keeps_density_under_dolly() {
         }
     }
 }
+
+/// The scene frame's hatching pass (`HatchPass::record_scene`, issue 21: background not
+/// shaded, one anchor outside the cross-fade) draws the image of the general pass
+/// (`HatchPass::record`: every pixel, both anchors cross-faded by the G-buffer's weight)
+/// on the same G-buffer, over a whole anchor schedule (weights 1, ¾, ½, ¼, 0, …) and with
+/// a coloured paper (the background is the pass's clear): at most 1 code value apart (the
+/// clear's sRGB encoding against the shader's), and equal on ≥ 99.9 % of pixels.
+#[test]
+fn scene_pass_draws_the_general_pass_image() {
+    let Some(ctx) = testing::context_or_skip("scene_pass_draws_the_general_pass_image") else {
+        return;
+    };
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 1.0);
+    for space in npr_hatching::StrokeSpace::ALL {
+        let mut rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
+        let params = HatchParams {
+            paper: [0.9, 0.8, 0.6],
+            ink: [0.1, 0.05, 0.2],
+            ..*rig.frame.hatch.params()
+        };
+        rig.frame.hatch.set_params(&ctx.queue, &params).unwrap();
+        let bind = rig.frame.hatch.bind(&ctx.device, &rig.frame.gbuffer);
+        let target = npr_gpu::OffscreenTarget::new(&ctx.device, RIG, RIG).unwrap();
+        let mut weights = Vec::new();
+        for t in 0..9 {
+            rig.object.update(
+                &ctx.queue,
+                &sphere_uniforms(Mat4::from_rotation_y(0.03 * t as f32)),
+            );
+            rig.frame.set_view(&ctx.queue, &camera, &sphere_light());
+            weights.push(rig.frame.scene.anchor_weight());
+            let scene = rig
+                .frame
+                .render_hatched(&ctx.device, &ctx.queue, &[(&rig.mesh, &rig.object)])
+                .unwrap();
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            rig.frame.hatch.record(&mut enc, &target.color_view, &bind);
+            ctx.queue.submit(Some(enc.finish()));
+            let general = npr_gpu::readback_rgba(&ctx.device, &ctx.queue, &target.color).unwrap();
+            let (mut worst, mut differ) = (0u32, 0usize);
+            for (p, q) in scene.pixels().zip(general.pixels()) {
+                let d = (0..4)
+                    .map(|c| (i32::from(p[c]) - i32::from(q[c])).unsigned_abs())
+                    .max()
+                    .unwrap_or(0);
+                worst = worst.max(d);
+                differ += usize::from(d > 0);
+            }
+            let share = differ as f64 / f64::from(RIG * RIG);
+            eprintln!("{space:?} frame {t}: worst {worst}, differing {share:.5}");
+            assert!(
+                worst <= 1 && share <= 0.001,
+                "{space:?} frame {t}: {worst}, {share}"
+            );
+        }
+        assert!(weights.contains(&0.0) && weights.contains(&1.0) && weights.contains(&0.5));
+    }
+}

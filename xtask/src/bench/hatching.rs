@@ -23,7 +23,8 @@ use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
 use npr_hatching::figures::directions;
 use npr_hatching::{
-    CpuHatcher, HatchFrame, HatchParams, ShadowLight, TamParams, TonalArtMap, VsmSettings,
+    CpuHatcher, HatchFrame, HatchParams, ShadowLight, StrokeSpace, TamParams, TonalArtMap,
+    VsmSettings,
 };
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -119,14 +120,13 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     let adapter = ctx.adapter.get_info().name;
     println!("bench hatching: adapter {}", ctx.adapter_summary());
     let tam = TonalArtMap::generate(&TamParams::pen())?;
-    let params = HatchParams::default();
-    let cpu = CpuHatcher::new(&tam, &params)?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut table = Table::new(
         "image-space hatching: whole frame vs Phong + VSM frame (median, GPU waited each frame); \
          passes alone: one submit each, waited (wall time, no timestamp queries)",
         &[
             "scene",
+            "mode",
             "triangles",
             "width_px",
             "height_px",
@@ -149,7 +149,16 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "load_avg_1m",
         ],
     );
-    for w in workloads() {
+    let workloads = workloads();
+    for (w, space) in workloads
+        .iter()
+        .flat_map(|w| [StrokeSpace::Surface, StrokeSpace::Screen].map(move |s| (w, s)))
+    {
+        let params = HatchParams {
+            space,
+            ..HatchParams::default()
+        };
+        let cpu = CpuHatcher::new(&tam, &params)?;
         let (width, height) = w.size;
         let frame = HatchFrame::new(
             &ctx.device,
@@ -175,7 +184,6 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             Vec3::new(0.0, 0.3, 0.0),
             width as f32 / height as f32,
         );
-        frame.set_view(&ctx.queue, &camera, &w.light);
         let target = OffscreenTarget::new(&ctx.device, width, height)?;
         let wait = || {
             ctx.device
@@ -185,7 +193,6 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         };
         let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
         let mut passes_t: [Vec<Duration>; 4] = Default::default();
-        let hatch_group = frame.hatch.bind(&ctx.device, &frame.gbuffer);
         // Records with `record`, submits, waits: the wall time of that work alone.
         let timed = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> anyhow::Result<Duration> {
             let t = Instant::now();
@@ -195,15 +202,21 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             wait()?;
             Ok(t.elapsed())
         };
-        let bar = super::progress(w.frames as u64 + 2, w.name);
+        let bar = super::progress(
+            w.frames as u64 + 2,
+            &format!("{} ({})", w.name, space.name()),
+        );
         // Two warm-up frames of each, then alternate.
         for i in 0..w.frames + 2 {
+            // One displayed frame each: advances the surface anchors' schedule (and so
+            // their cross-fade) as an application does.
+            frame.set_view(&ctx.queue, &camera, &w.light);
             let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects))?;
             let phong = timed(&|enc| frame.record_phong(enc, &target, &objects))?;
             let passes = [
                 timed(&|enc| frame.scene.record_shadow(enc, &objects))?,
                 timed(&|enc| frame.scene.record_gbuffer(enc, &frame.gbuffer, &objects))?,
-                timed(&|enc| frame.hatch.record(enc, &target.color_view, &hatch_group))?,
+                timed(&|enc| frame.record_hatching(enc, &target.color_view))?,
                 timed(&|enc| {
                     frame.scene.record_phong(
                         enc,
@@ -255,6 +268,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let mpix_inked = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
         table.push(vec![
             w.name.into(),
+            space.name().into(),
             triangles.into(),
             width.into(),
             height.into(),
