@@ -41,7 +41,8 @@ enum Command {
     },
     /// Regenerate fixtures/ from the code that defines them.
     Fixtures,
-    /// Find (and on Debian/Ubuntu as root, install) a GPU adapter and Xvfb; print them.
+    /// Find (and on Debian/Ubuntu as root, install) a GPU adapter, Xvfb and Chromium; print
+    /// them.
     Doctor,
     /// Per-vertex principal curvatures of a model, as CSV (an alias of `npr curvature`).
     Curvature(npr_app::curvature::CurvatureArgs),
@@ -81,6 +82,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);
             gpu_setup::ensure_xvfb()?;
             println!("xvfb-run: found (the windowed `npr view` test runs under it)");
+            gpu_setup::ensure_chromium()?;
+            println!("chromium, chromedriver: found (the browser test drives them)");
             Ok(())
         }
         Command::Curvature(args) => Ok(npr_app::curvature::run(args)?),
