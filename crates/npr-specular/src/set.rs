@@ -18,7 +18,9 @@
 //! - a merged or suppressed highlight fades out like a lost one.
 
 use crate::projector::eq8_footprint;
-use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower};
+use crate::region::{
+    Footprint, Region, RegionCounts, RegionFrame, RegionGrower, RegionPatches,
+};
 use crate::visibility::{
     FaceClusters, Facing, VisibilityScratch, face_slack, receivers_within_clustered,
 };
@@ -306,6 +308,7 @@ impl HighlightSet {
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
         let radius_bound = bounding_radius(&topology);
         let face_clusters = FaceClusters::new(&topology);
+        let grower = RegionGrower::with_patches(RegionPatches::new(&topology, search.normals()));
         Self {
             radius_object: field.radius_world.max(0.15 * radius_bound),
             size_cap_radius: None,
@@ -330,7 +333,7 @@ impl HighlightSet {
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
             face_clusters,
-            grower: RegionGrower::default(),
+            grower,
             radius_bound,
             next_id: 0,
             stats: UpdateStats::default(),
@@ -654,6 +657,9 @@ impl HighlightSet {
                 &mut self.receiver_faces,
             );
             h.receivers = start..self.receiver_faces.len();
+            if std::env::var_os("NPR_DEBUG_VIS").is_some() {
+                eprintln!("vis {} runs {}", h.receivers.len(), self.scratch.runs_taken());
+            }
         }
         self.share_regions(&mut kept);
         let live: std::collections::HashSet<u64> = kept.iter().map(|h| h.id).collect();
