@@ -691,10 +691,20 @@ impl RegionPatches {
                     let v = 0.5 * (d[1] - d[0]).cross(d[2] - d[0]);
                     let p = d[0] + d[1] + d[2];
                     let centroid = p / 3.0;
-                    let outer = |a: DVec3, b: DVec3| [a.x * b.x, a.x * b.y, a.x * b.z, a.y * b.y, a.y * b.z, a.z * b.z];
+                    // q qᵀ as (xx, xy, xz, yy, yz, zz).
+                    let outer = |q: DVec3| {
+                        [
+                            q.x * q.x,
+                            q.x * q.y,
+                            q.x * q.z,
+                            q.y * q.y,
+                            q.y * q.z,
+                            q.z * q.z,
+                        ]
+                    };
                     let mut kf = [0f64; 6];
                     for q in [d[0], d[1], d[2], p] {
-                        for (x, y) in kf.iter_mut().zip(outer(q, q)) {
+                        for (x, y) in kf.iter_mut().zip(outer(q)) {
                             *x += y / 12.0;
                         }
                     }
@@ -734,7 +744,7 @@ impl RegionPatches {
     fn whole(&self, c: usize, ctx: &GrowContext<'_>, part: &Part) -> Option<Moments> {
         let p = &self.patches[c];
         let (n, e_u, e_v) = part.frame;
-        if !p.usable || !(part.sigma >= 0.0) {
+        if !p.usable || part.sigma.is_nan() || part.sigma < 0.0 {
             return None;
         }
         let m = ctx.normal_from_object;
@@ -760,7 +770,8 @@ impl RegionPatches {
         let sin = (1.0 - cos * cos).max(0.0).sqrt();
         let (ss, cs) = p.normal_spread;
         let lowest = cos * cs - sin * ss;
-        if !(lowest - delta >= part.sigma + PATCH_MARGIN) {
+        let inside = lowest - delta >= part.sigma + PATCH_MARGIN; // false for NaN
+        if !inside {
             return None;
         }
         // q = A p + b on the plane, A = (e_u, e_v)ᵀ L, b = (e_u, e_v)ᵀ (M c₀ − origin).

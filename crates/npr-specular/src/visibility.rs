@@ -18,10 +18,10 @@ pub struct VisibilityScratch {
     stamp: Vec<u32>,
     generation: u32,
     queue: VecDeque<u32>,
-    /// Per-vertex cache of projector coordinates, valid where `vertex_stamp` equals the
+    /// Per-vertex cache of projector coordinates, valid where its stamp equals the
     /// current generation (a vertex is shared by about six faces).
-    vertex_stamp: Vec<u32>,
-    vertex_ndc: Vec<Vec3>,
+    /// (stamp, coordinates) together: one cache access per vertex.
+    vertex_ndc: Vec<(u32, Vec3)>,
     /// Per [`FaceClusters`] cluster: decided this generation.
     cluster_stamp: Vec<u32>,
     /// Patches taken whole by the last search.
@@ -31,19 +31,18 @@ pub struct VisibilityScratch {
 impl VisibilityScratch {
     fn begin(&mut self, faces: usize, vertices: usize, clusters: usize) -> u32 {
         if self.stamp.len() != faces
-            || self.vertex_stamp.len() != vertices
+            || self.vertex_ndc.len() != vertices
             || self.cluster_stamp.len() != clusters
         {
             self.stamp = vec![0; faces];
-            self.vertex_stamp = vec![0; vertices];
-            self.vertex_ndc = vec![Vec3::ZERO; vertices];
+            self.vertex_ndc = vec![(0, Vec3::ZERO); vertices];
             self.cluster_stamp = vec![0; clusters];
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
             self.stamp.fill(0);
-            self.vertex_stamp.fill(0);
+            self.vertex_ndc.fill((0, Vec3::ZERO));
             self.cluster_stamp.fill(0);
             self.generation = 1;
         }
@@ -294,7 +293,6 @@ fn receivers_impl(
     let VisibilityScratch {
         stamp,
         queue,
-        vertex_stamp,
         vertex_ndc,
         cluster_stamp,
         runs_taken,
@@ -359,17 +357,19 @@ fn receivers_impl(
         let t = topology.triangles[f];
         let mut q = [Vec3::ZERO; 3];
         for (qk, &v) in q.iter_mut().zip(&t) {
-            let v = v as usize;
-            if vertex_stamp[v] != generation {
-                vertex_stamp[v] = generation;
-                let p = topology.positions[v];
-                vertex_ndc[v] = if affine {
-                    ndc_from_object.transform_point3(p)
-                } else {
-                    ndc_from_object.project_point3(p)
-                };
+            let cached = &mut vertex_ndc[v as usize];
+            if cached.0 != generation {
+                let p = topology.positions[v as usize];
+                *cached = (
+                    generation,
+                    if affine {
+                        ndc_from_object.transform_point3(p)
+                    } else {
+                        ndc_from_object.project_point3(p)
+                    },
+                );
             }
-            *qk = vertex_ndc[v];
+            *qk = cached.1;
         }
         overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
