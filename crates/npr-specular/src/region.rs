@@ -80,6 +80,10 @@ pub struct RegionGrower {
     /// decided in.
     patches: Option<std::sync::Arc<RegionPatches>>,
     patch_stamp: Vec<u32>,
+    /// Per face stamped this frame, the seed that reached it; and whether a seed reached
+    /// a face another had (the regions met).
+    face_seed: Vec<u32>,
+    met: bool,
     /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
     pieces: Vec<Footprint>,
     piece_ranges: Vec<std::ops::Range<usize>>,
@@ -104,6 +108,9 @@ pub struct RegionCounts {
     pub patches: usize,
     /// Faces in the patches taken whole.
     pub patch_faces: usize,
+    /// 1 when regions met and were grown again face by face (so shared out as without
+    /// patches).
+    pub regrown: usize,
 }
 
 /// Everything of the current frame the growth needs.
@@ -258,7 +265,11 @@ impl RegionGrower {
             if self.patch_stamp.len() != p.patches.len() {
                 self.patch_stamp = vec![0; p.patches.len()];
             }
+            if self.face_seed.len() != topo.face_count() {
+                self.face_seed = vec![0; topo.face_count()];
+            }
         }
+        self.met = false;
         let patches = patches.as_deref();
         let mut parts: Vec<Part> = Vec::with_capacity(seeds.len());
         self.queue.clear();
@@ -285,6 +296,9 @@ impl RegionGrower {
                 continue;
             }
             self.face_visit[start] = self.frame;
+            if let Some(s) = self.face_seed.get_mut(start) {
+                *s = k as u32;
+            }
             // A seed's own patch is measured face by face (its face is taken already).
             if let Some(p) = patches {
                 let c = p.clusters.cluster_of[start];
@@ -342,6 +356,16 @@ impl RegionGrower {
                 self.enter(nb, k, &mut parts, &ctx, patches, &mut total);
             }
         }
+        // Where regions met, which centre a face goes to depends on the order faces are
+        // reached in, and a whole patch is reached at once: grow face by face then, so
+        // that shared regions are shared out exactly as without patches.
+        if self.met && self.counts.patches > 0 {
+            let patches = self.patches.take();
+            let out = self.grow_all(f, seeds);
+            self.patches = patches;
+            self.counts.regrown = 1;
+            return out;
+        }
         // Whole patches' normal cones: the exact smallest cos over their vertices where
         // the patch's bound does not already clear the part's cone.
         let mut t = 0;
@@ -398,10 +422,14 @@ impl RegionGrower {
     ) {
         let gi = g as usize;
         if self.face_visit[gi] == self.frame {
+            if patches.is_some() && self.face_seed[gi] != k {
+                self.met = true;
+            }
             return;
         }
         self.face_visit[gi] = self.frame;
         if let Some(p) = patches {
+            self.face_seed[gi] = k;
             let c = p.clusters.cluster_of[gi];
             // A patch is decided once per frame, at the first of its faces reached: no
             // face of it is stamped before (faces are stamped only here, after the
@@ -413,6 +441,7 @@ impl RegionGrower {
                     let cluster = &p.clusters.clusters[c as usize];
                     for &h in &p.clusters.faces[cluster.faces.clone()] {
                         self.face_visit[h as usize] = self.frame;
+                        self.face_seed[h as usize] = k;
                     }
                     let count = cluster.faces.len();
                     part.moments.add(&m);
