@@ -84,6 +84,9 @@ pub struct RegionGrower {
     /// a face another had (the regions met).
     face_seed: Vec<u32>,
     met: bool,
+    /// Growths left to make face by face after regions met (they meet again in the
+    /// next frames, mostly: a growth with patches would be made twice).
+    patch_pause: u32,
     /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
     pieces: Vec<Footprint>,
     piece_ranges: Vec<std::ops::Range<usize>>,
@@ -257,10 +260,12 @@ impl RegionGrower {
         }
         let normal_from_object = m3.inverse().transpose();
         // Whole patches only under a similarity (cones keep their angles) and for this mesh.
+        let paused = self.patch_pause > 0;
+        self.patch_pause = self.patch_pause.saturating_sub(1);
         let patches = self
             .patches
             .clone()
-            .filter(|p| p.clusters.face_count == topo.face_count() && is_similarity(m3));
+            .filter(|p| !paused && p.clusters.face_count == topo.face_count() && is_similarity(m3));
         if let Some(p) = &patches {
             if self.patch_stamp.len() != p.patches.len() {
                 self.patch_stamp = vec![0; p.patches.len()];
@@ -364,6 +369,7 @@ impl RegionGrower {
             let out = self.grow_all(f, seeds);
             self.patches = patches;
             self.counts.regrown = 1;
+            self.patch_pause = PATCH_PAUSE;
             return out;
         }
         // Whole patches' normal cones: the exact smallest cos over their vertices where
@@ -612,6 +618,10 @@ impl RegionGrower {
             .unwrap_or(&[])
     }
 }
+
+/// Growths made face by face after one where regions met (exact either way: the face by
+/// face growth is the reference).
+const PATCH_PAUSE: u32 = 8;
 
 /// Marks a queue or taken entry as a patch (else a face).
 const PATCH_BIT: u32 = 1 << 31;
