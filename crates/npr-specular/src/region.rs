@@ -66,22 +66,27 @@ pub enum Region {
 #[derive(Clone, Debug, Default)]
 pub struct RegionGrower {
     frame: u32,
-    vertex_frame: Vec<u32>,
-    vertex_world: Vec<Vec3>,
-    vertex_normal: Vec<Vec3>,
-    /// Unit `H(p_v)` at the vertex (world frame).
-    vertex_h: Vec<Vec3>,
-    /// `N_v·H(p_v)` at the vertex.
-    vertex_nh: Vec<f32>,
-    /// Distances to the light and the eye and `|L̂ + V̂|` at the vertex (point light and
-    /// eye; zero for directions).
-    vertex_dist: Vec<[f32; 3]>,
+    /// Per vertex, its values this frame (one cache line each: a face reads three).
+    vertices: Vec<VertexCache>,
     face_visit: Vec<u32>,
     queue: VecDeque<(u32, u32)>,
     /// Faces classified whole (inside or outside) and on the sub-grid, last frame.
     counts: RegionCounts,
-    /// Per face taken this frame: its seed and its share of that seed's moments.
-    face_moments: Vec<(u32, Moments)>,
+    /// Per face or whole patch taken this frame: its seed, the face (or the patch, with
+    /// [`PATCH_BIT`]) and its share of the seed's moments (a bent region's pieces are cut
+    /// from them).
+    taken: Vec<(u32, u32, Moments)>,
+    /// Whole patches ([`RegionGrower::with_patches`]) and, per patch, the frame it was
+    /// decided in.
+    patches: Option<std::sync::Arc<RegionPatches>>,
+    patch_stamp: Vec<u32>,
+    /// Per face stamped this frame, the seed that reached it; and whether a seed reached
+    /// a face another had (the regions met).
+    face_seed: Vec<u32>,
+    met: bool,
+    /// Growths left to make face by face after regions met (they meet again in the
+    /// next frames, mostly: a growth with patches would be made twice).
+    patch_pause: u32,
     /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
     pieces: Vec<Footprint>,
     piece_ranges: Vec<std::ops::Range<usize>>,
@@ -102,6 +107,13 @@ pub struct RegionCounts {
     pub linear: usize,
     /// Faces the boundary may cross where the field is curved, clipped on the sub-grid.
     pub grid: usize,
+    /// Patches taken whole ([`RegionPatches`]) and the faces in them.
+    pub patches: usize,
+    /// Faces in the patches taken whole.
+    pub patch_faces: usize,
+    /// 1 when regions met and were grown again face by face (so shared out as without
+    /// patches).
+    pub regrown: usize,
 }
 
 /// Everything of the current frame the growth needs.
@@ -132,19 +144,25 @@ pub const MAX_PIECES: usize = 6;
 const MAX_REGION_FACES: usize = 200_000;
 
 impl RegionGrower {
+    /// A grower that takes whole patches of faces where it can ([`RegionPatches`], built
+    /// for the mesh and the normals of the frames it will grow on).
+    pub fn with_patches(patches: RegionPatches) -> Self {
+        Self {
+            patches: Some(std::sync::Arc::new(patches)),
+            ..Self::default()
+        }
+    }
+
     /// Starts a frame: forgets the vertex values and face marks of the last one.
     fn begin_frame(&mut self, topology: &Topology) {
         let (nv, nf) = (topology.vertex_count(), topology.face_count());
-        if self.vertex_frame.len() != nv || self.face_visit.len() != nf {
+        if self.vertices.len() != nv || self.face_visit.len() != nf {
             #[cfg(test)]
             let exact = self.exact;
+            let patches = self.patches.take();
             *self = Self {
-                vertex_frame: vec![0; nv],
-                vertex_world: vec![Vec3::ZERO; nv],
-                vertex_normal: vec![Vec3::ZERO; nv],
-                vertex_h: vec![Vec3::ZERO; nv],
-                vertex_nh: vec![0.0; nv],
-                vertex_dist: vec![[0.0; 3]; nv],
+                patches,
+                vertices: vec![VertexCache::default(); nv],
                 face_visit: vec![0; nf],
                 ..Self::default()
             };
@@ -155,8 +173,9 @@ impl RegionGrower {
         }
         self.frame = self.frame.wrapping_add(1);
         if self.frame == 0 {
-            self.vertex_frame.fill(0);
+            self.vertices.fill(VertexCache::default());
             self.face_visit.fill(0);
+            self.patch_stamp.fill(0);
             self.frame = 1;
         }
     }
@@ -169,35 +188,46 @@ impl RegionGrower {
         normal_from_object: Mat3,
         v: usize,
     ) -> (Vec3, Vec3, f32) {
-        if self.vertex_frame[v] != self.frame {
+        if self.vertices[v].frame != self.frame {
             self.compute_vertex(f, normal_from_object, v);
         }
-        (
-            self.vertex_world[v],
-            self.vertex_normal[v],
-            self.vertex_nh[v],
-        )
+        let c = &self.vertices[v];
+        (c.world, c.normal, c.nh)
     }
 
     #[inline(never)]
     fn compute_vertex(&mut self, f: &RegionFrame<'_>, normal_from_object: Mat3, v: usize) {
-        self.vertex_frame[v] = self.frame;
         let p = f
             .world_from_object
             .transform_point3(f.topology.positions[v]);
         let n = (normal_from_object * f.normals.get(v).copied().unwrap_or(Vec3::ZERO))
             .normalize_or_zero();
-        let h = half_vector(f.light_eye, p);
+        // H and, for a point light and eye, the distances to them and |L̂ + V̂| (one
+        // square root each).
+        let (h, dist) = match f.light_eye {
+            LightEye::Positions { light, eye } => {
+                let (l, e) = (light - p, eye - p);
+                let (dl, de) = (l.length(), e.length());
+                let s = l / dl + e / de;
+                let ds = s.length();
+                let h = if dl > 0.0 && de > 0.0 && ds > 0.0 && ds.is_finite() {
+                    s / ds
+                } else {
+                    half_vector(f.light_eye, p)
+                };
+                (h, [dl, de, ds])
+            }
+            LightEye::Directions { .. } => (half_vector(f.light_eye, p), [0.0; 3]),
+        };
         let nh = n.dot(h);
-        if let LightEye::Positions { light, eye } = f.light_eye {
-            let (l, e) = (light - p, eye - p);
-            let (dl, de) = (l.length(), e.length());
-            self.vertex_dist[v] = [dl, de, (l / dl + e / de).length()];
-        }
-        self.vertex_world[v] = p;
-        self.vertex_h[v] = h;
-        self.vertex_normal[v] = n;
-        self.vertex_nh[v] = if nh.is_finite() { nh } else { -1.0 };
+        self.vertices[v] = VertexCache {
+            frame: self.frame,
+            nh: if nh.is_finite() { nh } else { -1.0 },
+            world: p,
+            normal: n,
+            h,
+            dist,
+        };
     }
 
     /// How the faces of the last [`RegionGrower::grow_all`] were classified.
@@ -210,6 +240,12 @@ impl RegionGrower {
     /// holding several centres is shared between them (each face goes to the centre that
     /// reaches it first), and fits each part's footprint. A seed whose face an earlier
     /// seed already holds is [`Region::Covered`].
+    ///
+    /// With [`RegionGrower::with_patches`] the growth takes a whole patch of faces at once
+    /// where bounds prove every point of it inside the region (its moments summed from
+    /// per-patch tensors, [`RegionPatches`]), and goes down to faces only near the
+    /// boundary: the same faces and footprint as face by face for one region (tested); a
+    /// patch goes whole to the centre that reaches it first where regions are shared.
     pub fn grow_all(
         &mut self,
         f: &RegionFrame<'_>,
@@ -223,6 +259,23 @@ impl RegionGrower {
             return out;
         }
         let normal_from_object = m3.inverse().transpose();
+        // Whole patches only under a similarity (cones keep their angles) and for this mesh.
+        let paused = self.patch_pause > 0;
+        self.patch_pause = self.patch_pause.saturating_sub(1);
+        let patches = self
+            .patches
+            .clone()
+            .filter(|p| !paused && p.clusters.face_count == topo.face_count() && is_similarity(m3));
+        if let Some(p) = &patches {
+            if self.patch_stamp.len() != p.patches.len() {
+                self.patch_stamp = vec![0; p.patches.len()];
+            }
+            if self.face_seed.len() != topo.face_count() {
+                self.face_seed = vec![0; topo.face_count()];
+            }
+        }
+        self.met = false;
+        let patches = patches.as_deref();
         let mut parts: Vec<Part> = Vec::with_capacity(seeds.len());
         self.queue.clear();
         for (k, (centre, sigma)) in seeds.iter().enumerate() {
@@ -248,160 +301,99 @@ impl RegionGrower {
                 continue;
             }
             self.face_visit[start] = self.frame;
+            if let Some(s) = self.face_seed.get_mut(start) {
+                *s = k as u32;
+            }
+            // A seed's own patch is measured face by face (its face is taken already).
+            if let Some(p) = patches {
+                let c = p.clusters.cluster_of[start];
+                if c != u32::MAX {
+                    self.patch_stamp[c as usize] = self.frame;
+                }
+            }
             self.queue.push_back((start as u32, k as u32));
         }
         let mut total = 0usize;
         self.counts = RegionCounts::default();
-        self.face_moments.clear();
+        self.taken.clear();
         self.pieces.clear();
         self.piece_ranges.clear();
         self.piece_ranges.resize(seeds.len(), 0..0);
-        while let Some((face, k)) = self.queue.pop_front() {
-            let fi = face as usize;
-            let part = &parts[k as usize];
-            let (n, e_u, e_v) = part.frame;
-            if topo.is_degenerate(fi) || (normal_from_object * topo.face_normals[fi]).dot(n) <= 0.0
-            {
+        let ctx = GrowContext {
+            frame: *f,
+            normal_from_object,
+            scale: m3.determinant().abs().cbrt(),
+            linear: glam::DMat3::from_cols(
+                m3.x_axis.as_dvec3(),
+                m3.y_axis.as_dvec3(),
+                m3.z_axis.as_dvec3(),
+            ),
+            translation: f.world_from_object.w_axis.truncate().as_dvec3(),
+        };
+        while total < MAX_REGION_FACES {
+            let Some((item, k)) = self.queue.pop_front() else {
+                break;
+            };
+            if item & PATCH_BIT != 0 {
+                // A patch taken whole: go on from its outside neighbours.
+                let Some(p) = patches else { continue };
+                let c = &p.clusters.clusters[(item & !PATCH_BIT) as usize];
+                for &b in &p.clusters.outside[c.outside.clone()] {
+                    self.enter(b, k, &mut parts, &ctx, patches, &mut total);
+                }
                 continue;
             }
-            let tri = topo.triangles[fi];
-            let vs = [
-                self.vertex(f, normal_from_object, tri[0] as usize),
-                self.vertex(f, normal_from_object, tri[1] as usize),
-                self.vertex(f, normal_from_object, tri[2] as usize),
-            ];
-            let (sigma, origin) = (part.sigma, part.origin);
-            let project = |p: Vec3| {
-                let q = p - origin;
-                Vec2::new(q.dot(e_u), q.dot(e_v))
-            };
-            let dists = [
-                self.vertex_dist[tri[0] as usize],
-                self.vertex_dist[tri[1] as usize],
-                self.vertex_dist[tri[2] as usize],
-            ];
-            // Longest edge, world units, from the cached vertices (one square root).
-            let reach = vs[0]
-                .0
-                .distance_squared(vs[1].0)
-                .max(vs[1].0.distance_squared(vs[2].0))
-                .max(vs[2].0.distance_squared(vs[0].0))
-                .sqrt();
-            let class = classify(f.light_eye, &vs, &dists, reach, sigma);
-            #[cfg(test)]
-            let class = if self.exact {
-                FaceClass::Grid {
-                    steps: SUB,
-                    delta: f32::INFINITY,
-                }
-            } else {
-                class
+            let fi = item as usize;
+            let Some((face, cone)) = self.measure(f, normal_from_object, fi, &parts[k as usize])
+            else {
+                continue;
             };
             let part = &mut parts[k as usize];
-            let mut face = Moments::default();
-            match class {
-                FaceClass::Outside => {
-                    self.counts.outside += 1;
-                    continue;
-                }
-                FaceClass::Inside => {
-                    // The whole face: its moments at once; the normalised interpolant's
-                    // cos with the axis is at least the vertices' smallest.
-                    self.counts.inside += 1;
-                    let [a, b, c] = vs.map(|v| project(v.0));
-                    face.add_triangle(a, b, c);
-                    part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
-                }
-                FaceClass::Linear => {
-                    self.counts.linear += 1;
-                    let tri = vs.map(|v| (project(v.0), v.2 - sigma));
-                    if tri.iter().all(|t| t.1 < 0.0) {
-                        continue;
-                    }
-                    face.add_clipped(tri);
-                    part.cone = vs.iter().fold(part.cone, |m, v| m.min(v.1.dot(n)));
-                }
-                FaceClass::Grid { steps, delta } => {
-                    // The face on a sub-grid of `steps` per edge, as the GPU shades it:
-                    // interpolated and normalised normal, H at the point (interpolated
-                    // from the vertices' where it turns little over the face: its
-                    // departure from linear is then second order); `N·H − σ` linear on
-                    // each sub-triangle.
-                    self.counts.grid += 1;
-                    let hs = [
-                        self.vertex_h[tri[0] as usize],
-                        self.vertex_h[tri[1] as usize],
-                        self.vertex_h[tri[2] as usize],
-                    ];
-                    let qs = [project(vs[0].0), project(vs[1].0), project(vs[2].0)];
-                    let exact_h = delta > EXACT_H_TURN;
-                    // With H interpolated, u = Σ bᵢNᵢ and h = Σ bⱼHⱼ give
-                    // u·h = bᵀ(Nᵢ·Hⱼ)b and |u|² = bᵀ(Nᵢ·Nⱼ)b: nine and six dots per face
-                    // instead of vector work per point.
-                    let (n0, n1, n2) = (vs[0].1, vs[1].1, vs[2].1);
-                    let nh = [
-                        [n0.dot(hs[0]), n0.dot(hs[1]), n0.dot(hs[2])],
-                        [n1.dot(hs[0]), n1.dot(hs[1]), n1.dot(hs[2])],
-                        [n2.dot(hs[0]), n2.dot(hs[1]), n2.dot(hs[2])],
-                    ];
-                    let (g01, g12, g20) = (n0.dot(n1), n1.dot(n2), n2.dot(n0));
-                    let nn = [
-                        [n0.length_squared(), g01, g20],
-                        [g01, n1.length_squared(), g12],
-                        [g20, g12, n2.length_squared()],
-                    ];
-                    let na = [n0.dot(n), n1.dot(n), n2.dot(n)];
-                    let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
-                    let mut any = false;
-                    let mut cone = 1f32;
-                    let inv = 1.0 / steps as f32;
-                    for (g, (i, j)) in grid_points(steps).enumerate() {
-                        let (b1, b2) = (i as f32 * inv, j as f32 * inv);
-                        let b = [1.0 - b1 - b2, b1, b2];
-                        let quad = |m: &[[f32; 3]; 3]| {
-                            b[0] * (b[0] * m[0][0] + b[1] * m[0][1] + b[2] * m[0][2])
-                                + b[1] * (b[0] * m[1][0] + b[1] * m[1][1] + b[2] * m[1][2])
-                                + b[2] * (b[0] * m[2][0] + b[1] * m[2][1] + b[2] * m[2][2])
-                        };
-                        let len2 = quad(&nn);
-                        let inv_len = if len2 > 0.0 { len2.sqrt().recip() } else { 0.0 };
-                        let d = if exact_h {
-                            let p = vs[0].0 * b[0] + vs[1].0 * b[1] + vs[2].0 * b[2];
-                            let u = vs[0].1 * b[0] + vs[1].1 * b[1] + vs[2].1 * b[2];
-                            u.dot(half_vector(f.light_eye, p)) * inv_len - sigma
-                        } else {
-                            quad(&nh) * inv_len - sigma
-                        };
-                        let d = if d.is_finite() { d } else { -1.0 };
-                        if d >= 0.0 {
-                            any = true;
-                            cone = cone.min((b[0] * na[0] + b[1] * na[1] + b[2] * na[2]) * inv_len);
-                        }
-                        grid[g] = (qs[0] * b[0] + qs[1] * b[1] + qs[2] * b[2], d);
-                    }
-                    if !any {
-                        continue;
-                    }
-                    part.cone = part.cone.min(cone);
-                    for_sub_triangles(steps, |a, b, c| {
-                        face.add_clipped([grid[a], grid[b], grid[c]]);
-                    });
-                }
-            }
+            part.cone = part.cone.min(cone);
             part.moments.add(&face);
-            self.face_moments.push((k, face));
             part.faces += 1;
+            self.taken.push((k, item, face));
             total += 1;
             if total >= MAX_REGION_FACES {
                 break;
             }
             for &nb in topo.face_neighbours(fi) {
-                let ni = nb as usize;
-                if self.face_visit[ni] != self.frame {
-                    self.face_visit[ni] = self.frame;
-                    self.queue.push_back((nb, k));
+                self.enter(nb, k, &mut parts, &ctx, patches, &mut total);
+            }
+        }
+        // Where regions met, which centre a face goes to depends on the order faces are
+        // reached in, and a whole patch is reached at once: grow face by face then, so
+        // that shared regions are shared out exactly as without patches.
+        if self.met && self.counts.patches > 0 {
+            let patches = self.patches.take();
+            let out = self.grow_all(f, seeds);
+            self.patches = patches;
+            self.counts.regrown = 1;
+            self.patch_pause = PATCH_PAUSE;
+            return out;
+        }
+        // Whole patches' normal cones: the exact smallest cos over their vertices where
+        // the patch's bound does not already clear the part's cone.
+        let mut t = 0;
+        while t < self.taken.len() {
+            let (k, item, _) = self.taken[t];
+            t += 1;
+            let (Some(p), true) = (patches, item & PATCH_BIT != 0) else {
+                continue;
+            };
+            let c = (item & !PATCH_BIT) as usize;
+            let part = &parts[k as usize];
+            let n = part.frame.0;
+            if p.patches[c].cone_bound(normal_from_object, n) >= part.cone {
+                continue;
+            }
+            let mut cone = part.cone;
+            for &g in &p.clusters.faces[p.clusters.clusters[c].faces.clone()] {
+                for v in topo.triangles[g as usize] {
+                    cone = cone.min(self.vertex(f, normal_from_object, v as usize).1.dot(n));
                 }
             }
+            parts[k as usize].cone = cone;
         }
         for (k, part) in parts.iter().enumerate() {
             if out[k] == Region::Empty && part.faces > 0 {
@@ -411,13 +403,206 @@ impl RegionGrower {
                         ..fp
                     };
                     out[k] = Region::Fit(fp, part.faces);
-                    let start = self.pieces.len();
-                    split_bent(&fp, k as u32, &self.face_moments, &mut self.pieces);
-                    self.piece_ranges[k] = start..self.pieces.len();
+                    if needs_split(&fp) {
+                        let start = self.pieces.len();
+                        split_bent(&fp, k as u32, &self.taken, &mut self.pieces);
+                        self.piece_ranges[k] = start..self.pieces.len();
+                    }
                 }
             }
         }
         out
+    }
+
+    /// Face `g` reached by seed `k`'s growth: queued (stamped) unless already reached;
+    /// with patches, its whole patch is taken at once when no face of it was reached and
+    /// bounds prove it inside the region.
+    fn enter(
+        &mut self,
+        g: u32,
+        k: u32,
+        parts: &mut [Part],
+        ctx: &GrowContext<'_>,
+        patches: Option<&RegionPatches>,
+        total: &mut usize,
+    ) {
+        let gi = g as usize;
+        if self.face_visit[gi] == self.frame {
+            if patches.is_some() && self.face_seed[gi] != k {
+                self.met = true;
+            }
+            return;
+        }
+        self.face_visit[gi] = self.frame;
+        if let Some(p) = patches {
+            self.face_seed[gi] = k;
+            let c = p.clusters.cluster_of[gi];
+            // A patch is decided once per frame, at the first of its faces reached: no
+            // face of it is stamped before (faces are stamped only here, after the
+            // decision, and seeds' patches are decided at the start).
+            if c != u32::MAX && self.patch_stamp[c as usize] != self.frame {
+                self.patch_stamp[c as usize] = self.frame;
+                let part = &mut parts[k as usize];
+                if let Some(m) = p.whole(c as usize, ctx, part) {
+                    let cluster = &p.clusters.clusters[c as usize];
+                    for &h in &p.clusters.faces[cluster.faces.clone()] {
+                        self.face_visit[h as usize] = self.frame;
+                        self.face_seed[h as usize] = k;
+                    }
+                    let count = cluster.faces.len();
+                    part.moments.add(&m);
+                    part.faces += count;
+                    *total += count;
+                    self.counts.patches += 1;
+                    self.counts.patch_faces += count;
+                    self.taken.push((k, c | PATCH_BIT, m));
+                    self.queue.push_back((c | PATCH_BIT, k));
+                    return;
+                }
+            }
+        }
+        self.queue.push_back((g, k));
+    }
+
+    /// Measures face `fi` against seed `part`'s region: its moments and the smallest cos
+    /// of its normals (where in the region) with the axis, or `None` when the region does
+    /// not take it (facing away, degenerate or outside; the growth stops there).
+    fn measure(
+        &mut self,
+        f: &RegionFrame<'_>,
+        normal_from_object: Mat3,
+        fi: usize,
+        part: &Part,
+    ) -> Option<(Moments, f32)> {
+        let topo = f.topology;
+        let (n, e_u, e_v) = part.frame;
+        if topo.is_degenerate(fi) || (normal_from_object * topo.face_normals[fi]).dot(n) <= 0.0 {
+            return None;
+        }
+        let tri = topo.triangles[fi];
+        let vs = [
+            self.vertex(f, normal_from_object, tri[0] as usize),
+            self.vertex(f, normal_from_object, tri[1] as usize),
+            self.vertex(f, normal_from_object, tri[2] as usize),
+        ];
+        let (sigma, origin) = (part.sigma, part.origin);
+        let project = |p: Vec3| {
+            let q = p - origin;
+            Vec2::new(q.dot(e_u), q.dot(e_v))
+        };
+        let dists = [
+            self.vertices[tri[0] as usize].dist,
+            self.vertices[tri[1] as usize].dist,
+            self.vertices[tri[2] as usize].dist,
+        ];
+        // Longest edge, world units, from the cached vertices (one square root).
+        let reach = vs[0]
+            .0
+            .distance_squared(vs[1].0)
+            .max(vs[1].0.distance_squared(vs[2].0))
+            .max(vs[2].0.distance_squared(vs[0].0))
+            .sqrt();
+        let class = classify(f.light_eye, &vs, &dists, reach, sigma);
+        #[cfg(test)]
+        let class = if self.exact {
+            FaceClass::Grid {
+                steps: SUB,
+                delta: f32::INFINITY,
+            }
+        } else {
+            class
+        };
+        let mut face = Moments::default();
+        let vertex_cone = || vs.iter().fold(1f32, |m, v| m.min(v.1.dot(n)));
+        match class {
+            FaceClass::Outside => {
+                self.counts.outside += 1;
+                None
+            }
+            FaceClass::Inside => {
+                // The whole face: its moments at once; the normalised interpolant's
+                // cos with the axis is at least the vertices' smallest.
+                self.counts.inside += 1;
+                let [a, b, c] = vs.map(|v| project(v.0));
+                face.add_triangle(a, b, c);
+                Some((face, vertex_cone()))
+            }
+            FaceClass::Linear => {
+                self.counts.linear += 1;
+                let tri = vs.map(|v| (project(v.0), v.2 - sigma));
+                if tri.iter().all(|t| t.1 < 0.0) {
+                    return None;
+                }
+                face.add_clipped(tri);
+                Some((face, vertex_cone()))
+            }
+            FaceClass::Grid { steps, delta } => {
+                // The face on a sub-grid of `steps` per edge, as the GPU shades it:
+                // interpolated and normalised normal, H at the point (interpolated
+                // from the vertices' where it turns little over the face: its
+                // departure from linear is then second order); `N·H − σ` linear on
+                // each sub-triangle.
+                self.counts.grid += 1;
+                let hs = [
+                    self.vertices[tri[0] as usize].h,
+                    self.vertices[tri[1] as usize].h,
+                    self.vertices[tri[2] as usize].h,
+                ];
+                let qs = [project(vs[0].0), project(vs[1].0), project(vs[2].0)];
+                let exact_h = delta > EXACT_H_TURN;
+                // With H interpolated, u = Σ bᵢNᵢ and h = Σ bⱼHⱼ give
+                // u·h = bᵀ(Nᵢ·Hⱼ)b and |u|² = bᵀ(Nᵢ·Nⱼ)b: nine and six dots per face
+                // instead of vector work per point.
+                let (n0, n1, n2) = (vs[0].1, vs[1].1, vs[2].1);
+                let nh = [
+                    [n0.dot(hs[0]), n0.dot(hs[1]), n0.dot(hs[2])],
+                    [n1.dot(hs[0]), n1.dot(hs[1]), n1.dot(hs[2])],
+                    [n2.dot(hs[0]), n2.dot(hs[1]), n2.dot(hs[2])],
+                ];
+                let (g01, g12, g20) = (n0.dot(n1), n1.dot(n2), n2.dot(n0));
+                let nn = [
+                    [n0.length_squared(), g01, g20],
+                    [g01, n1.length_squared(), g12],
+                    [g20, g12, n2.length_squared()],
+                ];
+                let na = [n0.dot(n), n1.dot(n), n2.dot(n)];
+                let mut grid = [(Vec2::ZERO, 0f32); GRID_POINTS];
+                let mut any = false;
+                let mut cone = 1f32;
+                let inv = 1.0 / steps as f32;
+                for (g, (i, j)) in grid_points(steps).enumerate() {
+                    let (b1, b2) = (i as f32 * inv, j as f32 * inv);
+                    let b = [1.0 - b1 - b2, b1, b2];
+                    let quad = |m: &[[f32; 3]; 3]| {
+                        b[0] * (b[0] * m[0][0] + b[1] * m[0][1] + b[2] * m[0][2])
+                            + b[1] * (b[0] * m[1][0] + b[1] * m[1][1] + b[2] * m[1][2])
+                            + b[2] * (b[0] * m[2][0] + b[1] * m[2][1] + b[2] * m[2][2])
+                    };
+                    let len2 = quad(&nn);
+                    let inv_len = if len2 > 0.0 { len2.sqrt().recip() } else { 0.0 };
+                    let d = if exact_h {
+                        let p = vs[0].0 * b[0] + vs[1].0 * b[1] + vs[2].0 * b[2];
+                        let u = vs[0].1 * b[0] + vs[1].1 * b[1] + vs[2].1 * b[2];
+                        u.dot(half_vector(f.light_eye, p)) * inv_len - sigma
+                    } else {
+                        quad(&nh) * inv_len - sigma
+                    };
+                    let d = if d.is_finite() { d } else { -1.0 };
+                    if d >= 0.0 {
+                        any = true;
+                        cone = cone.min((b[0] * na[0] + b[1] * na[1] + b[2] * na[2]) * inv_len);
+                    }
+                    grid[g] = (qs[0] * b[0] + qs[1] * b[1] + qs[2] * b[2], d);
+                }
+                if !any {
+                    return None;
+                }
+                for_sub_triangles(steps, |a, b, c| {
+                    face.add_clipped([grid[a], grid[b], grid[c]]);
+                });
+                Some((face, cone))
+            }
+        }
     }
 
     /// The pieces seed `k`'s region was split into by the last [`RegionGrower::grow_all`]
@@ -434,15 +619,265 @@ impl RegionGrower {
     }
 }
 
-/// Appends to `out` the pieces of the region of seed `k` fitted by `whole` (see
-/// [`RegionGrower::pieces`]), from its faces' moments; nothing when it needs none.
-fn split_bent(whole: &Footprint, k: u32, faces: &[(u32, Moments)], out: &mut Vec<Footprint>) {
+/// Growths made face by face after one where regions met (exact either way: the face by
+/// face growth is the reference).
+const PATCH_PAUSE: u32 = 8;
+
+/// Marks a queue or taken entry as a patch (else a face).
+const PATCH_BIT: u32 = 1 << 31;
+
+/// Per-frame quantities of a growth that whole patches need.
+struct GrowContext<'a> {
+    frame: RegionFrame<'a>,
+    normal_from_object: Mat3,
+    /// The similarity's scale.
+    scale: f32,
+    /// Its linear part and translation, double precision.
+    linear: glam::DMat3,
+    translation: glam::DVec3,
+}
+
+/// Whether a linear map is a similarity (orthogonal columns of one length).
+fn is_similarity(m: Mat3) -> bool {
+    let cols = [m.x_axis, m.y_axis, m.z_axis];
+    let k = cols[0].length();
+    k > 0.0
+        && cols.iter().all(|c| (c.length() - k).abs() <= 1e-5 * k)
+        && cols[0].dot(cols[1]).abs() <= 1e-5 * k * k
+        && cols[1].dot(cols[2]).abs() <= 1e-5 * k * k
+        && cols[2].dot(cols[0]).abs() <= 1e-5 * k * k
+}
+
+/// Faces per patch of [`RegionPatches`] (at most): small enough that most of a
+/// highlight's interior is whole patches on a 70k-face scan, large enough that a
+/// million-face region is a few hundred.
+pub const REGION_PATCH_FACES: usize = 16;
+
+/// Connected patches of a mesh's faces ([`crate::visibility::FaceClusters`] of
+/// [`REGION_PATCH_FACES`]) with what [`RegionGrower::grow_all`] needs to take one whole
+/// (beyond the paper): the cones of its vertex and face normals, and its area moments as
+/// tensors in object space, from which the moments of its projection onto any plane
+/// under any similarity follow exactly. Built once per mesh and normal field.
+#[derive(Clone, Debug, Default)]
+pub struct RegionPatches {
+    clusters: crate::visibility::FaceClusters,
+    patches: Vec<PatchBounds>,
+}
+
+/// One patch's bounds and moment tensors (object space, about `centre`).
+#[derive(Clone, Copy, Debug)]
+struct PatchBounds {
+    /// Unit axis of its vertex normals' cone, and sin and cos of the cone's half angle.
+    normal_axis: Vec3,
+    normal_spread: (f32, f32),
+    /// Unit axis of its face normals' cone and sin of the cone's half angle.
+    face_axis: Vec3,
+    face_sin: f32,
+    centre: Vec3,
+    radius: f32,
+    usable: bool,
+    /// `Σ v_f` with `v_f` a face's vector area.
+    area: glam::DVec3,
+    /// `first[k] = Σ v_f[k] c_f`, `c_f` the face's centroid.
+    first: [glam::DVec3; 3],
+    /// `second[k] = Σ v_f[k] K_f`, `K_f = (Σ pᵢpᵢᵀ + P Pᵀ)/12` per unit area (`P = Σ pᵢ`),
+    /// as (xx, xy, xz, yy, yz, zz).
+    second: [[f64; 6]; 3],
+}
+
+impl RegionPatches {
+    /// The patches of `topology` with the vertex `normals` the growth uses.
+    pub fn new(topology: &Topology, normals: &[Vec3]) -> Self {
+        use glam::DVec3;
+        let clusters = crate::visibility::FaceClusters::with_size(topology, REGION_PATCH_FACES);
+        let patches = clusters
+            .clusters
+            .iter()
+            .map(|c| {
+                let faces = &clusters.faces[c.faces.clone()];
+                let mut sum = Vec3::ZERO;
+                let mut valid = true;
+                let unit = |v: u32| {
+                    normals
+                        .get(v as usize)
+                        .copied()
+                        .unwrap_or(Vec3::ZERO)
+                        .normalize_or_zero()
+                };
+                for &g in faces {
+                    for v in topology.triangles[g as usize] {
+                        let n = unit(v);
+                        valid &= n != Vec3::ZERO && n.is_finite();
+                        sum += n;
+                    }
+                }
+                let axis = sum.normalize_or_zero();
+                let spread = faces
+                    .iter()
+                    .flat_map(|&g| topology.triangles[g as usize])
+                    .map(|v| {
+                        let n = unit(v);
+                        n.cross(axis).length().atan2(n.dot(axis))
+                    })
+                    .fold(0f32, f32::max)
+                    + 1e-4;
+                let c0 = c.centre.as_dvec3();
+                let (mut area, mut first, mut second) =
+                    (DVec3::ZERO, [DVec3::ZERO; 3], [[0f64; 6]; 3]);
+                for &g in faces {
+                    let d = topology.triangles[g as usize]
+                        .map(|v| topology.positions[v as usize].as_dvec3() - c0);
+                    let v = 0.5 * (d[1] - d[0]).cross(d[2] - d[0]);
+                    let p = d[0] + d[1] + d[2];
+                    let centroid = p / 3.0;
+                    // q qᵀ as (xx, xy, xz, yy, yz, zz).
+                    let outer = |q: DVec3| {
+                        [
+                            q.x * q.x,
+                            q.x * q.y,
+                            q.x * q.z,
+                            q.y * q.y,
+                            q.y * q.z,
+                            q.z * q.z,
+                        ]
+                    };
+                    let mut kf = [0f64; 6];
+                    for q in [d[0], d[1], d[2], p] {
+                        for (x, y) in kf.iter_mut().zip(outer(q)) {
+                            *x += y / 12.0;
+                        }
+                    }
+                    area += v;
+                    for k in 0..3 {
+                        first[k] += centroid * v[k];
+                        for (x, y) in second[k].iter_mut().zip(kf) {
+                            *x += v[k] * y;
+                        }
+                    }
+                }
+                PatchBounds {
+                    normal_axis: axis,
+                    normal_spread: spread.min(std::f32::consts::PI).sin_cos(),
+                    face_axis: c.axis,
+                    face_sin: (c.spread + 1e-4).min(std::f32::consts::FRAC_PI_2).sin(),
+                    centre: c.centre,
+                    radius: c.radius,
+                    usable: c.usable
+                        && valid
+                        && axis != Vec3::ZERO
+                        && spread < std::f32::consts::FRAC_PI_2
+                        && area.is_finite(),
+                    area,
+                    first,
+                    second,
+                }
+            })
+            .collect();
+        Self { clusters, patches }
+    }
+
+    /// Patch `c`'s moments projected onto `part`'s plane, when every point of it is
+    /// provably in `part`'s region (`N̂·H ≥ σ` for every interpolated normal `N̂`, within
+    /// the vertex normals' cone, and every `H` over its bounding sphere) and every face
+    /// faces the axis; else `None`.
+    fn whole(&self, c: usize, ctx: &GrowContext<'_>, part: &Part) -> Option<Moments> {
+        let p = &self.patches[c];
+        let (n, e_u, e_v) = part.frame;
+        if !p.usable || part.sigma.is_nan() || part.sigma < 0.0 {
+            return None;
+        }
+        let m = ctx.normal_from_object;
+        if (m * p.face_axis).normalize_or_zero().dot(n) <= p.face_sin + PATCH_MARGIN {
+            return None;
+        }
+        let centre = ctx.frame.world_from_object.transform_point3(p.centre);
+        let r = p.radius * ctx.scale;
+        let h = half_vector(ctx.frame.light_eye, centre);
+        // How far H turns over the patch's bounding sphere (see `classify`).
+        let delta = match ctx.frame.light_eye {
+            LightEye::Directions { .. } => 0.0,
+            LightEye::Positions { light, eye } => {
+                let turn = |d: f32| if d > 2.0 * r { r / (d - r) } else { 2.0 };
+                let (l, e) = (light - centre, eye - centre);
+                let ds = turn(l.length()) + turn(e.length());
+                let s = (l.normalize_or_zero() + e.normalize_or_zero()).length();
+                if s - ds > 1e-3 { ds / (s - ds) } else { 2.0 }
+            }
+        };
+        let axis = (m * p.normal_axis).normalize_or_zero();
+        let cos = axis.dot(h).clamp(-1.0, 1.0);
+        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let (ss, cs) = p.normal_spread;
+        let lowest = cos * cs - sin * ss;
+        let inside = lowest - delta >= part.sigma + PATCH_MARGIN; // false for NaN
+        if !inside {
+            return None;
+        }
+        // q = A p + b on the plane, A = (e_u, e_v)ᵀ L, b = (e_u, e_v)ᵀ (M c₀ − origin).
+        let (eu, ev) = (e_u.as_dvec3(), e_v.as_dvec3());
+        let lt = ctx.linear.transpose();
+        let (a1, a2) = (lt * eu, lt * ev);
+        let w = ctx.linear * p.centre.as_dvec3() + ctx.translation - part.origin.as_dvec3();
+        let (bx, by) = (w.dot(eu), w.dot(ev));
+        let mk = a1.cross(a2);
+        let area = mk.dot(p.area);
+        let f3 = p.first[0] * mk.x + p.first[1] * mk.y + p.first[2] * mk.z;
+        let mut k3 = [0f64; 6];
+        for (k, &mk) in mk.to_array().iter().enumerate() {
+            for (x, y) in k3.iter_mut().zip(p.second[k]) {
+                *x += mk * y;
+            }
+        }
+        let quad = |a: glam::DVec3, b: glam::DVec3| {
+            a.x * (k3[0] * b.x + k3[1] * b.y + k3[2] * b.z)
+                + a.y * (k3[1] * b.x + k3[3] * b.y + k3[4] * b.z)
+                + a.z * (k3[2] * b.x + k3[4] * b.y + k3[5] * b.z)
+        };
+        let (f1, f2) = (a1.dot(f3), a2.dot(f3));
+        Some(Moments {
+            area,
+            first: [f1 + bx * area, f2 + by * area],
+            second: [
+                quad(a1, a1) + 2.0 * f1 * bx + bx * bx * area,
+                quad(a1, a2) + f1 * by + bx * f2 + bx * by * area,
+                quad(a2, a2) + 2.0 * f2 * by + by * by * area,
+            ],
+        })
+    }
+}
+
+impl PatchBounds {
+    /// A lower bound on the cos between any of the patch's vertex normals (world) and
+    /// `n`.
+    fn cone_bound(&self, normal_from_object: Mat3, n: Vec3) -> f32 {
+        let axis = (normal_from_object * self.normal_axis).normalize_or_zero();
+        let cos = axis.dot(n).clamp(-1.0, 1.0);
+        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let (ss, cs) = self.normal_spread;
+        cos * cs - sin * ss - PATCH_MARGIN
+    }
+}
+
+/// Float slack of the whole-patch tests (cosine units).
+const PATCH_MARGIN: f32 = 1e-4;
+
+/// Whether a region fitted by `whole` is a long bent band to split ([`split_bent`]).
+fn needs_split(whole: &Footprint) -> bool {
     let h = whole.half_extent;
     let ellipse = std::f32::consts::PI * h.x * h.y;
     let elongation = h.max_element() / h.min_element().max(f32::MIN_POSITIVE);
-    if !(ellipse > SPLIT_AREA_RATIO * whole.region_area && elongation >= SPLIT_ELONGATION) {
+    ellipse > SPLIT_AREA_RATIO * whole.region_area && elongation >= SPLIT_ELONGATION
+}
+
+/// Appends to `out` the pieces of the region of seed `k` fitted by `whole` (see
+/// [`RegionGrower::pieces`]), from the moments of its faces and whole patches (cut
+/// between them: a patch is a few faces); nothing when it needs none.
+fn split_bent(whole: &Footprint, k: u32, taken: &[(u32, u32, Moments)], out: &mut Vec<Footprint>) {
+    if !needs_split(whole) {
         return;
     }
+    let h = whole.half_extent;
+    let elongation = h.max_element() / h.min_element().max(f32::MIN_POSITIVE);
     let count = ((elongation / 1.5).round() as usize).clamp(2, MAX_PIECES);
     let (s, c) = whole.rotate_rad.sin_cos();
     let axis = if h.x >= h.y {
@@ -450,10 +885,10 @@ fn split_bent(whole: &Footprint, k: u32, faces: &[(u32, Moments)], out: &mut Vec
     } else {
         Vec2::new(-s, c)
     };
-    let mut along: Vec<(f32, Moments)> = faces
+    let mut along: Vec<(f32, Moments)> = taken
         .iter()
-        .filter(|(seed, m)| *seed == k && m.area > 0.0)
-        .map(|(_, m)| {
+        .filter(|(seed, _, m)| *seed == k && m.area > 0.0)
+        .map(|(_, _, m)| {
             let centroid = Vec2::new((m.first[0] / m.area) as f32, (m.first[1] / m.area) as f32);
             ((centroid - whole.offset).dot(axis), *m)
         })
@@ -478,6 +913,22 @@ fn split_bent(whole: &Footprint, k: u32, faces: &[(u32, Moments)], out: &mut Vec
     if out.len() - start < 2 {
         out.truncate(start);
     }
+}
+
+/// A vertex's values in one frame of [`RegionGrower`].
+#[derive(Clone, Copy, Debug, Default)]
+struct VertexCache {
+    /// The frame they belong to.
+    frame: u32,
+    /// `N_v·H(p_v)`.
+    nh: f32,
+    /// World position, unit world normal and unit `H(p_v)`.
+    world: Vec3,
+    normal: Vec3,
+    h: Vec3,
+    /// Distances to the light and the eye and `|L̂ + V̂|` (point light and eye; zero for
+    /// directions).
+    dist: [f32; 3],
 }
 
 /// One seed's growing region: its projector frame (n, e_max, e_min), origin, σ, moments.
@@ -812,6 +1263,96 @@ mod tests {
             "{fp:?}"
         );
         assert!((fp.offset - Vec2::new(0.2, -0.1)).length() < 1e-4, "{fp:?}");
+    }
+
+    #[test]
+    fn whole_patches_take_the_faces_and_moments_face_by_face_takes() {
+        // The same region grown with whole patches (moments from the patch tensors) and
+        // face by face: the same faces, the same footprint to float precision, the same
+        // normal cone, on a scan (the bunny), a sphere and a torus, point light and eye,
+        // several views and a scaled, turned object, one seed at a time.
+        use npr_geometry::{CurvatureField, CurvatureOptions, HighlightSearch};
+        let path = format!(
+            "{}/../../fixtures/meshes/stanford-bunny.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let bunny = npr_geometry::load_obj(&path).unwrap();
+        let sphere = npr_geometry::generate::icosphere(5, 1.0);
+        let torus = npr_geometry::generate::torus(1.0, 0.45, 120, 48);
+        let (mut compared, mut whole) = (0, 0);
+        for mesh in [bunny, sphere, torus] {
+            let (welded, topo, field) =
+                CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
+            let search = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
+            let (lo, hi) = topo.positions.iter().fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+            let mut faces = RegionGrower::default();
+            let mut patches =
+                RegionGrower::with_patches(RegionPatches::new(&topo, search.normals()));
+            for k in 0..6 {
+                let a = k as f32 * 1.1;
+                let world = Mat4::from_rotation_y(a)
+                    * Mat4::from_scale(Vec3::splat(1.7 / r))
+                    * Mat4::from_translation(-c);
+                let light_eye = if k % 3 == 2 {
+                    LightEye::Directions {
+                        to_light: Vec3::new(a.cos(), 1.0, a.sin()),
+                        to_eye: Vec3::Z,
+                    }
+                } else {
+                    LightEye::Positions {
+                        light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
+                        eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
+                    }
+                };
+                let frame = RegionFrame {
+                    topology: &topo,
+                    normals: search.normals(),
+                    world_from_object: world,
+                    light_eye,
+                };
+                for centre in search.find(light_eye, world) {
+                    for sigma in [0.9, 0.97] {
+                        let seed = [(centre, sigma)];
+                        let x = faces.grow_all(&frame, &seed);
+                        let y = patches.grow_all(&frame, &seed);
+                        whole += patches.counts().patches;
+                        match (x[0], y[0]) {
+                            (Region::Fit(p, n), Region::Fit(q, m)) => {
+                                compared += 1;
+                                assert_eq!(n, m, "faces");
+                                let size = p.half_extent.max_element();
+                                assert!(
+                                    (p.region_area - q.region_area).abs() <= 1e-4 * p.region_area,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert!(
+                                    (p.half_extent - q.half_extent).abs().max_element()
+                                        <= 1e-3 * size,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert!(
+                                    (p.offset - q.offset).length() <= 1e-3 * size,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert_eq!(p.normal_cone_cos, q.normal_cone_cos);
+                                assert_eq!(
+                                    faces.pieces(0).len(),
+                                    patches.pieces(0).len(),
+                                    "pieces"
+                                );
+                            }
+                            (a, b) => assert_eq!(a, b),
+                        }
+                    }
+                }
+            }
+        }
+        assert!(compared >= 20, "{compared} regions compared");
+        assert!(whole >= 100, "{whole} patches taken whole");
     }
 
     #[test]

@@ -18,7 +18,7 @@
 //! - a merged or suppressed highlight fades out like a lost one.
 
 use crate::projector::eq8_footprint;
-use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower};
+use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower, RegionPatches};
 use crate::visibility::{
     FaceClusters, Facing, VisibilityScratch, face_slack, receivers_within_clustered,
 };
@@ -311,6 +311,7 @@ impl HighlightSet {
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
         let radius_bound = bounding_radius(&topology);
         let face_clusters = FaceClusters::new(&topology);
+        let grower = RegionGrower::with_patches(RegionPatches::new(&topology, search.normals()));
         Self {
             radius_object: field.radius_world.max(0.15 * radius_bound),
             size_cap_radius: None,
@@ -335,7 +336,7 @@ impl HighlightSet {
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
             face_clusters,
-            grower: RegionGrower::default(),
+            grower,
             radius_bound,
             next_id: 0,
             stats: UpdateStats::default(),
@@ -708,18 +709,23 @@ impl HighlightSet {
             if !drawn {
                 continue;
             }
-            // Pieces of one highlight always share; others when neither is edited.
-            let mut near: Vec<(f32, usize)> = reach
-                .iter()
-                .enumerate()
-                .filter(|&(j, &(cj, rj, ej, idj, dj))| {
-                    j != i && dj && (idi == idj || (!ei && !ej)) && ci.distance(cj) < ri + rj
-                })
-                .map(|(j, &(cj, ..))| (ci.distance(cj), j))
-                .collect();
-            near.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // Pieces of one highlight always share; others when neither is edited. The
+            // four nearest, nearer first, ties in index order (no list per highlight).
+            let mut near = [(f32::INFINITY, u32::MAX); 4];
+            for (j, &(cj, rj, ej, idj, dj)) in reach.iter().enumerate() {
+                let shares = idi == idj || (!ei && !ej);
+                if j == i || !dj || !shares {
+                    continue;
+                }
+                let d = ci.distance(cj);
+                let overlaps = d < ri + rj; // false for NaN
+                if let Some(slot) = near.iter().position(|&(e, _)| overlaps && d < e) {
+                    near.copy_within(slot..3, slot + 1);
+                    near[slot] = (d, j as u32);
+                }
+            }
             for (slot, (_, j)) in h.shared_with.iter_mut().zip(near) {
-                *slot = j as u32;
+                *slot = j;
             }
         }
     }
@@ -774,6 +780,11 @@ fn limit_change(last: &Footprint, next: Footprint, max_area_change: f32) -> Foot
 /// largest such turn over the drawn ellipse's rim, less the largest over the unedited
 /// footprint's rim: what a translation, rotation or scale adds to the measured cone.
 fn edit_turn(h: &Highlight) -> f32 {
+    // Unedited, the drawn ellipse is the footprint's own: no turn (and no rims sampled).
+    let k = &h.controls;
+    if k.translate == glam::Vec2::ZERO && k.rotate_rad == 0.0 && k.scale == glam::Vec2::ONE {
+        return 0.0;
+    }
     let c = &h.centre;
     let e_max = c.dir_kappa_max;
     let e_min = c.normal_world.cross(e_max);

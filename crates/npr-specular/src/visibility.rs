@@ -18,10 +18,10 @@ pub struct VisibilityScratch {
     stamp: Vec<u32>,
     generation: u32,
     queue: VecDeque<u32>,
-    /// Per-vertex cache of projector coordinates, valid where `vertex_stamp` equals the
+    /// Per-vertex cache of projector coordinates, valid where its stamp equals the
     /// current generation (a vertex is shared by about six faces).
-    vertex_stamp: Vec<u32>,
-    vertex_ndc: Vec<Vec3>,
+    /// (stamp, coordinates) together: one cache access per vertex.
+    vertex_ndc: Vec<(u32, Vec3)>,
     /// Per [`FaceClusters`] cluster: decided this generation.
     cluster_stamp: Vec<u32>,
     /// Patches taken whole by the last search.
@@ -31,19 +31,18 @@ pub struct VisibilityScratch {
 impl VisibilityScratch {
     fn begin(&mut self, faces: usize, vertices: usize, clusters: usize) -> u32 {
         if self.stamp.len() != faces
-            || self.vertex_stamp.len() != vertices
+            || self.vertex_ndc.len() != vertices
             || self.cluster_stamp.len() != clusters
         {
             self.stamp = vec![0; faces];
-            self.vertex_stamp = vec![0; vertices];
-            self.vertex_ndc = vec![Vec3::ZERO; vertices];
+            self.vertex_ndc = vec![(0, Vec3::ZERO); vertices];
             self.cluster_stamp = vec![0; clusters];
             self.generation = 0;
         }
         self.generation = self.generation.wrapping_add(1);
         if self.generation == 0 {
             self.stamp.fill(0);
-            self.vertex_stamp.fill(0);
+            self.vertex_ndc.fill((0, Vec3::ZERO));
             self.cluster_stamp.fill(0);
             self.generation = 1;
         }
@@ -138,6 +137,7 @@ pub fn face_slack(topology: &Topology, corner_normals: &[Vec3]) -> Vec<[f32; 2]>
 /// `lo..hi` (the frustum is x, y in [−1, 1], z in [0, 1]): false only when all three
 /// vertices lie outside the same face of the box (a conservative separating-plane test:
 /// the triangle's bounding box misses the box along some axis).
+#[inline]
 fn overlaps_box(q: [Vec3; 3], lo: Vec3, hi: Vec3) -> bool {
     // A triangle with a non-finite coordinate (a vertex at the projector's plane at
     // infinity, or bad data) is not received.
@@ -152,6 +152,7 @@ fn overlaps_box(q: [Vec3; 3], lo: Vec3, hi: Vec3) -> bool {
 const FRUSTUM_LO: Vec3 = Vec3::new(-1.0, -1.0, 0.0);
 const FRUSTUM_HI: Vec3 = Vec3::new(1.0, 1.0, 1.0);
 
+#[inline]
 fn overlaps_frustum(q: [Vec3; 3]) -> bool {
     overlaps_box(q, FRUSTUM_LO, FRUSTUM_HI)
 }
@@ -292,7 +293,6 @@ fn receivers_impl(
     let VisibilityScratch {
         stamp,
         queue,
-        vertex_stamp,
         vertex_ndc,
         cluster_stamp,
         runs_taken,
@@ -357,17 +357,19 @@ fn receivers_impl(
         let t = topology.triangles[f];
         let mut q = [Vec3::ZERO; 3];
         for (qk, &v) in q.iter_mut().zip(&t) {
-            let v = v as usize;
-            if vertex_stamp[v] != generation {
-                vertex_stamp[v] = generation;
-                let p = topology.positions[v];
-                vertex_ndc[v] = if affine {
-                    ndc_from_object.transform_point3(p)
-                } else {
-                    ndc_from_object.project_point3(p)
-                };
+            let cached = &mut vertex_ndc[v as usize];
+            if cached.0 != generation {
+                let p = topology.positions[v as usize];
+                *cached = (
+                    generation,
+                    if affine {
+                        ndc_from_object.transform_point3(p)
+                    } else {
+                        ndc_from_object.project_point3(p)
+                    },
+                );
             }
-            *qk = vertex_ndc[v];
+            *qk = cached.1;
         }
         overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
@@ -450,18 +452,19 @@ const RUN_MARGIN: f32 = 1e-4;
 
 /// One patch of faces and its bounds.
 #[derive(Clone, Debug)]
-struct FaceCluster {
+pub(crate) struct FaceCluster {
     /// Range of [`FaceClusters::faces`].
-    faces: std::ops::Range<usize>,
+    pub(crate) faces: std::ops::Range<usize>,
     /// Range of [`FaceClusters::outside`].
-    outside: std::ops::Range<usize>,
-    centre: Vec3,
-    radius: f32,
+    pub(crate) outside: std::ops::Range<usize>,
+    /// Bounding sphere (object space).
+    pub(crate) centre: Vec3,
+    pub(crate) radius: f32,
     /// Unit axis of the face normals' cone and its half angle (radians).
-    axis: Vec3,
-    spread: f32,
+    pub(crate) axis: Vec3,
+    pub(crate) spread: f32,
     /// Finite bounds and a cone under 90°.
-    usable: bool,
+    pub(crate) usable: bool,
 }
 
 /// The faces of a mesh in connected patches of up to [`CLUSTER_FACES`] (grown
@@ -470,13 +473,13 @@ struct FaceCluster {
 /// [`receivers_within_clustered`]. Degenerate faces belong to none. Built once per mesh.
 #[derive(Clone, Debug, Default)]
 pub struct FaceClusters {
-    clusters: Vec<FaceCluster>,
+    pub(crate) clusters: Vec<FaceCluster>,
     /// Faces of each patch, patch after patch.
-    faces: Vec<u32>,
+    pub(crate) faces: Vec<u32>,
     /// Patch of each face (`u32::MAX`: none).
-    cluster_of: Vec<u32>,
-    outside: Vec<u32>,
-    face_count: usize,
+    pub(crate) cluster_of: Vec<u32>,
+    pub(crate) outside: Vec<u32>,
+    pub(crate) face_count: usize,
     /// Median bounding radius of the patches, object units.
     median_radius: f32,
 }
@@ -484,6 +487,12 @@ pub struct FaceClusters {
 impl FaceClusters {
     /// Builds the patches of `topology`'s faces.
     pub fn new(topology: &Topology) -> Self {
+        Self::with_size(topology, CLUSTER_FACES)
+    }
+
+    /// Builds patches of at most `max_faces` faces (at least 1).
+    pub fn with_size(topology: &Topology, max_faces: usize) -> Self {
+        let max_faces = max_faces.max(1);
         let nf = topology.face_count();
         let nv = topology.vertex_count();
         let valid = |f: usize| {
@@ -508,7 +517,7 @@ impl FaceClusters {
             'grow: while let Some(f) = queue.pop_front() {
                 for &g in topology.face_neighbours(f) {
                     let gi = g as usize;
-                    if faces.len() - first_face >= CLUSTER_FACES {
+                    if faces.len() - first_face >= max_faces {
                         break 'grow;
                     }
                     if cluster_of[gi] == u32::MAX && valid(gi) {
