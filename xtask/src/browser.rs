@@ -59,6 +59,7 @@ pub fn run(site: &Path, site_port: u16) -> anyhow::Result<()> {
     let result = check(&driver, &session, site, site_port);
     let _ = driver.call("DELETE", &format!("/session/{session}"), None);
     let rows = result?;
+    check_no_webgpu(&driver, site_port)?;
     println!("| effect | FLIP mean | FLIP max | PSNR (dB) | page frame (ms) |");
     println!("|---|---|---|---|---|");
     for r in &rows {
@@ -326,6 +327,46 @@ fn check_bad_drop(
     Ok(())
 }
 
+/// The page in a Chromium without WebGPU (headless, none of the flags that give it
+/// SwiftShader's adapter): a one-line message and a title that says so, not a blank
+/// canvas.
+fn check_no_webgpu(driver: &Driver, site_port: u16) -> anyhow::Result<()> {
+    let session = driver.session_with(&[
+        "--headless=new",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-features=Vulkan,WebGPU",
+    ])?;
+    let outcome = (|| {
+        let url = format!("http://127.0.0.1:{site_port}/index.html");
+        driver.call(
+            "POST",
+            &format!("/session/{session}/url"),
+            Some(&json!({ "url": url })),
+        )?;
+        let started = Instant::now();
+        loop {
+            let title = driver.call("GET", &format!("/session/{session}/title"), None)?;
+            match title.as_str().unwrap_or("") {
+                "npr: no WebGPU" => break,
+                "npr ready" => bail!("the page drew in a Chromium without WebGPU"),
+                _ if started.elapsed() > Duration::from_secs(60) => {
+                    bail!("without WebGPU the page said nothing within 60 s")
+                }
+                _ => std::thread::sleep(Duration::from_millis(250)),
+            }
+        }
+        let said = page_error(driver, &session, "the page found no WebGPU")?;
+        if !said.contains("WebGPU") || said.contains("apt-get") {
+            bail!("without WebGPU the page should say so in a browser's terms: `{said}`");
+        }
+        println!("xtask: without WebGPU the page says `{said}`");
+        Ok(())
+    })();
+    let _ = driver.call("DELETE", &format!("/session/{session}"), None);
+    outcome
+}
+
 /// The one-line message the page shows after `what`, waited for (up to 20 s).
 fn page_error(driver: &Driver, session: &str, what: &str) -> anyhow::Result<String> {
     let started = Instant::now();
@@ -439,8 +480,13 @@ impl Driver {
 
     /// A new headless Chromium session; its id.
     fn session(&self) -> anyhow::Result<String> {
+        self.session_with(&CHROMIUM_FLAGS)
+    }
+
+    /// A new headless Chromium session with `args`; its id.
+    fn session_with(&self, args: &[&str]) -> anyhow::Result<String> {
         let caps = json!({ "capabilities": { "alwaysMatch": {
-            "goog:chromeOptions": { "binary": chromium_binary(), "args": CHROMIUM_FLAGS },
+            "goog:chromeOptions": { "binary": chromium_binary(), "args": args },
             // SwiftShader compiles and draws on the CPU: give scripts and loads time.
             "timeouts": { "script": 180_000, "pageLoad": 180_000 }
         }}});

@@ -152,7 +152,10 @@ fn every_effect_stays_flat_over_300_frames() {
 /// field and allocates another's), so the warm-up is two rounds of the three models; the
 /// soak is the rounds after it, at least [`SOAK`] frames. Each side is the median of one
 /// round's three readings, so that a reading taken while the allocator's top chunk
-/// happens to be high is not mistaken for growth; a leak grows every reading.
+/// happens to be high is not mistaken for growth; a leak grows every reading. Growth over
+/// 5 % is accepted only as a step that then held: the last round within 0.5 % of the one
+/// before it and the whole step at most 10 % (a leak above 5 % over the soak grows about
+/// 1.7 % a round, so it still fails).
 #[test]
 fn switches_and_reloads_stay_flat() {
     let Some(ctx) = context_or_skip("switches_and_reloads_stay_flat") else {
@@ -218,14 +221,39 @@ fn switches_and_reloads_stay_flat() {
             gpu_objects: r.first().and_then(|m| m.gpu_objects),
         }
     };
-    let line = check_flat(
-        &format!(
-            "{} effect switches and {soak_cycles} model loads ({} frames)",
-            soak_cycles * presets.len(),
-            soak_cycles * cycle
-        ),
-        &median(warm_round),
-        &median(end_round),
+    let what = format!(
+        "{} effect switches and {soak_cycles} model loads ({} frames)",
+        soak_cycles * presets.len(),
+        soak_cycles * cycle
     );
-    println!("{line}");
+    let rounds: Vec<MemoryReading> = readings[warm_cycles - round..]
+        .chunks(round)
+        .map(median)
+        .collect();
+    let mib: Vec<u64> = rounds
+        .iter()
+        .map(|m| m.resident_bytes.unwrap_or(0) >> 20)
+        .collect();
+    let (first, last) = (&rounds[0], &rounds[rounds.len() - 1]);
+    let total = last.resident_growth_since(first).unwrap_or(f64::INFINITY);
+    let last_step = last
+        .resident_growth_since(&rounds[rounds.len() - 2])
+        .unwrap_or(f64::INFINITY);
+    if total > MAX_GROWTH && last_step <= SETTLED_STEP && total <= MAX_STEP {
+        // A step, not a trend: under CPU contention glibc can open another malloc arena
+        // for a thread, and resident memory jumps once, then holds. A leak grows every
+        // round, so it would also grow in the last one.
+        println!(
+            "{what}: a one-off step of {:+.1} % that then held (per round: {mib:?} MiB)",
+            100.0 * total
+        );
+        return;
+    }
+    let line = check_flat(&what, first, last);
+    println!("{line} (per round: {mib:?} MiB)");
 }
+
+/// The last round's growth that counts as settled (see [`switches_and_reloads_stay_flat`]).
+const SETTLED_STEP: f64 = 0.005;
+/// The largest one-off step accepted when the last round has settled.
+const MAX_STEP: f64 = 0.10;

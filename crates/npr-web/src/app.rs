@@ -56,7 +56,14 @@ impl Viewer {
             i.create_surface(wgpu::SurfaceTarget::Canvas(canvas))
         })
         .await
-        .map_err(js_error)?;
+        .map_err(|e| match e {
+            // The native message's fix (install a Vulkan driver) means nothing in a page.
+            npr_gpu::GpuError::NoAdapter { .. } => js_error(
+                "This browser gives the page no WebGPU adapter (WebGPU is off, or the GPU is \
+                 blocklisted): try a recent Chrome or Edge, or turn WebGPU on in the browser's flags.",
+            ),
+            other => js_error(other),
+        })?;
         let config = wgpu::SurfaceConfiguration {
             // The frame is copied in from the engine's target, not drawn.
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_DST,
