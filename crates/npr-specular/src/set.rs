@@ -96,7 +96,9 @@ pub enum HighlightBoundary {
     /// triangles. The cone follows the projector as drawn: a §3.4 translation widens it
     /// by the normal's turn over that distance (`|t| · max |κ|`), a rotation or a scale by
     /// the turn over the edited footprint's half extents, so an edit is never cut to the
-    /// unedited footprint.
+    /// unedited footprint. The ramp is never narrower than the interpolated normal's
+    /// typical turn across one face either side, so on a coarse mesh it does not end
+    /// within a triangle.
     #[default]
     Smooth,
     /// The normal limit per face: a face outside the cone is not a receiver (the
@@ -192,6 +194,10 @@ pub struct HighlightSet {
     receiver_faces: Vec<u32>,
     /// Per face: largest angle between its normal and its corners' render normals.
     face_slack: Vec<[f32; 2]>,
+    /// The interpolated normal's typical turn across one face (the median over faces of
+    /// the largest angle between two of its corners' render normals), radians: the
+    /// smooth falloff is never narrower than twice this (see [`HighlightBoundary::Smooth`]).
+    face_turn: f32,
     /// Per render vertex: the normal at the set's scale (empty from `from_parts`).
     render_normals: Vec<Vec3>,
     abstraction: f32,
@@ -287,6 +293,7 @@ impl HighlightSet {
             .collect();
         let mut set = Self::with_search(topology, &field, search);
         set.face_slack = face_slack(&set.topology, &corners);
+        set.face_turn = face_turn(&corners);
         set.render_normals = render_normals;
         set.abstraction = abstraction;
         Ok(set)
@@ -305,6 +312,7 @@ impl HighlightSet {
         let corners = corner_normals(&topology, search.normals());
         let mut set = Self::with_search(topology, field, search);
         set.face_slack = face_slack(&set.topology, &corners);
+        set.face_turn = face_turn(&corners);
         Ok(set)
     }
 
@@ -331,6 +339,7 @@ impl HighlightSet {
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             face_slack: Vec::new(),
+            face_turn: 0.0,
             render_normals: Vec::new(),
             abstraction: 0.0,
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
@@ -638,9 +647,16 @@ impl HighlightSet {
                 (None, _) => Facing::Cos(0.0),
                 (Some(limit), HighlightBoundary::Smooth) => {
                     // Alpha 1/2 at the limit (where the per-face rule cut), ramping over
-                    // half the margin either side.
-                    let band = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
-                    let zero = (limit + band).min(std::f32::consts::FRAC_PI_2);
+                    // half the margin either side, and at least over the normal's turn
+                    // across a face either side: on a coarse mesh a narrower ramp ends
+                    // within a triangle, as hard a step as the per-face cut.
+                    // The far end no further out than a margin-wide ramp reaches at the
+                    // cap (so the grazing limit still bounds the stretch), the ramp no
+                    // wider than keeps alpha 1/2 at the limit.
+                    let half_margin = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
+                    let outer = (cap + half_margin).min(std::f32::consts::FRAC_PI_2);
+                    let band = self.face_turn.min(outer - limit).max(half_margin);
+                    let zero = (limit + band).min(outer);
                     h.falloff_cos = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
                     Facing::Interpolated {
                         limit_rad: zero,
@@ -841,6 +857,26 @@ fn group_edit(whole: &Footprint, piece: &Footprint, c: &ProjectorControls) -> Fo
         offset: whole.offset + turned,
         ..*piece
     }
+}
+
+/// The median over faces of the largest angle between two of a face's corner normals
+/// (`corners[3f + i]`), radians; faces with a missing or non-unit normal are skipped, 0
+/// when none is left.
+fn face_turn(corners: &[Vec3]) -> f32 {
+    let unit = |n: &Vec3| n.is_finite() && (n.length_squared() - 1.0).abs() < 1e-2;
+    let mut turns: Vec<f32> = corners
+        .chunks_exact(3)
+        .filter(|c| c.iter().all(unit))
+        .map(|c| {
+            let cos = c[0].dot(c[1]).min(c[1].dot(c[2])).min(c[2].dot(c[0]));
+            cos.clamp(-1.0, 1.0).acos()
+        })
+        .collect();
+    if turns.is_empty() {
+        return 0.0;
+    }
+    let mid = turns.len() / 2;
+    *turns.select_nth_unstable_by(mid, f32::total_cmp).1
 }
 
 /// Per face corner (`3f + i`), the vertex normal of that corner.

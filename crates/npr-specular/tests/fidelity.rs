@@ -59,6 +59,28 @@ fn highlights_cover_the_region_they_stylize() {
     assert!(ours.stretch_max <= 4.0, "{ours:?}");
 }
 
+/// Issue 19: on a coarse mesh the interpolated normal turns by more across one triangle
+/// than the smooth falloff's fixed ramp (the cone margin), so the falloff ended within a
+/// few pixels, a hard cut of the texture that §4.2 alone would draw on, and the §3.4
+/// edits lost area to it. The ramp now spans at least the normal's turn across a face.
+#[test]
+fn coarse_meshes_fade_their_highlights_instead_of_cutting_them() {
+    let Some(ctx) = testing::context_or_skip("coarse_meshes_fade_their_highlights") else {
+        return;
+    };
+    // Before: cut 0.016, edits 0.930.
+    let knot = generate::torus_knot(&generate::TorusKnot::trefoil(0.3, 48, 8));
+    let s = score(ctx, &knot, HighlightSizing::Region);
+    eprintln!("coarse knot: {s:?}");
+    assert!(s.cut_boundary_share <= 0.005, "{s:?}");
+    // Before: edits 0.892.
+    let torus = generate::torus(1.0, 0.45, 12, 6);
+    let s = score(ctx, &torus, HighlightSizing::Region);
+    eprintln!("coarse torus: {s:?}");
+    assert!(s.edit_completeness >= 0.95, "{s:?}");
+    assert!(s.cut_boundary_share <= 0.005, "{s:?}");
+}
+
 /// The bunny turning in 1° steps (120 here; `cargo xtask bench specular-fidelity` turns it
 /// 360°): no highlight appears or vanishes without its fade, and no footprint changes area
 /// by more than 30 % between consecutive frames.
