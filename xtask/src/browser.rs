@@ -339,22 +339,13 @@ fn check_no_webgpu(driver: &Driver, site_port: u16) -> anyhow::Result<()> {
     ])?;
     let outcome = (|| {
         let url = format!("http://127.0.0.1:{site_port}/index.html");
-        driver.call(
-            "POST",
-            &format!("/session/{session}/url"),
-            Some(&json!({ "url": url })),
-        )?;
-        let started = Instant::now();
-        loop {
-            let title = driver.call("GET", &format!("/session/{session}/title"), None)?;
-            match title.as_str().unwrap_or("") {
-                "npr: no WebGPU" => break,
-                "npr ready" => bail!("the page drew in a Chromium without WebGPU"),
-                _ if started.elapsed() > Duration::from_secs(60) => {
-                    bail!("without WebGPU the page said nothing within 60 s")
-                }
-                _ => std::thread::sleep(Duration::from_millis(250)),
-            }
+        match driver
+            .open(&session, &url, Duration::from_secs(60))?
+            .as_str()
+        {
+            "npr: no WebGPU" => {}
+            "npr ready" => bail!("the page drew in a Chromium without WebGPU"),
+            other => bail!("without WebGPU the page's title is `{other}`"),
         }
         let said = page_error(driver, &session, "the page found no WebGPU")?;
         if !said.contains("WebGPU") || said.contains("apt-get") {
@@ -497,8 +488,9 @@ impl Driver {
             .context("no session id from chromedriver")
     }
 
-    /// Opens `url`, waits for the page to say it has drawn, and returns the canvas.
-    fn load(&self, session: &str, url: &str) -> anyhow::Result<image::RgbaImage> {
+    /// Opens `url` and waits (up to `limit`) for the page's final title: `npr ready` once
+    /// it has drawn (and run its script), or `npr: ...` when it cannot draw.
+    fn open(&self, session: &str, url: &str, limit: Duration) -> anyhow::Result<String> {
         self.call(
             "POST",
             &format!("/session/{session}/url"),
@@ -507,14 +499,22 @@ impl Driver {
         let started = Instant::now();
         loop {
             let title = self.call("GET", &format!("/session/{session}/title"), None)?;
-            match title.as_str().unwrap_or("") {
-                "npr ready" => break,
-                t if t.starts_with("npr:") => bail!("the page says `{t}` at {url}"),
-                _ if started.elapsed() > Duration::from_secs(120) => {
-                    bail!("the page did not draw within 120 s: {url}")
-                }
-                _ => std::thread::sleep(Duration::from_millis(250)),
+            let title = title.as_str().unwrap_or("");
+            if title == "npr ready" || title.starts_with("npr:") {
+                return Ok(title.to_string());
             }
+            if started.elapsed() > limit {
+                bail!("the page did not draw within {} s: {url}", limit.as_secs());
+            }
+            std::thread::sleep(Duration::from_millis(250));
+        }
+    }
+
+    /// Opens `url`, waits for the page to say it has drawn, and returns the canvas.
+    fn load(&self, session: &str, url: &str) -> anyhow::Result<image::RgbaImage> {
+        let title = self.open(session, url, Duration::from_secs(120))?;
+        if title != "npr ready" {
+            bail!("the page says `{title}` at {url}");
         }
         // A few more frames: highlights fade in over their first frames.
         std::thread::sleep(Duration::from_secs(3));
