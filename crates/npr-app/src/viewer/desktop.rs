@@ -118,6 +118,9 @@ struct Gfx {
     /// Size of the 3-D view in physical pixels (0 when minimised).
     view_size: (u32, u32),
     highlights: Vec<HighlightInfo>,
+    /// The last frame's submission: the next frame waits for it before it submits its
+    /// own, so that at most two frames are queued on the GPU (see [`Self::throttle`]).
+    in_flight: Option<wgpu::SubmissionIndex>,
 }
 
 struct App {
@@ -146,6 +149,22 @@ fn write_json(path: &std::path::Path, value: &serde_json::Value) -> Result<(), A
         reason: e.to_string(),
     })?;
     output::write_atomic(path, text.as_bytes())
+}
+
+impl Gfx {
+    /// Waits for the frame before `submitted` to finish on the GPU. Without it, a window
+    /// whose presentation does not block (a software rasterizer, a compositor that never
+    /// throttles) queues frames as fast as the CPU records them, and every queued frame
+    /// keeps its command buffers and the objects it dropped alive; the driver's pools grow
+    /// to the deepest queue they ever saw and keep that memory.
+    fn throttle(&mut self, submitted: wgpu::SubmissionIndex) {
+        if let Some(previous) = self.in_flight.replace(submitted) {
+            let _ = self.ctx.device.poll(wgpu::PollType::Wait {
+                submission_index: Some(previous),
+                timeout: None,
+            });
+        }
+    }
 }
 
 impl App {
@@ -231,6 +250,7 @@ impl App {
             view_texture,
             view_size: (64, 64),
             highlights: Vec::new(),
+            in_flight: None,
         })
     }
 
@@ -555,9 +575,11 @@ impl App {
             gfx.egui_renderer
                 .render(&mut pass.forget_lifetime(), &jobs, &screen);
         }
-        gfx.ctx
+        let submitted = gfx
+            .ctx
             .queue
             .submit(extra.into_iter().chain(Some(encoder.finish())));
+        gfx.throttle(submitted);
         gfx.window.pre_present_notify();
         gfx.ctx.queue.present(frame);
         for id in &full.textures_delta.free {
