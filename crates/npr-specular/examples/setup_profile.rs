@@ -53,6 +53,9 @@ fn main() {
         .build()
         .unwrap();
     let mut rows = Vec::new();
+    // Faces measured one by one and patches taken whole, summed over the frames (a
+    // count that, unlike time, does not vary from run to run).
+    let (mut measured, mut whole) = (0usize, 0usize);
     pool.install(|| {
         for frame in 0..frames + 3 {
             let w =
@@ -74,7 +77,10 @@ fn main() {
                     s.highlights,
                     s.receiver_faces,
                 ));
-                if frame == 30 {
+                let c = s.region_faces;
+                measured += c.inside + c.outside + c.linear + c.grid;
+                whole += c.patches;
+                if frame == 30 || std::env::var_os("COUNTS").is_some() {
                     eprintln!("{:?}", s.region_faces);
                 }
                 if std::env::var_os("VERBOSE").is_some() {
@@ -91,6 +97,7 @@ fn main() {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
+    println!("faces measured {measured}, patches taken whole {whole}");
     println!(
         "total {:.1} us | search {:.1} | region {:.1} | visibility {:.1} | highlights {} | receivers {}",
         med(&|r| r.0),

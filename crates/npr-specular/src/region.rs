@@ -80,16 +80,29 @@ pub struct RegionGrower {
     /// decided in.
     patches: Option<std::sync::Arc<RegionPatches>>,
     patch_stamp: Vec<u32>,
-    /// Per face stamped this frame, the seed that reached it; and whether a seed reached
-    /// a face another had (the regions met).
+    /// Stamp of the current growth pass in `face_visit` and `patch_stamp` (a frame may
+    /// make several: [`RegionGrower::grow_all`]).
+    stamp: u32,
+    /// Per face stamped with patches, the seed that reached it; and the pairs of seeds
+    /// whose growths touched (a seed reached a face another had).
     face_seed: Vec<u32>,
-    met: bool,
-    /// Growths left to make face by face after regions met (they meet again in the
-    /// next frames, mostly: a growth with patches would be made twice).
-    patch_pause: u32,
+    meetings: Vec<(u32, u32)>,
+    /// Per seed, whether the current pass grows it; the first pass's stamp while seeds
+    /// are regrown (else 0), and the kept seeds whose faces a regrowth reached.
+    regrow: Vec<bool>,
+    first_stamp: u32,
+    conflicts: Vec<u32>,
+    /// Per seed, whether it may take whole patches in the current pass, and whether its
+    /// growth touched another's this frame; per face, the last frame in which a region
+    /// that touched another held it.
+    whole: Vec<bool>,
+    touched: Vec<bool>,
+    face_hint: Vec<u32>,
     /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
     pieces: Vec<Footprint>,
     piece_ranges: Vec<std::ops::Range<usize>>,
+    /// Scratch of [`split_bent`].
+    along: Vec<(f32, u32)>,
     /// Tests: sample every face on the finest sub-grid with `H` computed at each point
     /// (the reference the classification is compared with).
     #[cfg(test)]
@@ -111,8 +124,8 @@ pub struct RegionCounts {
     pub patches: usize,
     /// Faces in the patches taken whole.
     pub patch_faces: usize,
-    /// 1 when regions met and were grown again face by face (so shared out as without
-    /// patches).
+    /// Seeds grown again face by face because their regions met another's (so shared out
+    /// as without patches).
     pub regrown: usize,
 }
 
@@ -153,8 +166,9 @@ impl RegionGrower {
         }
     }
 
-    /// Starts a frame: forgets the vertex values and face marks of the last one.
-    fn begin_frame(&mut self, topology: &Topology) {
+    /// Starts a frame of up to `seeds` seeds: forgets the vertex values and face marks of
+    /// the last one.
+    fn begin_frame(&mut self, topology: &Topology, seeds: usize) {
         let (nv, nf) = (topology.vertex_count(), topology.face_count());
         if self.vertices.len() != nv || self.face_visit.len() != nf {
             #[cfg(test)]
@@ -174,10 +188,20 @@ impl RegionGrower {
         self.frame = self.frame.wrapping_add(1);
         if self.frame == 0 {
             self.vertices.fill(VertexCache::default());
-            self.face_visit.fill(0);
-            self.patch_stamp.fill(0);
             self.frame = 1;
         }
+        // A frame makes at most one pass per seed and one more: never wrap within one.
+        if self.stamp >= u32::MAX - seeds as u32 - 2 {
+            self.face_visit.fill(0);
+            self.patch_stamp.fill(0);
+            self.stamp = 0;
+        }
+        self.next_stamp();
+    }
+
+    /// A new stamp for the faces and patches a growth pass reaches.
+    fn next_stamp(&mut self) {
+        self.stamp += 1;
     }
 
     /// World position, unit world normal and `N·H` of vertex `v` (cached for the frame).
@@ -244,15 +268,21 @@ impl RegionGrower {
     /// With [`RegionGrower::with_patches`] the growth takes a whole patch of faces at once
     /// where bounds prove every point of it inside the region (its moments summed from
     /// per-patch tensors, [`RegionPatches`]), and goes down to faces only near the
-    /// boundary: the same faces and footprint as face by face for one region (tested); a
-    /// patch goes whole to the centre that reaches it first where regions are shared.
+    /// boundary: the same faces and footprint as face by face for one region (tested).
+    /// Where regions meet, which centre a face goes to depends on the order faces are
+    /// reached in, and a whole patch is reached at once: the seeds whose growths touched
+    /// another's are grown again face by face, and the others keep their patches. That
+    /// is exact: a growth that touches no other visits the same faces either way, and
+    /// breadth-first growths that never touch do not change each other (checked after the
+    /// regrowth; a seed it touches is regrown too). The result equals face by face for
+    /// all seeds at once (tested).
     pub fn grow_all(
         &mut self,
         f: &RegionFrame<'_>,
         seeds: &[(HighlightCentre, f32)],
     ) -> Vec<Region> {
         let topo = f.topology;
-        self.begin_frame(topo);
+        self.begin_frame(topo, seeds.len());
         let mut out = vec![Region::Empty; seeds.len()];
         let m3 = Mat3::from_mat4(f.world_from_object);
         if m3.determinant().abs() <= f32::MIN_POSITIVE {
@@ -260,65 +290,43 @@ impl RegionGrower {
         }
         let normal_from_object = m3.inverse().transpose();
         // Whole patches only under a similarity (cones keep their angles) and for this mesh.
-        let paused = self.patch_pause > 0;
-        self.patch_pause = self.patch_pause.saturating_sub(1);
         let patches = self
             .patches
             .clone()
-            .filter(|p| !paused && p.clusters.face_count == topo.face_count() && is_similarity(m3));
+            .filter(|p| p.clusters.face_count == topo.face_count() && is_similarity(m3));
         if let Some(p) = &patches {
             if self.patch_stamp.len() != p.patches.len() {
                 self.patch_stamp = vec![0; p.patches.len()];
             }
             if self.face_seed.len() != topo.face_count() {
                 self.face_seed = vec![0; topo.face_count()];
+                self.face_hint = vec![0; topo.face_count()];
             }
         }
-        self.met = false;
         let patches = patches.as_deref();
-        let mut parts: Vec<Part> = Vec::with_capacity(seeds.len());
-        self.queue.clear();
-        for (k, (centre, sigma)) in seeds.iter().enumerate() {
-            let start = centre.face as usize;
-            let frame = centre.normal_world.try_normalize().and_then(|n| {
-                let e_u =
-                    (centre.dir_kappa_max - n * n.dot(centre.dir_kappa_max)).try_normalize()?;
-                Some((n, e_u, n.cross(e_u)))
-            });
-            parts.push(Part {
-                frame: frame.unwrap_or((Vec3::Z, Vec3::X, Vec3::Y)),
-                origin: centre.position_world,
-                sigma: *sigma,
-                moments: Moments::default(),
-                faces: 0,
-                cone: 1.0,
-            });
-            if start >= topo.face_count() || frame.is_none() {
-                continue;
-            }
-            if self.face_visit[start] == self.frame {
-                out[k] = Region::Covered;
-                continue;
-            }
-            self.face_visit[start] = self.frame;
-            if let Some(s) = self.face_seed.get_mut(start) {
-                *s = k as u32;
-            }
-            // A seed's own patch is measured face by face (its face is taken already).
-            if let Some(p) = patches {
-                let c = p.clusters.cluster_of[start];
-                if c != u32::MAX {
-                    self.patch_stamp[c as usize] = self.frame;
-                }
-            }
-            self.queue.push_back((start as u32, k as u32));
-        }
-        let mut total = 0usize;
+        let mut parts: Vec<Part> = seeds.iter().map(|s| Part::new(s.0, s.1)).collect();
         self.counts = RegionCounts::default();
         self.taken.clear();
         self.pieces.clear();
         self.piece_ranges.clear();
         self.piece_ranges.resize(seeds.len(), 0..0);
+        self.meetings.clear();
+        self.regrow.clear();
+        self.regrow.resize(seeds.len(), true);
+        self.first_stamp = 0;
+        // A seed that starts where a region that met another lay last frame most likely
+        // meets one again: it grows face by face from the start.
+        let last = self.frame.wrapping_sub(1);
+        self.touched.clear();
+        self.touched.resize(seeds.len(), false);
+        self.whole.clear();
+        self.whole.extend(seeds.iter().map(|s| {
+            patches.is_some()
+                && self
+                    .face_hint
+                    .get(s.0.face as usize)
+                    .is_none_or(|&h| h != last || last == 0)
+        }));
         let ctx = GrowContext {
             frame: *f,
             normal_from_object,
@@ -330,47 +338,64 @@ impl RegionGrower {
             ),
             translation: f.world_from_object.w_axis.truncate().as_dvec3(),
         };
-        while total < MAX_REGION_FACES {
-            let Some((item, k)) = self.queue.pop_front() else {
-                break;
-            };
-            if item & PATCH_BIT != 0 {
-                // A patch taken whole: go on from its outside neighbours.
-                let Some(p) = patches else { continue };
-                let c = &p.clusters.clusters[(item & !PATCH_BIT) as usize];
-                for &b in &p.clusters.outside[c.outside.clone()] {
-                    self.enter(b, k, &mut parts, &ctx, patches, &mut total);
+        self.grow_pass(seeds, &ctx, patches, &mut out, &mut parts);
+        if !self.meetings.is_empty() && self.counts.patches > 0 {
+            // Regions met: grow the seeds that touched another's again, face by face,
+            // until the regrown growths touch no growth kept from the first pass.
+            self.first_stamp = self.stamp;
+            self.regrow.fill(false);
+            for &(a, b) in &self.meetings {
+                self.regrow[a as usize] = true;
+                self.regrow[b as usize] = true;
+            }
+            loop {
+                let regrow = std::mem::take(&mut self.regrow);
+                self.taken.retain(|t| !regrow[t.0 as usize]);
+                for (k, s) in seeds.iter().enumerate() {
+                    if regrow[k] {
+                        out[k] = Region::Empty;
+                        parts[k] = Part::new(s.0, s.1);
+                    }
                 }
-                continue;
-            }
-            let fi = item as usize;
-            let Some((face, cone)) = self.measure(f, normal_from_object, fi, &parts[k as usize])
-            else {
-                continue;
-            };
-            let part = &mut parts[k as usize];
-            part.cone = part.cone.min(cone);
-            part.moments.add(&face);
-            part.faces += 1;
-            self.taken.push((k, item, face));
-            total += 1;
-            if total >= MAX_REGION_FACES {
-                break;
-            }
-            for &nb in topo.face_neighbours(fi) {
-                self.enter(nb, k, &mut parts, &ctx, patches, &mut total);
+                self.regrow = regrow;
+                self.whole.fill(false);
+                self.conflicts.clear();
+                self.next_stamp();
+                self.grow_pass(seeds, &ctx, None, &mut out, &mut parts);
+                if self.conflicts.is_empty() {
+                    self.counts.regrown = self.regrow.iter().filter(|r| **r).count();
+                    break;
+                }
+                for k in std::mem::take(&mut self.conflicts) {
+                    self.regrow[k as usize] = true;
+                }
             }
         }
-        // Where regions met, which centre a face goes to depends on the order faces are
-        // reached in, and a whole patch is reached at once: grow face by face then, so
-        // that shared regions are shared out exactly as without patches.
-        if self.met && self.counts.patches > 0 {
+        // A growth cut short by the face budget depends on the order of the whole
+        // frame's growth: face by face for all seeds then (a mesh facing the light whole).
+        let total: usize = parts.iter().map(|p| p.faces).sum();
+        if total >= MAX_REGION_FACES && self.counts.patches > 0 {
             let patches = self.patches.take();
             let out = self.grow_all(f, seeds);
             self.patches = patches;
-            self.counts.regrown = 1;
-            self.patch_pause = PATCH_PAUSE;
+            self.counts.regrown = seeds.len();
             return out;
+        }
+        // The faces of regions that met another are hinted for the next frame.
+        if let Some(p) = patches {
+            for &(k, item, _) in &self.taken {
+                if !self.touched[k as usize] {
+                    continue;
+                }
+                if item & PATCH_BIT == 0 {
+                    self.face_hint[item as usize] = self.frame;
+                } else {
+                    let c = &p.clusters.clusters[(item & !PATCH_BIT) as usize];
+                    for &g in &p.clusters.faces[c.faces.clone()] {
+                        self.face_hint[g as usize] = self.frame;
+                    }
+                }
+            }
         }
         // Whole patches' normal cones: the exact smallest cos over their vertices where
         // the patch's bound does not already clear the part's cone.
@@ -405,13 +430,108 @@ impl RegionGrower {
                     out[k] = Region::Fit(fp, part.faces);
                     if needs_split(&fp) {
                         let start = self.pieces.len();
-                        split_bent(&fp, k as u32, &self.taken, &mut self.pieces);
+                        split_bent(
+                            &fp,
+                            k as u32,
+                            &self.taken,
+                            &mut self.along,
+                            &mut self.pieces,
+                        );
                         self.piece_ranges[k] = start..self.pieces.len();
                     }
                 }
             }
         }
         out
+    }
+
+    /// One breadth-first growth of the seeds marked in `self.regrow` (with whole patches
+    /// where `patches` is given), into `out` and `parts`; faces are stamped with
+    /// `self.stamp`. The other seeds' parts stay as they are and count against the face
+    /// budget.
+    fn grow_pass(
+        &mut self,
+        seeds: &[(HighlightCentre, f32)],
+        ctx: &GrowContext<'_>,
+        patches: Option<&RegionPatches>,
+        out: &mut [Region],
+        parts: &mut [Part],
+    ) {
+        let f = &ctx.frame;
+        let topo = f.topology;
+        self.queue.clear();
+        for (k, (centre, _)) in seeds.iter().enumerate() {
+            let start = centre.face as usize;
+            if !self.regrow[k] || start >= topo.face_count() || !parts[k].valid {
+                continue;
+            }
+            self.check_conflict(start);
+            if self.face_visit[start] == self.stamp {
+                out[k] = Region::Covered;
+                continue;
+            }
+            self.face_visit[start] = self.stamp;
+            if let Some(s) = self.face_seed.get_mut(start) {
+                *s = k as u32;
+            }
+            // A seed's own patch is measured face by face (its face is taken already).
+            if let Some(p) = patches {
+                let c = p.clusters.cluster_of[start];
+                if c != u32::MAX {
+                    self.patch_stamp[c as usize] = self.stamp;
+                }
+            }
+            self.queue.push_back((start as u32, k as u32));
+        }
+        let mut total: usize = parts
+            .iter()
+            .zip(&self.regrow)
+            .filter(|(_, r)| !**r)
+            .map(|(p, _)| p.faces)
+            .sum();
+        while total < MAX_REGION_FACES {
+            let Some((item, k)) = self.queue.pop_front() else {
+                break;
+            };
+            if item & PATCH_BIT != 0 {
+                // A patch taken whole: go on from its outside neighbours.
+                let Some(p) = patches else { continue };
+                let c = &p.clusters.clusters[(item & !PATCH_BIT) as usize];
+                for &b in &p.clusters.outside[c.outside.clone()] {
+                    self.enter(b, k, parts, ctx, patches, &mut total);
+                }
+                continue;
+            }
+            let fi = item as usize;
+            let Some((face, cone)) =
+                self.measure(f, ctx.normal_from_object, fi, &parts[k as usize])
+            else {
+                continue;
+            };
+            let part = &mut parts[k as usize];
+            part.cone = part.cone.min(cone);
+            part.moments.add(&face);
+            part.faces += 1;
+            self.taken.push((k, item, face));
+            total += 1;
+            if total >= MAX_REGION_FACES {
+                break;
+            }
+            for &nb in topo.face_neighbours(fi) {
+                self.enter(nb, k, parts, ctx, patches, &mut total);
+            }
+        }
+    }
+
+    /// In a regrowth, notes the seed kept from the first pass that reached face `g` there.
+    #[inline]
+    fn check_conflict(&mut self, g: usize) {
+        if self.first_stamp != 0 && self.face_visit[g] == self.first_stamp {
+            let s = self.face_seed[g];
+            if !self.regrow[s as usize] {
+                self.conflicts.push(s);
+            }
+        }
     }
 
     /// Face `g` reached by seed `k`'s growth: queued (stamped) unless already reached;
@@ -427,26 +547,38 @@ impl RegionGrower {
         total: &mut usize,
     ) {
         let gi = g as usize;
-        if self.face_visit[gi] == self.frame {
-            if patches.is_some() && self.face_seed[gi] != k {
-                self.met = true;
+        if self.face_visit[gi] == self.stamp {
+            // Growths that touch matter only where one of them took whole patches (face
+            // by face growths are shared out as the reference shares them).
+            let other = self.face_seed.get(gi).copied().unwrap_or(k);
+            if other != k {
+                self.touched[k as usize] = true;
+                self.touched[other as usize] = true;
+                if self.whole[k as usize] || self.whole[other as usize] {
+                    self.meetings.push((other, k));
+                }
             }
             return;
         }
-        self.face_visit[gi] = self.frame;
+        self.check_conflict(gi);
+        self.face_visit[gi] = self.stamp;
+        if let Some(s) = self.face_seed.get_mut(gi) {
+            *s = k;
+        }
         if let Some(p) = patches {
-            self.face_seed[gi] = k;
             let c = p.clusters.cluster_of[gi];
-            // A patch is decided once per frame, at the first of its faces reached: no
-            // face of it is stamped before (faces are stamped only here, after the
-            // decision, and seeds' patches are decided at the start).
-            if c != u32::MAX && self.patch_stamp[c as usize] != self.frame {
-                self.patch_stamp[c as usize] = self.frame;
+            // A patch is decided once per pass, at the first of its faces reached (by any
+            // seed): no face of it is stamped before (faces are stamped only here, after
+            // the decision, and seeds' patches are decided at the start).
+            if c != u32::MAX && self.patch_stamp[c as usize] != self.stamp {
+                self.patch_stamp[c as usize] = self.stamp;
                 let part = &mut parts[k as usize];
-                if let Some(m) = p.whole(c as usize, ctx, part) {
+                if self.whole[k as usize]
+                    && let Some(m) = p.whole(c as usize, ctx, part)
+                {
                     let cluster = &p.clusters.clusters[c as usize];
                     for &h in &p.clusters.faces[cluster.faces.clone()] {
-                        self.face_visit[h as usize] = self.frame;
+                        self.face_visit[h as usize] = self.stamp;
                         self.face_seed[h as usize] = k;
                     }
                     let count = cluster.faces.len();
@@ -618,10 +750,6 @@ impl RegionGrower {
             .unwrap_or(&[])
     }
 }
-
-/// Growths made face by face after one where regions met (exact either way: the face by
-/// face growth is the reference).
-const PATCH_PAUSE: u32 = 8;
 
 /// Marks a queue or taken entry as a patch (else a face).
 const PATCH_BIT: u32 = 1 << 31;
@@ -872,7 +1000,16 @@ fn needs_split(whole: &Footprint) -> bool {
 /// Appends to `out` the pieces of the region of seed `k` fitted by `whole` (see
 /// [`RegionGrower::pieces`]), from the moments of its faces and whole patches (cut
 /// between them: a patch is a few faces); nothing when it needs none.
-fn split_bent(whole: &Footprint, k: u32, taken: &[(u32, u32, Moments)], out: &mut Vec<Footprint>) {
+///
+/// `along` is scratch: the faces' and patches' positions along the axis with their index
+/// in `taken` (sorted as keys, not as moments: a 1.1M-face band holds tens of thousands).
+fn split_bent(
+    whole: &Footprint,
+    k: u32,
+    taken: &[(u32, u32, Moments)],
+    along: &mut Vec<(f32, u32)>,
+    out: &mut Vec<Footprint>,
+) {
     if !needs_split(whole) {
         return;
     }
@@ -885,20 +1022,26 @@ fn split_bent(whole: &Footprint, k: u32, taken: &[(u32, u32, Moments)], out: &mu
     } else {
         Vec2::new(-s, c)
     };
-    let mut along: Vec<(f32, Moments)> = taken
-        .iter()
-        .filter(|(seed, _, m)| *seed == k && m.area > 0.0)
-        .map(|(_, _, m)| {
-            let centroid = Vec2::new((m.first[0] / m.area) as f32, (m.first[1] / m.area) as f32);
-            ((centroid - whole.offset).dot(axis), *m)
-        })
-        .collect();
-    along.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let total: f64 = along.iter().map(|(_, m)| m.area).sum();
+    along.clear();
+    along.extend(
+        taken
+            .iter()
+            .enumerate()
+            .filter(|(_, (seed, _, m))| *seed == k && m.area > 0.0)
+            .map(|(i, (_, _, m))| {
+                let centroid =
+                    Vec2::new((m.first[0] / m.area) as f32, (m.first[1] / m.area) as f32);
+                ((centroid - whole.offset).dot(axis), i as u32)
+            }),
+    );
+    // By position, then by index: the order a stable sort of the moments would give.
+    along.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let total: f64 = along.iter().map(|&(_, i)| taken[i as usize].2.area).sum();
     let start = out.len();
     let mut piece = Moments::default();
     let mut cut = 1;
-    for (_, m) in &along {
+    for &(_, i) in along.iter() {
+        let m = &taken[i as usize].2;
         piece.add(m);
         if piece.area >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
             out.extend(piece.footprint());
@@ -934,11 +1077,33 @@ struct VertexCache {
 /// One seed's growing region: its projector frame (n, e_max, e_min), origin, σ, moments.
 struct Part {
     frame: (Vec3, Vec3, Vec3),
+    /// Whether the centre has a frame (else it grows nothing).
+    valid: bool,
     origin: Vec3,
     sigma: f32,
     moments: Moments,
     faces: usize,
     cone: f32,
+}
+
+impl Part {
+    /// The empty region of `centre` at `sigma`.
+    fn new(centre: HighlightCentre, sigma: f32) -> Self {
+        let n = centre.normal_world;
+        let frame = n.try_normalize().and_then(|n| {
+            let e_u = (centre.dir_kappa_max - n * n.dot(centre.dir_kappa_max)).try_normalize()?;
+            Some((n, e_u, n.cross(e_u)))
+        });
+        Self {
+            frame: frame.unwrap_or((Vec3::Z, Vec3::X, Vec3::Y)),
+            valid: frame.is_some(),
+            origin: centre.position_world,
+            sigma,
+            moments: Moments::default(),
+            faces: 0,
+            cone: 1.0,
+        }
+    }
 }
 
 /// Sub-grid of a face: `SUB` steps per edge.
@@ -1353,6 +1518,100 @@ mod tests {
         }
         assert!(compared >= 20, "{compared} regions compared");
         assert!(whole >= 100, "{whole} patches taken whole");
+    }
+
+    #[test]
+    fn shared_regions_grow_with_patches_as_face_by_face() {
+        // All centres at once, σ low enough that regions meet and a little different per
+        // seed (so that which seed reaches a face first matters): with whole patches and
+        // face by face, every seed gets the same faces, footprint and cone, on a scan (the
+        // bunny) and a torus, several views. Some frames must keep some seeds' patches
+        // while regrowing others (the path under test).
+        use npr_geometry::{CurvatureField, CurvatureOptions, HighlightSearch};
+        let path = format!(
+            "{}/../../fixtures/meshes/stanford-bunny.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        let bunny = npr_geometry::load_obj(&path).unwrap();
+        let torus = npr_geometry::generate::torus(1.0, 0.45, 120, 48);
+        let (mut compared, mut partial, mut met) = (0, 0, 0);
+        for mesh in [bunny, torus] {
+            let (welded, topo, field) =
+                CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
+            let search = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
+            let (lo, hi) = topo.positions.iter().fold(
+                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+            let mut faces = RegionGrower::default();
+            let mut patches =
+                RegionGrower::with_patches(RegionPatches::new(&topo, search.normals()));
+            for k in 0..8 {
+                let a = k as f32 * 0.8;
+                let world = Mat4::from_rotation_y(a)
+                    * Mat4::from_rotation_x(0.3 * a)
+                    * Mat4::from_scale(Vec3::splat(1.3 / r))
+                    * Mat4::from_translation(-c);
+                let light_eye = LightEye::Positions {
+                    light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
+                    eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
+                };
+                let frame = RegionFrame {
+                    topology: &topo,
+                    normals: search.normals(),
+                    world_from_object: world,
+                    light_eye,
+                };
+                let centres = search.find(light_eye, world);
+                for base in [0.6, 0.75, 0.85, 0.93] {
+                    let seeds: Vec<(HighlightCentre, f32)> = centres
+                        .iter()
+                        .enumerate()
+                        .map(|(i, c)| (*c, base + 0.02 * (i % 3) as f32))
+                        .collect();
+                    let x = faces.grow_all(&frame, &seeds);
+                    let y = patches.grow_all(&frame, &seeds);
+                    let counts = patches.counts();
+                    let growing = y.iter().filter(|r| matches!(r, Region::Fit(..))).count();
+                    if counts.regrown > 0 {
+                        met += 1;
+                        if counts.regrown < growing {
+                            partial += 1;
+                        }
+                    }
+                    for (i, (a, b)) in x.iter().zip(&y).enumerate() {
+                        match (a, b) {
+                            (Region::Fit(p, n), Region::Fit(q, m)) => {
+                                compared += 1;
+                                assert_eq!(n, m, "faces of seed {i} ({counts:?})");
+                                let size = p.half_extent.max_element();
+                                assert!(
+                                    (p.region_area - q.region_area).abs() <= 1e-4 * p.region_area,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert!(
+                                    (p.half_extent - q.half_extent).abs().max_element()
+                                        <= 1e-3 * size,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert!(
+                                    (p.offset - q.offset).length() <= 1e-3 * size,
+                                    "{p:?} vs {q:?}"
+                                );
+                                assert_eq!(p.normal_cone_cos, q.normal_cone_cos);
+                                assert_eq!(faces.pieces(i).len(), patches.pieces(i).len());
+                            }
+                            (a, b) => assert_eq!(a, b, "seed {i}"),
+                        }
+                    }
+                }
+            }
+        }
+        println!("{compared} regions, {met} growths met, {partial} kept some patches");
+        assert!(compared >= 100, "{compared} regions compared");
+        assert!(met >= 5, "{met} growths where regions met");
+        assert!(partial >= 3, "{partial} growths kept some seeds' patches");
     }
 
     #[test]
