@@ -1360,6 +1360,76 @@ impl Moments {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use npr_geometry::HighlightSearch;
+
+    /// The bunny scan of the fixtures.
+    fn bunny() -> npr_geometry::Mesh {
+        let path = format!(
+            "{}/../../fixtures/meshes/stanford-bunny.obj",
+            env!("CARGO_MANIFEST_DIR")
+        );
+        npr_geometry::load_obj(&path).unwrap()
+    }
+
+    /// `mesh`'s topology and highlight search, and the centre and radius of its bounds.
+    fn prepared(mesh: &npr_geometry::Mesh) -> (Topology, HighlightSearch, Vec3, f32) {
+        use npr_geometry::{CurvatureField, CurvatureOptions};
+        let (welded, topo, field) = CurvatureField::for_mesh(mesh, &CurvatureOptions::default());
+        let search = HighlightSearch::for_mesh(mesh, &welded, &topo, &field);
+        let (lo, hi) = topo.positions.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        (topo, search, (lo + hi) * 0.5, (hi - lo).length() * 0.5)
+    }
+
+    /// A point light and eye around the object at angle `a`.
+    fn point_light(a: f32) -> LightEye {
+        LightEye::Positions {
+            light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
+            eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
+        }
+    }
+
+    /// The growth frame of `topo` with `search`'s normals.
+    fn frame_of<'a>(
+        topo: &'a Topology,
+        search: &'a HighlightSearch,
+        world_from_object: Mat4,
+        light_eye: LightEye,
+    ) -> RegionFrame<'a> {
+        RegionFrame {
+            topology: topo,
+            normals: search.normals(),
+            world_from_object,
+            light_eye,
+        }
+    }
+
+    /// Regions `a` and `b` grown with and without whole patches agree: the same faces,
+    /// footprint to float precision and normal cone (or the same non-fit).
+    fn assert_same_region(a: Region, b: Region, what: &str) {
+        match (a, b) {
+            (Region::Fit(p, n), Region::Fit(q, m)) => {
+                assert_eq!(n, m, "faces of {what}");
+                let size = p.half_extent.max_element();
+                assert!(
+                    (p.region_area - q.region_area).abs() <= 1e-4 * p.region_area,
+                    "{what}: {p:?} vs {q:?}"
+                );
+                assert!(
+                    (p.half_extent - q.half_extent).abs().max_element() <= 1e-3 * size,
+                    "{what}: {p:?} vs {q:?}"
+                );
+                assert!(
+                    (p.offset - q.offset).length() <= 1e-3 * size,
+                    "{what}: {p:?} vs {q:?}"
+                );
+                assert_eq!(p.normal_cone_cos, q.normal_cone_cos, "{what}");
+            }
+            (a, b) => assert_eq!(a, b, "{what}"),
+        }
+    }
 
     #[test]
     fn moments_of_a_square_and_its_clipped_half() {
@@ -1436,24 +1506,12 @@ mod tests {
         // face by face: the same faces, the same footprint to float precision, the same
         // normal cone, on a scan (the bunny), a sphere and a torus, point light and eye,
         // several views and a scaled, turned object, one seed at a time.
-        use npr_geometry::{CurvatureField, CurvatureOptions, HighlightSearch};
-        let path = format!(
-            "{}/../../fixtures/meshes/stanford-bunny.obj",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let bunny = npr_geometry::load_obj(&path).unwrap();
+        let bunny = bunny();
         let sphere = npr_geometry::generate::icosphere(5, 1.0);
         let torus = npr_geometry::generate::torus(1.0, 0.45, 120, 48);
         let (mut compared, mut whole) = (0, 0);
         for mesh in [bunny, sphere, torus] {
-            let (welded, topo, field) =
-                CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
-            let search = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
-            let (lo, hi) = topo.positions.iter().fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+            let (topo, search, c, r) = prepared(&mesh);
             let mut faces = RegionGrower::default();
             let mut patches =
                 RegionGrower::with_patches(RegionPatches::new(&topo, search.normals()));
@@ -1468,50 +1526,18 @@ mod tests {
                         to_eye: Vec3::Z,
                     }
                 } else {
-                    LightEye::Positions {
-                        light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
-                        eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
-                    }
+                    point_light(a)
                 };
-                let frame = RegionFrame {
-                    topology: &topo,
-                    normals: search.normals(),
-                    world_from_object: world,
-                    light_eye,
-                };
+                let frame = frame_of(&topo, &search, world, light_eye);
                 for centre in search.find(light_eye, world) {
                     for sigma in [0.9, 0.97] {
                         let seed = [(centre, sigma)];
                         let x = faces.grow_all(&frame, &seed);
                         let y = patches.grow_all(&frame, &seed);
                         whole += patches.counts().patches;
-                        match (x[0], y[0]) {
-                            (Region::Fit(p, n), Region::Fit(q, m)) => {
-                                compared += 1;
-                                assert_eq!(n, m, "faces");
-                                let size = p.half_extent.max_element();
-                                assert!(
-                                    (p.region_area - q.region_area).abs() <= 1e-4 * p.region_area,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert!(
-                                    (p.half_extent - q.half_extent).abs().max_element()
-                                        <= 1e-3 * size,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert!(
-                                    (p.offset - q.offset).length() <= 1e-3 * size,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert_eq!(p.normal_cone_cos, q.normal_cone_cos);
-                                assert_eq!(
-                                    faces.pieces(0).len(),
-                                    patches.pieces(0).len(),
-                                    "pieces"
-                                );
-                            }
-                            (a, b) => assert_eq!(a, b),
-                        }
+                        assert_same_region(x[0], y[0], "the seed");
+                        assert_eq!(faces.pieces(0).len(), patches.pieces(0).len(), "pieces");
+                        compared += usize::from(matches!(x[0], Region::Fit(..)));
                     }
                 }
             }
@@ -1527,23 +1553,11 @@ mod tests {
         // face by face, every seed gets the same faces, footprint and cone, on a scan (the
         // bunny) and a torus, several views. Some frames must keep some seeds' patches
         // while regrowing others (the path under test).
-        use npr_geometry::{CurvatureField, CurvatureOptions, HighlightSearch};
-        let path = format!(
-            "{}/../../fixtures/meshes/stanford-bunny.obj",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let bunny = npr_geometry::load_obj(&path).unwrap();
+        let bunny = bunny();
         let torus = npr_geometry::generate::torus(1.0, 0.45, 120, 48);
         let (mut compared, mut partial, mut met) = (0, 0, 0);
         for mesh in [bunny, torus] {
-            let (welded, topo, field) =
-                CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
-            let search = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
-            let (lo, hi) = topo.positions.iter().fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+            let (topo, search, c, r) = prepared(&mesh);
             let mut faces = RegionGrower::default();
             let mut patches =
                 RegionGrower::with_patches(RegionPatches::new(&topo, search.normals()));
@@ -1553,16 +1567,8 @@ mod tests {
                     * Mat4::from_rotation_x(0.3 * a)
                     * Mat4::from_scale(Vec3::splat(1.3 / r))
                     * Mat4::from_translation(-c);
-                let light_eye = LightEye::Positions {
-                    light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
-                    eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
-                };
-                let frame = RegionFrame {
-                    topology: &topo,
-                    normals: search.normals(),
-                    world_from_object: world,
-                    light_eye,
-                };
+                let light_eye = point_light(a);
+                let frame = frame_of(&topo, &search, world, light_eye);
                 let centres = search.find(light_eye, world);
                 for base in [0.6, 0.75, 0.85, 0.93] {
                     let seeds: Vec<(HighlightCentre, f32)> = centres
@@ -1581,29 +1587,9 @@ mod tests {
                         }
                     }
                     for (i, (a, b)) in x.iter().zip(&y).enumerate() {
-                        match (a, b) {
-                            (Region::Fit(p, n), Region::Fit(q, m)) => {
-                                compared += 1;
-                                assert_eq!(n, m, "faces of seed {i} ({counts:?})");
-                                let size = p.half_extent.max_element();
-                                assert!(
-                                    (p.region_area - q.region_area).abs() <= 1e-4 * p.region_area,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert!(
-                                    (p.half_extent - q.half_extent).abs().max_element()
-                                        <= 1e-3 * size,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert!(
-                                    (p.offset - q.offset).length() <= 1e-3 * size,
-                                    "{p:?} vs {q:?}"
-                                );
-                                assert_eq!(p.normal_cone_cos, q.normal_cone_cos);
-                                assert_eq!(faces.pieces(i).len(), patches.pieces(i).len());
-                            }
-                            (a, b) => assert_eq!(a, b, "seed {i}"),
-                        }
+                        assert_same_region(*a, *b, &format!("seed {i} ({counts:?})"));
+                        assert_eq!(faces.pieces(i).len(), patches.pieces(i).len(), "pieces");
+                        compared += usize::from(matches!(a, Region::Fit(..)));
                     }
                 }
             }
@@ -1620,23 +1606,11 @@ mod tests {
         // coarser sub-grids, interpolated H) against every face on the finest sub-grid
         // with H at each point: the same footprints within a few percent, on a noisy
         // scan (the bunny) and a sphere, point light and near eye, several views.
-        use npr_geometry::{CurvatureField, CurvatureOptions, HighlightSearch};
-        let path = format!(
-            "{}/../../fixtures/meshes/stanford-bunny.obj",
-            env!("CARGO_MANIFEST_DIR")
-        );
-        let bunny = npr_geometry::load_obj(&path).unwrap();
+        let bunny = bunny();
         let sphere = npr_geometry::generate::icosphere(4, 1.0);
         let mut fits = 0;
         for mesh in [bunny, sphere] {
-            let (welded, topo, field) =
-                CurvatureField::for_mesh(&mesh, &CurvatureOptions::default());
-            let search = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
-            let (lo, hi) = topo.positions.iter().fold(
-                (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let (c, r) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+            let (topo, search, c, r) = prepared(&mesh);
             let world = Mat4::from_scale(Vec3::splat(1.0 / r)) * Mat4::from_translation(-c);
             let mut fast = RegionGrower::default();
             let mut exact = RegionGrower {
@@ -1645,21 +1619,13 @@ mod tests {
             };
             for k in 0..6 {
                 let a = k as f32 * 1.1;
-                let light_eye = LightEye::Positions {
-                    light: Vec3::new(20.0 * a.cos(), 30.0, 20.0 * a.sin()),
-                    eye: Vec3::new(3.0 * (a + 0.4).sin(), 0.5, 3.0 * (a + 0.4).cos()),
-                };
+                let light_eye = point_light(a);
                 let seeds: Vec<(HighlightCentre, f32)> = search
                     .find(light_eye, world)
                     .into_iter()
                     .map(|c| (c, 0.9))
                     .collect();
-                let frame = RegionFrame {
-                    topology: &topo,
-                    normals: search.normals(),
-                    world_from_object: world,
-                    light_eye,
-                };
+                let frame = frame_of(&topo, &search, world, light_eye);
                 let a = fast.grow_all(&frame, &seeds);
                 let b = exact.grow_all(&frame, &seeds);
                 let e = exact.counts();
