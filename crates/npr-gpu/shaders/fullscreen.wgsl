@@ -8,10 +8,23 @@ struct FullscreenOut {
     @builtin(position) clip: vec4<f32>,
 };
 
-@vertex
-fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
+// Vertex `i` of the triangle at depth `z`.
+fn fullscreen_vertex(i: u32, z: f32) -> FullscreenOut {
     let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
     var out: FullscreenOut;
-    out.clip = vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+    out.clip = vec4<f32>(uv * 2.0 - 1.0, z, 1.0);
     return out;
+}
+
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    return fullscreen_vertex(i, 0.0);
+}
+
+// The same triangle at the far plane (depth 1), for a pass that tests against a depth
+// buffer: where depth was cleared to 1 (the background) a `Greater` test fails and the pass
+// shades nothing.
+@vertex
+fn vs_fullscreen_far(@builtin(vertex_index) i: u32) -> FullscreenOut {
+    return fullscreen_vertex(i, 1.0);
 }

@@ -12,7 +12,8 @@
 /// that use them.
 pub const COMMON: &str = include_str!("../shaders/common.wgsl");
 /// The full-screen vertex stage (`vs_fullscreen`, `FullscreenOut`): one triangle covering
-/// the screen, drawn with `draw(0..3, 0..1)` and no vertex buffer.
+/// the screen, drawn with `draw(0..3, 0..1)` and no vertex buffer; `vs_fullscreen_far`
+/// draws it at the far plane, for a pass that skips the background by a depth test.
 pub const FULLSCREEN: &str = include_str!("../shaders/fullscreen.wgsl");
 /// Base shading passes: Phong, Gouraud, cel.
 pub const BASE_SHADING: &str = include_str!("../shaders/base_shading.wgsl");

@@ -47,7 +47,10 @@ override ANCHORS: u32 = 2u;
 // The surface anchors: xy = anchor 0, zw = anchor 1 (pixels at two reference views).
 @group(0) @binding(3) var anchors: texture_2d<f32>;
 
-// `vs_fullscreen` and `FullscreenOut`: npr-gpu's `fullscreen.wgsl`, composed before this file.
+// `vs_fullscreen`, `vs_fullscreen_far` and `FullscreenOut`: npr-gpu's `fullscreen.wgsl`,
+// composed before this file. The scene's pass (`HatchPass::record_scene`) draws at the far
+// plane against the G-buffer depth: the background fails `Greater` and is never shaded,
+// its paper colour coming from the pass's clear.
 
 // f(u_k, v_k) of Eq. (2): the pixel (x, y) rotated by theta_k (Eq. (1), §3.1), read from
 // the map nearest with wrap-around, blended between slices `slice` and `slice + 1` by `a`.
@@ -165,17 +168,6 @@ fn anchored_coverage(an: vec4<f32>, w: f32, tone: f32, theta: f32, turn: f32) ->
         c1 = length_blended(an.zw, tone, theta, turn);
     }
     return c0 + (c1 - c0) * w;
-}
-
-// `vs_fullscreen` at the far plane (depth 1), for the pass that tests against the scene's
-// G-buffer depth (`HatchPass::record_scene`): the background (depth cleared to 1) fails
-// `Greater` and is never shaded, its paper colour coming from the pass's clear.
-@vertex
-fn vs_fullscreen_far(@builtin(vertex_index) i: u32) -> FullscreenOut {
-    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
-    var out: FullscreenOut;
-    out.clip = vec4<f32>(uv * 2.0 - 1.0, 1.0, 1.0);
-    return out;
 }
 
 @fragment
