@@ -166,6 +166,12 @@ impl RegionGrower {
         }
     }
 
+    /// The face patches its whole patches are made of ([`RegionPatches`]), when it has them:
+    /// the §4.2 search uses the same ones.
+    pub(crate) fn patch_clusters(&self) -> Option<&crate::visibility::FaceClusters> {
+        self.patches.as_deref().map(|p| &p.clusters)
+    }
+
     /// Starts a frame of up to `seeds` seeds: forgets the vertex values and face marks of
     /// the last one.
     fn begin_frame(&mut self, topology: &Topology, seeds: usize) {
@@ -778,7 +784,8 @@ fn is_similarity(m: Mat3) -> bool {
 
 /// Faces per patch of [`RegionPatches`] (at most): small enough that most of a
 /// highlight's interior is whole patches on a 70k-face scan, large enough that a
-/// million-face region is a few hundred.
+/// million-face region is a few hundred. A [`crate::HighlightSet`]'s §4.2 search walks the
+/// same patches.
 pub const REGION_PATCH_FACES: usize = 16;
 
 /// Connected patches of a mesh's faces ([`crate::visibility::FaceClusters`] of

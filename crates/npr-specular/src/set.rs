@@ -203,7 +203,7 @@ pub struct HighlightSet {
     abstraction: f32,
     normals_id: u64,
     scratch: VisibilityScratch,
-    face_clusters: FaceClusters,
+    /// Region growth; its face patches serve the §4.2 search too.
     grower: RegionGrower,
     radius_bound: f32,
     next_id: u64,
@@ -318,7 +318,6 @@ impl HighlightSet {
 
     fn with_search(topology: Topology, field: &CurvatureField, search: HighlightSearch) -> Self {
         let radius_bound = bounding_radius(&topology);
-        let face_clusters = FaceClusters::new(&topology);
         let grower = RegionGrower::with_patches(RegionPatches::new(&topology, search.normals()));
         Self {
             radius_object: field.radius_world.max(0.15 * radius_bound),
@@ -344,7 +343,6 @@ impl HighlightSet {
             abstraction: 0.0,
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
-            face_clusters,
             grower,
             radius_bound,
             next_id: 0,
@@ -614,8 +612,9 @@ impl HighlightSet {
             kept.push(h);
             kept.extend(drawn);
         }
-        // Receivers (§4.2).
+        // Receivers (§4.2), over the region growth's face patches (none: face by face).
         let visibility_start = Instant::now();
+        let no_clusters = FaceClusters::default();
         self.receiver_faces.clear();
         let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
         for h in &mut kept {
@@ -667,7 +666,7 @@ impl HighlightSet {
             };
             receivers_within_clustered(
                 &self.topology,
-                &self.face_clusters,
+                self.grower.patch_clusters().unwrap_or(&no_clusters),
                 world_from_object,
                 &h.projector,
                 h.centre.face,

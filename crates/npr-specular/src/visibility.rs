@@ -444,8 +444,11 @@ fn receivers_impl(
     out.len() - before
 }
 
-/// Faces per patch of [`FaceClusters`] (at most).
-pub const CLUSTER_FACES: usize = 64;
+/// Faces per patch of [`FaceClusters`] (at most). 16 rather than 64: a projector's frustum
+/// is often only a few patches wide, and smaller patches fit inside it more often (in
+/// callgrind over the specular bench's frames, the search takes 29 % fewer instructions
+/// on the 1.1M knot and 9 % fewer on the bunny than with 64).
+pub const CLUSTER_FACES: usize = 16;
 
 /// Float slack of the whole-patch tests (NDC units, and cosine units relative to |N_max|).
 const RUN_MARGIN: f32 = 1e-4;
