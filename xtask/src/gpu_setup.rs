@@ -68,6 +68,20 @@ fn apt(args: &[&str]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Installs `packages` with apt-get, refreshing the package lists once when the first
+/// try fails (a fresh image often has none).
+fn apt_install(packages: &[&str]) -> anyhow::Result<()> {
+    let install: Vec<&str> = ["install", "-y", "-qq"]
+        .into_iter()
+        .chain(packages.iter().copied())
+        .collect();
+    if apt(&install).is_err() {
+        apt(&["update", "-qq"])?;
+        apt(&install)?;
+    }
+    Ok(())
+}
+
 /// Returns the adapter summary, installing lavapipe first if needed and possible.
 ///
 /// # Errors
@@ -88,10 +102,7 @@ pub fn ensure_adapter() -> anyhow::Result<String> {
         "xtask: installing Mesa's software Vulkan driver (lavapipe) so the GPU tests can run: \
          {INSTALL_HINT}"
     );
-    if apt(&["install", "-y", "-qq", "mesa-vulkan-drivers", "libvulkan1"]).is_err() {
-        apt(&["update", "-qq"])?;
-        apt(&["install", "-y", "-qq", "mesa-vulkan-drivers", "libvulkan1"])?;
-    }
+    apt_install(&["mesa-vulkan-drivers", "libvulkan1"])?;
     probe().map_err(|e| {
         anyhow::anyhow!(
             "still no GPU adapter after installing the driver: {e}\nTry: {INSTALL_HINT}"
@@ -127,14 +138,7 @@ pub fn ensure_xvfb() -> anyhow::Result<()> {
         );
     }
     eprintln!("xtask: installing Xvfb so the windowed `npr view` test can run: {XVFB_HINT}");
-    let install: Vec<&str> = ["install", "-y", "-qq"]
-        .into_iter()
-        .chain(XVFB_PACKAGES)
-        .collect();
-    if apt(&install).is_err() {
-        apt(&["update", "-qq"])?;
-        apt(&install)?;
-    }
+    apt_install(&XVFB_PACKAGES)?;
     if !has_xvfb() {
         bail!("still no xvfb-run or X client libraries after installing them; try: {XVFB_HINT}");
     }
@@ -171,11 +175,7 @@ pub fn ensure_chromium() -> anyhow::Result<()> {
         );
     }
     eprintln!("xtask: installing Chromium so the browser test can run: {CHROMIUM_HINT}");
-    let install = ["install", "-y", "-qq", "chromium", "chromium-driver"];
-    if apt(&install).is_err() {
-        apt(&["update", "-qq"])?;
-        apt(&install)?;
-    }
+    apt_install(&["chromium", "chromium-driver"])?;
     if !has_chromium() {
         bail!("still no chromium or chromedriver after installing them; try: {CHROMIUM_HINT}");
     }

@@ -39,8 +39,9 @@ fn smooth(avg: f64, x: f64) -> f64 {
 
 impl WarpLive {
     /// One frame of the viewer into `renderer`'s target, as the window and the page draw
-    /// it: the camera's pose is recorded for prediction, then the warp effect warps
-    /// ([`WarpLive::frame`]) and every other effect renders.
+    /// it: the camera's pose is recorded for prediction, then the warp effect warps live
+    /// (a pair of references every `k` frames, warped frames between) and every other effect
+    /// renders.
     ///
     /// # Errors
     /// GPU or technique errors from the renderer.
@@ -68,7 +69,7 @@ impl WarpLive {
     ///
     /// # Errors
     /// GPU or technique errors from the renderer.
-    pub fn frame(
+    fn frame(
         &mut self,
         renderer: &mut Renderer,
         ctx: &npr_gpu::GpuContext,
