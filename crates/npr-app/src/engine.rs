@@ -10,12 +10,12 @@ use crate::view::View;
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, CurvatureRadius};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuMesh, ObjectBinding, ObjectUniforms,
-    OffscreenTarget, ShadingModel, TargetFormats,
+    BaseInput, BaseObject, BaseSettings, BaseShading, FrameId, FrameUniforms, GpuMesh,
+    ObjectUniforms, OffscreenTarget, ShadingModel, TargetFormats,
 };
 use npr_hatching::{HatchFrame, HatchObject, HatchParams, ShadowLight, TamParams, TonalArtMap};
 use npr_specular::{
-    HighlightControls, HighlightDraw, HighlightPass, HighlightSet, HighlightShape,
+    HighlightControls, HighlightObject, HighlightPass, HighlightSet, HighlightShape,
     ProjectorControls,
 };
 use serde::Serialize;
@@ -54,7 +54,7 @@ struct SpecularState {
     shape: String,
     set: HighlightSet,
     pass: HighlightPass,
-    draw: HighlightDraw,
+    draw: HighlightObject,
     /// Texture layer and normal-map flag of the preset's shape.
     layer: u32,
 }
@@ -67,6 +67,8 @@ struct HatchState {
     frame: HatchFrame,
     object: HatchObject,
     direction: DirectionPreset,
+    /// This frame's parameters (passed to every prepare).
+    params: HatchParams,
 }
 
 /// Outline state: the normal + depth prepass and the full-screen pass.
@@ -76,6 +78,7 @@ struct OutlineState {
     prepass: npr_gpu::outline::NormalDepthPass,
     object: npr_gpu::outline::OutlineObject,
     pass: npr_gpu::outline::OutlinePass,
+    source: npr_gpu::outline::OutlineSource,
 }
 
 /// The fewest proxy triangles warping uses (see [`Renderer::warp_reference`]).
@@ -104,7 +107,7 @@ struct FullMsaaState {
     size: (u32, u32),
     antialiasing: npr_warp::Antialiasing,
     base: BaseShading,
-    object: ObjectBinding,
+    object: BaseObject,
     cel_bands: Vec<u8>,
     target: npr_warp::MsaaTarget,
 }
@@ -126,8 +129,10 @@ pub struct Renderer {
     gpu_mesh: GpuMesh,
     target: OffscreenTarget,
     base: BaseShading,
-    object: ObjectBinding,
+    object: BaseObject,
     cel_bands: Vec<u8>,
+    /// The id of the last submission (each frame, reference or warp is one).
+    submission: FrameId,
     specular: Option<SpecularState>,
     hatching: Option<HatchState>,
     outline: Option<OutlineState>,
@@ -253,8 +258,8 @@ impl Renderer {
     ) -> Result<Self, AppError> {
         let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
         let target = OffscreenTarget::new(device, size.0, size.1)?;
-        let base = BaseShading::new(device, queue, TargetFormats::default());
-        let object = base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
+        let base = BaseShading::new(device, queue, TargetFormats::default(), &ramp_settings(&[]));
+        let object = base.create_object(device, &gpu_mesh);
         Ok(Self {
             model,
             gpu_mesh,
@@ -262,6 +267,7 @@ impl Renderer {
             base,
             object,
             cel_bands: Vec::new(),
+            submission: FrameId::default(),
             specular: None,
             hatching: None,
             outline: None,
@@ -301,6 +307,7 @@ impl Renderer {
     pub fn set_model(&mut self, device: &wgpu::Device, model: Model) -> Result<(), AppError> {
         let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
         self.model = model;
+        self.object = self.base.create_object(device, &gpu_mesh);
         self.gpu_mesh = gpu_mesh;
         self.specular = None;
         self.hatching = None;
@@ -354,7 +361,7 @@ impl Renderer {
         }
         let (pass, layer) = if let Some(shape) = builtin_shape(&sp.shape) {
             (
-                HighlightPass::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT)?,
+                HighlightPass::new(device, queue, TargetFormats::default(), &Default::default())?,
                 shape.layer(),
             )
         } else {
@@ -374,8 +381,7 @@ impl Renderer {
                 HighlightPass::with_textures(
                     device,
                     queue,
-                    COLOR_FORMAT,
-                    DEPTH_FORMAT,
+                    TargetFormats::default(),
                     &layers,
                     &normal,
                 )?,
@@ -393,7 +399,7 @@ impl Renderer {
                 sp.abstraction,
             )?,
         };
-        let draw = pass.create_draw(device, &self.gpu_mesh);
+        let draw = pass.create_object(device, &self.gpu_mesh);
         self.specular = Some(SpecularState {
             smoothing_edges: sp.smoothing_edges,
             abstraction: sp.abstraction,
@@ -522,33 +528,29 @@ impl Renderer {
             return Ok(());
         };
         if rebuild {
-            let vsm = npr_hatching::VsmSettings {
-                enabled: h.shadows,
-                ..Default::default()
+            let settings = npr_hatching::HatchFrameSettings {
+                tam: tam.clone(),
+                scene: npr_hatching::SceneSettings {
+                    vsm: npr_hatching::VsmSettings {
+                        enabled: h.shadows,
+                        ..Default::default()
+                    },
+                    ..Default::default()
+                },
             };
-            let frame = HatchFrame::new(
-                device,
-                queue,
-                tam,
-                &params,
-                vsm,
-                COLOR_FORMAT,
-                (size.0, size.1),
-            )?;
-            let uniforms = object_uniforms(preset, Mat4::IDENTITY);
+            let formats = TargetFormats::default();
+            let frame = HatchFrame::new(device, queue, formats, &settings, (size.0, size.1))?;
             let direction = h.direction;
-            let tam_pencil = pencil;
             let dirs = self.directions(direction).to_vec();
-            let object = frame
-                .scene
-                .create_object(device, &self.gpu_mesh, &uniforms, &dirs)?;
+            let object = frame.create_object(device, &self.gpu_mesh, &dirs)?;
             self.hatching = Some(HatchState {
                 size,
                 shadows: preset.hatching.shadows,
-                pencil: tam_pencil,
+                pencil,
                 frame,
                 object,
                 direction,
+                params,
             });
             return Ok(());
         }
@@ -557,9 +559,7 @@ impl Renderer {
                 state.frame.set_tam(device, queue, tam)?;
                 state.pencil = pencil;
             }
-            if state.frame.hatch.params() != &params {
-                state.frame.hatch.set_params(queue, &params)?;
-            }
+            state.params = params;
         }
         Ok(())
     }
@@ -583,51 +583,66 @@ impl Renderer {
             triangles: self.model.mesh.triangle_count(),
             ..FrameStats::default()
         };
+        let clock = self.frame_index as u64;
         self.frame_index += 1;
+        let submission = self.next_submission();
         let object = object_uniforms(preset, view.world_from_object);
         let frame = FrameUniforms::new(&view.camera, &view.light);
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("npr app frame"),
         });
+        let base_input = BaseInput {
+            frame: submission,
+            view: &frame,
+            object: &object,
+            model: shading_model(preset),
+        };
         match preset.effect {
             Effect::HatchingPen | Effect::HatchingPencil => {
                 self.ensure_hatching(device, queue, preset)?;
-                if let Some(h) = &self.hatching {
-                    h.object.update(queue, &object);
+                if let Some(h) = &mut self.hatching {
                     let light = ShadowLight::Directional {
                         towards_light: view.light.position_or_direction,
                         center: Vec3::ZERO,
                         radius: 1.05,
                     };
-                    h.frame.set_view(queue, &view.camera, &light);
+                    let hatch_view = npr_hatching::HatchView {
+                        frame: submission,
+                        clock,
+                        camera: &view.camera,
+                        light: &light,
+                        params: &h.params,
+                    };
+                    let prepared =
+                        h.frame
+                            .prepare(queue, &hatch_view, &mut [(&mut h.object, &object)])?;
                     h.frame.record(
                         &mut encoder,
                         &self.target.color_view,
-                        &[(&self.gpu_mesh, &h.object)],
-                    );
+                        &[&h.object],
+                        &prepared,
+                    )?;
                 }
             }
             Effect::Warp if full_render_antialiasing(preset).is_multisampled() => {
                 self.ensure_full_msaa(device, queue, preset)?;
-                if let Some(m) = &self.full_msaa {
-                    m.base.set_frame(queue, &frame);
-                    m.object.update(queue, &object);
+                if let Some(m) = &mut self.full_msaa {
+                    let prepared = m.base.prepare(queue, &mut m.object, &base_input)?;
                     let mut pass = m.target.begin_pass(
                         &mut encoder,
                         &self.target.color_view,
                         Some(clear_color(preset)),
                     );
-                    m.base
-                        .draw(&mut pass, shading_model(preset), &m.object, &self.gpu_mesh);
+                    m.base.draw(&mut pass, &m.object, &prepared)?;
                 }
             }
             effect => {
                 self.set_ramp(device, queue, &preset.base.cel_bands);
-                self.base.set_frame(queue, &frame);
-                self.object.update(queue, &object);
+                let base = self.base.prepare(queue, &mut self.object, &base_input)?;
                 if effect == Effect::Specular {
                     self.ensure_specular(device, queue, preset)?;
                 }
+                let mut highlights = None;
                 if let Some(s) = self
                     .specular
                     .as_mut()
@@ -650,42 +665,36 @@ impl Renderer {
                     let st = s.set.stats();
                     stats.highlights = st.highlights;
                     stats.receiver_faces = st.receiver_faces;
-                    s.pass.prepare(
-                        device,
-                        queue,
-                        &mut s.draw,
-                        &npr_specular::FrameInput {
-                            mesh: &self.gpu_mesh,
-                            indices: &self.model.mesh.indices,
-                            set: &s.set,
-                            frame: &frame,
-                            object: &object,
-                        },
-                    );
+                    let input = npr_specular::HighlightInput {
+                        frame: submission,
+                        indices: &self.model.mesh.indices,
+                        set: &s.set,
+                        view: &frame,
+                        object: &object,
+                        list: None,
+                    };
+                    highlights = Some(s.pass.prepare(queue, &mut s.draw, &input)?);
                 }
                 let mut pass = self
                     .target
                     .begin_clear_pass(&mut encoder, clear_color(preset));
-                self.base.draw(
-                    &mut pass,
-                    shading_model(preset),
-                    &self.object,
-                    &self.gpu_mesh,
-                );
-                if let Some(s) = self
-                    .specular
-                    .as_ref()
-                    .filter(|_| effect == Effect::Specular)
-                {
-                    s.pass.draw(&mut pass, &s.draw);
+                self.base.draw(&mut pass, &self.object, &base)?;
+                if let (Some(s), Some(prepared)) = (&self.specular, &highlights) {
+                    s.pass.draw(&mut pass, &s.draw, prepared)?;
                 }
             }
         }
         if preset.outline.enabled {
-            self.record_outline(device, queue, &mut encoder, preset, view)?;
+            self.record_outline(device, queue, &mut encoder, preset, view, submission)?;
         }
         queue.submit(Some(encoder.finish()));
         Ok(stats)
+    }
+
+    /// The id of the next submission.
+    fn next_submission(&mut self) -> FrameId {
+        self.submission = self.submission.next();
+        self.submission
     }
 
     /// Builds (or keeps) the multisampled full render of the warp effect for the target's
@@ -705,9 +714,8 @@ impl Renderer {
         if !keep {
             let formats = antialiasing.references(TargetFormats::default());
             let target = npr_warp::MsaaTarget::new(device, size.0, size.1, formats)?;
-            let base = BaseShading::new(device, queue, formats);
-            let object =
-                base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
+            let base = BaseShading::new(device, queue, formats, &ramp_settings(&[]));
+            let object = base.create_object(device, &self.gpu_mesh);
             self.full_msaa = Some(FullMsaaState {
                 size,
                 antialiasing,
@@ -721,7 +729,7 @@ impl Renderer {
             set_ramp(
                 device,
                 queue,
-                &mut m.base,
+                (&mut m.base, &mut m.object),
                 &mut m.cel_bands,
                 &preset.base.cel_bands,
             );
@@ -732,6 +740,7 @@ impl Renderer {
     fn ensure_warp(
         &mut self,
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         preset: &Preset,
         view: &View,
     ) -> Result<(), AppError> {
@@ -760,6 +769,7 @@ impl Renderer {
         let references = antialiasing.references(TargetFormats::default());
         let warper = npr_warp::Warper::new(
             device,
+            queue,
             &proxy,
             w.departures(),
             1.0 / self.model.framing.radius,
@@ -802,7 +812,7 @@ impl Renderer {
         preset: &Preset,
         view: &View,
     ) -> Result<(), AppError> {
-        self.ensure_warp(device, preset, view)?;
+        self.ensure_warp(device, queue, preset, view)?;
         let Some(w) = &mut self.warp else {
             return Ok(());
         };
@@ -812,8 +822,10 @@ impl Renderer {
             label: Some("npr app warp reference"),
         });
         let pose = warp_pose(view);
+        let frame = self.submission.next();
+        self.submission = frame;
         w.warper
-            .record_reference(device, queue, &mut encoder, &mut w.base, &pose)?;
+            .record_reference(device, queue, &mut encoder, &mut w.base, frame, &pose)?;
         queue.submit(Some(encoder.finish()));
         Ok(())
     }
@@ -839,7 +851,7 @@ impl Renderer {
         view: &View,
         s: Option<f32>,
     ) -> Result<FrameStats, AppError> {
-        self.ensure_warp(device, preset, view)?;
+        self.ensure_warp(device, queue, preset, view)?;
         let mut stats = FrameStats {
             frame: self.frame_index,
             effect: preset.effect.name().to_string(),
@@ -847,6 +859,7 @@ impl Renderer {
             ..FrameStats::default()
         };
         self.frame_index += 1;
+        let submission = self.next_submission();
         let Some(w) = &mut self.warp else {
             return Ok(stats);
         };
@@ -861,15 +874,18 @@ impl Renderer {
             let (color, depth) = (&self.target.color_view, &self.target.depth_view);
             w.warper.clear = clear_color(preset);
             w.warper
-                .record_warp(queue, &mut encoder, color, depth, &pose, s)?;
+                .record_warp(queue, &mut encoder, (color, depth), submission, &pose, s)?;
         } else {
+            let prepared = w.warper.prepare(queue, submission, &pose, s)?;
             let mut pass = self
                 .target
                 .begin_clear_pass(&mut encoder, clear_color(preset));
-            w.warper.draw(queue, &mut pass, &pose, s);
+            if let Some(prepared) = &prepared {
+                w.warper.draw(&mut pass, prepared)?;
+            }
         }
         if preset.outline.enabled {
-            self.record_outline(device, queue, &mut encoder, preset, view)?;
+            self.record_outline(device, queue, &mut encoder, preset, view, submission)?;
         }
         queue.submit(Some(encoder.finish()));
         Ok(stats)
@@ -883,34 +899,61 @@ impl Renderer {
         encoder: &mut wgpu::CommandEncoder,
         preset: &Preset,
         view: &View,
+        frame: FrameId,
     ) -> Result<(), AppError> {
-        use npr_gpu::outline::{NormalDepthPass, NormalDepthTarget, OutlinePass};
+        use npr_gpu::outline::{
+            NormalDepthInput, NormalDepthPass, NormalDepthTarget, OutlineInput, OutlinePass,
+        };
         let size = self.size();
         if self.outline.as_ref().is_none_or(|o| o.size != size) {
-            let prepass = NormalDepthPass::new(device);
-            let object = prepass.create_object(device, view.world_from_object);
+            let prepass = NormalDepthPass::new(device, queue);
+            let object = prepass.create_object(device, &self.gpu_mesh);
+            let target = NormalDepthTarget::new(device, size.0, size.1)?;
+            let pass = OutlinePass::new(device, queue, TargetFormats::default());
+            let source = pass.create_object(device, &target);
             self.outline = Some(OutlineState {
                 size,
-                target: NormalDepthTarget::new(device, size.0, size.1)?,
+                target,
                 object,
                 prepass,
-                pass: OutlinePass::new(device, COLOR_FORMAT, &preset.outline.settings()),
+                pass,
+                source,
             });
         }
-        if let Some(o) = &self.outline {
-            o.pass.set_settings(queue, &preset.outline.settings());
-            o.prepass.set_camera(queue, &view.camera);
-            o.object.set_transform(queue, view.world_from_object);
+        if let Some(o) = &mut self.outline {
+            let input = NormalDepthInput {
+                frame,
+                camera: &view.camera,
+                world_from_object: view.world_from_object,
+            };
+            let prepared = o.prepass.prepare(queue, &mut o.object, &input)?;
+            let settings = preset.outline.settings();
+            let input = OutlineInput {
+                frame,
+                settings: &settings,
+            };
+            let lines = o.pass.prepare(queue, &mut o.source, &input)?;
             o.prepass
-                .record(encoder, &o.target, &[(&self.gpu_mesh, &o.object)]);
-            o.pass
-                .record(device, encoder, &self.target.color_view, &o.target);
+                .record(encoder, &o.target, &[(&o.object, &prepared)])?;
+            let mut pass = npr_gpu::render::begin_color_pass(
+                encoder,
+                "npr app outline",
+                &self.target.color_view,
+                wgpu::LoadOp::Load,
+            );
+            o.pass.draw(&mut pass, &o.source, &lines)?;
         }
         Ok(())
     }
 
     fn set_ramp(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, bands: &[u8]) {
-        set_ramp(device, queue, &mut self.base, &mut self.cel_bands, bands);
+        set_ramp(
+            device,
+            queue,
+            (&mut self.base, &mut self.object),
+            &mut self.cel_bands,
+            bands,
+        );
     }
 
     /// Reads the target back as an sRGB image (waits for the GPU).
@@ -926,20 +969,32 @@ impl Renderer {
     }
 }
 
-/// Gives `base` the cel ramp of `bands` unless `current` (the bands it has) equals them.
+/// The base shading settings of a cel ramp of `bands` (grey levels, darkest first; none:
+/// npr-gpu's default ramp).
+fn ramp_settings(bands: &[u8]) -> BaseSettings {
+    if bands.is_empty() {
+        return BaseSettings::default();
+    }
+    let shades: Vec<[u8; 4]> = bands.iter().map(|&g| [g, g, g, 255]).collect();
+    BaseSettings {
+        ramp: npr_gpu::toon_ramp(256, &shades),
+    }
+}
+
+/// Rebuilds `base` (and its object) for the cel ramp of `bands` unless `current` (the
+/// bands it has) equals them: the ramp is a setting, uploaded once per pass.
 fn set_ramp(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    base: &mut BaseShading,
+    (base, object): (&mut BaseShading, &mut BaseObject),
     current: &mut Vec<u8>,
     bands: &[u8],
 ) {
     if current.as_slice() == bands {
         return;
     }
-    let shades: Vec<[u8; 4]> = bands.iter().map(|&g| [g, g, g, 255]).collect();
-    let view = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
-    base.set_ramp(device, &view);
+    *base = BaseShading::new(device, queue, base.formats(), &ramp_settings(bands));
+    *object = base.create_object(device, object.mesh());
     *current = bands.to_vec();
 }
 

@@ -89,3 +89,9 @@ impl AppError {
         }
     }
 }
+
+impl From<npr_gpu::PassError> for AppError {
+    fn from(e: npr_gpu::PassError) -> Self {
+        Self::from(npr_gpu::GpuError::from(e))
+    }
+}

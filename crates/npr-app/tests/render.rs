@@ -596,20 +596,26 @@ fn independent_full_frame(
     );
     let mesh = GpuMesh::upload(device, &model.mesh).unwrap();
     let formats = antialiasing.references(TargetFormats::default());
-    let mut base = BaseShading::new(device, queue, formats);
     let shades: Vec<[u8; 4]> = preset
         .base
         .cel_bands
         .iter()
         .map(|&g| [g, g, g, 255])
         .collect();
-    let ramp = npr_gpu::upload_ramp(device, queue, &npr_gpu::toon_ramp(256, &shades));
-    base.set_ramp(device, &ramp);
-    base.set_frame(queue, &FrameUniforms::new(&view.camera, &view.light));
-    let object = base.create_object(
-        device,
-        &engine::object_uniforms(preset, view.world_from_object),
-    );
+    let settings = npr_gpu::BaseSettings {
+        ramp: npr_gpu::toon_ramp(256, &shades),
+    };
+    let base = BaseShading::new(device, queue, formats, &settings);
+    let mut object = base.create_object(device, &mesh);
+    let view_uniforms = FrameUniforms::new(&view.camera, &view.light);
+    let object_uniforms = engine::object_uniforms(preset, view.world_from_object);
+    let input = npr_gpu::BaseInput {
+        frame: npr_gpu::FrameId::default(),
+        view: &view_uniforms,
+        object: &object_uniforms,
+        model: engine::shading_model(preset),
+    };
+    let prepared = base.prepare(queue, &mut object, &input).unwrap();
     let target = npr_gpu::OffscreenTarget::new(device, size.0, size.1).unwrap();
     let msaa = npr_warp::MsaaTarget::new(
         device,
@@ -626,7 +632,7 @@ fn independent_full_frame(
         } else {
             target.begin_clear_pass(&mut encoder, clear)
         };
-        base.draw(&mut pass, engine::shading_model(preset), &object, &mesh);
+        base.draw(&mut pass, &object, &prepared).unwrap();
     }
     queue.submit(Some(encoder.finish()));
     npr_gpu::readback_rgba(device, queue, &target.color).unwrap()

@@ -63,4 +63,7 @@ pub enum GpuError {
         /// The limit's value on this device.
         limit: u64,
     },
+    /// A pass refused an object or its prepared state (see [`crate::PassError`]).
+    #[error(transparent)]
+    Pass(#[from] crate::PassError),
 }

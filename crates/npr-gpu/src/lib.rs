@@ -30,6 +30,7 @@ pub mod fixtures;
 pub mod layout;
 mod mesh;
 pub mod outline;
+pub mod pass;
 pub mod projective;
 mod readback;
 #[cfg(any(test, feature = "test-support"))]
@@ -48,9 +49,13 @@ pub use camera::{Camera, Light};
 pub use context::GpuContext;
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
+pub use pass::{FrameId, Pass, PassError, Prepared};
 pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
 pub use render::{PipelineBuilder, TargetFormats};
-pub use shading::{BaseShading, ObjectBinding, ShadingModel, default_ramp, toon_ramp, upload_ramp};
+pub use shading::{
+    BaseInput, BaseObject, BaseSettings, BaseShading, ShadingModel, default_ramp, toon_ramp,
+    upload_ramp,
+};
 pub use targets::{
     COLOR_FORMAT, DEPTH_FORMAT, OffscreenTarget, begin_views_pass, check_size, texture_2d,
     texture_2d_descriptor,

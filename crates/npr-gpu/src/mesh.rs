@@ -31,8 +31,8 @@ impl Vertex {
     }
 }
 
-/// A mesh resident on the GPU.
-#[derive(Debug)]
+/// A mesh resident on the GPU. Cloning shares the buffers (no copy).
+#[derive(Clone, Debug)]
 pub struct GpuMesh {
     /// Interleaved [`Vertex`] buffer.
     pub vertex_buffer: wgpu::Buffer,

@@ -6,7 +6,7 @@
 //! "Cartoon-looking rendering of 3D scenes", INRIA research report 2919, 1996. Not part of
 //! the three papers (SPEC §2–§4); the figures that reproduce them are drawn without it.
 //!
-//! Two passes, both recorded into the caller's encoder:
+//! Two passes, both on the pass contract ([`crate::pass`]):
 //! 1. [`NormalDepthPass`] draws meshes into a [`NormalDepthTarget`]
 //!    ([`NORMAL_DEPTH_FORMAT`]: view-space unit normal in rgb, linear view depth in a,
 //!    a = 0 for background), with its own depth buffer.
@@ -21,8 +21,9 @@
 //! angle (crease); neighbours outside the image are ignored. A pixel is drawn when an edge pixel lies within `(width_px − 1) / 2`
 //! pixels (Euclidean) of it, so widths 1, 3, 5 … draw lines that many pixels across.
 
+use crate::pass::{FrameId, Pass, PassError, PassId, Prepared, Slots};
 use crate::render::{self, PipelineBuilder};
-use crate::{Camera, GpuError, GpuMesh, ObjectUniforms, Vertex, texture_2d};
+use crate::{Camera, GpuError, GpuMesh, ObjectUniforms, TargetFormats, Vertex, texture_2d};
 use glam::Mat4;
 use wgpu::util::DeviceExt;
 
@@ -171,6 +172,27 @@ impl NormalDepthTarget {
         })
     }
 
+    /// Begins a render pass that clears this G-buffer and its depth, for
+    /// [`NormalDepthPass::draw`].
+    pub fn begin_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder) -> wgpu::RenderPass<'e> {
+        render::begin_pass(
+            encoder,
+            "npr normal+depth",
+            &[Some(render::color_attachment(
+                &self.view,
+                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            ))],
+            Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+        )
+    }
+
     /// Reads the G-buffer back (`[nx, ny, nz, depth]` per pixel, rows top to bottom).
     /// Submits and waits.
     ///
@@ -186,38 +208,54 @@ impl NormalDepthTarget {
     }
 }
 
-/// One object's transform for the normal + depth prepass (group 1: an [`ObjectUniforms`]
-/// buffer, of which only the transforms are read).
+/// One mesh drawn by the normal + depth prepass: the caller's buffers (shared) and the
+/// per-frame slots (camera at group 0, transform at group 1).
 #[derive(Debug)]
 pub struct OutlineObject {
-    buffer: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    mesh: GpuMesh,
+    slots: Slots<NormalDepthSlot>,
 }
 
-impl OutlineObject {
-    /// Writes a new object transform.
-    pub fn set_transform(&self, queue: &wgpu::Queue, world_from_object: Mat4) {
-        let u = ObjectUniforms::default_material(world_from_object);
-        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(&u));
-    }
+#[derive(Debug)]
+struct NormalDepthSlot {
+    camera: wgpu::Buffer,
+    object: wgpu::Buffer,
+    camera_group: wgpu::BindGroup,
+    object_group: wgpu::BindGroup,
+}
+
+/// One draw's per-frame input to [`NormalDepthPass::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct NormalDepthInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// The camera the G-buffer is drawn from.
+    pub camera: &'a Camera,
+    /// Object → world (must equal the colour pass's).
+    pub world_from_object: Mat4,
 }
 
 fn module(device: &wgpu::Device) -> wgpu::ShaderModule {
     crate::shaders::OUTLINE_FILE.module(device)
 }
 
-/// The normal + depth prepass: any technique can run it over its meshes.
+/// The normal + depth prepass: any technique can run it over its meshes. Its draws go
+/// into a render pass over a [`NormalDepthTarget`] ([`NormalDepthTarget::begin_pass`]),
+/// or [`NormalDepthPass::record`] begins that pass and draws a list of objects.
 #[derive(Debug)]
 pub struct NormalDepthPass {
+    id: PassId,
+    device: wgpu::Device,
     pipeline: wgpu::RenderPipeline,
-    camera_buffer: wgpu::Buffer,
-    camera_group: wgpu::BindGroup,
+    camera_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
 }
 
 impl NormalDepthPass {
-    /// Builds the pipeline (back faces culled, depth test less).
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// Builds the pipeline (back faces culled, depth test less) for a
+    /// [`NormalDepthTarget`] (its formats are fixed: [`NORMAL_DEPTH_FORMAT`] and
+    /// [`crate::DEPTH_FORMAT`]).
+    pub fn new(device: &wgpu::Device, _queue: &wgpu::Queue) -> Self {
         let module = module(device);
         let camera_layout = crate::layout::uniform_layout(device, "npr outline camera");
         let object_layout = crate::layout::uniform_layout(device, "npr outline object");
@@ -238,86 +276,168 @@ impl NormalDepthPass {
         .depth(crate::DEPTH_FORMAT, true, wgpu::CompareFunction::Less)
         .targets(&[Some(NORMAL_DEPTH_FORMAT.into())])
         .build(device);
-        let camera_buffer = render::uniform_buffer(
-            device,
-            "npr outline camera",
-            std::mem::size_of::<CameraUniforms>(),
-        );
-        let camera_group =
-            render::uniform_group(device, "npr outline camera", &camera_layout, &camera_buffer);
         Self {
+            id: PassId::fresh(),
+            device: device.clone(),
             pipeline,
-            camera_buffer,
-            camera_group,
+            camera_layout,
             object_layout,
         }
     }
 
-    /// Writes the camera used by the following [`NormalDepthPass::record`].
-    pub fn set_camera(&self, queue: &wgpu::Queue, camera: &Camera) {
-        let u = CameraUniforms {
-            clip_from_world: camera.clip_from_world().to_cols_array_2d(),
-            view_from_world: camera.view_from_world().to_cols_array_2d(),
+    /// An object drawing `mesh` (its buffers are shared with the caller, not copied).
+    pub fn create_object(&self, _device: &wgpu::Device, mesh: &GpuMesh) -> OutlineObject {
+        OutlineObject {
+            mesh: mesh.clone(),
+            slots: Slots::new(self.id),
+        }
+    }
+
+    /// Writes one draw's camera and transform into a fresh slot of `object`.
+    ///
+    /// # Errors
+    /// [`PassError::ForeignObject`] or [`PassError::SlotsExhausted`].
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut OutlineObject,
+        input: &NormalDepthInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        let device = &self.device;
+        let (prepared, slot) = object.slots.next(self.id, input.frame, || {
+            let camera = render::uniform_buffer(
+                device,
+                "npr outline camera",
+                std::mem::size_of::<CameraUniforms>(),
+            );
+            let object = render::uniform_buffer(
+                device,
+                "npr outline object",
+                std::mem::size_of::<ObjectUniforms>(),
+            );
+            NormalDepthSlot {
+                camera_group: render::uniform_group(
+                    device,
+                    "npr outline camera",
+                    &self.camera_layout,
+                    &camera,
+                ),
+                object_group: render::uniform_group(
+                    device,
+                    "npr outline object",
+                    &self.object_layout,
+                    &object,
+                ),
+                camera,
+                object,
+            }
+        })?;
+        let c = CameraUniforms {
+            clip_from_world: input.camera.clip_from_world().to_cols_array_2d(),
+            view_from_world: input.camera.view_from_world().to_cols_array_2d(),
         };
-        queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&u));
+        queue.write_buffer(&slot.camera, 0, bytemuck::bytes_of(&c));
+        let u = ObjectUniforms::default_material(input.world_from_object);
+        queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(&u));
+        Ok(prepared)
     }
 
-    /// An object with transform `world_from_object`.
-    pub fn create_object(&self, device: &wgpu::Device, world_from_object: Mat4) -> OutlineObject {
-        let u = ObjectUniforms::default_material(world_from_object);
-        let buffer = render::uniform_buffer_init(device, "npr outline object", &u);
-        let bind_group =
-            render::uniform_group(device, "npr outline object", &self.object_layout, &buffer);
-        OutlineObject { buffer, bind_group }
+    /// Records the draw of `object` as `prepared` into a render pass over a
+    /// [`NormalDepthTarget`].
+    ///
+    /// # Errors
+    /// [`PassError`] for a `prepared` of another object, pass or frame.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &OutlineObject,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &slot.camera_group, &[]);
+        pass.set_bind_group(1, &slot.object_group, &[]);
+        object.mesh.draw(pass);
+        Ok(())
     }
 
-    /// Clears `target` and draws `objects` into it.
+    /// Clears `target` and draws the prepared `objects` into it.
+    ///
+    /// # Errors
+    /// As [`NormalDepthPass::draw`].
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &NormalDepthTarget,
-        objects: &[(&GpuMesh, &OutlineObject)],
-    ) {
-        let mut pass = render::begin_pass(
-            encoder,
-            "npr normal+depth",
-            &[Some(render::color_attachment(
-                &target.view,
-                wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            ))],
-            Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-        );
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.camera_group, &[]);
-        for (mesh, object) in objects {
-            pass.set_bind_group(1, &object.bind_group, &[]);
-            mesh.draw(&mut pass);
+        objects: &[(&OutlineObject, &Prepared)],
+    ) -> Result<(), PassError> {
+        let mut pass = target.begin_pass(encoder);
+        for (object, prepared) in objects {
+            self.draw(&mut pass, object, prepared)?;
         }
+        Ok(())
     }
+}
+
+impl Pass for NormalDepthPass {
+    type Object = OutlineObject;
+    type Input<'a> = NormalDepthInput<'a>;
+    type Error = PassError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut OutlineObject,
+        input: &NormalDepthInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        NormalDepthPass::prepare(self, queue, object, input)
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &OutlineObject,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        NormalDepthPass::draw(self, pass, object, prepared)
+    }
+}
+
+/// The G-buffer the outline pass reads, bound once ([`OutlinePass::create_object`]).
+#[derive(Debug)]
+pub struct OutlineSource {
+    gbuffer: wgpu::TextureView,
+    slots: Slots<OutlineSlot>,
+}
+
+#[derive(Debug)]
+struct OutlineSlot {
+    params: wgpu::Buffer,
+    group: wgpu::BindGroup,
+}
+
+/// One draw's per-frame input to [`OutlinePass::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct OutlineInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// Line width, colour and thresholds (sanitized, see [`OutlineSettings::sanitized`]).
+    pub settings: &'a OutlineSettings,
 }
 
 /// The full-screen outline pass over a caller's colour target.
 #[derive(Debug)]
 pub struct OutlinePass {
+    id: PassId,
+    device: wgpu::Device,
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
-    params: wgpu::Buffer,
 }
 
 impl OutlinePass {
-    /// Builds the pass for colour targets of `color_format` with `settings`.
-    pub fn new(
-        device: &wgpu::Device,
-        color_format: wgpu::TextureFormat,
-        settings: &OutlineSettings,
-    ) -> Self {
+    /// Builds the pass for colour targets of `formats.color` (single-sampled; the outline
+    /// is drawn after resolve).
+    pub fn new(device: &wgpu::Device, _queue: &wgpu::Queue, formats: TargetFormats) -> Self {
         let module = module(device);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr outline"),
@@ -340,51 +460,111 @@ impl OutlinePass {
         )
         .targets(&[Some(wgpu::ColorTargetState {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            ..color_format.into()
+            ..formats.color.into()
         })])
         .build(device);
-        let params =
-            render::uniform_buffer_init(device, "npr outline params", &settings.uniforms());
         Self {
+            id: PassId::fresh(),
+            device: device.clone(),
             pipeline,
             layout,
-            params,
         }
     }
 
-    /// Replaces the settings (sanitized, see [`OutlineSettings::sanitized`]).
-    pub fn set_settings(&self, queue: &wgpu::Queue, settings: &OutlineSettings) {
-        queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&settings.uniforms()));
+    /// The source that reads `gbuffer` (of the colour target's size).
+    pub fn create_object(
+        &self,
+        _device: &wgpu::Device,
+        gbuffer: &NormalDepthTarget,
+    ) -> OutlineSource {
+        OutlineSource {
+            gbuffer: gbuffer.view.clone(),
+            slots: Slots::new(self.id),
+        }
     }
 
-    /// Draws the outlines of `gbuffer` over `color_view` (same size), keeping its
-    /// contents elsewhere.
-    pub fn record(
+    /// Writes one draw's settings into a fresh slot of `source`.
+    ///
+    /// # Errors
+    /// [`PassError::ForeignObject`] or [`PassError::SlotsExhausted`].
+    pub fn prepare(
         &self,
-        device: &wgpu::Device,
-        encoder: &mut wgpu::CommandEncoder,
-        color_view: &wgpu::TextureView,
-        gbuffer: &NormalDepthTarget,
-    ) {
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr outline"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.params.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&gbuffer.view),
-                },
-            ],
-        });
-        let mut pass =
-            render::begin_color_pass(encoder, "npr outline", color_view, wgpu::LoadOp::Load);
+        queue: &wgpu::Queue,
+        source: &mut OutlineSource,
+        input: &OutlineInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        let device = &self.device;
+        let gbuffer = source.gbuffer.clone();
+        let (prepared, slot) = source.slots.next(self.id, input.frame, || {
+            let params = render::uniform_buffer(
+                device,
+                "npr outline params",
+                std::mem::size_of::<OutlineUniforms>(),
+            );
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr outline"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: params.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&gbuffer),
+                    },
+                ],
+            });
+            OutlineSlot { params, group }
+        })?;
+        queue.write_buffer(
+            &slot.params,
+            0,
+            bytemuck::bytes_of(&input.settings.uniforms()),
+        );
+        Ok(prepared)
+    }
+
+    /// Draws the outlines of the source's G-buffer into the caller's render pass over a
+    /// colour target of the same size, blending over its contents.
+    ///
+    /// # Errors
+    /// [`PassError`] for a `prepared` of another source, pass or frame.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        source: &OutlineSource,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        let slot = source.slots.get(self.id, prepared)?;
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, &slot.group, &[]);
         pass.draw(0..3, 0..1);
+        Ok(())
+    }
+}
+
+impl Pass for OutlinePass {
+    type Object = OutlineSource;
+    type Input<'a> = OutlineInput<'a>;
+    type Error = PassError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        source: &mut OutlineSource,
+        input: &OutlineInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        OutlinePass::prepare(self, queue, source, input)
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        source: &OutlineSource,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        OutlinePass::draw(self, pass, source, prepared)
     }
 }
 
@@ -486,23 +666,33 @@ pub fn outline_image(
         image.as_raw(),
     );
     let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
-    let prepass = NormalDepthPass::new(device);
-    prepass.set_camera(queue, camera);
-    let bound: Vec<OutlineObject> = objects
-        .iter()
-        .map(|(_, m)| prepass.create_object(device, *m))
-        .collect();
-    let list: Vec<(&GpuMesh, &OutlineObject)> = objects
-        .iter()
-        .zip(&bound)
-        .map(|((mesh, _), o)| (*mesh, o))
-        .collect();
-    let outline = OutlinePass::new(device, crate::COLOR_FORMAT, settings);
+    let prepass = NormalDepthPass::new(device, queue);
+    let frame = FrameId::default();
+    let mut bound = Vec::with_capacity(objects.len());
+    for (mesh, world_from_object) in objects {
+        let mut object = prepass.create_object(device, mesh);
+        let input = NormalDepthInput {
+            frame,
+            camera,
+            world_from_object: *world_from_object,
+        };
+        let prepared = prepass.prepare(queue, &mut object, &input)?;
+        bound.push((object, prepared));
+    }
+    let list: Vec<_> = bound.iter().map(|(o, p)| (o, p)).collect();
+    let formats = TargetFormats::new(crate::COLOR_FORMAT, crate::DEPTH_FORMAT);
+    let outline = OutlinePass::new(device, queue, formats);
+    let mut source = outline.create_object(device, &gbuffer);
+    let lines = outline.prepare(queue, &mut source, &OutlineInput { frame, settings })?;
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("npr outline_image"),
     });
-    prepass.record(&mut encoder, &gbuffer, &list);
-    outline.record(device, &mut encoder, &color_view, &gbuffer);
+    prepass.record(&mut encoder, &gbuffer, &list)?;
+    {
+        let mut pass =
+            render::begin_color_pass(&mut encoder, "npr outline", &color_view, wgpu::LoadOp::Load);
+        outline.draw(&mut pass, &source, &lines)?;
+    }
     queue.submit(Some(encoder.finish()));
     crate::readback_rgba(device, queue, &color)
 }

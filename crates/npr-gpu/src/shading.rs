@@ -3,6 +3,7 @@
 //! (Lake, Marshall, Harris, Blackstein, "Stylized Rendering Techniques for Scalable
 //! Real-Time 3D Animation", NPAR 2000). WGSL: `shaders/base_shading.wgsl`.
 
+use crate::pass::{FrameId, Pass, PassError, PassId, Prepared, Slots};
 use crate::render::{self, PipelineBuilder};
 use crate::{FrameUniforms, GpuMesh, ObjectUniforms, TargetFormats, Vertex, shaders};
 use wgpu::util::DeviceExt;
@@ -89,48 +90,88 @@ pub fn default_ramp() -> Vec<[u8; 4]> {
     )
 }
 
-/// Per-object GPU state: its uniform buffer and bind group (group 1).
+/// The base shading's settings: plain data, keyed by value (a change builds a new pass).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct BaseSettings {
+    /// The cel ramp's texels, darkest first (see [`toon_ramp`]).
+    pub ramp: Vec<[u8; 4]>,
+}
+
+impl Default for BaseSettings {
+    fn default() -> Self {
+        Self {
+            ramp: default_ramp(),
+        }
+    }
+}
+
+/// One draw's per-frame input to [`BaseShading::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct BaseInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// Camera and light.
+    pub view: &'a FrameUniforms,
+    /// Object transform and material.
+    pub object: &'a ObjectUniforms,
+    /// The shading model to draw with.
+    pub model: ShadingModel,
+}
+
+/// One prepare's GPU state: frame (group 0) and object (group 1) uniforms.
 #[derive(Debug)]
-pub struct ObjectBinding {
-    buffer: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+struct BaseSlot {
+    frame: wgpu::Buffer,
+    object: wgpu::Buffer,
+    frame_group: wgpu::BindGroup,
+    object_group: wgpu::BindGroup,
+    model: ShadingModel,
 }
 
-impl ObjectBinding {
-    /// Writes new object uniforms (transform, material).
-    pub fn update(&self, queue: &wgpu::Queue, uniforms: &ObjectUniforms) {
-        queue.write_buffer(&self.buffer, 0, bytemuck::bytes_of(uniforms));
-    }
+/// One mesh drawn by [`BaseShading`]: the caller's buffers (shared, not copied) and the
+/// per-frame slots.
+#[derive(Debug)]
+pub struct BaseObject {
+    mesh: GpuMesh,
+    slots: Slots<BaseSlot>,
+}
 
-    /// The bind group to set at group 1.
-    pub fn bind_group(&self) -> &wgpu::BindGroup {
-        &self.bind_group
+impl BaseObject {
+    /// The mesh this object draws.
+    pub fn mesh(&self) -> &GpuMesh {
+        &self.mesh
     }
 }
 
-/// The base shading passes. Create once per device and target format; record with
-/// [`BaseShading::draw`] into a caller's render pass.
+/// The base shading passes (Phong, Gouraud, cel), following the pass contract
+/// ([`crate::pass`]): [`BaseShading::new`], [`BaseShading::create_object`],
+/// [`BaseShading::prepare`], [`BaseShading::draw`].
 ///
-/// Bind groups: 0 = frame ([`FrameUniforms`], written by [`BaseShading::set_frame`]),
-/// 1 = object ([`ObjectBinding`]), 2 = ramp texture + nearest sampler.
+/// Bind groups: 0 = frame ([`FrameUniforms`]), 1 = object ([`ObjectUniforms`]), 2 = ramp
+/// texture + nearest sampler.
 #[derive(Debug)]
 pub struct BaseShading {
+    id: PassId,
+    device: wgpu::Device,
     phong: wgpu::RenderPipeline,
     gouraud: wgpu::RenderPipeline,
     cel: wgpu::RenderPipeline,
-    frame_buffer: wgpu::Buffer,
-    frame_bind_group: wgpu::BindGroup,
+    frame_layout: wgpu::BindGroupLayout,
     object_layout: wgpu::BindGroupLayout,
-    ramp_layout: wgpu::BindGroupLayout,
-    ramp_sampler: wgpu::Sampler,
     ramp_bind_group: wgpu::BindGroup,
+    formats: TargetFormats,
 }
 
 impl BaseShading {
     /// Builds the three pipelines for render passes over targets of `formats` (colour,
     /// depth tested less and written, samples per pixel: 1, or 4 for MSAA, which WebGPU
-    /// guarantees for renderable formats), and the default three-band ramp.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, formats: TargetFormats) -> Self {
+    /// guarantees for renderable formats), and uploads the settings' cel ramp.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        formats: TargetFormats,
+        settings: &BaseSettings,
+    ) -> Self {
         let module = shaders::BASE_SHADING_FILE.module(device);
         let frame_layout = crate::layout::uniform_layout(device, "npr frame");
         let object_layout = crate::layout::uniform_layout(device, "npr object");
@@ -153,31 +194,24 @@ impl BaseShading {
                 .targets(&[Some(formats.color.into())])
                 .build(device)
         };
-        let frame_buffer = render::uniform_buffer(
-            device,
-            "npr frame uniforms",
-            std::mem::size_of::<FrameUniforms>(),
-        );
-        let frame_bind_group =
-            render::uniform_group(device, "npr frame", &frame_layout, &frame_buffer);
         let ramp_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("npr ramp sampler"),
             address_mode_u: wgpu::AddressMode::ClampToEdge,
             address_mode_v: wgpu::AddressMode::ClampToEdge,
             ..Default::default()
         });
-        let ramp_view = upload_ramp(device, queue, &default_ramp());
+        let ramp_view = upload_ramp(device, queue, &settings.ramp);
         let ramp_bind_group = Self::ramp_group(device, &ramp_layout, &ramp_sampler, &ramp_view);
         Self {
+            id: PassId::fresh(),
+            device: device.clone(),
             phong: pipeline("vs_pixel", "fs_phong"),
             gouraud: pipeline("vs_gouraud", "fs_gouraud"),
             cel: pipeline("vs_pixel", "fs_cel"),
-            frame_buffer,
-            frame_bind_group,
+            frame_layout,
             object_layout,
-            ramp_layout,
-            ramp_sampler,
             ramp_bind_group,
+            formats,
         }
     }
 
@@ -203,47 +237,126 @@ impl BaseShading {
         })
     }
 
-    /// Replaces the cel ramp (any view of a `N × 1` filterable 2-D texture; see
-    /// [`upload_ramp`]).
-    pub fn set_ramp(&mut self, device: &wgpu::Device, ramp: &wgpu::TextureView) {
-        self.ramp_bind_group =
-            Self::ramp_group(device, &self.ramp_layout, &self.ramp_sampler, ramp);
+    /// The target formats the pipelines were built for.
+    pub fn formats(&self) -> TargetFormats {
+        self.formats
     }
 
-    /// Writes the frame uniforms (camera, light) used by every following draw.
-    pub fn set_frame(&self, queue: &wgpu::Queue, frame: &FrameUniforms) {
-        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(frame));
+    /// An object drawing `mesh` (its buffers are shared with the caller, not copied).
+    pub fn create_object(&self, _device: &wgpu::Device, mesh: &GpuMesh) -> BaseObject {
+        BaseObject {
+            mesh: mesh.clone(),
+            slots: Slots::new(self.id),
+        }
     }
 
-    /// The frame uniform buffer (other passes may bind it to read the same camera).
-    pub fn frame_buffer(&self) -> &wgpu::Buffer {
-        &self.frame_buffer
+    /// Writes one draw's camera, light, transform and material into a fresh slot of
+    /// `object`.
+    ///
+    /// # Errors
+    /// [`PassError::ForeignObject`] or [`PassError::SlotsExhausted`].
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut BaseObject,
+        input: &BaseInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        let device = &self.device;
+        let (prepared, slot) = object.slots.next(self.id, input.frame, || {
+            let frame = render::uniform_buffer(
+                device,
+                "npr frame uniforms",
+                std::mem::size_of::<FrameUniforms>(),
+            );
+            let object = render::uniform_buffer(
+                device,
+                "npr object uniforms",
+                std::mem::size_of::<ObjectUniforms>(),
+            );
+            BaseSlot {
+                frame_group: render::uniform_group(device, "npr frame", &self.frame_layout, &frame),
+                object_group: render::uniform_group(
+                    device,
+                    "npr object",
+                    &self.object_layout,
+                    &object,
+                ),
+                frame,
+                object,
+                model: input.model,
+            }
+        })?;
+        queue.write_buffer(&slot.frame, 0, bytemuck::bytes_of(input.view));
+        queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(input.object));
+        slot.model = input.model;
+        Ok(prepared)
     }
 
-    /// Creates the per-object uniform buffer and bind group, filled with `uniforms`.
-    pub fn create_object(&self, device: &wgpu::Device, uniforms: &ObjectUniforms) -> ObjectBinding {
-        let buffer = render::uniform_buffer_init(device, "npr object uniforms", uniforms);
-        let bind_group = render::uniform_group(device, "npr object", &self.object_layout, &buffer);
-        ObjectBinding { buffer, bind_group }
-    }
-
-    /// Records a draw of `mesh` with `model` into the caller's render pass (whose colour
-    /// target has the format given to [`BaseShading::new`] and a depth attachment).
+    /// Records the draw of `object` as `prepared` into the caller's render pass (whose
+    /// colour target has the formats given to [`BaseShading::new`] and a depth
+    /// attachment).
+    ///
+    /// # Errors
+    /// [`PassError`] for a `prepared` of another object, pass or frame; nothing is
+    /// recorded then.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        model: ShadingModel,
-        object: &ObjectBinding,
-        mesh: &GpuMesh,
-    ) {
-        pass.set_pipeline(match model {
+        object: &BaseObject,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        self.draw_range(pass, object, prepared, 0..object.mesh.index_count)
+    }
+
+    /// As [`BaseShading::draw`], drawing only `indices` of the mesh's index buffer (a
+    /// slice of a reference spread over frames, for example).
+    ///
+    /// # Errors
+    /// As [`BaseShading::draw`].
+    pub fn draw_range(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &BaseObject,
+        prepared: &Prepared,
+        indices: std::ops::Range<u32>,
+    ) -> Result<(), PassError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        pass.set_pipeline(match slot.model {
             ShadingModel::Phong => &self.phong,
             ShadingModel::Gouraud => &self.gouraud,
             ShadingModel::Cel => &self.cel,
         });
-        pass.set_bind_group(0, &self.frame_bind_group, &[]);
-        pass.set_bind_group(1, &object.bind_group, &[]);
+        pass.set_bind_group(0, &slot.frame_group, &[]);
+        pass.set_bind_group(1, &slot.object_group, &[]);
         pass.set_bind_group(2, &self.ramp_bind_group, &[]);
-        mesh.draw(pass);
+        let mesh = &object.mesh;
+        pass.set_vertex_buffer(0, mesh.vertex_buffer.slice(..));
+        pass.set_index_buffer(mesh.index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(indices, 0, 0..1);
+        Ok(())
+    }
+}
+
+impl Pass for BaseShading {
+    type Object = BaseObject;
+    type Input<'a> = BaseInput<'a>;
+    type Error = PassError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut BaseObject,
+        input: &BaseInput<'_>,
+    ) -> Result<Prepared, PassError> {
+        BaseShading::prepare(self, queue, object, input)
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &BaseObject,
+        prepared: &Prepared,
+    ) -> Result<(), PassError> {
+        BaseShading::draw(self, pass, object, prepared)
     }
 }

@@ -33,20 +33,33 @@ pub fn render_base(
     height: u32,
 ) -> Result<image::RgbaImage, GpuError> {
     let target = OffscreenTarget::new(device, width, height)?;
-    let shading = BaseShading::new(device, queue, TargetFormats::default());
-    shading.set_frame(queue, &FrameUniforms::new(&scene.camera, &scene.light));
-    let bindings: Vec<_> = scene
-        .objects
-        .iter()
-        .map(|(_, u)| shading.create_object(device, u))
-        .collect();
+    let shading = BaseShading::new(
+        device,
+        queue,
+        TargetFormats::default(),
+        &crate::BaseSettings::default(),
+    );
+    let view = FrameUniforms::new(&scene.camera, &scene.light);
+    let frame = crate::FrameId::default();
+    let mut drawn = Vec::with_capacity(scene.objects.len());
+    for (mesh, object) in scene.objects {
+        let mut bound = shading.create_object(device, mesh);
+        let input = crate::BaseInput {
+            frame,
+            view: &view,
+            object,
+            model,
+        };
+        let prepared = shading.prepare(queue, &mut bound, &input)?;
+        drawn.push((bound, prepared));
+    }
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("npr render_base"),
     });
     {
         let mut pass = target.begin_clear_pass(&mut encoder, scene.clear);
-        for ((mesh, _), binding) in scene.objects.iter().zip(&bindings) {
-            shading.draw(&mut pass, model, binding, mesh);
+        for (bound, prepared) in &drawn {
+            shading.draw(&mut pass, bound, prepared)?;
         }
     }
     queue.submit(Some(encoder.finish()));

@@ -6,10 +6,8 @@
 
 use glam::{Mat4, Vec3};
 use npr_geometry::generate;
-use npr_gpu::outline::{
-    NormalDepthPass, NormalDepthTarget, OutlinePass, OutlineSettings, outline_mask_cpu,
-};
-use npr_gpu::{Camera, GpuContext, GpuMesh, OffscreenTarget, readback_rgba, testing};
+use npr_gpu::outline::{NormalDepthPass, NormalDepthTarget, OutlineSettings, outline_mask_cpu};
+use npr_gpu::{Camera, GpuContext, GpuMesh, testing};
 
 /// Renders `objects`, reads the G-buffer back and draws black outlines over white.
 /// Returns (G-buffer, GPU line mask).
@@ -22,26 +20,28 @@ fn render(
 ) -> (Vec<[f32; 4]>, Vec<bool>) {
     let (device, queue) = (&ctx.device, &ctx.queue);
     let gbuffer = NormalDepthTarget::new(device, w, h).unwrap();
-    let target = OffscreenTarget::new(device, w, h).unwrap();
-    let prepass = NormalDepthPass::new(device);
-    prepass.set_camera(queue, camera);
-    let bound: Vec<_> = objects
-        .iter()
-        .map(|(_, m)| prepass.create_object(device, *m))
-        .collect();
-    let list: Vec<_> = objects
-        .iter()
-        .zip(&bound)
-        .map(|((mesh, _), o)| (*mesh, o))
-        .collect();
-    let outline = OutlinePass::new(device, npr_gpu::COLOR_FORMAT, settings);
+    let prepass = NormalDepthPass::new(device, queue);
+    let frame = npr_gpu::FrameId::default();
     let mut encoder = device.create_command_encoder(&Default::default());
-    drop(target.begin_clear_pass(&mut encoder, [1.0; 4]));
-    prepass.record(&mut encoder, &gbuffer, &list);
-    outline.record(device, &mut encoder, &target.color_view, &gbuffer);
+    let mut bound = Vec::new();
+    for (mesh, m) in objects {
+        let mut object = prepass.create_object(device, mesh);
+        let input = npr_gpu::outline::NormalDepthInput {
+            frame,
+            camera,
+            world_from_object: *m,
+        };
+        let prepared = prepass.prepare(queue, &mut object, &input).unwrap();
+        bound.push((object, prepared));
+    }
+    let list: Vec<_> = bound.iter().map(|(o, p)| (o, p)).collect();
+    prepass.record(&mut encoder, &gbuffer, &list).unwrap();
     queue.submit(Some(encoder.finish()));
     let g = gbuffer.read(device, queue).unwrap();
-    let img = readback_rgba(device, queue, &target.color).unwrap();
+    // The lines over white, drawn by the same helper users call.
+    let white = image::RgbaImage::from_pixel(w, h, image::Rgba([255; 4]));
+    let img =
+        npr_gpu::outline::outline_image(device, queue, &white, camera, objects, settings).unwrap();
     let mask = img.pixels().map(|p| p[0] < 128).collect();
     (g, mask)
 }

@@ -15,7 +15,7 @@ use common::{Error, fixture, single_light};
 use glam::{Mat4, Vec3};
 use npr_gpu::figures::{framing_camera, out_dir, save, save_gif, sheet};
 use npr_gpu::{Camera, GpuContext, GpuMesh};
-use npr_hatching::coherence::{rig, uniforms};
+use npr_hatching::coherence::rig;
 use npr_hatching::{StrokeSpace, TamParams, TonalArtMap};
 use std::path::Path;
 
@@ -37,7 +37,7 @@ fn gif(ctx: &GpuContext, dir: &Path, name: &str, tam: &TonalArtMap) -> Result<()
     let directions = npr_hatching::figures::directions(&mesh);
     let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh)?;
     let period = npr_hatching::DEFAULT_ANCHOR_PERIOD;
-    let rigs = StrokeSpace::ALL
+    let mut rigs = StrokeSpace::ALL
         .into_iter()
         .map(|space| rig(ctx, tam, (space, period), (&gpu_mesh, &directions), (w, h)))
         .collect::<Result<Vec<_>, _>>()?;
@@ -52,12 +52,8 @@ fn gif(ctx: &GpuContext, dir: &Path, name: &str, tam: &TonalArtMap) -> Result<()
         );
         let turn = Mat4::from_rotation_y((t as f32 * STEP_DEG).to_radians());
         let mut tiles = Vec::new();
-        for r in &rigs {
-            r.object
-                .update(&ctx.queue, &uniforms(turn * world_from_object));
-            r.frame.set_view(&ctx.queue, &camera, &light);
-            let objects = [(&gpu_mesh, &r.object)];
-            tiles.push(r.frame.render_hatched(&ctx.device, &ctx.queue, &objects)?);
+        for r in &mut rigs {
+            tiles.push(r.render(ctx, &camera, &light, turn * world_from_object)?);
         }
         frames.push(sheet(&tiles, 2));
     }

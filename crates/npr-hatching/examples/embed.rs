@@ -8,8 +8,10 @@
 //! into your target, recorded into your encoder. `tests/embed.rs` renders through the same
 //! code and compares the image with the CPU reference, `CpuHatcher`.
 
-use npr_gpu::render;
-use npr_hatching::{GBuffer, HatchInputs, HatchParams, HatchPass, TamParams, TonalArtMap};
+use npr_gpu::{FrameId, TargetFormats, render};
+use npr_hatching::{
+    GBuffer, HatchInput, HatchInputs, HatchParams, HatchPass, HatchSettings, TamParams, TonalArtMap,
+};
 
 /// The renderer's colour format in this example (any renderable format works).
 pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -36,17 +38,25 @@ pub fn record_hatching(
     target: &wgpu::TextureView,
     inputs: &HatchInputs,
 ) -> Result<(), npr_hatching::HatchError> {
-    // Once: the tonal art map, the pass in your colour format, the G-buffer.
+    // Once: the tonal art map, the pass in your colour format, the G-buffer it reads.
     let tam = TonalArtMap::generate(&TamParams::pen())?;
-    let pass = HatchPass::new(device, queue, &tam, &HatchParams::default(), COLOR)?;
+    let formats = TargetFormats::new(COLOR, wgpu::TextureFormat::Depth32Float);
+    let pass = HatchPass::new(device, queue, formats, &HatchSettings { tam })?;
     let gbuffer = GBuffer::new(device, inputs.width(), inputs.height())?;
-    let bind_group = pass.bind(device, &gbuffer);
-    // Per frame: your G-buffer pass writes tone and θ (here: an upload), then the
-    // hatching pass draws one full-screen triangle into your target.
+    let mut source = pass.create_object(device, &gbuffer);
+    // Per frame: your G-buffer pass writes tone and θ (here: an upload), `prepare` writes
+    // the parameters, then the hatching pass draws one full-screen triangle into your
+    // target.
     gbuffer.write(queue, inputs);
+    let input = HatchInput {
+        frame: FrameId::default(),
+        params: &HatchParams::default(),
+        anchor_weight: None,
+    };
+    let prepared = pass.prepare(queue, &mut source, &input)?;
     let white = wgpu::LoadOp::Clear(wgpu::Color::WHITE);
     let mut rpass = render::begin_color_pass(encoder, "my hatching pass", target, white);
-    pass.draw(&mut rpass, &bind_group);
+    pass.draw(&mut rpass, &source, &prepared)?;
     Ok(())
 }
 

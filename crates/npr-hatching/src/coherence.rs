@@ -254,13 +254,18 @@ mod tests {
 }
 
 /// A hatching rig of one stroke space: frame passes and one object, for coherence
-/// measurements and figures of a turning object.
+/// measurements and figures of a turning object. Each [`Rig::render`] is one displayed
+/// frame: it advances the rig's own frame id and anchor clock, in the open.
 #[derive(Debug)]
 pub struct Rig {
     /// The frame passes.
     pub frame: crate::HatchFrame,
     /// The object (material of [`uniforms`]).
     pub object: crate::HatchObject,
+    /// The hatching parameters (the rig's stroke space).
+    pub params: crate::HatchParams,
+    /// Displayed frames rendered so far (the anchors' clock of the next one).
+    pub clock: u64,
 }
 
 /// The object material of the coherence sequences, at `world_from_object`.
@@ -285,19 +290,57 @@ pub fn rig(
         space,
         ..Default::default()
     };
-    let mut frame = crate::HatchFrame::new(
+    let settings = crate::HatchFrameSettings {
+        tam: tam.clone(),
+        scene: crate::SceneSettings {
+            anchor_period: period,
+            ..Default::default()
+        },
+    };
+    let frame = crate::HatchFrame::new(
         &ctx.device,
         &ctx.queue,
-        tam,
-        &params,
-        crate::VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
+        npr_gpu::TargetFormats::default(),
+        &settings,
         (width, height),
     )?;
-    frame.scene.set_anchor_period(period)?;
-    let identity = uniforms(glam::Mat4::IDENTITY);
-    let object = frame
-        .scene
-        .create_object(&ctx.device, mesh, &identity, directions)?;
-    Ok(Rig { frame, object })
+    let object = frame.create_object(&ctx.device, mesh, directions)?;
+    Ok(Rig {
+        frame,
+        object,
+        params,
+        clock: 0,
+    })
+}
+
+impl Rig {
+    /// Renders the next displayed frame of the object at `world_from_object` (material of
+    /// [`uniforms`]) from `camera`, and reads it back.
+    ///
+    /// # Errors
+    /// As [`crate::HatchFrame::render_hatched`].
+    pub fn render(
+        &mut self,
+        ctx: &npr_gpu::GpuContext,
+        camera: &npr_gpu::Camera,
+        light: &crate::ShadowLight,
+        world_from_object: glam::Mat4,
+    ) -> Result<image::RgbaImage, crate::HatchError> {
+        let clock = self.clock;
+        self.clock += 1;
+        let view = crate::HatchView {
+            frame: npr_gpu::FrameId(clock),
+            clock,
+            camera,
+            light,
+            params: &self.params,
+        };
+        let u = uniforms(world_from_object);
+        self.frame.render_hatched(
+            &ctx.device,
+            &ctx.queue,
+            &view,
+            &mut [(&mut self.object, &u)],
+        )
+    }
 }

@@ -54,4 +54,7 @@ pub enum HatchError {
     /// message; use a smaller target or a more capable adapter.
     #[error(transparent)]
     Gpu(#[from] npr_gpu::GpuError),
+    /// A pass refused an object or its prepared state (see [`npr_gpu::PassError`]).
+    #[error(transparent)]
+    Pass(#[from] npr_gpu::PassError),
 }

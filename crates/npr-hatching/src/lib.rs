@@ -70,15 +70,19 @@ pub use directions::{
     DirectionSource, StrokeDirection, principal_directions, second_axis, stroke_directions,
 };
 pub use error::HatchError;
-pub use frame::HatchFrame;
+pub use frame::{HatchFrame, HatchFrameSettings, HatchPrepared, HatchView};
 pub use inputs::{Anchor, HatchInputs};
 pub use params::{
     BlendMode, HatchParams, HatchUniforms, MAX_BINS, MIN_BINS, StrokeLength, StrokeSpace,
     nearest_bin,
 };
-pub use pass::{ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchPass, hatch_image_gpu};
+pub use pass::{
+    ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchInput, HatchPass, HatchSettings, HatchSource,
+    hatch_image_gpu,
+};
 pub use reference::{CpuHatcher, hatch_cpu};
 pub use scene::{
-    DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, ScenePasses, ShadowLight, VsmSettings,
+    DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, SceneInput, ScenePasses, SceneSettings,
+    ShadowLight, VsmSettings,
 };
 pub use tam::{TamParams, TamStyle, TonalArtMap};

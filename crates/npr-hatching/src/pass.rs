@@ -4,11 +4,14 @@
 //! Eq. (1) (§3.1), Eq. (2)–(3) (§3.2) and §3.3, reading a tone/θ G-buffer and the tonal
 //! art map. Its CPU twin is [`crate::CpuHatcher`].
 //!
-//! The pass records into the caller's encoder and target; only the helper named for it
-//! ([`hatch_image_gpu`]) submits and reads back.
+//! The pass follows the pass contract ([`npr_gpu::pass`]) and records into the caller's
+//! encoder and target; only the helper named for it ([`hatch_image_gpu`]) submits and
+//! reads back.
 
 use crate::inputs::pixel_count;
 use crate::{HatchError, HatchInputs, HatchParams, HatchUniforms, TonalArtMap};
+use npr_gpu::TargetFormats;
+use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use npr_gpu::render::{self, PipelineBuilder};
 use std::sync::OnceLock;
 
@@ -218,15 +221,56 @@ impl GBuffer {
     }
 }
 
-/// The hatching pass: pipeline, uniform buffer and the tonal art map on the GPU. Create
-/// once per device, map and target format; bind a G-buffer with [`HatchPass::bind`];
-/// record with [`HatchPass::record`] (own render pass) or [`HatchPass::draw`] (into the
-/// caller's pass).
+/// The hatching pass's settings: the tonal art map, uploaded once by [`HatchPass::new`]
+/// (a new style is a new pass).
+#[derive(Clone, Debug)]
+pub struct HatchSettings {
+    /// The tonal art map (pen or pencil style).
+    pub tam: TonalArtMap,
+}
+
+/// One draw's per-frame input to [`HatchPass::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct HatchInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// Bin count, stroke scale, mode and colours.
+    pub params: &'a HatchParams,
+    /// The weight of surface anchor 1 that the G-buffer holds on every pixel, when it is
+    /// the same everywhere ([`crate::ScenePasses::anchor_weight`] for a G-buffer that
+    /// [`crate::ScenePasses::record_gbuffer`] wrote): outside the anchors' cross-fade a
+    /// variant then reads one anchor only. `None`: read each pixel's weight.
+    pub anchor_weight: Option<f32>,
+}
+
+/// A G-buffer bound for the hatching pass ([`HatchPass::create_object`]), with the
+/// per-frame slots its [`HatchPass::prepare`] fills.
+#[derive(Debug)]
+pub struct HatchSource {
+    gbuffer: wgpu::TextureView,
+    anchors: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    slots: Slots<HatchSlot>,
+}
+
+#[derive(Debug)]
+struct HatchSlot {
+    uniforms: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    params: HatchParams,
+    anchor_weight: Option<f32>,
+}
+
+/// The hatching pass: its pipelines and the tonal art map on the GPU, on the pass
+/// contract ([`npr_gpu::pass`]): [`HatchPass::new`], [`HatchPass::create_object`] (a
+/// G-buffer), [`HatchPass::prepare`], then [`HatchPass::draw`] into the caller's pass or
+/// [`HatchPass::record`] (a scene frame's own pass, which skips the background).
 ///
 /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
 /// own renderer.
 #[derive(Debug)]
 pub struct HatchPass {
+    id: PassId,
     /// Pipeline variants by [`Variant::index`], compiled on first use (a software
     /// adapter compiles each in tens of milliseconds; a frame uses one or two).
     pipelines: Vec<OnceLock<wgpu::RenderPipeline>>,
@@ -235,26 +279,24 @@ pub struct HatchPass {
     pipeline_layout: wgpu::PipelineLayout,
     target_format: wgpu::TextureFormat,
     layout: wgpu::BindGroupLayout,
-    uniforms: wgpu::Buffer,
     tam_view: wgpu::TextureView,
     tam: TonalArtMap,
-    params: HatchParams,
 }
 
 impl HatchPass {
-    /// Builds the pass for `tam` and `params`, drawing into targets of `target_format`
-    /// (linear colour is written; an sRGB format encodes it).
+    /// Builds the pass drawing into targets of `formats.color` (linear colour is written;
+    /// an sRGB format encodes it) and uploads the settings' tonal art map.
     ///
     /// # Errors
-    /// [`HatchError::InvalidParams`] when `params` fails [`HatchParams::validate`].
+    /// [`HatchError::InvalidParams`] for a map without levels.
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        tam: &TonalArtMap,
-        params: &HatchParams,
-        target_format: wgpu::TextureFormat,
+        formats: TargetFormats,
+        settings: &HatchSettings,
     ) -> Result<Self, HatchError> {
-        let u = HatchUniforms::new(params, tam)?;
+        let tam = &settings.tam;
+        HatchUniforms::new(&HatchParams::default(), tam)?;
         let module = crate::shaders::HATCHING.module(device);
         use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
         let texture_entry = |binding, view_dimension| {
@@ -270,7 +312,6 @@ impl HatchPass {
             ],
         });
         let pipeline_layout = render::pipeline_layout(device, "npr hatching", &[&layout]);
-        let uniforms = render::uniform_buffer_init(device, "npr hatching uniforms", &u);
         let tam_view =
             tam.upload_tone_pairs(device, queue)
                 .create_view(&wgpu::TextureViewDescriptor {
@@ -278,65 +319,16 @@ impl HatchPass {
                     ..Default::default()
                 });
         Ok(Self {
+            id: PassId::fresh(),
             pipelines: (0..Variant::COUNT).map(|_| OnceLock::new()).collect(),
             device: device.clone(),
             module,
             pipeline_layout,
-            target_format,
+            target_format: formats.color,
             layout,
-            uniforms,
             tam_view,
             tam: tam.clone(),
-            params: *params,
         })
-    }
-
-    /// Changes bin count, stroke scale, mode or colours (a buffer write; bind groups stay
-    /// valid).
-    ///
-    /// # Errors
-    /// [`HatchError::InvalidParams`]; the previous parameters stay in force.
-    ///
-    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
-    /// own renderer.
-    pub fn set_params(
-        &mut self,
-        queue: &wgpu::Queue,
-        params: &HatchParams,
-    ) -> Result<(), HatchError> {
-        let u = HatchUniforms::new(params, &self.tam)?;
-        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
-        self.params = *params;
-        Ok(())
-    }
-
-    /// Switches the tonal art map (e.g. pen to pencil: the style parameter). Bind groups
-    /// made before read the old map: make new ones with [`HatchPass::bind`].
-    ///
-    /// # Errors
-    /// [`HatchError::InvalidParams`] when the current parameters do not fit (never for
-    /// parameters accepted before); the old map stays in force.
-    pub fn set_tam(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        tam: &TonalArtMap,
-    ) -> Result<(), HatchError> {
-        let u = HatchUniforms::new(&self.params, tam)?;
-        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&u));
-        self.tam_view =
-            tam.upload_tone_pairs(device, queue)
-                .create_view(&wgpu::TextureViewDescriptor {
-                    dimension: Some(wgpu::TextureViewDimension::D2Array),
-                    ..Default::default()
-                });
-        self.tam = tam.clone();
-        Ok(())
-    }
-
-    /// The current parameters.
-    pub fn params(&self) -> &HatchParams {
-        &self.params
     }
 
     /// The tonal art map in use.
@@ -344,30 +336,72 @@ impl HatchPass {
         &self.tam
     }
 
-    /// A bind group reading `gbuffer` (its tone/θ texture and its surface anchors).
-    pub fn bind(&self, device: &wgpu::Device, gbuffer: &GBuffer) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr hatching"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniforms.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&self.tam_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&gbuffer.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&gbuffer.anchors_view),
-                },
-            ],
-        })
+    /// Binds `gbuffer` (its tone/θ texture, its surface anchors and its depth).
+    pub fn create_object(&self, _device: &wgpu::Device, gbuffer: &GBuffer) -> HatchSource {
+        HatchSource {
+            gbuffer: gbuffer.view.clone(),
+            anchors: gbuffer.anchors_view.clone(),
+            depth: gbuffer.depth_view.clone(),
+            slots: Slots::new(self.id),
+        }
+    }
+
+    /// Writes one draw's parameters into a fresh slot of `source`.
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
+    ///
+    /// # Errors
+    /// [`HatchError::InvalidParams`] when `input.params` fails [`HatchParams::validate`]
+    /// (nothing is written); [`HatchError::Pass`] for a source of another pass.
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        source: &mut HatchSource,
+        input: &HatchInput<'_>,
+    ) -> Result<Prepared, HatchError> {
+        let u = HatchUniforms::new(input.params, &self.tam)?;
+        let device = &self.device;
+        let (gbuffer, anchors) = (source.gbuffer.clone(), source.anchors.clone());
+        let (prepared, slot) = source.slots.next(self.id, input.frame, || {
+            let uniforms = render::uniform_buffer(
+                device,
+                "npr hatching uniforms",
+                std::mem::size_of::<HatchUniforms>(),
+            );
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr hatching"),
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: uniforms.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::TextureView(&self.tam_view),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: wgpu::BindingResource::TextureView(&gbuffer),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: wgpu::BindingResource::TextureView(&anchors),
+                    },
+                ],
+            });
+            HatchSlot {
+                uniforms,
+                group,
+                params: *input.params,
+                anchor_weight: None,
+            }
+        })?;
+        queue.write_buffer(&slot.uniforms, 0, bytemuck::bytes_of(&u));
+        slot.params = *input.params;
+        slot.anchor_weight = input.anchor_weight;
+        Ok(prepared)
     }
 
     /// The pipeline of `variant`, compiled the first time it is asked for.
@@ -404,30 +438,40 @@ impl HatchPass {
         }))
     }
 
-    /// The variant for the current parameters, a frame-wide anchor-1 weight (`None`: read
-    /// the G-buffer's per-pixel weight, both anchors) and the depth mask.
-    fn variant(&self, anchor_weight: Option<f32>, masked: bool) -> Variant {
-        let surface = self.params.space == crate::StrokeSpace::Surface;
-        let anchors = match anchor_weight {
+    /// The variant for a slot's parameters and anchor weight, and the depth mask.
+    fn variant(slot: &HatchSlot, masked: bool) -> Variant {
+        let surface = slot.params.space == crate::StrokeSpace::Surface;
+        let anchors = match slot.anchor_weight {
             Some(w) if surface && w == 0.0 => 0,
             Some(w) if surface && w == 1.0 => 1,
             _ => 2,
         };
         Variant {
             surface,
-            short: self.params.stroke_length.is_some(),
+            short: slot.params.stroke_length.is_some(),
             anchors,
             masked,
         }
     }
 
     /// Records the full-screen hatching draw into the caller's render pass (whose colour
-    /// target has the format given to [`HatchPass::new`] and the G-buffer's size).
+    /// target has the format given to [`HatchPass::new`] and the G-buffer's size). Every
+    /// pixel is shaded, the background as paper.
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
-        self.draw_variant(pass, bind_group, self.variant(None, false));
+    ///
+    /// # Errors
+    /// [`HatchError::Pass`] for a `prepared` of another source, pass or frame.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        source: &HatchSource,
+        prepared: &Prepared,
+    ) -> Result<(), HatchError> {
+        let slot = source.slots.get(self.id, prepared)?;
+        self.draw_variant(pass, &slot.group, Self::variant(slot, false));
+        Ok(())
     }
 
     fn draw_variant(
@@ -444,41 +488,28 @@ impl HatchPass {
         pass.draw(0..3, 0..1);
     }
 
-    /// Records a render pass over `target` (the G-buffer's size) that hatches every pixel.
+    /// Records the hatching pass of a scene frame into its own render pass over `target`
+    /// (the G-buffer's size), for a G-buffer written by
+    /// [`crate::ScenePasses::record_gbuffer`] earlier in the same encoder. The image
+    /// equals [`HatchPass::draw`]'s, at less cost:
+    /// - the background is not shaded: the draw sits at the far plane and tests `Greater`
+    ///   against the G-buffer's depth (cleared to 1), and the pass clears `target` to the
+    ///   paper colour, which is what the shader writes where there is no ink;
+    /// - outside the cross-fade ([`HatchInput::anchor_weight`] 0 or 1) a variant reads
+    ///   only the weighted anchor (lavapipe runs both sides of a per-pixel branch, so the
+    ///   choice is made here).
+    ///
+    /// # Errors
+    /// [`HatchError::Pass`] for a `prepared` of another source, pass or frame.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         target: &wgpu::TextureView,
-        bind_group: &wgpu::BindGroup,
-    ) {
-        let mut pass = render::begin_color_pass(
-            encoder,
-            "npr hatching",
-            target,
-            wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-        );
-        self.draw(&mut pass, bind_group);
-    }
-
-    /// Records the hatching pass of a scene frame (issue 21): as [`HatchPass::record`],
-    /// for a `gbuffer` written by [`crate::ScenePasses::record_gbuffer`] in the same frame
-    /// and bound in `bind_group`, with `anchor_weight` the weight of anchor 1 that pass
-    /// wrote on every pixel ([`crate::ScenePasses::anchor_weight`]). Two savings, the
-    /// image unchanged:
-    /// - the background is not shaded: the draw sits at the far plane and tests `Greater`
-    ///   against the G-buffer's depth (cleared to 1), and the pass clears `target` to the
-    ///   paper colour, which is what the shader writes where there is no ink;
-    /// - outside the cross-fade (weight 0 or 1) a variant reads only the weighted anchor
-    ///   (lavapipe runs both sides of a per-pixel branch, so the choice is made here).
-    pub fn record_scene(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        target: &wgpu::TextureView,
-        bind_group: &wgpu::BindGroup,
-        gbuffer: &GBuffer,
-        anchor_weight: f32,
-    ) {
-        let [r, g, b] = self.params.paper;
+        source: &HatchSource,
+        prepared: &Prepared,
+    ) -> Result<(), HatchError> {
+        let slot = source.slots.get(self.id, prepared)?;
+        let [r, g, b] = slot.params.paper;
         let mut pass = render::begin_pass(
             encoder,
             "npr hatching (scene)",
@@ -487,7 +518,7 @@ impl HatchPass {
                 render::clear_color([f64::from(r), f64::from(g), f64::from(b), 1.0]),
             ))],
             Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &gbuffer.depth_view,
+                view: &source.depth,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Load,
                     store: wgpu::StoreOp::Store,
@@ -495,8 +526,32 @@ impl HatchPass {
                 stencil_ops: None,
             }),
         );
-        let variant = self.variant(Some(anchor_weight), true);
-        self.draw_variant(&mut pass, bind_group, variant);
+        self.draw_variant(&mut pass, &slot.group, Self::variant(slot, true));
+        Ok(())
+    }
+}
+
+impl npr_gpu::Pass for HatchPass {
+    type Object = HatchSource;
+    type Input<'a> = HatchInput<'a>;
+    type Error = HatchError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        source: &mut HatchSource,
+        input: &HatchInput<'_>,
+    ) -> Result<Prepared, HatchError> {
+        HatchPass::prepare(self, queue, source, input)
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        source: &HatchSource,
+        prepared: &Prepared,
+    ) -> Result<(), HatchError> {
+        HatchPass::draw(self, pass, source, prepared)
     }
 }
 
@@ -536,14 +591,30 @@ pub fn hatch_image_gpu(
     tam: &TonalArtMap,
     params: &HatchParams,
 ) -> Result<image::RgbaImage, HatchError> {
-    let pass = HatchPass::new(device, queue, tam, params, npr_gpu::COLOR_FORMAT)?;
+    let formats = TargetFormats::new(npr_gpu::COLOR_FORMAT, npr_gpu::DEPTH_FORMAT);
+    let settings = HatchSettings { tam: tam.clone() };
+    let pass = HatchPass::new(device, queue, formats, &settings)?;
     let gbuffer = GBuffer::from_inputs(device, queue, inputs)?;
     let target = npr_gpu::OffscreenTarget::new(device, inputs.width(), inputs.height())?;
-    let bind = pass.bind(device, &gbuffer);
+    let mut source = pass.create_object(device, &gbuffer);
+    let input = HatchInput {
+        frame: FrameId::default(),
+        params,
+        anchor_weight: None,
+    };
+    let prepared = pass.prepare(queue, &mut source, &input)?;
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
         label: Some("npr hatch_image_gpu"),
     });
-    pass.record(&mut encoder, &target.color_view, &bind);
+    {
+        let mut rpass = render::begin_color_pass(
+            &mut encoder,
+            "npr hatching",
+            &target.color_view,
+            wgpu::LoadOp::Clear(wgpu::Color::WHITE),
+        );
+        pass.draw(&mut rpass, &source, &prepared)?;
+    }
     queue.submit(Some(encoder.finish()));
     Ok(npr_gpu::readback_rgba(device, queue, &target.color)?)
 }

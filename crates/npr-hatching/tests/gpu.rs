@@ -4,10 +4,11 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_gpu::{Camera, GpuMesh, ObjectUniforms, testing};
+use npr_gpu::{Camera, FrameId, GpuMesh, ObjectUniforms, TargetFormats, testing};
 use npr_hatching::{
-    BlendMode, CpuHatcher, HatchError, HatchFrame, HatchInputs, HatchParams, ShadowLight,
-    TamParams, TamStyle, TonalArtMap, VsmSettings, hatch_image_gpu,
+    BlendMode, CpuHatcher, HatchError, HatchFrame, HatchFrameSettings, HatchInputs, HatchParams,
+    HatchView, SceneSettings, ShadowLight, TamParams, TamStyle, TonalArtMap, VsmSettings,
+    hatch_image_gpu,
 };
 use std::f32::consts::PI;
 
@@ -95,6 +96,46 @@ fn meridian_directions(mesh: &npr_geometry::Mesh) -> Vec<Vec3> {
         .collect()
 }
 
+/// A hatching frame of `size` for `tam`, with `vsm` and the default anchor period.
+fn hatch_frame(
+    ctx: &npr_gpu::GpuContext,
+    tam: &TonalArtMap,
+    vsm: VsmSettings,
+    size: (u32, u32),
+) -> HatchFrame {
+    let settings = HatchFrameSettings {
+        tam: tam.clone(),
+        scene: SceneSettings {
+            vsm,
+            ..Default::default()
+        },
+    };
+    HatchFrame::new(
+        &ctx.device,
+        &ctx.queue,
+        TargetFormats::default(),
+        &settings,
+        size,
+    )
+    .unwrap()
+}
+
+/// One still view (anchor clock 0) as submission `frame`.
+fn still<'a>(
+    frame: u64,
+    camera: &'a Camera,
+    light: &'a ShadowLight,
+    params: &'a HatchParams,
+) -> HatchView<'a> {
+    HatchView {
+        frame: FrameId(frame),
+        clock: 0,
+        camera,
+        light,
+        params,
+    }
+}
+
 /// The whole frame on the GPU (VSM, G-buffer, hatching) equals the CPU reference applied
 /// to the G-buffer read back (same bound as above), the G-buffer's θ on the sphere's
 /// central column is the meridian's screen direction (vertical, π/2, within 2°), and the
@@ -109,26 +150,11 @@ fn scene_frame_matches_cpu_on_its_gbuffer() {
     let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh).unwrap();
     let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
     let params = HatchParams::default();
-    let frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        &tam,
-        &params,
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (w, h),
-    )
-    .unwrap();
+    let mut frame = hatch_frame(ctx, &tam, VsmSettings::default(), (w, h));
     // Diffuse only, so tone = ambient + N·L.
     let object_uniforms = ObjectUniforms::new(Mat4::IDENTITY, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
-    let object = frame
-        .scene
-        .create_object(
-            &ctx.device,
-            &gpu_mesh,
-            &object_uniforms,
-            &meridian_directions(&mesh),
-        )
+    let mut object = frame
+        .create_object(&ctx.device, &gpu_mesh, &meridian_directions(&mesh))
         .unwrap();
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, w as f32 / h as f32);
     let light = ShadowLight::Directional {
@@ -136,10 +162,10 @@ fn scene_frame_matches_cpu_on_its_gbuffer() {
         center: Vec3::ZERO,
         radius: 1.5,
     };
-    frame.set_view(&ctx.queue, &camera, &light);
-    let objects = [(&gpu_mesh, &object)];
+    let view = still(0, &camera, &light, &params);
+    let objects = &mut [(&mut object, &object_uniforms)];
     let hatched = frame
-        .render_hatched(&ctx.device, &ctx.queue, &objects)
+        .render_hatched(&ctx.device, &ctx.queue, &view, objects)
         .unwrap();
     let gbuffer = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
     let cpu = CpuHatcher::new(&tam, &params)
@@ -210,20 +236,12 @@ fn vsm_darkens_the_shadowed_plane() {
     };
     let mut tones = Vec::new();
     for enabled in [true, false] {
-        let frame = HatchFrame::new(
-            &ctx.device,
-            &ctx.queue,
-            &tam,
-            &HatchParams::default(),
-            VsmSettings {
-                enabled,
-                size: 512,
-                ..Default::default()
-            },
-            npr_gpu::COLOR_FORMAT,
-            (w, h),
-        )
-        .unwrap();
+        let vsm = VsmSettings {
+            enabled,
+            size: 512,
+            ..Default::default()
+        };
+        let mut frame = hatch_frame(ctx, &tam, vsm, (w, h));
         let mut objs = Vec::new();
         for (mesh, m) in [
             (&sphere, Mat4::from_translation(Vec3::new(0.0, 1.0, 0.0))),
@@ -232,16 +250,14 @@ fn vsm_darkens_the_shadowed_plane() {
             let g = GpuMesh::upload(&ctx.device, mesh).unwrap();
             let u = ObjectUniforms::new(m, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
             let dirs = vec![Vec3::X; mesh.positions.len()];
-            let o = frame
-                .scene
-                .create_object(&ctx.device, &g, &u, &dirs)
-                .unwrap();
-            objs.push((g, o));
+            let o = frame.create_object(&ctx.device, &g, &dirs).unwrap();
+            objs.push((g, o, u));
         }
-        frame.set_view(&ctx.queue, &camera, &light);
-        let refs: Vec<_> = objs.iter().map(|(g, o)| (g, o)).collect();
+        let params = HatchParams::default();
+        let view = still(0, &camera, &light, &params);
+        let mut refs: Vec<_> = objs.iter_mut().map(|(_, o, u)| (o, &*u)).collect();
         frame
-            .render_hatched(&ctx.device, &ctx.queue, &refs)
+            .render_hatched(&ctx.device, &ctx.queue, &view, &mut refs)
             .unwrap();
         tones.push(frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap());
     }
@@ -262,15 +278,15 @@ fn gpu_bad_inputs_are_typed_errors() {
     };
     let tam = TonalArtMap::generate(&TamParams::pencil()).unwrap();
     assert!(matches!(
-        npr_hatching::HatchPass::new(
+        npr_hatching::hatch_image_gpu(
             &ctx.device,
             &ctx.queue,
+            &HatchInputs::from_fn(8, 8, |x, _| (x, 0.0)).unwrap(),
             &tam,
             &HatchParams {
                 bins: 30,
                 ..Default::default()
             },
-            npr_gpu::COLOR_FORMAT
         ),
         Err(HatchError::InvalidParams { .. })
     ));
@@ -278,41 +294,26 @@ fn gpu_bad_inputs_are_typed_errors() {
         npr_hatching::GBuffer::new(&ctx.device, 0, 10),
         Err(HatchError::InvalidSize { .. })
     ));
-    let frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        &tam,
-        &HatchParams::default(),
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (64, 48),
-    )
-    .unwrap();
+    let mut frame = hatch_frame(ctx, &tam, VsmSettings::default(), (64, 48));
     let mesh = npr_geometry::generate::icosphere(2, 1.0);
     let g = GpuMesh::upload(&ctx.device, &mesh).unwrap();
     let u = ObjectUniforms::default_material(Mat4::IDENTITY);
     assert!(matches!(
-        frame
-            .scene
-            .create_object(&ctx.device, &g, &u, &[Vec3::X; 3]),
+        frame.create_object(&ctx.device, &g, &[Vec3::X; 3]),
         Err(HatchError::LengthMismatch { .. })
     ));
     let nan = vec![Vec3::NAN; mesh.positions.len()];
-    let o = frame
-        .scene
-        .create_object(&ctx.device, &g, &u, &nan)
-        .unwrap();
-    frame.set_view(
-        &ctx.queue,
-        &Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 64.0 / 48.0),
-        &ShadowLight::Directional {
-            towards_light: Vec3::Z,
-            center: Vec3::ZERO,
-            radius: 1.0,
-        },
-    );
+    let mut o = frame.create_object(&ctx.device, &g, &nan).unwrap();
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 64.0 / 48.0);
+    let light = ShadowLight::Directional {
+        towards_light: Vec3::Z,
+        center: Vec3::ZERO,
+        radius: 1.0,
+    };
+    let params = HatchParams::default();
+    let view = still(0, &camera, &light, &params);
     let img = frame
-        .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+        .render_hatched(&ctx.device, &ctx.queue, &view, &mut [(&mut o, &u)])
         .unwrap();
     assert_eq!(img.dimensions(), (64, 48));
     let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
@@ -336,16 +337,7 @@ fn spot_light_cone_and_shadow() {
     let plane = npr_geometry::generate::plane(6.0, 6.0, 8, 8);
     let sphere = npr_geometry::generate::icosphere(3, 0.25);
     let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
-    let frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        &tam,
-        &HatchParams::default(),
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (w, h),
-    )
-    .unwrap();
+    let mut frame = hatch_frame(ctx, &tam, VsmSettings::default(), (w, h));
     let mut objs = Vec::new();
     for (mesh, m) in [
         (&plane, Mat4::IDENTITY),
@@ -354,11 +346,8 @@ fn spot_light_cone_and_shadow() {
         let g = GpuMesh::upload(&ctx.device, mesh).unwrap();
         let u = ObjectUniforms::new(m, Vec3::ONE, 0.0, Vec3::ZERO, 1.0);
         let dirs = vec![Vec3::X; mesh.positions.len()];
-        let o = frame
-            .scene
-            .create_object(&ctx.device, &g, &u, &dirs)
-            .unwrap();
-        objs.push((g, o));
+        let o = frame.create_object(&ctx.device, &g, &dirs).unwrap();
+        objs.push((g, o, u));
     }
     let camera = Camera::look_at(Vec3::new(4.0, 5.0, 0.01), Vec3::ZERO, 1.0);
     let light = ShadowLight::Spot {
@@ -368,10 +357,11 @@ fn spot_light_cone_and_shadow() {
         inner_angle_rad: 15f32.to_radians(),
         range: 10.0,
     };
-    frame.set_view(&ctx.queue, &camera, &light);
-    let refs: Vec<_> = objs.iter().map(|(g, o)| (g, o)).collect();
+    let params = HatchParams::default();
+    let view = still(0, &camera, &light, &params);
+    let mut refs: Vec<_> = objs.iter_mut().map(|(_, o, u)| (o, &*u)).collect();
     frame
-        .render_hatched(&ctx.device, &ctx.queue, &refs)
+        .render_hatched(&ctx.device, &ctx.queue, &view, &mut refs)
         .unwrap();
     let g = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
     let inv = camera.clip_from_world().inverse();
@@ -427,22 +417,12 @@ fn switching_style_rebinds_the_map() {
     let pen = TonalArtMap::generate(&TamParams::pen()).unwrap();
     let pencil = TonalArtMap::generate(&TamParams::pencil()).unwrap();
     let params = HatchParams::default();
-    let mut frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        &pen,
-        &params,
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (w, h),
-    )
-    .unwrap();
+    let mut frame = hatch_frame(ctx, &pen, VsmSettings::default(), (w, h));
     let mesh = npr_geometry::generate::icosphere(3, 1.0);
     let g = GpuMesh::upload(&ctx.device, &mesh).unwrap();
     let u = ObjectUniforms::default_material(Mat4::IDENTITY);
-    let o = frame
-        .scene
-        .create_object(&ctx.device, &g, &u, &meridian_directions(&mesh))
+    let mut o = frame
+        .create_object(&ctx.device, &g, &meridian_directions(&mesh))
         .unwrap();
     let camera = Camera::look_at(Vec3::new(0.0, 1.0, 3.5), Vec3::ZERO, w as f32 / h as f32);
     let light = ShadowLight::Directional {
@@ -450,10 +430,10 @@ fn switching_style_rebinds_the_map() {
         center: Vec3::ZERO,
         radius: 1.2,
     };
-    frame.set_view(&ctx.queue, &camera, &light);
     frame.set_tam(&ctx.device, &ctx.queue, &pencil).unwrap();
+    let view = still(0, &camera, &light, &params);
     let img = frame
-        .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+        .render_hatched(&ctx.device, &ctx.queue, &view, &mut [(&mut o, &u)])
         .unwrap();
     let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
     let cpu = CpuHatcher::new(&pencil, &params)
@@ -477,16 +457,7 @@ fn gbuffer_theta_is_counter_clockwise_on_screen() {
     };
     let (w, h) = (96u32, 64u32);
     let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
-    let frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        &tam,
-        &HatchParams::default(),
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (w, h),
-    )
-    .unwrap();
+    let mut frame = hatch_frame(ctx, &tam, VsmSettings::default(), (w, h));
     // The xz plane turned to face +z.
     let plane = npr_geometry::generate::plane(2.0, 2.0, 2, 2);
     let m = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
@@ -503,13 +474,13 @@ fn gbuffer_theta_is_counter_clockwise_on_screen() {
         (Vec3::new(1.0, -1.0, 0.0), 3.0 * PI / 4.0),
     ] {
         let d = m.inverse().transform_vector3(dir_world);
-        let o = frame
-            .scene
-            .create_object(&ctx.device, &g, &u, &vec![d; plane.positions.len()])
+        let mut o = frame
+            .create_object(&ctx.device, &g, &vec![d; plane.positions.len()])
             .unwrap();
-        frame.set_view(&ctx.queue, &camera, &light);
+        let params = HatchParams::default();
+        let view = still(0, &camera, &light, &params);
         frame
-            .render_hatched(&ctx.device, &ctx.queue, &[(&g, &o)])
+            .render_hatched(&ctx.device, &ctx.queue, &view, &mut [(&mut o, &u)])
             .unwrap();
         let gb = frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
         let theta = gb.theta()[(h / 2 * w + w / 2) as usize];
@@ -525,8 +496,10 @@ fn gbuffer_theta_is_counter_clockwise_on_screen() {
 /// a 256² frame in `space`, the given anchor period.
 struct SphereRig {
     frame: HatchFrame,
-    mesh: GpuMesh,
     object: npr_hatching::HatchObject,
+    params: HatchParams,
+    /// Displayed frames so far: each render is the next one (frame id and anchor clock).
+    clock: u64,
 }
 
 const RIG: u32 = 256;
@@ -543,30 +516,23 @@ fn sphere_rig(
         space,
         ..Default::default()
     };
-    let mut frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        tam,
-        &params,
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (RIG, RIG),
-    )
-    .unwrap();
-    frame.scene.set_anchor_period(period).unwrap();
+    let settings = HatchFrameSettings {
+        tam: tam.clone(),
+        scene: SceneSettings {
+            anchor_period: period,
+            ..Default::default()
+        },
+    };
+    let formats = TargetFormats::default();
+    let frame = HatchFrame::new(&ctx.device, &ctx.queue, formats, &settings, (RIG, RIG)).unwrap();
     let object = frame
-        .scene
-        .create_object(
-            &ctx.device,
-            &gpu_mesh,
-            &sphere_uniforms(Mat4::IDENTITY),
-            &meridian_directions(&mesh),
-        )
+        .create_object(&ctx.device, &gpu_mesh, &meridian_directions(&mesh))
         .unwrap();
     SphereRig {
         frame,
-        mesh: gpu_mesh,
         object,
+        params,
+        clock: 0,
     }
 }
 
@@ -583,17 +549,36 @@ fn sphere_light() -> ShadowLight {
 }
 
 impl SphereRig {
-    fn render(&self, ctx: &npr_gpu::GpuContext, camera: &Camera, turn_rad: f32) -> Vec<f32> {
-        self.object.update(
-            &ctx.queue,
-            &sphere_uniforms(Mat4::from_rotation_y(turn_rad)),
-        );
-        self.frame.set_view(&ctx.queue, camera, &sphere_light());
-        let image = self
-            .frame
-            .render_hatched(&ctx.device, &ctx.queue, &[(&self.mesh, &self.object)])
-            .unwrap();
-        npr_hatching::coherence::ink_image(&image)
+    /// The next displayed frame's image, with the rig's parameters.
+    fn render_image(
+        &mut self,
+        ctx: &npr_gpu::GpuContext,
+        camera: &Camera,
+        turn_rad: f32,
+    ) -> image::RgbaImage {
+        let clock = self.clock;
+        self.clock += 1;
+        let light = sphere_light();
+        let view = HatchView {
+            frame: FrameId(clock),
+            clock,
+            camera,
+            light: &light,
+            params: &self.params,
+        };
+        let u = sphere_uniforms(Mat4::from_rotation_y(turn_rad));
+        self.frame
+            .render_hatched(
+                &ctx.device,
+                &ctx.queue,
+                &view,
+                &mut [(&mut self.object, &u)],
+            )
+            .unwrap()
+    }
+
+    fn render(&mut self, ctx: &npr_gpu::GpuContext, camera: &Camera, turn_rad: f32) -> Vec<f32> {
+        npr_hatching::coherence::ink_image(&self.render_image(ctx, camera, turn_rad))
     }
 }
 
@@ -652,7 +637,7 @@ fn surface_hatching_follows_a_turning_sphere() {
     let expected = sphere_tile_motion(&camera, x0, y0, n, step);
     assert!(expected[0] > 2.0, "surface motion {expected:?}");
     for space in npr_hatching::StrokeSpace::ALL {
-        let rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
+        let mut rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
         let mut prev = rig.render(ctx, &camera, 0.0);
         let mut worst = 0.0f32;
         for t in 1..=8 {
@@ -671,7 +656,7 @@ fn surface_hatching_follows_a_turning_sphere() {
                 let gb = rig.frame.gbuffer.read(&ctx.device, &ctx.queue).unwrap();
                 let w = gb.anchors().unwrap()[(RIG * RIG / 2 + RIG / 2) as usize].weight_b;
                 assert!(w > 0.2 && w < 0.8, "weight {w}");
-                let params = *rig.frame.hatch.params();
+                let params = rig.params;
                 let cpu = CpuHatcher::new(&tam, &params)
                     .unwrap()
                     .hatch_rgba8(&gb)
@@ -718,7 +703,7 @@ fn surface_hatching_keeps_density_under_dolly() {
         (npr_hatching::DEFAULT_ANCHOR_PERIOD, true),
         (u32::MAX, false),
     ] {
-        let rig = sphere_rig(ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
+        let mut rig = sphere_rig(ctx, &tam, npr_hatching::StrokeSpace::Surface, period);
         let mut measured = Vec::new();
         for t in 0..=frames {
             let dist = 6.0 * 0.5f32.powf(t as f32 / frames as f32);
@@ -732,9 +717,7 @@ fn surface_hatching_keeps_density_under_dolly() {
                     .read_surface_mask(&ctx.device, &ctx.queue)
                     .unwrap();
                 gb.set_tone_where(0.55, |i| mask[i]);
-                let img =
-                    hatch_image_gpu(&ctx.device, &ctx.queue, &gb, &tam, rig.frame.hatch.params())
-                        .unwrap();
+                let img = hatch_image_gpu(&ctx.device, &ctx.queue, &gb, &tam, &rig.params).unwrap();
                 let ink = npr_hatching::coherence::ink_image(&img);
                 let inside: Vec<f32> = ink
                     .iter()
@@ -760,9 +743,9 @@ fn surface_hatching_keeps_density_under_dolly() {
     }
 }
 
-/// The scene frame's hatching pass (`HatchPass::record_scene`, issue 21: background not
+/// The scene frame's hatching pass (`HatchPass::record`, issue 21: background not
 /// shaded, one anchor outside the cross-fade) draws the image of the general pass
-/// (`HatchPass::record`: every pixel, both anchors cross-faded by the G-buffer's weight)
+/// (`HatchPass::draw`: every pixel, both anchors cross-faded by the G-buffer's weight)
 /// on the same G-buffer, over a whole anchor schedule (weights 1, ¾, ½, ¼, 0, …) and with
 /// a coloured paper (the background is the pass's clear): at most 1 code value apart (the
 /// clear's sRGB encoding against the shader's), and equal on ≥ 99.9 % of pixels.
@@ -775,28 +758,42 @@ fn scene_pass_draws_the_general_pass_image() {
     let camera = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 1.0);
     for space in npr_hatching::StrokeSpace::ALL {
         let mut rig = sphere_rig(ctx, &tam, space, npr_hatching::DEFAULT_ANCHOR_PERIOD);
-        let params = HatchParams {
+        rig.params = HatchParams {
             paper: [0.9, 0.8, 0.6],
             ink: [0.1, 0.05, 0.2],
-            ..*rig.frame.hatch.params()
+            ..rig.params
         };
-        rig.frame.hatch.set_params(&ctx.queue, &params).unwrap();
-        let bind = rig.frame.hatch.bind(&ctx.device, &rig.frame.gbuffer);
+        // The general pass over the same G-buffer: every pixel, the G-buffer's weights.
+        let mut general_source = rig
+            .frame
+            .hatch
+            .create_object(&ctx.device, &rig.frame.gbuffer);
         let target = npr_gpu::OffscreenTarget::new(&ctx.device, RIG, RIG).unwrap();
         let mut weights = Vec::new();
         for t in 0..9 {
-            rig.object.update(
-                &ctx.queue,
-                &sphere_uniforms(Mat4::from_rotation_y(0.03 * t as f32)),
-            );
-            rig.frame.set_view(&ctx.queue, &camera, &sphere_light());
-            weights.push(rig.frame.scene.anchor_weight());
-            let scene = rig
-                .frame
-                .render_hatched(&ctx.device, &ctx.queue, &[(&rig.mesh, &rig.object)])
+            weights.push(rig.frame.scene.anchor_weight(rig.clock));
+            let frame = FrameId(rig.clock);
+            let scene = rig.render_image(ctx, &camera, 0.03 * t as f32);
+            let input = npr_hatching::HatchInput {
+                frame,
+                params: &rig.params,
+                anchor_weight: None,
+            };
+            let hatch = &rig.frame.hatch;
+            let prepared = hatch
+                .prepare(&ctx.queue, &mut general_source, &input)
                 .unwrap();
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            rig.frame.hatch.record(&mut enc, &target.color_view, &bind);
+            {
+                let white = npr_gpu::wgpu::LoadOp::Clear(npr_gpu::wgpu::Color::WHITE);
+                let mut pass = npr_gpu::render::begin_color_pass(
+                    &mut enc,
+                    "general",
+                    &target.color_view,
+                    white,
+                );
+                hatch.draw(&mut pass, &general_source, &prepared).unwrap();
+            }
             ctx.queue.submit(Some(enc.finish()));
             let general = npr_gpu::readback_rgba(&ctx.device, &ctx.queue, &target.color).unwrap();
             let (mut worst, mut differ) = (0u32, 0usize);

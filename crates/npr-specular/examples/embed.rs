@@ -10,16 +10,17 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh};
 use npr_gpu::{
-    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, ShadingModel, TargetFormats,
+    BaseInput, BaseObject, BaseShading, Camera, FrameId, FrameUniforms, GpuMesh, Light,
+    ObjectUniforms, Prepared, ShadingModel, TargetFormats,
 };
-use npr_specular::{FrameInput, HighlightDraw, HighlightPass, HighlightSet, SpecularError};
+use npr_specular::{HighlightInput, HighlightObject, HighlightPass, HighlightSet, SpecularError};
 
 /// One mesh with stylized highlights over Phong (your own base shading works the same).
 pub struct Highlights {
     base: BaseShading,
-    object: npr_gpu::ObjectBinding,
+    base_object: BaseObject,
     pass: HighlightPass,
-    draw: HighlightDraw,
+    object: HighlightObject,
     /// The CPU side: N = H centres, projectors, receiver faces (§3, §4.2).
     pub set: HighlightSet,
 }
@@ -31,58 +32,68 @@ impl Highlights {
         queue: &wgpu::Queue,
         mesh: &Mesh,
         gpu_mesh: &GpuMesh,
-        (color_format, depth_format): (wgpu::TextureFormat, wgpu::TextureFormat),
+        formats: TargetFormats,
     ) -> Result<Self, SpecularError> {
-        let formats = TargetFormats::new(color_format, depth_format);
-        let base = BaseShading::new(device, queue, formats);
-        let object = base.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
-        let pass = HighlightPass::new(device, queue, color_format, depth_format)?;
-        let draw = pass.create_draw(device, gpu_mesh);
-        let set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+        let base = BaseShading::new(device, queue, formats, &Default::default());
+        let pass = HighlightPass::new(device, queue, formats, &Default::default())?;
         Ok(Self {
+            base_object: base.create_object(device, gpu_mesh),
+            object: pass.create_object(device, gpu_mesh),
+            set: HighlightSet::new(mesh, &CurvatureOptions::default())?,
             base,
-            object,
             pass,
-            draw,
-            set,
         })
     }
 
-    /// Per frame, before recording: the CPU update and the uploads.
+    /// Per frame, before recording: the CPU update and the uploads (the only queue
+    /// writes). Returns the tickets `draw` takes.
     pub fn prepare(
         &mut self,
-        device: &wgpu::Device,
         queue: &wgpu::Queue,
+        frame: FrameId,
         mesh: &Mesh,
-        gpu_mesh: &GpuMesh,
         camera: &Camera,
         light: &Light,
-    ) {
-        let frame = FrameUniforms::new(camera, light);
+    ) -> Result<[Prepared; 2], SpecularError> {
+        let view = FrameUniforms::new(camera, light);
         let object = ObjectUniforms::default_material(Mat4::IDENTITY);
         let light_eye = LightEye::Positions {
             light: light.position_or_direction,
             eye: camera.eye,
         };
         self.set.update(light_eye, Mat4::IDENTITY);
-        self.base.set_frame(queue, &frame);
-        let input = FrameInput {
-            mesh: gpu_mesh,
+        let model = ShadingModel::Phong;
+        let base = BaseInput {
+            frame,
+            view: &view,
+            object: &object,
+            model,
+        };
+        let base = self.base.prepare(queue, &mut self.base_object, &base)?;
+        let input = HighlightInput {
+            frame,
             indices: &mesh.indices,
             set: &self.set,
-            frame: &frame,
+            view: &view,
             object: &object,
+            list: None,
         };
-        self.pass.prepare(device, queue, &mut self.draw, &input);
+        let highlights = self.pass.prepare(queue, &mut self.object, &input)?;
+        Ok([base, highlights])
     }
 
     /// Per frame, inside your render pass (it has your depth attachment).
-    pub fn draw(&self, rpass: &mut wgpu::RenderPass<'_>, gpu_mesh: &GpuMesh, highlights: bool) {
-        self.base
-            .draw(rpass, ShadingModel::Phong, &self.object, gpu_mesh);
-        if highlights {
-            self.pass.draw(rpass, &self.draw);
+    pub fn draw(
+        &self,
+        rpass: &mut wgpu::RenderPass<'_>,
+        [base, highlights]: &[Prepared; 2],
+        with_highlights: bool,
+    ) -> Result<(), SpecularError> {
+        self.base.draw(rpass, &self.base_object, base)?;
+        if with_highlights {
+            self.pass.draw(rpass, &self.object, highlights)?;
         }
+        Ok(())
     }
 }
 
@@ -104,10 +115,12 @@ pub fn render_sphere(
 ) -> Result<(image::RgbaImage, HighlightSet), Box<dyn std::error::Error>> {
     let mesh = npr_geometry::generate::icosphere(5, 1.0);
     let gpu_mesh = GpuMesh::upload(device, &mesh)?;
-    let mut hl = Highlights::new(device, queue, &mesh, &gpu_mesh, (COLOR, DEPTH))?;
+    let formats = TargetFormats::new(COLOR, DEPTH);
+    let mut hl = Highlights::new(device, queue, &mesh, &gpu_mesh, formats)?;
     let eye = Vec3::new(0.0, 0.0, 4.0);
     let camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
-    hl.prepare(device, queue, &mesh, &gpu_mesh, &camera, &Light::point(eye));
+    let frame = FrameId::default();
+    let prepared = hl.prepare(queue, frame, &mesh, &camera, &Light::point(eye))?;
     let target = |format, usage| {
         npr_gpu::texture_2d(device, "my renderer target", size, size, format, usage)
     };
@@ -127,7 +140,7 @@ pub fn render_sphere(
             wgpu::LoadOp::Clear(wgpu::Color::BLACK),
             wgpu::LoadOp::Clear(1.0),
         );
-        hl.draw(&mut rpass, &gpu_mesh, highlights);
+        hl.draw(&mut rpass, &prepared, highlights)?;
     }
     queue.submit(Some(encoder.finish()));
     Ok((npr_gpu::readback_rgba(device, queue, &color)?, hl.set))

@@ -25,6 +25,9 @@ pub enum SpecularError {
     /// Fix: resize to one square size and pass at most the device's array-layer limit.
     #[error("invalid highlight texture set: {0}")]
     TextureSet(String),
+    /// A pass refused an object or its prepared state (see [`npr_gpu::PassError`]).
+    #[error(transparent)]
+    Pass(#[from] npr_gpu::PassError),
     /// A GPU-layer error.
     #[error(transparent)]
     Gpu(#[from] npr_gpu::GpuError),

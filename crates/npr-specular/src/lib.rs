@@ -28,7 +28,9 @@ pub mod textures;
 pub mod visibility;
 
 pub use error::SpecularError;
-pub use pass::{FrameInput, HighlightDraw, HighlightPass, ProjectorGpu, projector_gpu};
+pub use pass::{
+    HighlightInput, HighlightObject, HighlightPass, HighlightSettings, ProjectorGpu, projector_gpu,
+};
 pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
 };

@@ -9,8 +9,9 @@
 //! surface's depth.
 
 use crate::{HighlightSet, HighlightShape, SpecularError};
+use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use npr_gpu::render::{self, PipelineBuilder};
-use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, layout};
+use npr_gpu::{FrameUniforms, GpuMesh, ObjectUniforms, TargetFormats, layout};
 use wgpu::util::DeviceExt;
 
 /// One projector as the shader reads it (`Projector` in WGSL, 160 bytes).
@@ -34,22 +35,40 @@ pub struct ProjectorGpu {
     pub neighbours: [u32; 4],
 }
 
-/// What [`HighlightPass::prepare`] uploads for one frame.
+/// One draw's per-frame input to [`HighlightPass::prepare`].
 ///
 /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
 /// own renderer.
 #[derive(Clone, Copy, Debug)]
-pub struct FrameInput<'a> {
-    /// The mesh on the GPU (its vertex buffer is read as storage).
-    pub mesh: &'a GpuMesh,
+pub struct HighlightInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
     /// The render mesh's triangle indices (faces in the set's topology order).
     pub indices: &'a [u32],
     /// The highlight set, updated for this frame.
     pub set: &'a HighlightSet,
     /// Camera and light.
-    pub frame: &'a FrameUniforms,
+    pub view: &'a FrameUniforms,
     /// Object transform (must equal the base pass's, for matching depth).
     pub object: &'a ObjectUniforms,
+    /// The vertex stream to draw: `None` for the set's §4.2 receivers
+    /// ([`HighlightPass::draw_list`]), or a caller's list such as
+    /// [`HighlightPass::draw_list_unrestricted`]. Entries are (render vertex, index into
+    /// `set.highlights()`), three per triangle.
+    pub list: Option<&'a [[u32; 2]]>,
+}
+
+/// The highlight pass's settings: plain data, keyed by value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct HighlightSettings {
+    /// Side in texels of each built-in texture ([`HighlightShape::ALL`]). Default 128.
+    pub texture_size: u32,
+}
+
+impl Default for HighlightSettings {
+    fn default() -> Self {
+        Self { texture_size: 128 }
+    }
 }
 
 /// The GPU record of one highlight (texture `layer`, shaded as a normal map when
@@ -75,10 +94,9 @@ pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> Proj
     }
 }
 
-/// GPU buffers and bind groups of one mesh's highlights; refreshed per frame by
-/// [`HighlightPass::prepare`].
+/// One prepare's GPU state: uniforms, draw list, projectors and normals.
 #[derive(Debug)]
-pub struct HighlightDraw {
+struct HighlightSlot {
     frame: wgpu::Buffer,
     object: wgpu::Buffer,
     draw_list: wgpu::Buffer,
@@ -95,12 +113,22 @@ pub struct HighlightDraw {
     capacity: (u64, u64),
 }
 
+/// One mesh's highlights on the GPU: the caller's mesh (its vertex buffer is read as
+/// storage, not copied) and the per-frame slots [`HighlightPass::prepare`] fills.
+#[derive(Debug)]
+pub struct HighlightObject {
+    mesh: GpuMesh,
+    slots: Slots<HighlightSlot>,
+}
+
 /// The highlight pipeline and its texture array. Create once per device and formats.
 ///
 /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
 /// own renderer.
 #[derive(Debug)]
 pub struct HighlightPass {
+    id: PassId,
+    device: wgpu::Device,
     pipeline: wgpu::RenderPipeline,
     uniform_layout: wgpu::BindGroupLayout,
     storage_layout: wgpu::BindGroupLayout,
@@ -109,22 +137,24 @@ pub struct HighlightPass {
 }
 
 impl HighlightPass {
-    /// Builds the pass with the built-in textures ([`HighlightShape::ALL`], 128² each).
+    /// Builds the pass for render passes over targets of `formats` (it tests their depth
+    /// and does not write it) with the built-in textures ([`HighlightShape::ALL`],
+    /// `settings.texture_size`² each).
     ///
     /// # Errors
     /// As [`HighlightPass::with_textures`].
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        formats: TargetFormats,
+        settings: &HighlightSettings,
     ) -> Result<Self, SpecularError> {
-        let layers = crate::textures::builtin_set(128);
+        let layers = crate::textures::builtin_set(settings.texture_size.max(1));
         let normal: Vec<bool> = HighlightShape::ALL
             .iter()
             .map(|s| s.is_normal_map())
             .collect();
-        Self::with_textures(device, queue, color_format, depth_format, &layers, &normal)
+        Self::with_textures(device, queue, formats, &layers, &normal)
     }
 
     /// Builds the pass with caller textures (all the same square size; layer i is a normal
@@ -136,8 +166,7 @@ impl HighlightPass {
     pub fn with_textures(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        color_format: wgpu::TextureFormat,
-        depth_format: wgpu::TextureFormat,
+        formats: TargetFormats,
         layers: &[image::RgbaImage],
         normal_map: &[bool],
     ) -> Result<Self, SpecularError> {
@@ -235,15 +264,18 @@ impl HighlightPass {
             "fs_highlight",
         )
         .cull(Some(wgpu::Face::Back))
-        .depth(depth_format, false, wgpu::CompareFunction::LessEqual)
+        .depth(formats.depth, false, wgpu::CompareFunction::LessEqual)
+        .samples(formats.samples)
         .targets(&[Some(wgpu::ColorTargetState {
             blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-            ..color_format.into()
+            ..formats.color.into()
         })])
         .build(device);
         let mut normal_map_layers = normal_map.to_vec();
         normal_map_layers.resize(layers.len(), false);
         Ok(Self {
+            id: PassId::fresh(),
+            device: device.clone(),
             pipeline,
             uniform_layout,
             storage_layout,
@@ -298,8 +330,17 @@ impl HighlightPass {
         out
     }
 
-    /// Creates the per-mesh buffers for `mesh` (its vertex buffer is read as storage).
-    pub fn create_draw(&self, device: &wgpu::Device, mesh: &GpuMesh) -> HighlightDraw {
+    /// An object for `mesh` (its vertex buffer is read as storage, shared with the
+    /// caller, not copied).
+    pub fn create_object(&self, _device: &wgpu::Device, mesh: &GpuMesh) -> HighlightObject {
+        HighlightObject {
+            mesh: mesh.clone(),
+            slots: Slots::new(self.id),
+        }
+    }
+
+    fn create_slot(&self, mesh: &GpuMesh) -> HighlightSlot {
+        let device = &self.device;
         let uniform = |label, size| render::uniform_buffer(device, label, size);
         let frame = uniform("npr highlight frame", std::mem::size_of::<FrameUniforms>());
         let object = uniform(
@@ -322,8 +363,8 @@ impl HighlightPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let (draw_list, projectors, storage_group) = self.storage(device, mesh, &normals, 1024, 16);
-        HighlightDraw {
+        let (draw_list, projectors, storage_group) = self.storage(mesh, &normals, 1024, 16);
+        HighlightSlot {
             normals,
             normals_id: None,
             frame,
@@ -340,12 +381,12 @@ impl HighlightPass {
 
     fn storage(
         &self,
-        device: &wgpu::Device,
         mesh: &GpuMesh,
         normals: &wgpu::Buffer,
         list_capacity: u64,
         projector_capacity: u64,
     ) -> (wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup) {
+        let device = &self.device;
         let make = |label, size: u64| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -384,82 +425,65 @@ impl HighlightPass {
         (list, projectors, group)
     }
 
-    /// Uploads this frame's camera/light, object transform, projectors and draw list
-    /// (growing the buffers when needed).
+    /// Writes one draw's camera/light, object transform, projectors and draw list into a
+    /// fresh slot of `object` (growing its buffers when needed).
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for an object of another pass or too many prepares in one
+    /// frame.
     pub fn prepare(
         &self,
-        device: &wgpu::Device,
         queue: &wgpu::Queue,
-        draw: &mut HighlightDraw,
-        input: &FrameInput<'_>,
-    ) {
-        let list = Self::draw_list(input.set, input.indices);
-        self.prepare_with_list(device, queue, draw, input, &list);
-    }
-
-    /// [`HighlightPass::prepare`] with a caller's vertex stream instead of the set's
-    /// receivers, e.g. [`HighlightPass::draw_list_unrestricted`]. Entries are (render
-    /// vertex, index into `input.set.highlights()`), three per triangle.
-    pub fn prepare_with_list(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        draw: &mut HighlightDraw,
-        input: &FrameInput<'_>,
-        list: &[[u32; 2]],
-    ) {
-        let FrameInput {
-            mesh,
+        object: &mut HighlightObject,
+        input: &HighlightInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        let own;
+        let list = match input.list {
+            Some(list) => list,
+            None => {
+                own = Self::draw_list(input.set, input.indices);
+                &own
+            }
+        };
+        let mesh = &object.mesh;
+        let (prepared, slot) = object
+            .slots
+            .next(self.id, input.frame, || self.create_slot(mesh))?;
+        let HighlightInput {
             set,
-            frame,
-            object,
+            view,
+            object: object_uniforms,
             ..
         } = *input;
-        queue.write_buffer(&draw.frame, 0, bytemuck::bytes_of(frame));
-        queue.write_buffer(&draw.object, 0, bytemuck::bytes_of(object));
+        queue.write_buffer(&slot.frame, 0, bytemuck::bytes_of(view));
+        queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(object_uniforms));
         let projectors = self.projectors(set);
         let need = (list.len() as u64, projectors.len() as u64);
-        if need.0 > draw.capacity.0 || need.1 > draw.capacity.1 {
+        if need.0 > slot.capacity.0 || need.1 > slot.capacity.1 {
             let cap = (
-                need.0.next_power_of_two().max(draw.capacity.0),
-                need.1.next_power_of_two().max(draw.capacity.1),
+                need.0.next_power_of_two().max(slot.capacity.0),
+                need.1.next_power_of_two().max(slot.capacity.1),
             );
-            let (l, p, g) = self.storage(device, mesh, &draw.normals, cap.0, cap.1);
-            (draw.draw_list, draw.projectors, draw.storage_group) = (l, p, g);
-            draw.capacity = cap;
+            let (l, p, g) = self.storage(mesh, &slot.normals, cap.0, cap.1);
+            (slot.draw_list, slot.projectors, slot.storage_group) = (l, p, g);
+            slot.capacity = cap;
         }
         if !list.is_empty() {
-            queue.write_buffer(&draw.draw_list, 0, bytemuck::cast_slice(list));
-            queue.write_buffer(&draw.projectors, 0, bytemuck::cast_slice(&projectors));
+            queue.write_buffer(&slot.draw_list, 0, bytemuck::cast_slice(list));
+            queue.write_buffer(&slot.projectors, 0, bytemuck::cast_slice(&projectors));
         }
-        if draw.normals_id != Some(set.normals_id()) {
-            // The set's normals (at its abstraction scale) where they fit the mesh, else
-            // zero: the shader falls back to the mesh's own.
-            let count = mesh.vertex_count as usize;
-            let normals = set.render_normals();
-            let data: Vec<[f32; 4]> = if normals.len() == count {
-                normals
-                    .iter()
-                    .map(|n| {
-                        if n.is_finite() {
-                            n.extend(1.0).to_array()
-                        } else {
-                            [0.0; 4]
-                        }
-                    })
-                    .collect()
-            } else {
-                vec![[0.0; 4]; count]
-            };
+        if slot.normals_id != Some(set.normals_id()) {
+            let data = surface_normals(set, mesh.vertex_count as usize);
             if !data.is_empty() {
-                queue.write_buffer(&draw.normals, 0, bytemuck::cast_slice(&data));
+                queue.write_buffer(&slot.normals, 0, bytemuck::cast_slice(&data));
             }
-            draw.normals_id = Some(set.normals_id());
+            slot.normals_id = Some(set.normals_id());
         }
-        draw.vertex_count = list.len() as u32;
+        slot.vertex_count = list.len() as u32;
+        Ok(prepared)
     }
 
     /// Records the highlight draw (one call for all highlights) into the caller's render
@@ -467,17 +491,71 @@ impl HighlightPass {
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, draw: &HighlightDraw) {
-        if draw.vertex_count == 0 {
-            return;
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a `prepared` of another object, pass or frame; nothing
+    /// is recorded then.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &HighlightObject,
+        prepared: &Prepared,
+    ) -> Result<(), SpecularError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        if slot.vertex_count == 0 {
+            return Ok(());
         }
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &draw.frame_group, &[]);
-        pass.set_bind_group(1, &draw.object_group, &[]);
-        pass.set_bind_group(2, &draw.storage_group, &[]);
+        pass.set_bind_group(0, &slot.frame_group, &[]);
+        pass.set_bind_group(1, &slot.object_group, &[]);
+        pass.set_bind_group(2, &slot.storage_group, &[]);
         pass.set_bind_group(3, &self.texture_group, &[]);
-        pass.draw(0..draw.vertex_count, 0..1);
+        pass.draw(0..slot.vertex_count, 0..1);
+        Ok(())
     }
+}
+
+impl npr_gpu::Pass for HighlightPass {
+    type Object = HighlightObject;
+    type Input<'a> = HighlightInput<'a>;
+    type Error = SpecularError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut HighlightObject,
+        input: &HighlightInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        HighlightPass::prepare(self, queue, object, input)
+    }
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &HighlightObject,
+        prepared: &Prepared,
+    ) -> Result<(), SpecularError> {
+        HighlightPass::draw(self, pass, object, prepared)
+    }
+}
+
+/// The set's normals (at its abstraction scale) where they fit the mesh, else zero: the
+/// shader then falls back to the mesh's own.
+fn surface_normals(set: &HighlightSet, count: usize) -> Vec<[f32; 4]> {
+    let normals = set.render_normals();
+    if normals.len() != count {
+        return vec![[0.0; 4]; count];
+    }
+    normals
+        .iter()
+        .map(|n| {
+            if n.is_finite() {
+                n.extend(1.0).to_array()
+            } else {
+                [0.0; 4]
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]

@@ -4,8 +4,8 @@
 
 use crate::{HighlightPass, HighlightSet, SpecularError};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameUniforms, GpuMesh, Light, ObjectUniforms,
-    OffscreenTarget, ShadingModel, TargetFormats, readback_rgba,
+    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectUniforms, OffscreenTarget,
+    ShadingModel, TargetFormats, readback_rgba,
 };
 
 /// Everything [`render`] draws.
@@ -67,8 +67,9 @@ impl<'a> HighlightScene<'a> {
 /// Per-mesh buffers of [`Renderer::submit`]: the object uniforms and the highlight draw.
 #[derive(Debug)]
 pub struct FrameResources {
-    object: npr_gpu::ObjectBinding,
-    draw: crate::HighlightDraw,
+    object: npr_gpu::BaseObject,
+    draw: crate::HighlightObject,
+    frame: npr_gpu::FrameId,
 }
 
 /// Reusable GPU state for [`render`] (pipelines, buffers, target).
@@ -91,8 +92,8 @@ impl Renderer {
         height: u32,
     ) -> Result<Self, SpecularError> {
         Ok(Self {
-            base: BaseShading::new(device, queue, TargetFormats::default()),
-            pass: HighlightPass::new(device, queue, COLOR_FORMAT, DEPTH_FORMAT)?,
+            base: BaseShading::new(device, queue, TargetFormats::default(), &Default::default()),
+            pass: HighlightPass::new(device, queue, TargetFormats::default(), &Default::default())?,
             target: OffscreenTarget::new(device, width, height)?,
         })
     }
@@ -111,12 +112,11 @@ impl Renderer {
         normal_map: &[bool],
     ) -> Result<Self, SpecularError> {
         Ok(Self {
-            base: BaseShading::new(device, queue, TargetFormats::default()),
+            base: BaseShading::new(device, queue, TargetFormats::default(), &Default::default()),
             pass: HighlightPass::with_textures(
                 device,
                 queue,
-                COLOR_FORMAT,
-                DEPTH_FORMAT,
+                TargetFormats::default(),
                 layers,
                 normal_map,
             )?,
@@ -137,52 +137,58 @@ impl Renderer {
     /// Per-mesh GPU state for [`Renderer::submit`]; create once per mesh and reuse.
     pub fn resources(&self, device: &wgpu::Device, mesh: &GpuMesh) -> FrameResources {
         FrameResources {
-            object: self.base.create_object(
-                device,
-                &ObjectUniforms::default_material(glam::Mat4::IDENTITY),
-            ),
-            draw: self.pass.create_draw(device, mesh),
+            object: self.base.create_object(device, mesh),
+            draw: self.pass.create_object(device, mesh),
+            frame: npr_gpu::FrameId::default(),
         }
     }
 
     /// Records and submits one frame (base + highlights) without reading it back or
-    /// waiting.
+    /// waiting. `res` must come from [`Renderer::resources`] for `scene.mesh`.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for resources of another renderer.
     pub fn submit(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
-    ) {
-        let frame = FrameUniforms::new(&scene.camera, &scene.light);
-        self.base.set_frame(queue, &frame);
-        res.object.update(queue, &scene.object);
-        if scene.highlights {
-            self.pass.prepare(
-                device,
-                queue,
-                &mut res.draw,
-                &crate::FrameInput {
-                    mesh: scene.mesh,
-                    indices: scene.indices,
-                    set: scene.set,
-                    frame: &frame,
-                    object: &scene.object,
-                },
-            );
-        }
+    ) -> Result<(), SpecularError> {
+        res.frame = res.frame.next();
+        let view = FrameUniforms::new(&scene.camera, &scene.light);
+        let base_input = npr_gpu::BaseInput {
+            frame: res.frame,
+            view: &view,
+            object: &scene.object,
+            model: scene.base,
+        };
+        let base = self.base.prepare(queue, &mut res.object, &base_input)?;
+        let highlights = if scene.highlights {
+            let input = crate::HighlightInput {
+                frame: res.frame,
+                indices: scene.indices,
+                set: scene.set,
+                view: &view,
+                object: &scene.object,
+                list: None,
+            };
+            Some(self.pass.prepare(queue, &mut res.draw, &input)?)
+        } else {
+            None
+        };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("npr specular frame"),
         });
         {
             let mut rpass = self.target.begin_clear_pass(&mut encoder, scene.clear);
-            self.base
-                .draw(&mut rpass, scene.base, &res.object, scene.mesh);
-            if scene.highlights {
-                self.pass.draw(&mut rpass, &res.draw);
+            self.base.draw(&mut rpass, &res.object, &base)?;
+            if let Some(prepared) = &highlights {
+                self.pass.draw(&mut rpass, &res.draw, prepared)?;
             }
         }
         queue.submit(Some(encoder.finish()));
+        Ok(())
     }
 
     /// Renders one frame and reads it back.
@@ -196,7 +202,7 @@ impl Renderer {
         scene: &HighlightScene<'_>,
     ) -> Result<image::RgbaImage, SpecularError> {
         let mut res = self.resources(device, scene.mesh);
-        self.submit(device, queue, scene, &mut res);
+        self.submit(device, queue, scene, &mut res)?;
         Ok(readback_rgba(device, queue, &self.target.color)?)
     }
 }

@@ -10,7 +10,7 @@
 
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
-use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, TargetFormats};
+use npr_gpu::{Camera, FrameId, GpuMesh, Light, ObjectUniforms, TargetFormats};
 use npr_warp::{Departures, PhongBase, Pose, Proxy, WarpError, Warper};
 
 /// The renderer's colour format in this example.
@@ -62,6 +62,7 @@ pub fn record_frames(
     let size = (SIZE, SIZE);
     let mut warper = Warper::new(
         device,
+        queue,
         &proxy,
         Departures::OURS,
         SCALE,
@@ -71,14 +72,16 @@ pub fn record_frames(
     )?;
     let (light, material) = look();
     let mut base = PhongBase::new(gpu_mesh, light, material, formats);
+    // Your submission: references and warps recorded before one submit share its id.
+    let frame = FrameId::default();
     // Every k-th frame: a full render of the model becomes the newest reference.
     for t in [0.0, 10.0] {
-        warper.record_reference(device, queue, encoder, &mut base, &pose(t))?;
+        warper.record_reference(device, queue, encoder, &mut base, frame, &pose(t))?;
     }
     // The frames between: the proxy, warped from the two newest references.
     let now = pose(4.0);
     let s = warper.position(&now);
-    warper.record_warp(queue, encoder, color, depth, &now, s)?;
+    warper.record_warp(queue, encoder, (color, depth), frame, &now, s)?;
     Ok(())
 }
 

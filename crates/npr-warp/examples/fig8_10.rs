@@ -32,10 +32,11 @@ fn ratios_figure(ctx: &GpuContext, model: &WarpModel, dir: &Path) -> Result<(), 
     image::imageops::replace(&mut sheet, &on_white(&full_mid), 0, 0);
     for (i, &ratio) in model.ratios.iter().enumerate() {
         let proxy = Proxy::simplify(mesh, ratio)?;
-        let ours = rig.variant(&proxy, Departures::OURS, world_per_object, 16, true)?;
+        let mut ours = rig.variant(&proxy, Departures::OURS, world_per_object, 16, true)?;
         let at = (&mid, 0.5);
-        let wire = rig.warp_image([&r0, &r1], &ours, at, WarpMode::Fill, true)?;
-        let warped = rig.warp_image([&r0, &r1], &ours, at, ours.mode, false)?;
+        let wire = rig.warp_image([&r0, &r1], &mut ours, at, WarpMode::Fill, true)?;
+        let mode = ours.mode;
+        let warped = rig.warp_image([&r0, &r1], &mut ours, at, mode, false)?;
         let q = compare(&full_mid, &warped);
         println!(
             "warp: {name} {:.2} % ({} triangles, error {:.4} of the extent): PSNR {:.2} dB, \

@@ -22,14 +22,20 @@ use npr_warp::{Departures, PhongBase, Proxy, ReferenceFrame, ScenePose, compare}
 
 /// The paper's warp and ours of the same frame.
 fn paper_and_ours(
-    rig: &Rig<'_>,
+    rig: &mut Rig<'_>,
     refs: [&ReferenceFrame; 2],
-    [paper, ours]: [&Variant; 2],
+    [paper, ours]: [&mut Variant; 2],
     at: (&ScenePose, f32),
 ) -> Result<(image::RgbaImage, image::RgbaImage), Error> {
     Ok((
-        rig.warp_image(refs, paper, at, paper.mode, false)?,
-        rig.warp_image(refs, ours, at, ours.mode, false)?,
+        {
+            let mode = paper.mode;
+            rig.warp_image(refs, paper, at, mode, false)?
+        },
+        {
+            let mode = ours.mode;
+            rig.warp_image(refs, ours, at, mode, false)?
+        },
     ))
 }
 
@@ -53,10 +59,14 @@ fn main() -> Result<(), Error> {
     let mid = path.pose(10.0);
     let full = rig.full(&mid)?;
     let proxy = Proxy::simplify(&knot, 0.05)?;
-    let paper_path = rig.variant(&proxy, Departures::PAPER, world_per_object, 16, false)?;
-    let ours_path = rig.variant(&proxy, Departures::OURS, world_per_object, 16, false)?;
-    let variants = [&paper_path, &ours_path];
-    let (paper, ours) = paper_and_ours(&rig, [&r0, &r1], variants, (&mid, 0.5))?;
+    let mut paper_path = rig.variant(&proxy, Departures::PAPER, world_per_object, 16, false)?;
+    let mut ours_path = rig.variant(&proxy, Departures::OURS, world_per_object, 16, false)?;
+    let (paper, ours) = paper_and_ours(
+        &mut rig,
+        [&r0, &r1],
+        [&mut paper_path, &mut ours_path],
+        (&mid, 0.5),
+    )?;
     let (qp, qo) = (compare(&full, &paper), compare(&full, &ours));
     println!(
         "warp: occlusion, knot 20 degrees between references: paper's path PSNR {:.2} dB, \
@@ -92,12 +102,18 @@ fn main() -> Result<(), Error> {
         world_from_object: world_from_square,
     };
     let mut enc = ctx.device.create_command_encoder(&Default::default());
-    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, &over, 0)?;
+    let over = (npr_gpu::FrameId(0), &over, 0);
+    r0.record_over(&ctx.device, &ctx.queue, &mut enc, &mut occluder, over)?;
     ctx.queue.submit(Some(enc.finish()));
     let occluded = readback_rgba(&ctx.device, &ctx.queue, &r0.color)?;
     let at = path.pose(6.0);
     let full6 = rig.full(&at)?;
-    let (paper6, ours6) = paper_and_ours(&rig, [&r0, &r1], variants, (&at, 0.3))?;
+    let (paper6, ours6) = paper_and_ours(
+        &mut rig,
+        [&r0, &r1],
+        [&mut paper_path, &mut ours_path],
+        (&at, 0.3),
+    )?;
     let (qp6, qo6) = (compare(&full6, &paper6), compare(&full6, &ours6));
     println!(
         "warp: synthetic occluder in reference 0: paper's path PSNR {:.2} dB, ours {:.2} dB",

@@ -29,13 +29,14 @@ fn main() -> Result<(), Error> {
     let ours = Departures::OURS;
     let mut seq = WarpSequence::new(
         &ctx.device,
+        &ctx.queue,
         WarpSchedule::new(k, true)?,
         ours.settings(&proxy, world_per_object),
         TILE,
         TILE,
         TargetFormats::default(),
     )?;
-    let objects =
+    let mut objects =
         [seq.pass()
             .create_object(&ctx.device, &proxy, 16, ours.inflation(&proxy), false)?];
     let scene = |f: u32| path.pose(f as f32);
@@ -43,7 +44,7 @@ fn main() -> Result<(), Error> {
     let mut psnr = Vec::new();
     let mut strip = image::RgbaImage::from_pixel(TILE / 2 * 6, TILE / 2, image::Rgba([255; 4]));
     for f in 0..frames {
-        rig.sequence_frame(&mut seq, &objects, &scene, f)?;
+        rig.sequence_frame(&mut seq, &mut objects, &scene, f)?;
         let warped = rig.image()?;
         let full = rig.full(&scene(f))?;
         psnr.push(compare(&full, &warped).psnr_db);

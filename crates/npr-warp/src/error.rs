@@ -58,6 +58,9 @@ pub enum WarpError {
     /// [`npr_gpu::GpuError`].
     #[error(transparent)]
     Gpu(#[from] npr_gpu::GpuError),
+    /// A pass refused an object or its prepared state (see [`npr_gpu::PassError`]).
+    #[error(transparent)]
+    Pass(#[from] npr_gpu::PassError),
 }
 
 impl WarpError {

@@ -42,21 +42,22 @@
 //!     (wgpu::TextureFormat::Bgra8UnormSrgb, wgpu::TextureFormat::Depth32Float);
 //! let proxy = Proxy::simplify(mesh, 0.02)?; // §3.2: 2 % of the triangles
 //! let formats = npr_gpu::TargetFormats::new(color_format, depth_format);
-//! let mut warper = Warper::new(device, &proxy, Departures::OURS, 1.0, (512, 512),
+//! let mut warper = Warper::new(device, queue, &proxy, Departures::OURS, 1.0, (512, 512),
 //!     formats, formats)?;
 //! let light = npr_gpu::Light::directional(glam::Vec3::new(1.0, 1.5, 2.0));
 //! let material = npr_gpu::ObjectUniforms::default_material(glam::Mat4::IDENTITY);
 //! let mut base = PhongBase::new(gpu_mesh, light, material, formats);
 //! let color = target.create_view(&Default::default());
-//! for (frame, pose) in poses.iter().enumerate() {
+//! for (i, pose) in poses.iter().enumerate() {
+//!     let frame = npr_gpu::FrameId(i as u64); // one per submission
 //!     let mut encoder = device.create_command_encoder(&Default::default());
-//!     if frame % 10 == 0 {
+//!     if i % 10 == 0 {
 //!         // "Render a reference at camera C" (shown as is this frame: warp at s = 1).
-//!         warper.record_reference(device, queue, &mut encoder, &mut base, pose)?;
+//!         warper.record_reference(device, queue, &mut encoder, &mut base, frame, pose)?;
 //!     }
 //!     // "Warp the current references to camera C".
 //!     let s = warper.position(pose);
-//!     warper.record_warp(queue, &mut encoder, &color, depth, pose, s)?;
+//!     warper.record_warp(queue, &mut encoder, (&color, depth), frame, pose, s)?;
 //!     queue.submit(Some(encoder.finish()));
 //! }
 //! # let _ = target;
@@ -90,9 +91,13 @@ pub use error::WarpError;
 #[cfg(any(test, feature = "test-support"))]
 pub use metrics::{Quality, compare, flip_mean};
 pub use msaa::{Antialiasing, MsaaTarget};
-pub use pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
+pub use pass::{
+    ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSettings,
+};
 pub use proxy::Proxy;
-pub use reference::{BasePass, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame};
+pub use reference::{
+    BasePass, FullInput, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame,
+};
 pub use sequence::{
     FrameReport, FrameRole, ScenePose, SequenceFrame, Turntable, WarpSchedule, WarpSequence,
 };

@@ -321,3 +321,28 @@ impl DepthResolve {
         pass.draw(0..3, 0..1);
     }
 }
+/// Checks that `color_format` is a filterable colour format (the references are sampled) and
+/// `depth_format` has a depth aspect that can be sampled.
+pub(crate) fn check_formats(
+    color_format: wgpu::TextureFormat,
+    depth_format: wgpu::TextureFormat,
+) -> Result<(), WarpError> {
+    if color_format.has_depth_aspect()
+        || color_format.has_stencil_aspect()
+        || color_format.is_compressed()
+        || !matches!(
+            color_format.sample_type(None, None),
+            Some(wgpu::TextureSampleType::Float { filterable: true })
+        )
+    {
+        return Err(WarpError::InvalidSetting(format!(
+            "colour format {color_format:?} is not a filterable colour format"
+        )));
+    }
+    if !depth_format.has_depth_aspect() {
+        return Err(WarpError::InvalidSetting(format!(
+            "depth format {depth_format:?} has no depth aspect"
+        )));
+    }
+    Ok(())
+}

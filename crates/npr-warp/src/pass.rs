@@ -12,6 +12,7 @@ use crate::msaa::Antialiasing;
 use crate::reference::{Pose, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
+use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use npr_gpu::render::{self, PipelineBuilder};
 use npr_gpu::{GpuMesh, TargetFormats, Vertex, projective};
 use wgpu::util::DeviceExt;
@@ -186,17 +187,28 @@ pub struct ReferencePair {
     size: [u32; 2],
 }
 
-/// A proxy on the GPU, binned (§3.3.2), with its per-object uniforms and bin weights.
+/// One prepare's GPU state: the object's uniforms, bin weights, the pair it warps from
+/// and the plan of draws.
+#[derive(Debug)]
+struct WarpSlot {
+    uniforms: wgpu::Buffer,
+    weights: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    pair_group: Option<wgpu::BindGroup>,
+    plan: BinPlan,
+    mode: WarpMode,
+}
+
+/// A proxy on the GPU, binned (§3.3.2), with its per-frame slots (uniforms and bin
+/// weights) that [`WarpPass::prepare`] fills.
 #[derive(Debug)]
 pub struct WarpObject {
     /// The binned proxy (CPU side: ranges and representative normals).
     pub bins: NormalBins,
     /// The proxy with its index buffer in bin order.
     pub mesh: GpuMesh,
-    uniforms: wgpu::Buffer,
-    weights: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
     edges: Option<(wgpu::Buffer, u32)>,
+    slots: Slots<WarpSlot>,
 }
 
 impl WarpObject {
@@ -204,6 +216,39 @@ impl WarpObject {
     pub fn edge_index_count(&self) -> u32 {
         self.edges.as_ref().map_or(0, |e| e.1)
     }
+
+    /// The plan of draws (§3.3.2–§3.3.3) that `prepared` decided.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for a ticket of another object or frame.
+    pub fn plan(&self, pass: &WarpPass, prepared: &Prepared) -> Result<&BinPlan, WarpError> {
+        Ok(&self.slots.get(pass.id, prepared)?.plan)
+    }
+}
+
+/// One draw's per-frame input to [`WarpPass::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct WarpInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// The two references warped from.
+    pub pair: &'a ReferencePair,
+    /// The object drawn now: its own camera and pose.
+    pub now: &'a Pose,
+    /// The frame's position between the two references, `s ∈ [0, 1]`.
+    pub s: f32,
+    /// The plan settings and tolerances.
+    pub settings: &'a WarpSettings,
+    /// The fragment shader.
+    pub mode: WarpMode,
+}
+
+/// The warp pass's settings: the antialiasing (the references' and the warp target's
+/// sample counts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct WarpPassSettings {
+    /// References and warped frames: one sample each, or 4-sample references.
+    pub antialiasing: Antialiasing,
 }
 
 /// The warp pipelines. Create once per device; record with [`WarpPass::draw`].
@@ -212,6 +257,8 @@ impl WarpObject {
 /// own renderer.
 #[derive(Debug)]
 pub struct WarpPass {
+    id: PassId,
+    device: wgpu::Device,
     single: [wgpu::RenderPipeline; 2],
     blend: wgpu::RenderPipeline,
     single_paper: [wgpu::RenderPipeline; 2],
@@ -229,12 +276,14 @@ pub struct WarpPass {
 }
 
 impl WarpPass {
-    /// Builds the pipelines that warp references drawn into targets of `references`
-    /// into the caller's targets of `target`: colour `target.color` (linear colour is
-    /// written; an sRGB format encodes it) with `target.depth` depth (less-equal, write).
+    /// Builds the pipelines that warp references (drawn into targets of `formats`' colour
+    /// and depth formats at the antialiasing's reference sample count) into the caller's
+    /// targets of `formats`: colour `formats.color` (linear colour is written; an sRGB
+    /// format encodes it) with `formats.depth` depth (less-equal, write), at
+    /// `formats.samples`, which must be the antialiasing's warp sample count.
     ///
-    /// The two sample counts choose the antialiasing ([`Antialiasing::from_samples`]):
-    /// with one sample each, the paper's warp. With 4-sample references and a 1-sample
+    /// The antialiasing ([`WarpPassSettings::antialiasing`]): with one sample each, the
+    /// paper's warp. With 4-sample references and a 1-sample
     /// target ([`Antialiasing::Msaa4Blend`]) the depth-tested warp blends its rim by the
     /// references' coverage (premultiplied alpha). With 4 samples each
     /// ([`Antialiasing::Msaa4`]), the depth-tested warp ([`WarpMode::DepthTested`]) writes a
@@ -248,12 +297,15 @@ impl WarpPass {
     /// pair the warp supports.
     pub fn new(
         device: &wgpu::Device,
-        references: TargetFormats,
-        target: TargetFormats,
+        _queue: &wgpu::Queue,
+        formats: TargetFormats,
+        settings: &WarpPassSettings,
     ) -> Result<Self, WarpError> {
-        let antialiasing = Antialiasing::from_samples(references.samples, target.samples)?;
+        let target = formats;
+        let antialiasing =
+            Antialiasing::from_samples(settings.antialiasing.sample_count(), target.samples)?;
         let (color_format, depth_format) = (target.color, target.depth);
-        check_formats(color_format, depth_format)?;
+        crate::msaa::check_formats(color_format, depth_format)?;
         let module = crate::shaders::WARP.module(device);
         use npr_gpu::layout::{
             FILTERABLE, sampler_entry, storage_entry, texture_entry, uniform_entry,
@@ -317,6 +369,8 @@ impl WarpPass {
             ),
         };
         Ok(Self {
+            id: PassId::fresh(),
+            device: device.clone(),
             single: [
                 tested(["fs_single0", "fs_single0_msaa", "fs_single0_cover"]),
                 tested(["fs_single1", "fs_single1_msaa", "fs_single1_cover"]),
@@ -416,6 +470,25 @@ impl WarpPass {
         let mesh = proxy.inflated(inflate_object);
         let bins = NormalBins::build(&mesh, bins_per_axis)?;
         let gpu = GpuMesh::upload(device, &bins.sorted_mesh(&mesh))?;
+        let edges = wireframe.then(|| {
+            let lines = edge_lines(&bins.indices);
+            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("npr-warp wireframe"),
+                contents: bytemuck::cast_slice(&lines),
+                usage: wgpu::BufferUsages::INDEX,
+            });
+            (buffer, lines.len() as u32)
+        });
+        Ok(WarpObject {
+            bins,
+            mesh: gpu,
+            edges,
+            slots: Slots::new(self.id),
+        })
+    }
+
+    fn create_slot(&self, bins: usize) -> WarpSlot {
+        let device = &self.device;
         let uniforms = render::uniform_buffer(
             device,
             "npr-warp object uniforms",
@@ -423,7 +496,7 @@ impl WarpPass {
         );
         let weights = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr-warp bin weights"),
-            contents: bytemuck::cast_slice(&vec![[1.0f32, 0.0, 0.0, 0.0]; bins.len()]),
+            contents: bytemuck::cast_slice(&vec![[1.0f32, 0.0, 0.0, 0.0]; bins.max(1)]),
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -440,41 +513,40 @@ impl WarpPass {
                 },
             ],
         });
-        let edges = wireframe.then(|| {
-            let lines = edge_lines(&bins.indices);
-            let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("npr-warp wireframe"),
-                contents: bytemuck::cast_slice(&lines),
-                usage: wgpu::BufferUsages::INDEX,
-            });
-            (buffer, lines.len() as u32)
-        });
-        Ok(WarpObject {
-            bins,
-            mesh: gpu,
+        WarpSlot {
             uniforms,
             weights,
             bind_group,
-            edges,
-        })
+            pair_group: None,
+            plan: BinPlan::default(),
+            mode: WarpMode::DepthTested,
+        }
     }
 
     /// Decides the frame for `object` (§3.3.2–§3.3.3) and writes its uniforms and bin
-    /// weights: the object drawn at `now` (its own camera and pose) with the reference
-    /// pair's images, `s ∈ [0, 1]` the frame's position between the two references.
-    /// Returns the plan to pass to [`WarpPass::draw`].
+    /// weights into a fresh slot: the object drawn at `input.now` (its own camera and
+    /// pose) with the reference pair's images, `input.s ∈ [0, 1]` the frame's position
+    /// between the two references. The plan is [`WarpObject::plan`].
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for an object of another pass or too many prepares in one
+    /// frame.
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
-        object: &WarpObject,
-        pair: &ReferencePair,
-        now: &Pose,
-        s: f32,
-        settings: &WarpSettings,
-    ) -> BinPlan {
+        object: &mut WarpObject,
+        input: &WarpInput<'_>,
+    ) -> Result<Prepared, WarpError> {
+        let WarpInput {
+            pair,
+            now,
+            s,
+            settings,
+            ..
+        } = *input;
         let plan = crate::bins::plan(
             &object.bins,
             now.eye_object(),
@@ -482,59 +554,61 @@ impl WarpPass {
             s,
             &settings.plan,
         );
-        let tex = |i: usize| {
-            (projective::tex_from_world(pair.clip_from_world[i]) * pair.poses[i].world_from_object)
-                .to_cols_array_2d()
-        };
-        let cam = |i: usize| &pair.poses[i].camera;
-        let u = WarpObjectUniforms {
-            clip_from_object: (now.camera.clip_from_world() * now.world_from_object)
-                .to_cols_array_2d(),
-            tex_from_object0: tex(0),
-            tex_from_object1: tex(1),
-            ref_near_far: [cam(0).near, cam(0).far, cam(1).near, cam(1).far],
-            params: [
-                settings.depth_tolerance_world,
-                pair.size[0] as f32,
-                pair.size[1] as f32,
-                settings.surface_slack_world,
-            ],
-            eye0_object: pair.poses[0]
-                .eye_object()
-                .extend(texel_angle(cam(0), pair.size[1]))
-                .to_array(),
-            eye1_object: pair.poses[1]
-                .eye_object()
-                .extend(texel_angle(cam(1), pair.size[1]))
-                .to_array(),
-            fill_color: Vec4::from_array(settings.fill_color).to_array(),
-        };
-        queue.write_buffer(&object.uniforms, 0, bytemuck::bytes_of(&u));
-        queue.write_buffer(&object.weights, 0, bytemuck::cast_slice(&plan.weights));
-        plan
+        let u = warp_uniforms(pair, now, settings);
+        let bins = object.bins.len();
+        let (prepared, slot) = object
+            .slots
+            .next(self.id, input.frame, || self.create_slot(bins))?;
+        queue.write_buffer(&slot.uniforms, 0, bytemuck::bytes_of(&u));
+        queue.write_buffer(&slot.weights, 0, bytemuck::cast_slice(&plan.weights));
+        slot.plan = plan;
+        slot.mode = input.mode;
+        slot.pair_group = Some(pair.bind_group.clone());
+        Ok(prepared)
     }
 
-    /// Records the draws of `plan` for `object` into the caller's pass (targets of the
-    /// formats given to [`WarpPass::new`]).
+    /// Records the draws of the plan `prepared` decided for `object` into the caller's
+    /// pass (targets of the formats given to [`WarpPass::new`]).
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for a `prepared` of another object, pass or frame.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        pair: &ReferencePair,
         object: &WarpObject,
-        plan: &BinPlan,
-        mode: WarpMode,
-    ) {
-        pass.set_bind_group(0, &pair.bind_group, &[]);
-        pass.set_bind_group(1, &object.bind_group, &[]);
+        prepared: &Prepared,
+    ) -> Result<(), WarpError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        let Some(pair_group) = &slot.pair_group else {
+            return Ok(());
+        };
+        let (plan, mode) = (&slot.plan, slot.mode);
+        pass.set_bind_group(0, pair_group, &[]);
+        pass.set_bind_group(1, &slot.bind_group, &[]);
         pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
         pass.set_index_buffer(
             object.mesh.index_buffer.slice(..),
             wgpu::IndexFormat::Uint32,
         );
-        let pipeline = |kind: DrawKind| match (mode, kind) {
+        // Group draws by pipeline so each pipeline is set once.
+        for kind in [DrawKind::Single0, DrawKind::Single1, DrawKind::Blend] {
+            let mut set = false;
+            for d in plan.draws.iter().filter(|d| d.kind == kind) {
+                if !set {
+                    pass.set_pipeline(self.pipeline(mode, kind));
+                    set = true;
+                }
+                pass.draw_indexed(d.indices.clone(), 0, d.instance..d.instance + 1);
+            }
+        }
+        Ok(())
+    }
+
+    fn pipeline(&self, mode: WarpMode, kind: DrawKind) -> &wgpu::RenderPipeline {
+        match (mode, kind) {
             (WarpMode::Fill, _) => &self.fill,
             (WarpMode::DepthTested, DrawKind::Single0) => &self.single[0],
             (WarpMode::DepthTested, DrawKind::Single1) => &self.single[1],
@@ -545,64 +619,86 @@ impl WarpPass {
             (WarpMode::PaperCoverage, DrawKind::Single0) => &self.single_coverage[0],
             (WarpMode::PaperCoverage, DrawKind::Single1) => &self.single_coverage[1],
             (WarpMode::PaperCoverage, DrawKind::Blend) => &self.blend_coverage,
-        };
-        // Group draws by pipeline so each pipeline is set once.
-        for kind in [DrawKind::Single0, DrawKind::Single1, DrawKind::Blend] {
-            let mut set = false;
-            for d in plan.draws.iter().filter(|d| d.kind == kind) {
-                if !set {
-                    pass.set_pipeline(pipeline(kind));
-                    set = true;
-                }
-                pass.draw_indexed(d.indices.clone(), 0, d.instance..d.instance + 1);
-            }
         }
     }
 
     /// Records the proxy's wireframe (line list, [`WarpSettings::fill_color`]) at the pose
-    /// last written by [`WarpPass::prepare`]; nothing when the object has no wireframe.
+    /// `prepared` wrote; nothing when the object has no wireframe.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for a `prepared` of another object, pass or frame.
     pub fn draw_wireframe(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        pair: &ReferencePair,
         object: &WarpObject,
-    ) {
-        let Some((edges, count)) = &object.edges else {
-            return;
+        prepared: &Prepared,
+    ) -> Result<(), WarpError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        let (Some((edges, count)), Some(pair_group)) = (&object.edges, &slot.pair_group) else {
+            return Ok(());
         };
         pass.set_pipeline(&self.wire);
-        pass.set_bind_group(0, &pair.bind_group, &[]);
-        pass.set_bind_group(1, &object.bind_group, &[]);
+        pass.set_bind_group(0, pair_group, &[]);
+        pass.set_bind_group(1, &slot.bind_group, &[]);
         pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
         pass.set_index_buffer(edges.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..*count, 0, 0..1);
+        Ok(())
     }
 }
 
-/// Checks that `color_format` is a filterable colour format (the references are sampled) and
-/// `depth_format` has a depth aspect that can be sampled.
-pub(crate) fn check_formats(
-    color_format: wgpu::TextureFormat,
-    depth_format: wgpu::TextureFormat,
-) -> Result<(), WarpError> {
-    if color_format.has_depth_aspect()
-        || color_format.has_stencil_aspect()
-        || color_format.is_compressed()
-        || !matches!(
-            color_format.sample_type(None, None),
-            Some(wgpu::TextureSampleType::Float { filterable: true })
-        )
-    {
-        return Err(WarpError::InvalidSetting(format!(
-            "colour format {color_format:?} is not a filterable colour format"
-        )));
+impl npr_gpu::Pass for WarpPass {
+    type Object = WarpObject;
+    type Input<'a> = WarpInput<'a>;
+    type Error = WarpError;
+
+    fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut WarpObject,
+        input: &WarpInput<'_>,
+    ) -> Result<Prepared, WarpError> {
+        WarpPass::prepare(self, queue, object, input)
     }
-    if !depth_format.has_depth_aspect() {
-        return Err(WarpError::InvalidSetting(format!(
-            "depth format {depth_format:?} has no depth aspect"
-        )));
+
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        object: &WarpObject,
+        prepared: &Prepared,
+    ) -> Result<(), WarpError> {
+        WarpPass::draw(self, pass, object, prepared)
     }
-    Ok(())
+}
+
+/// The `WarpObject` uniforms of `now` warped from `pair`.
+fn warp_uniforms(pair: &ReferencePair, now: &Pose, settings: &WarpSettings) -> WarpObjectUniforms {
+    let tex = |i: usize| {
+        (projective::tex_from_world(pair.clip_from_world[i]) * pair.poses[i].world_from_object)
+            .to_cols_array_2d()
+    };
+    let cam = |i: usize| &pair.poses[i].camera;
+    WarpObjectUniforms {
+        clip_from_object: (now.camera.clip_from_world() * now.world_from_object).to_cols_array_2d(),
+        tex_from_object0: tex(0),
+        tex_from_object1: tex(1),
+        ref_near_far: [cam(0).near, cam(0).far, cam(1).near, cam(1).far],
+        params: [
+            settings.depth_tolerance_world,
+            pair.size[0] as f32,
+            pair.size[1] as f32,
+            settings.surface_slack_world,
+        ],
+        eye0_object: pair.poses[0]
+            .eye_object()
+            .extend(texel_angle(cam(0), pair.size[1]))
+            .to_array(),
+        eye1_object: pair.poses[1]
+            .eye_object()
+            .extend(texel_angle(cam(1), pair.size[1]))
+            .to_array(),
+        fill_color: Vec4::from_array(settings.fill_color).to_array(),
+    }
 }
 
 /// The angle one texel of a `height`-texel image subtends under `camera`:

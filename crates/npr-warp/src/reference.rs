@@ -14,8 +14,8 @@ use crate::msaa::{DepthResolve, MsaaTarget};
 use glam::{Mat4, Vec3};
 use npr_gpu::render::clear_color;
 use npr_gpu::{
-    BaseShading, Camera, FrameUniforms, GpuMesh, Light, ObjectBinding, ObjectUniforms,
-    ShadingModel, TargetFormats,
+    BaseInput, BaseObject, BaseSettings, BaseShading, Camera, FrameId, FrameUniforms, GpuMesh,
+    Light, ObjectUniforms, Prepared, ShadingModel, TargetFormats,
 };
 use std::ops::Range;
 
@@ -40,6 +40,9 @@ impl Pose {
 /// What a [`BasePass`] is asked to draw: one reference, or one slice of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReferenceDraw<'a> {
+    /// The caller's submission this draw is recorded for: references recorded before one
+    /// submit share it, so a base pass keeps each one's state apart.
+    pub frame: FrameId,
     /// The reference camera and the object's pose.
     pub pose: &'a Pose,
     /// The reference slot (0, 1, 2 in a [`crate::WarpSequence`]; 0, 1 in a
@@ -54,9 +57,10 @@ pub struct ReferenceDraw<'a> {
 }
 
 impl<'a> ReferenceDraw<'a> {
-    /// The whole reference at `pose` as slot `slot` (one slice).
-    pub fn whole(pose: &'a Pose, slot: usize) -> Self {
+    /// The whole reference at `pose` as slot `slot` (one slice), for submission `frame`.
+    pub fn whole(frame: FrameId, pose: &'a Pose, slot: usize) -> Self {
         Self {
+            frame,
             pose,
             slot,
             slice: 0,
@@ -107,32 +111,6 @@ fn posed(material: &ObjectUniforms, world_from_object: Mat4) -> ObjectUniforms {
     }
 }
 
-/// Records `mesh` with `model`, drawing only `range` of its index buffer (the whole mesh
-/// when the range covers it).
-fn draw_phong_range(
-    pass: &mut wgpu::RenderPass<'_>,
-    shading: &BaseShading,
-    model: ShadingModel,
-    object: &ObjectBinding,
-    mesh: &GpuMesh,
-    range: Range<u32>,
-) {
-    if range == (0..mesh.index_count) {
-        shading.draw(pass, model, object, mesh);
-        return;
-    }
-    // `BaseShading::draw` sets the pipeline and bind groups and draws the whole mesh;
-    // give it an empty view of the mesh, then draw only this range.
-    let state_only = GpuMesh {
-        vertex_buffer: mesh.vertex_buffer.clone(),
-        index_buffer: mesh.index_buffer.clone(),
-        index_count: 0,
-        vertex_count: mesh.vertex_count,
-    };
-    shading.draw(pass, model, object, &state_only);
-    pass.draw_indexed(range, 0, 0..1);
-}
-
 /// The default [`BasePass`]: one mesh with npr-gpu's base shading (full Phong unless
 /// [`PhongBase::with_model`] picks Gouraud or cel) under one light, its shading state kept
 /// per reference slot.
@@ -144,7 +122,10 @@ pub struct PhongBase {
     formats: TargetFormats,
     model: ShadingModel,
     ramp: Option<Vec<[u8; 4]>>,
-    slots: Vec<(BaseShading, ObjectBinding)>,
+    /// The shading pass and its object, built on first use.
+    shading: Option<(BaseShading, BaseObject)>,
+    /// What each reference slot was last prepared with.
+    prepared: Vec<Option<Prepared>>,
 }
 
 impl PhongBase {
@@ -158,18 +139,14 @@ impl PhongBase {
         formats: TargetFormats,
     ) -> Self {
         Self {
-            mesh: GpuMesh {
-                vertex_buffer: mesh.vertex_buffer.clone(),
-                index_buffer: mesh.index_buffer.clone(),
-                index_count: mesh.index_count,
-                vertex_count: mesh.vertex_count,
-            },
+            mesh: mesh.clone(),
             light,
             material,
             formats,
             model: ShadingModel::Phong,
             ramp: None,
-            slots: Vec::new(),
+            shading: None,
+            prepared: Vec::new(),
         }
     }
 
@@ -178,11 +155,13 @@ impl PhongBase {
     pub fn with_model(mut self, model: ShadingModel, ramp: Option<Vec<[u8; 4]>>) -> Self {
         self.model = model;
         self.ramp = ramp;
-        self.slots.clear();
+        self.shading = None;
+        self.prepared.clear();
         self
     }
 
-    /// Changes the light and material of the references recorded from now on.
+    /// Changes the light and material of the references recorded from now on (CPU
+    /// state: each reference's `prepare` writes them).
     pub fn set_lighting(&mut self, light: Light, material: ObjectUniforms) {
         self.light = light;
         self.material = material;
@@ -195,25 +174,38 @@ impl BasePass for PhongBase {
     }
 
     fn prepare(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, target: &ReferenceDraw<'_>) {
-        while self.slots.len() <= target.slot {
-            let mut shading = BaseShading::new(device, queue, self.formats);
-            if let Some(texels) = &self.ramp {
-                let view = npr_gpu::upload_ramp(device, queue, texels);
-                shading.set_ramp(device, &view);
-            }
-            let object =
-                shading.create_object(device, &ObjectUniforms::default_material(Mat4::IDENTITY));
-            self.slots.push((shading, object));
+        let (shading, object) = self.shading.get_or_insert_with(|| {
+            let settings = match &self.ramp {
+                Some(ramp) => BaseSettings { ramp: ramp.clone() },
+                None => BaseSettings::default(),
+            };
+            let shading = BaseShading::new(device, queue, self.formats, &settings);
+            let object = shading.create_object(device, &self.mesh);
+            (shading, object)
+        });
+        let view = FrameUniforms::new(&target.pose.camera, &self.light);
+        let object_uniforms = posed(&self.material, target.pose.world_from_object);
+        let input = BaseInput {
+            frame: target.frame,
+            view: &view,
+            object: &object_uniforms,
+            model: self.model,
+        };
+        if self.prepared.len() <= target.slot {
+            self.prepared.resize(target.slot + 1, None);
         }
-        let (shading, object) = &self.slots[target.slot];
-        shading.set_frame(queue, &FrameUniforms::new(&target.pose.camera, &self.light));
-        object.update(queue, &posed(&self.material, target.pose.world_from_object));
+        // A failed prepare (more than 64 references in one submission) draws nothing.
+        self.prepared[target.slot] = shading.prepare(queue, object, &input).ok();
     }
 
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, target: &ReferenceDraw<'_>) {
-        if let Some((shading, object)) = self.slots.get(target.slot) {
+        let Some((shading, object)) = &self.shading else {
+            return;
+        };
+        if let Some(Some(prepared)) = self.prepared.get(target.slot) {
             let range = target.index_range(self.mesh.index_count);
-            draw_phong_range(pass, shading, self.model, object, &self.mesh, range);
+            // A ticket of another frame is refused: nothing is drawn.
+            let _ = shading.draw_range(pass, object, prepared, range);
         }
     }
 }
@@ -291,7 +283,7 @@ impl ReferenceFrame {
                 formats.samples
             )));
         }
-        crate::pass::check_formats(color_format, depth_format)?;
+        crate::msaa::check_formats(color_format, depth_format)?;
         npr_gpu::check_size(device, width, height)?;
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT
             | wgpu::TextureUsages::TEXTURE_BINDING
@@ -351,7 +343,8 @@ impl ReferenceFrame {
         WarpError::check_samples("the base pass", base.sample_count(), self.sample_count())
     }
 
-    /// Records `base` drawing `pose` (as slot `slot`) over what the reference holds, with
+    /// Records `base` drawing `pose` (as slot `slot`, for submission `frame`) over what the
+    /// reference holds, with
     /// no clear; the reference keeps its own pose. E.g. a synthetic occluder: it is in the
     /// reference's colour and depth but not part of the warped object.
     ///
@@ -364,8 +357,7 @@ impl ReferenceFrame {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
-        pose: &Pose,
-        slot: usize,
+        (frame, pose, slot): (FrameId, &Pose, usize),
     ) -> Result<(), WarpError> {
         self.check_base(base)?;
         self.draw_base(
@@ -373,7 +365,7 @@ impl ReferenceFrame {
             queue,
             encoder,
             base,
-            &ReferenceDraw::whole(pose, slot),
+            &ReferenceDraw::whole(frame, pose, slot),
             None,
         );
         Ok(())
@@ -428,13 +420,12 @@ impl ReferenceFrame {
         clear: [f64; 4],
     ) -> Result<(), WarpError> {
         let ReferenceDraw {
+            frame,
             pose,
             slot,
             slice,
             slices,
         } = *draw;
-        self.check_base(base)?;
-        let slices = slices.max(1);
         self.check_base(base)?;
         let slices = slices.max(1);
         let slice = slice.min(slices - 1);
@@ -443,6 +434,7 @@ impl ReferenceFrame {
             self.clip_from_world = pose.camera.clip_from_world();
         }
         let draw = ReferenceDraw {
+            frame,
             pose,
             slot,
             slice,
@@ -470,14 +462,31 @@ pub fn begin_clear_pass<'e>(
     )
 }
 
+/// One frame's input to [`FullRenderer::prepare`].
+#[derive(Clone, Copy, Debug)]
+pub struct FullInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// The camera.
+    pub camera: &'a Camera,
+    /// One transform per object (`material`'s transform is replaced by each).
+    pub world_from_objects: &'a [Mat4],
+    /// The light.
+    pub light: &'a Light,
+    /// The material.
+    pub material: &'a ObjectUniforms,
+}
+
 /// The full render of every object of a scene (full Phong): what each warped frame is
-/// compared with and what a reference costs. Owns its own shading state.
+/// compared with and what a reference costs. One [`BaseShading`] object for the mesh,
+/// prepared once per object transform.
 #[derive(Debug)]
 pub struct FullRenderer {
+    device: wgpu::Device,
     shading: BaseShading,
     sample_count: u32,
-    objects: Vec<ObjectBinding>,
-    count: usize,
+    object: Option<BaseObject>,
+    prepared: Vec<Prepared>,
 }
 
 impl FullRenderer {
@@ -485,48 +494,62 @@ impl FullRenderer {
     /// [`MsaaTarget::begin_pass`]; see [`FullRenderer::record_msaa`]).
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, formats: TargetFormats) -> Self {
         Self {
-            shading: BaseShading::new(device, queue, formats),
+            device: device.clone(),
+            shading: BaseShading::new(device, queue, formats, &BaseSettings::default()),
             sample_count: formats.samples.max(1),
-            objects: Vec::new(),
-            count: 0,
+            object: None,
+            prepared: Vec::new(),
         }
     }
 
-    /// Writes the camera, light and one transform per object (`material`'s transform is
-    /// replaced by each object's).
-    pub fn set_scene(
+    /// Writes the camera, light and one transform per object for drawing `mesh` (its
+    /// buffers are shared, not copied).
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for more than 64 objects in one frame.
+    pub fn prepare(
         &mut self,
-        device: &wgpu::Device,
         queue: &wgpu::Queue,
-        camera: &Camera,
-        world_from_objects: &[Mat4],
-        light: &Light,
-        material: &ObjectUniforms,
-    ) {
-        self.shading
-            .set_frame(queue, &FrameUniforms::new(camera, light));
-        while self.objects.len() < world_from_objects.len() {
-            self.objects
-                .push(self.shading.create_object(device, material));
+        mesh: &GpuMesh,
+        input: &FullInput<'_>,
+    ) -> Result<(), WarpError> {
+        let same = self
+            .object
+            .as_ref()
+            .is_some_and(|o| o.mesh().vertex_buffer == mesh.vertex_buffer);
+        if !same {
+            self.object = Some(self.shading.create_object(&self.device, mesh));
         }
-        for (binding, m) in self.objects.iter().zip(world_from_objects) {
-            binding.update(queue, &posed(material, *m));
+        let Some(object) = self.object.as_mut() else {
+            return Ok(());
+        };
+        let view = FrameUniforms::new(input.camera, input.light);
+        self.prepared.clear();
+        for m in input.world_from_objects {
+            let u = posed(input.material, *m);
+            let base = BaseInput {
+                frame: input.frame,
+                view: &view,
+                object: &u,
+                model: ShadingModel::Phong,
+            };
+            self.prepared
+                .push(self.shading.prepare(queue, object, &base)?);
         }
-        self.count = world_from_objects.len();
+        Ok(())
     }
 
-    /// Records the full render of `mesh` at every object transform into the caller's pass.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, mesh: &GpuMesh) {
-        for object in self.objects.iter().take(self.count) {
-            draw_phong_range(
-                pass,
-                &self.shading,
-                ShadingModel::Phong,
-                object,
-                mesh,
-                0..mesh.index_count,
-            );
+    /// Records the full render prepared last into the caller's pass.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] when the preparation is of an earlier frame.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) -> Result<(), WarpError> {
+        if let Some(object) = &self.object {
+            for prepared in &self.prepared {
+                self.shading.draw(pass, object, prepared)?;
+            }
         }
+        Ok(())
     }
 
     /// Samples per pixel of the passes the renderer draws into.
@@ -544,7 +567,6 @@ impl FullRenderer {
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
-        mesh: &GpuMesh,
         clear: [f64; 4],
     ) -> Result<(), WarpError> {
         let expected = self.sample_count;
@@ -555,8 +577,7 @@ impl FullRenderer {
         )?;
         WarpError::check_samples("the depth target", depth.texture().sample_count(), expected)?;
         let mut pass = begin_clear_pass(encoder, color, depth, clear);
-        self.draw(&mut pass, mesh);
-        Ok(())
+        self.draw(&mut pass)
     }
 
     /// Records a multisampled pass over `target`, cleared to `clear`, with the full
@@ -571,14 +592,12 @@ impl FullRenderer {
         encoder: &mut wgpu::CommandEncoder,
         target: &MsaaTarget,
         resolve: &wgpu::TextureView,
-        mesh: &GpuMesh,
         clear: [f64; 4],
     ) -> Result<(), WarpError> {
         let got = target.color.sample_count();
         WarpError::check_samples("the multisampled target", got, self.sample_count)?;
         WarpError::check_samples("the resolve target", resolve.texture().sample_count(), 1)?;
         let mut pass = target.begin_pass(encoder, resolve, Some(clear));
-        self.draw(&mut pass, mesh);
-        Ok(())
+        self.draw(&mut pass)
     }
 }

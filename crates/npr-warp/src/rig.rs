@@ -4,14 +4,14 @@
 //! turntable path; the paper's and our warp variants; the warping models.
 
 use crate::{
-    Antialiasing, Departures, FrameReport, FullRenderer, MsaaTarget, PhongBase, Proxy,
-    ReferenceDraw, ReferenceFrame, ScenePose, SequenceFrame, Turntable, WarpError, WarpMode,
-    WarpObject, WarpPass, WarpSequence, WarpSettings,
+    Antialiasing, Departures, FrameReport, FullInput, FullRenderer, MsaaTarget, PhongBase, Proxy,
+    ReferenceDraw, ReferenceFrame, ScenePose, SequenceFrame, Turntable, WarpError, WarpInput,
+    WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSequence, WarpSettings,
 };
 use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_gpu::{
-    COLOR_FORMAT, Camera, DEPTH_FORMAT, GpuContext, GpuMesh, Light, ObjectUniforms,
+    COLOR_FORMAT, Camera, DEPTH_FORMAT, FrameId, GpuContext, GpuMesh, Light, ObjectUniforms,
     OffscreenTarget, TargetFormats, readback_rgba,
 };
 
@@ -147,9 +147,17 @@ pub struct Rig<'a> {
     /// `target`.
     msaa: Option<MsaaTarget>,
     size: u32,
+    /// The rig's submissions so far: each method that submits takes the next id.
+    frame: FrameId,
 }
 
 impl<'a> Rig<'a> {
+    /// The id of the rig's next submission.
+    fn next_frame(&mut self) -> FrameId {
+        self.frame = self.frame.next();
+        self.frame
+    }
+
     /// A rig for `mesh` drawing `size × size` frames.
     pub fn new(ctx: &'a GpuContext, mesh: &Mesh, size: u32) -> Result<Self, WarpError> {
         Self::with_antialiasing(ctx, mesh, size, Antialiasing::None)
@@ -189,12 +197,14 @@ impl<'a> Rig<'a> {
             target: OffscreenTarget::new(d, size, size)?,
             pass: WarpPass::new(
                 d,
-                antialiasing.references(TargetFormats::default()),
+                q,
                 antialiasing.warp_target(TargetFormats::default()),
+                &WarpPassSettings { antialiasing },
             )?,
             antialiasing,
             msaa,
             size,
+            frame: FrameId::default(),
         })
     }
 
@@ -238,18 +248,25 @@ impl<'a> Rig<'a> {
 
     /// Records (without submitting) the full render of `scene` into the target.
     pub fn record_full(&mut self, scene: &ScenePose) -> Result<wgpu::CommandEncoder, WarpError> {
+        let frame = self.next_frame();
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        self.renderer
-            .set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
+        let input = FullInput {
+            frame,
+            camera: &scene.camera,
+            world_from_objects: &scene.objects,
+            light: &light(),
+            material: &material(),
+        };
+        self.renderer.prepare(q, &self.full, &input)?;
         let mut enc = d.create_command_encoder(&Default::default());
         let t = &self.target;
         match &self.msaa {
             Some(ms) => self
                 .renderer
-                .record_msaa(&mut enc, ms, &t.color_view, &self.full, CLEAR),
+                .record_msaa(&mut enc, ms, &t.color_view, CLEAR),
             None => self
                 .renderer
-                .record(&mut enc, &t.color_view, &t.depth_view, &self.full, CLEAR),
+                .record(&mut enc, &t.color_view, &t.depth_view, CLEAR),
         }?;
         Ok(enc)
     }
@@ -286,6 +303,7 @@ impl<'a> Rig<'a> {
         r: &mut ReferenceFrame,
         scene: &ScenePose,
     ) -> Result<wgpu::CommandEncoder, WarpError> {
+        let frame = self.next_frame();
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut enc = d.create_command_encoder(&Default::default());
         let pose = scene.object(0);
@@ -294,7 +312,7 @@ impl<'a> Rig<'a> {
             q,
             &mut enc,
             &mut self.base,
-            &ReferenceDraw::whole(&pose, 0),
+            &ReferenceDraw::whole(frame, &pose, 0),
             CLEAR,
         )?;
         Ok(enc)
@@ -305,7 +323,7 @@ impl<'a> Rig<'a> {
     pub fn sequence_frame(
         &mut self,
         seq: &mut WarpSequence,
-        objects: &[WarpObject],
+        objects: &mut [WarpObject],
         path: &dyn Fn(u32) -> ScenePose,
         frame: u32,
     ) -> Result<FrameReport, WarpError> {
@@ -336,40 +354,45 @@ impl<'a> Rig<'a> {
     /// # Errors
     /// [`WarpError::Gpu`] when the readback fails.
     pub fn warp_image(
-        &self,
+        &mut self,
         refs: [&ReferenceFrame; 2],
-        variant: &Variant,
+        variant: &mut Variant,
         (scene, s): (&ScenePose, f32),
         mode: WarpMode,
         wire: bool,
     ) -> Result<image::RgbaImage, WarpError> {
+        let frame = self.next_frame();
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let pair = self.pass.bind_pair(d, refs);
-        let object = &variant.object;
+        let object = &mut variant.object;
         let mut settings = variant.settings;
         if wire {
             settings.fill_color = [0.8, 0.8, 0.8, 1.0];
         }
-        let plan = self
-            .pass
-            .prepare(q, object, &pair, &scene.object(0), s, &settings);
+        let now = scene.object(0);
+        let mut input = WarpInput {
+            frame,
+            pair: &pair,
+            now: &now,
+            s,
+            settings: &settings,
+            mode,
+        };
+        let filled = self.pass.prepare(q, object, &input)?;
+        let mut wire_settings = settings;
+        wire_settings.fill_color = [0.05, 0.1, 0.3, 1.0];
+        input.settings = &wire_settings;
+        let edges = self.pass.prepare(q, object, &input)?;
         let mut enc = d.create_command_encoder(&Default::default());
         {
             let mut rpass = self.target.begin_clear_pass(&mut enc, CLEAR);
-            self.pass.draw(&mut rpass, &pair, object, &plan, mode);
+            self.pass.draw(&mut rpass, object, &filled)?;
+        }
+        if wire {
+            let mut rpass = self.target.begin_load_pass(&mut enc);
+            self.pass.draw_wireframe(&mut rpass, object, &edges)?;
         }
         q.submit(Some(enc.finish()));
-        if wire {
-            settings.fill_color = [0.05, 0.1, 0.3, 1.0];
-            self.pass
-                .prepare(q, object, &pair, &scene.object(0), s, &settings);
-            let mut enc = d.create_command_encoder(&Default::default());
-            {
-                let mut rpass = self.target.begin_load_pass(&mut enc);
-                self.pass.draw_wireframe(&mut rpass, &pair, object);
-            }
-            q.submit(Some(enc.finish()));
-        }
         Ok(readback_rgba(d, q, &self.target.color)?)
     }
 

@@ -5,9 +5,10 @@
 
 use crate::WarpError;
 use crate::bins::BinPlan;
-use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
+use crate::pass::{ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpSettings};
 use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
 use glam::Mat4;
+use npr_gpu::FrameId;
 use npr_gpu::{Camera, TargetFormats};
 
 /// Which references a frame interpolates and where it lies between them.
@@ -134,6 +135,7 @@ impl WarpSequence {
     /// `formats` has more than one sample per pixel.
     pub fn new(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         schedule: WarpSchedule,
         settings: WarpSettings,
         width: u32,
@@ -148,7 +150,7 @@ impl WarpSequence {
             settings,
             mode: WarpMode::DepthTested,
             clear: [0.0; 4],
-            pass: WarpPass::new(device, formats, formats)?,
+            pass: WarpPass::new(device, queue, formats, &Default::default())?,
             slots: [slot()?, slot()?, slot()?],
             held: [None; 3],
             pair: None,
@@ -200,6 +202,7 @@ impl WarpSequence {
         let mut n = 0;
         while done < slices {
             let draw = ReferenceDraw {
+                frame: FrameId(u64::from(input.frame)),
                 pose: &pose,
                 slot,
                 slice: done,
@@ -264,20 +267,24 @@ impl WarpSequence {
         let scene = (input.path)(frame);
         let objects = input.objects;
         if let Some((_, pair)) = &self.pair {
-            for (i, object) in objects.iter().enumerate() {
-                let plan = self.pass.prepare(
-                    queue,
-                    object,
+            let mut prepared = Vec::with_capacity(objects.len());
+            for (i, object) in objects.iter_mut().enumerate() {
+                let now = scene.object(i);
+                let warp = WarpInput {
+                    frame: FrameId(u64::from(frame)),
                     pair,
-                    &scene.object(i),
-                    role.s,
-                    &self.settings,
-                );
-                report.plans.push(plan);
+                    now: &now,
+                    s: role.s,
+                    settings: &self.settings,
+                    mode: self.mode,
+                };
+                let p = self.pass.prepare(queue, object, &warp)?;
+                report.plans.push(object.plan(&self.pass, &p)?.clone());
+                prepared.push(p);
             }
             let mut rpass = crate::reference::begin_clear_pass(encoder, color, depth, self.clear);
-            for (object, plan) in objects.iter().zip(&report.plans) {
-                self.pass.draw(&mut rpass, pair, object, plan, self.mode);
+            for (object, p) in objects.iter().zip(&prepared) {
+                self.pass.draw(&mut rpass, object, p)?;
             }
         }
         Ok(report)
@@ -290,7 +297,7 @@ pub struct SequenceFrame<'a> {
     /// The base pass that draws the references (one sample per pixel).
     pub base: &'a mut dyn BasePass,
     /// The warp objects, one per object of the path's scene.
-    pub objects: &'a [WarpObject],
+    pub objects: &'a mut [WarpObject],
     /// The scene at each frame: the camera and every object's pose.
     pub path: &'a dyn Fn(u32) -> ScenePose,
     /// The frame to record.

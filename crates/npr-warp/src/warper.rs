@@ -5,10 +5,12 @@
 use crate::bins::BinPlan;
 use crate::departures::Departures;
 use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
-use crate::pass::{ReferencePair, WarpMode, WarpObject, WarpPass, WarpSettings};
+use crate::pass::{
+    ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSettings,
+};
 use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
 use crate::{Proxy, WarpError};
-use npr_gpu::TargetFormats;
+use npr_gpu::{FrameId, Prepared, TargetFormats};
 
 /// Bins per axis of a [`Warper`]'s proxy (§3.3.2; the benchmark's N).
 pub const WARPER_BINS: u32 = 16;
@@ -55,6 +57,7 @@ impl Warper {
     /// non-finite `world_per_object`; [`WarpError::Gpu`] for a bad size or a failed upload.
     pub fn new(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         proxy: &Proxy,
         departures: Departures,
         world_per_object: f32,
@@ -69,7 +72,8 @@ impl Warper {
         }
         let settings = departures.settings(proxy, world_per_object);
         settings.validate()?;
-        let pass = WarpPass::new(device, references, target)?;
+        let antialiasing = Antialiasing::from_samples(references.samples, target.samples)?;
+        let pass = WarpPass::new(device, queue, target, &WarpPassSettings { antialiasing })?;
         let object = pass.create_object(
             device,
             proxy,
@@ -101,7 +105,8 @@ impl Warper {
         })
     }
 
-    /// Records a reference at `pose` drawn by `base` (base-pass slot 0 or 1) into
+    /// Records a reference at `pose` drawn by `base` (base-pass slot 0 or 1, for the
+    /// caller's submission `frame`) into
     /// `encoder`, replacing the older reference; from then on warps interpolate between
     /// the previous newest reference (s = 0) and this one (s = 1). Submit the encoder before
     /// (or with) the next warp that uses it.
@@ -118,10 +123,11 @@ impl Warper {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
+        frame: FrameId,
         pose: &Pose,
     ) -> Result<(), WarpError> {
         let slot = (self.recorded % 2) as usize;
-        let draw = ReferenceDraw::whole(pose, slot);
+        let draw = ReferenceDraw::whole(frame, pose, slot);
         self.refs[slot].record(device, queue, encoder, base, &draw, self.clear)?;
         self.recorded += 1;
         let [older, newer] = self.ordered();
@@ -175,31 +181,66 @@ impl Warper {
         }
     }
 
-    /// Records the warp of the current references to `pose` at position `s` between them
-    /// (see [`Warper::position`]) into the caller's render pass (targets of the formats
-    /// given to [`Warper::new`]). `None`, drawing nothing, before the first reference.
+    /// Writes the warp of the current references to `pose` at position `s` between them
+    /// (see [`Warper::position`]) into a fresh slot, for submission `frame`. `None` before
+    /// the first reference. Two prepares in one frame (two views, two poses) stay
+    /// distinct.
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
-    pub fn draw(
-        &self,
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for more than 64 prepares in one frame.
+    pub fn prepare(
+        &mut self,
         queue: &wgpu::Queue,
-        pass: &mut wgpu::RenderPass<'_>,
+        frame: FrameId,
         pose: &Pose,
         s: f32,
-    ) -> Option<BinPlan> {
-        let pair = self.pair.as_ref()?;
-        let plan = self
-            .pass
-            .prepare(queue, &self.object, pair, pose, s, &self.settings);
-        self.pass.draw(pass, pair, &self.object, &plan, self.mode);
-        Some(plan)
+    ) -> Result<Option<Prepared>, WarpError> {
+        let Some(pair) = self.pair.as_ref() else {
+            return Ok(None);
+        };
+        let input = WarpInput {
+            frame,
+            pair,
+            now: pose,
+            s,
+            settings: &self.settings,
+            mode: self.mode,
+        };
+        Ok(Some(self.pass.prepare(queue, &mut self.object, &input)?))
     }
 
-    /// As [`Warper::draw`], in a pass of its own over `color` / `depth` cleared to
-    /// [`Warper::clear`]. Multisampled, the pass is over the warper's own multisampled
-    /// textures, resolved into `color`; `depth` is not written. `color` and `depth` are
-    /// one sample per pixel whatever the antialiasing.
+    /// The plan (draws and bin weights) that `prepared` decided.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for a ticket of an earlier frame.
+    pub fn plan(&self, prepared: &Prepared) -> Result<&BinPlan, WarpError> {
+        self.object.plan(&self.pass, prepared)
+    }
+
+    /// Records the warp `prepared` into the caller's render pass (targets of the formats
+    /// given to [`Warper::new`]).
+    ///
+    /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
+    /// own renderer.
+    ///
+    /// # Errors
+    /// [`WarpError::Pass`] for a `prepared` of an earlier frame or another warper.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        prepared: &Prepared,
+    ) -> Result<(), WarpError> {
+        self.pass.draw(pass, &self.object, prepared)
+    }
+
+    /// [`Warper::prepare`], then [`Warper::draw`] in a pass of its own over `color` /
+    /// `depth` cleared to [`Warper::clear`]. Multisampled, the pass is over the warper's
+    /// own multisampled textures, resolved into `color`; `depth` is not written. `color`
+    /// and `depth` are one sample per pixel whatever the antialiasing. Returns the plan,
+    /// `None` before the first reference.
     ///
     /// # Errors
     /// [`WarpError::SampleCountMismatch`] (recording nothing) for a multisampled `color`,
@@ -208,23 +249,27 @@ impl Warper {
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     pub fn record_warp(
-        &self,
+        &mut self,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        color: &wgpu::TextureView,
-        depth: &wgpu::TextureView,
+        (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
+        frame: FrameId,
         pose: &Pose,
         s: f32,
     ) -> Result<Option<BinPlan>, WarpError> {
         WarpError::check_samples("the colour target", color.texture().sample_count(), 1)?;
+        if self.msaa.is_none() {
+            WarpError::check_samples("the depth target", depth.texture().sample_count(), 1)?;
+        }
+        let prepared = self.prepare(queue, frame, pose, s)?;
         let mut pass = match &self.msaa {
             Some(msaa) => msaa.begin_pass(encoder, color, Some(self.clear)),
-            None => {
-                let got = depth.texture().sample_count();
-                WarpError::check_samples("the depth target", got, 1)?;
-                crate::reference::begin_clear_pass(encoder, color, depth, self.clear)
-            }
+            None => crate::reference::begin_clear_pass(encoder, color, depth, self.clear),
         };
-        Ok(self.draw(queue, &mut pass, pose, s))
+        let Some(prepared) = prepared else {
+            return Ok(None);
+        };
+        self.draw(&mut pass, &prepared)?;
+        Ok(Some(self.plan(&prepared)?.clone()))
     }
 }

@@ -23,21 +23,20 @@ fn embed_example_is_close_to_the_full_render() {
     let pose = embed::pose(4.0);
     let (light, material) = embed::look();
     let mut full = FullRenderer::new(d, q, TargetFormats::new(embed::COLOR, embed::DEPTH));
-    full.set_scene(
-        d,
-        q,
-        &pose.camera,
-        &[pose.world_from_object],
-        &light,
-        &material,
-    );
+    let input = npr_warp::FullInput {
+        frame: npr_gpu::FrameId(0),
+        camera: &pose.camera,
+        world_from_objects: &[pose.world_from_object],
+        light: &light,
+        material: &material,
+    };
+    full.prepare(q, &mesh, &input).unwrap();
     let target = npr_gpu::OffscreenTarget::new(d, embed::SIZE, embed::SIZE).unwrap();
     let mut encoder = d.create_command_encoder(&Default::default());
     full.record(
         &mut encoder,
         &target.color_view,
         &target.depth_view,
-        &mesh,
         [0.0; 4],
     )
     .unwrap();

@@ -36,7 +36,7 @@ fn rig(ctx: &'static GpuContext, ratio: f32) -> Rig {
     // poses (the default 0.75 x trades a few silhouette holes for a thinner rim).
     let inflation = 1.5 * proxy.error_object;
     let formats = TargetFormats::default();
-    let pass = WarpPass::new(&ctx.device, formats, formats).unwrap();
+    let pass = WarpPass::new(&ctx.device, &ctx.queue, formats, &Default::default()).unwrap();
     let object = pass
         .create_object(&ctx.device, &proxy, 8, inflation, false)
         .unwrap();
@@ -72,7 +72,7 @@ impl Rig {
             q,
             &mut encoder,
             &mut base,
-            &ReferenceDraw::whole(&pose, 0),
+            &ReferenceDraw::whole(npr_gpu::FrameId(0), &pose, 0),
             CLEAR,
         )
         .unwrap();
@@ -92,19 +92,24 @@ impl Rig {
     fn full_image(&self, scene: &ScenePose) -> image::RgbaImage {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut renderer = FullRenderer::new(d, q, TargetFormats::default());
-        renderer.set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
+        let input = npr_warp::FullInput {
+            frame: npr_gpu::FrameId(0),
+            camera: &scene.camera,
+            world_from_objects: &scene.objects,
+            light: &light(),
+            material: &material(),
+        };
+        renderer.prepare(q, &self.full, &input).unwrap();
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
         let (c, z) = (&target.color_view, &target.depth_view);
-        renderer
-            .record(&mut encoder, c, z, &self.full, CLEAR)
-            .unwrap();
+        renderer.record(&mut encoder, c, z, CLEAR).unwrap();
         q.submit(Some(encoder.finish()));
         readback_rgba(d, q, &target.color).unwrap()
     }
 
     fn warp_image(
-        &self,
+        &mut self,
         refs: [&ReferenceFrame; 2],
         t: f32,
         s: f32,
@@ -112,19 +117,21 @@ impl Rig {
     ) -> image::RgbaImage {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let pair = self.pass.bind_pair(d, refs);
-        let plan = self.pass.prepare(
-            q,
-            &self.object,
-            &pair,
-            &self.path.pose(t).object(0),
+        let now = self.path.pose(t).object(0);
+        let input = npr_warp::WarpInput {
+            frame: npr_gpu::FrameId(0),
+            pair: &pair,
+            now: &now,
             s,
-            &self.settings,
-        );
+            settings: &self.settings,
+            mode,
+        };
+        let prepared = self.pass.prepare(q, &mut self.object, &input).unwrap();
         let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
         let mut encoder = d.create_command_encoder(&Default::default());
         {
             let mut rpass = target.begin_clear_pass(&mut encoder, CLEAR);
-            self.pass.draw(&mut rpass, &pair, &self.object, &plan, mode);
+            self.pass.draw(&mut rpass, &self.object, &prepared).unwrap();
         }
         q.submit(Some(encoder.finish()));
         readback_rgba(d, q, &target.color).unwrap()
@@ -145,7 +152,7 @@ fn warp_at_a_reference_pose_reproduces_the_reference() {
     let Some(ctx) = context_or_skip("warp_at_a_reference_pose_reproduces_the_reference") else {
         return;
     };
-    let rig = rig(ctx, 0.05);
+    let mut rig = rig(ctx, 0.05);
     let (r0, r1) = (rig.reference(0.0), rig.reference(10.0));
     let reference = readback_rgba(&ctx.device, &ctx.queue, &r0.color).unwrap();
     let warped = rig.warp_image([&r0, &r1], 0.0, 0.0, WarpMode::DepthTested);
@@ -205,7 +212,7 @@ fn quality_falls_smoothly_away_from_the_references() {
     let Some(ctx) = context_or_skip("quality_falls_smoothly_away_from_the_references") else {
         return;
     };
-    let rig = rig(ctx, 0.05);
+    let mut rig = rig(ctx, 0.05);
     let k = 20.0;
     let (r0, r1) = (rig.reference(0.0), rig.reference(k));
     let mut last = f64::INFINITY;
@@ -288,7 +295,7 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
     let Some(ctx) = context_or_skip("depth_test_removes_texels_a_synthetic_occluder_hides") else {
         return;
     };
-    let rig = rig(ctx, 0.05);
+    let mut rig = rig(ctx, 0.05);
     let (r0, r1) = (rig.reference(0.0), rig.reference(10.0));
     // A red square between reference 0's camera and part of the object: it is in
     // reference 0's colour and depth, but it is not part of the warped object.
@@ -313,8 +320,7 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
         &ctx.queue,
         &mut encoder,
         &mut occluder,
-        &over,
-        0,
+        (npr_gpu::FrameId(0), &over, 0),
     )
     .unwrap();
     ctx.queue.submit(Some(encoder.finish()));
@@ -367,6 +373,7 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
         let schedule = WarpSchedule::new(k, spread).unwrap();
         let mut seq = WarpSequence::new(
             d,
+            q,
             schedule,
             rig.settings,
             SIZE,
@@ -374,7 +381,7 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
             TargetFormats::default(),
         )
         .unwrap();
-        let objects = [seq
+        let mut objects = [seq
             .pass()
             .create_object(d, &rig.proxy, 8, 1.5 * rig.proxy.error_object, false)
             .unwrap()];
@@ -390,7 +397,7 @@ fn spreading_a_reference_over_frames_gives_the_same_frames() {
                     &mut encoder,
                     SequenceFrame {
                         base: &mut base,
-                        objects: &objects,
+                        objects: &mut objects,
                         path: &path,
                         frame: f,
                     },
@@ -452,6 +459,7 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
     ] {
         let mut warper = Warper::new(
             d,
+            q,
             &rig.proxy,
             Departures::OURS,
             0.6,
@@ -472,14 +480,14 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
         for t in [0.0, 10.0] {
             let pose = rig.path.pose(t).object(0);
             warper
-                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .record_reference(d, q, &mut encoder, &mut base, npr_gpu::FrameId(0), &pose)
                 .unwrap();
         }
         let now = rig.path.pose(4.0).object(0);
         let s = warper.position(&now);
         assert!((s - 0.4).abs() < 0.05, "position {s}");
         let plan = warper
-            .record_warp(q, &mut encoder, &cv, &dv, &now, s)
+            .record_warp(q, &mut encoder, (&cv, &dv), npr_gpu::FrameId(0), &now, s)
             .unwrap();
         q.submit(Some(encoder.finish()));
         assert!(plan.is_some_and(|p| p.triangles_drawn > 0));
@@ -498,8 +506,9 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
     assert!(matches!(
         WarpPass::new(
             d,
+            q,
             TargetFormats::new(COLOR_FORMAT, COLOR_FORMAT),
-            TargetFormats::new(COLOR_FORMAT, COLOR_FORMAT)
+            &Default::default()
         ),
         Err(npr_warp::WarpError::InvalidSetting(_))
     ));
@@ -521,6 +530,7 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
     for mode in [WarpMode::Paper, WarpMode::PaperCoverage] {
         let mut warper = Warper::new(
             d,
+            q,
             &rig.proxy,
             Departures::PAPER,
             0.6,
@@ -536,15 +546,15 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
         let mut encoder = d.create_command_encoder(&Default::default());
         for _ in 0..2 {
             warper
-                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .record_reference(d, q, &mut encoder, &mut base, npr_gpu::FrameId(0), &pose)
                 .unwrap();
         }
         let plan = warper
             .record_warp(
                 q,
                 &mut encoder,
-                &target.color_view,
-                &target.depth_view,
+                (&target.color_view, &target.depth_view),
+                npr_gpu::FrameId(0),
                 &pose,
                 0.5,
             )

@@ -33,17 +33,24 @@ fn full(ctx: &GpuContext, mesh: &GpuMesh, t: f32, aa: Antialiasing) -> image::Rg
     let (d, q) = (&ctx.device, &ctx.queue);
     let scene = path().pose(t);
     let mut renderer = FullRenderer::new(d, q, aa.references(TargetFormats::default()));
-    renderer.set_scene(d, q, &scene.camera, &scene.objects, &light(), &material());
+    let input = npr_warp::FullInput {
+        frame: npr_gpu::FrameId(0),
+        camera: &scene.camera,
+        world_from_objects: &scene.objects,
+        light: &light(),
+        material: &material(),
+    };
+    renderer.prepare(q, mesh, &input).unwrap();
     let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
     let mut encoder = d.create_command_encoder(&Default::default());
     if aa.is_multisampled() {
         let ms = MsaaTarget::new(d, SIZE, SIZE, aa.references(TargetFormats::default())).unwrap();
         renderer
-            .record_msaa(&mut encoder, &ms, &target.color_view, mesh, CLEAR)
+            .record_msaa(&mut encoder, &ms, &target.color_view, CLEAR)
             .unwrap();
     } else {
         let (c, z) = (&target.color_view, &target.depth_view);
-        renderer.record(&mut encoder, c, z, mesh, CLEAR).unwrap();
+        renderer.record(&mut encoder, c, z, CLEAR).unwrap();
     }
     q.submit(Some(encoder.finish()));
     readback_rgba(d, q, &target.color).unwrap()
@@ -164,6 +171,7 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
     for aa in Antialiasing::ALL {
         let mut warper = Warper::new(
             d,
+            q,
             &proxy,
             Departures::OURS,
             0.6,
@@ -184,7 +192,7 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
         for t in [0.0, 10.0] {
             let pose = path().pose(t).object(0);
             warper
-                .record_reference(d, q, &mut encoder, &mut base, &pose)
+                .record_reference(d, q, &mut encoder, &mut base, npr_gpu::FrameId(0), &pose)
                 .unwrap();
         }
         q.submit(Some(encoder.finish()));
@@ -198,7 +206,9 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
             let pose = path().pose(t).object(0);
             let mut encoder = d.create_command_encoder(&Default::default());
             let (c, z) = (&target.color_view, &target.depth_view);
-            warper.record_warp(q, &mut encoder, c, z, &pose, s).unwrap();
+            warper
+                .record_warp(q, &mut encoder, (c, z), npr_gpu::FrameId(1), &pose, s)
+                .unwrap();
             q.submit(Some(encoder.finish()));
             let warped = readback_rgba(d, q, &target.color).unwrap();
             let fullt = full(ctx, &gpu, t, aa);
@@ -276,6 +286,7 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     let ms = MsaaTarget::new(d, SIZE, SIZE, Msaa4.references(TargetFormats::default())).unwrap();
     let mut base = one_sample();
     let draw = ReferenceDraw {
+        frame: npr_gpu::FrameId(0),
         pose: &pose,
         slot: 0,
         slice: 0,
@@ -294,6 +305,7 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     // Now: the reference checks the base pass first and records nothing.
     let mut warper = Warper::new(
         d,
+        q,
         &proxy,
         Departures::OURS,
         0.6,
@@ -302,13 +314,16 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
         Msaa4.warp_target(TargetFormats::default()),
     )
     .unwrap();
-    let (r, err) = validated(ctx, |e| warper.record_reference(d, q, e, &mut base, &pose));
+    let (r, err) = validated(ctx, |e| {
+        warper.record_reference(d, q, e, &mut base, npr_gpu::FrameId(0), &pose)
+    });
     mismatch(r, 1, 4);
     assert!(err.is_none(), "{err:?}");
     assert_eq!(warper.references_recorded(), 0);
     // The other way round: a 4x base for a one-sample warper.
     let mut plain = Warper::new(
         d,
+        q,
         &proxy,
         Departures::OURS,
         0.6,
@@ -324,13 +339,22 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
         Msaa4.references(TargetFormats::default()),
     );
     assert_eq!(base4.sample_count(), 4);
-    let (r, err) = validated(ctx, |e| plain.record_reference(d, q, e, &mut base4, &pose));
+    let (r, err) = validated(ctx, |e| {
+        plain.record_reference(d, q, e, &mut base4, npr_gpu::FrameId(0), &pose)
+    });
     mismatch(r, 4, 1);
     assert!(err.is_none(), "{err:?}");
     // A matching base records with no validation error.
     let mut reference = reference;
     let (r, err) = validated(ctx, |e| {
-        reference.record(d, q, e, &mut base4, &ReferenceDraw::whole(&pose, 0), CLEAR)
+        reference.record(
+            d,
+            q,
+            e,
+            &mut base4,
+            &ReferenceDraw::whole(npr_gpu::FrameId(0), &pose, 0),
+            CLEAR,
+        )
     });
     r.unwrap();
     assert!(err.is_none(), "{err:?}");
@@ -339,17 +363,24 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
     let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
     let full4 = FullRenderer::new(d, q, Msaa4.references(TargetFormats::default()));
     let (c, z) = (&target.color_view, &target.depth_view);
-    let (r, err) = validated(ctx, |e| full4.record(e, c, z, &gpu, CLEAR));
+    let (r, err) = validated(ctx, |e| full4.record(e, c, z, CLEAR));
     mismatch(r, 1, 4);
     assert!(err.is_none(), "{err:?}");
     let full1 = FullRenderer::new(d, q, TargetFormats::default());
-    let (r, err) = validated(ctx, |e| full1.record_msaa(e, &ms, c, &gpu, CLEAR));
+    let (r, err) = validated(ctx, |e| full1.record_msaa(e, &ms, c, CLEAR));
     mismatch(r, 4, 1);
     assert!(err.is_none(), "{err:?}");
     // The warp into a multisampled colour target (it resolves into, or draws, one sample).
     let (r, err) = validated(ctx, |e| {
         warper
-            .record_warp(q, e, &ms.color_view, &ms.depth_view, &pose, 0.0)
+            .record_warp(
+                q,
+                e,
+                (&ms.color_view, &ms.depth_view),
+                npr_gpu::FrameId(0),
+                &pose,
+                0.0,
+            )
             .map(|_| ())
     });
     mismatch(r, 4, 1);

@@ -23,8 +23,8 @@ use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
 use npr_hatching::figures::directions;
 use npr_hatching::{
-    CpuHatcher, HatchFrame, HatchParams, ShadowLight, StrokeSpace, TamParams, TonalArtMap,
-    VsmSettings,
+    CpuHatcher, HatchFrame, HatchFrameSettings, HatchParams, HatchView, SceneSettings, ShadowLight,
+    StrokeSpace, TamParams, TonalArtMap,
 };
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -160,25 +160,22 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         };
         let cpu = CpuHatcher::new(&tam, &params)?;
         let (width, height) = w.size;
-        let frame = HatchFrame::new(
-            &ctx.device,
-            &ctx.queue,
-            &tam,
-            &params,
-            VsmSettings::default(),
-            npr_gpu::COLOR_FORMAT,
-            (width, height),
-        )?;
-        let mut gpu = Vec::new();
+        let settings = HatchFrameSettings {
+            tam: tam.clone(),
+            scene: SceneSettings::default(),
+        };
+        let formats = npr_gpu::TargetFormats::default();
+        let mut frame = HatchFrame::new(&ctx.device, &ctx.queue, formats, &settings, w.size)?;
+        let (mut meshes, mut gpu) = (Vec::new(), Vec::new());
         let mut triangles = 0usize;
         for (mesh, m, dirs) in &w.objects {
             triangles += mesh.triangle_count();
             let g = GpuMesh::upload(&ctx.device, mesh)?;
             let u = ObjectUniforms::new(*m, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0);
-            let o = frame.scene.create_object(&ctx.device, &g, &u, dirs)?;
-            gpu.push((g, o));
+            let o = frame.create_object(&ctx.device, &g, dirs)?;
+            meshes.push(g);
+            gpu.push((o, u));
         }
-        let objects: Vec<_> = gpu.iter().map(|(g, o)| (g, o)).collect();
         let camera = Camera::look_at(
             w.eye,
             Vec3::new(0.0, 0.3, 0.0),
@@ -194,10 +191,13 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
         let mut passes_t: [Vec<Duration>; 4] = Default::default();
         // Records with `record`, submits, waits: the wall time of that work alone.
-        let timed = |record: &dyn Fn(&mut wgpu::CommandEncoder)| -> anyhow::Result<Duration> {
+        let timed = |record: &dyn Fn(
+            &mut wgpu::CommandEncoder,
+        ) -> Result<(), npr_hatching::HatchError>|
+         -> anyhow::Result<Duration> {
             let t = Instant::now();
             let mut enc = ctx.device.create_command_encoder(&Default::default());
-            record(&mut enc);
+            record(&mut enc)?;
             ctx.queue.submit(Some(enc.finish()));
             wait()?;
             Ok(t.elapsed())
@@ -207,26 +207,37 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             &format!("{} ({})", w.name, space.name()),
         );
         // Two warm-up frames of each, then alternate.
+        let mut last = None;
         for i in 0..w.frames + 2 {
             // One displayed frame each: advances the surface anchors' schedule (and so
-            // their cross-fade) as an application does.
-            frame.set_view(&ctx.queue, &camera, &w.light);
-            let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects))?;
-            let phong = timed(&|enc| frame.record_phong(enc, &target, &objects))?;
+            // their cross-fade) as an application does. The prepare (uniform writes) is
+            // outside the timed work, as the CPU side of a frame.
+            let view = HatchView {
+                frame: npr_gpu::FrameId(i as u64),
+                clock: i as u64,
+                camera: &camera,
+                light: &w.light,
+                params: &params,
+            };
+            let mut pairs: Vec<_> = gpu.iter_mut().map(|(o, u)| (o, &*u)).collect();
+            let prepared = frame.prepare(&ctx.queue, &view, &mut pairs)?;
+            let objects: Vec<_> = gpu.iter().map(|(o, _)| o).collect();
+            let (frame, p) = (&frame, &prepared);
+            let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects, p))?;
+            let phong = timed(&|enc| frame.record_phong(enc, &target, &objects, p))?;
             let passes = [
-                timed(&|enc| frame.scene.record_shadow(enc, &objects))?,
-                timed(&|enc| frame.scene.record_gbuffer(enc, &frame.gbuffer, &objects))?,
-                timed(&|enc| frame.record_hatching(enc, &target.color_view))?,
+                timed(&|enc| frame.record_shadow(enc, &objects, p))?,
+                timed(&|enc| frame.record_gbuffer(enc, &objects, p))?,
+                timed(&|enc| frame.record_hatching(enc, &target.color_view, p))?,
                 timed(&|enc| {
-                    frame.scene.record_phong(
-                        enc,
-                        &target.color_view,
-                        &target.depth_view,
-                        [1.0; 4],
-                        &objects,
-                    );
+                    let mut pass = target.begin_clear_pass(enc, [1.0; 4]);
+                    for (o, q) in objects.iter().zip(p.objects()) {
+                        frame.scene.draw(&mut pass, o, q)?;
+                    }
+                    Ok(())
                 })?,
             ];
+            last = Some(prepared);
             if i >= 2 {
                 hatch_t.push(hatch);
                 phong_t.push(phong);
@@ -240,9 +251,12 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let (h_ms, p_ms) = (median_ms(&hatch_t), median_ms(&phong_t));
         let [vsm_ms, gbuffer_ms, hatching_ms, phong_pass_ms] = passes_t.map(|t| median_ms(&t));
         // CPU reference on this scene's G-buffer (left by the last hatching frame).
-        let mut enc = ctx.device.create_command_encoder(&Default::default());
-        frame.record(&mut enc, &target.color_view, &objects);
-        ctx.queue.submit(Some(enc.finish()));
+        let objects: Vec<_> = gpu.iter().map(|(o, _)| o).collect();
+        if let Some(p) = &last {
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            frame.record(&mut enc, &target.color_view, &objects, p)?;
+            ctx.queue.submit(Some(enc.finish()));
+        }
         let inputs = frame.gbuffer.read(&ctx.device, &ctx.queue)?;
         let mut cpu_t = Vec::new();
         for _ in 0..7 {

@@ -36,7 +36,7 @@ use npr_geometry::stats::median;
 use npr_gpu::figures::framing_camera;
 use npr_gpu::{Camera, GpuContext, GpuMesh};
 use npr_hatching::coherence::{
-    Rig, ink_image, phase_correlation, rig, sample_bilinear, stroke_density, uniforms,
+    Rig, ink_image, phase_correlation, rig, sample_bilinear, stroke_density,
 };
 use npr_hatching::figures::{directions, knot};
 use npr_hatching::{
@@ -99,17 +99,12 @@ pub fn light() -> ShadowLight {
 /// Renders frame `t` of the sequence with `rig`: the hatched image.
 fn render(
     ctx: &GpuContext,
-    rig: &Rig,
-    mesh: &GpuMesh,
+    rig: &mut Rig,
     cpu_mesh: &Mesh,
     t: usize,
 ) -> anyhow::Result<image::RgbaImage> {
     let (camera, world_from_object) = pose(cpu_mesh, t);
-    rig.object.update(&ctx.queue, &uniforms(world_from_object));
-    rig.frame.set_view(&ctx.queue, &camera, &light());
-    Ok(rig
-        .frame
-        .render_hatched(&ctx.device, &ctx.queue, &[(mesh, &rig.object)])?)
+    Ok(rig.render(ctx, &camera, &light(), world_from_object)?)
 }
 
 /// Per-pixel motion of frame `t` (rendered by the every-frame rig): each surface pixel's
@@ -145,13 +140,7 @@ fn density_at_constant_tone(
         .gbuffer
         .read_surface_mask(&ctx.device, &ctx.queue)?;
     inputs.set_tone_where(DENSITY_TONE, |i| mask.get(i).copied().unwrap_or(false));
-    let image = hatch_image_gpu(
-        &ctx.device,
-        &ctx.queue,
-        &inputs,
-        tam,
-        rig.frame.hatch.params(),
-    )?;
+    let image = hatch_image_gpu(&ctx.device, &ctx.queue, &inputs, tam, &rig.params)?;
     let ink = ink_image(&image);
     let rho = stroke_density(&ink, &mask, WIDTH as usize).unwrap_or(0.0);
     let (sum, n) = ink
@@ -197,7 +186,7 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
     let directions = directions(mesh);
     // Reprojection rig: anchors re-taken every frame.
     let size = (WIDTH, HEIGHT);
-    let motion = rig(
+    let mut motion = rig(
         ctx,
         tam,
         (StrokeSpace::Surface, 1),
@@ -207,7 +196,7 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
     let mut prev_pos = Vec::with_capacity(FRAMES);
     let mut masks = Vec::with_capacity(FRAMES);
     for t in 0..FRAMES {
-        render(ctx, &motion, &gpu_mesh, mesh, t)?;
+        render(ctx, &mut motion, mesh, t)?;
         let (p, m) = previous_positions(ctx, &motion.frame.gbuffer, t as u64)?;
         prev_pos.push(p);
         masks.push(m);
@@ -215,11 +204,11 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
     let (w, h) = (WIDTH as usize, HEIGHT as usize);
     let mut out = Vec::new();
     for (mode, space, period) in MODES {
-        let r = rig(ctx, tam, (space, period), (&gpu_mesh, &directions), size)?;
+        let mut r = rig(ctx, tam, (space, period), (&gpu_mesh, &directions), size)?;
         let mut inks = Vec::with_capacity(FRAMES);
         let (mut first, mut last) = ((0.0, 0.0), (0.0, 0.0));
         for t in 0..FRAMES {
-            inks.push(ink_image(&render(ctx, &r, &gpu_mesh, mesh, t)?));
+            inks.push(ink_image(&render(ctx, &mut r, mesh, t)?));
             if t == 0 {
                 first = density_at_constant_tone(ctx, &r, tam)?;
             }

@@ -123,7 +123,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             };
             let mut time = |highlights| -> anyhow::Result<f64> {
                 let t = Instant::now();
-                renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res);
+                renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res)?;
                 ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
                 Ok(t.elapsed().as_secs_f64() * 1e3)
             };

@@ -103,7 +103,7 @@ fn reference_ms(
 fn warp_ms(
     rig: &Rig<'_>,
     refs: [&ReferenceFrame; 2],
-    objects: &[Variant],
+    objects: &mut [Variant],
     scene: &ScenePose,
     s: f32,
     mode: WarpMode,
@@ -112,25 +112,40 @@ fn warp_ms(
     let pair = rig.pass.bind_pair(d, refs);
     let mut blended = 0;
     let mut tris = 0;
+    // Each call is one submission of its own.
+    static SUBMISSIONS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let frame = npr_gpu::FrameId(SUBMISSIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed));
     let ms = timed(rig.ctx, || {
-        let plans: Vec<_> = objects
-            .iter()
+        let prepared: Vec<_> = objects
+            .iter_mut()
             .enumerate()
-            .map(|(i, o)| {
-                rig.pass
-                    .prepare(q, &o.object, &pair, &scene.object(i), s, &o.settings)
+            .filter_map(|(i, o)| {
+                let now = scene.object(i);
+                let input = npr_warp::WarpInput {
+                    frame,
+                    pair: &pair,
+                    now: &now,
+                    s,
+                    settings: &o.settings,
+                    mode,
+                };
+                rig.pass.prepare(q, &mut o.object, &input).ok()
             })
             .collect();
         let mut enc = d.create_command_encoder(&Default::default());
         {
             let mut rpass = rig.begin_clear_pass(&mut enc, CLEAR);
-            for (o, p) in objects.iter().zip(&plans) {
-                rig.pass.draw(&mut rpass, &pair, &o.object, p, mode);
+            for (o, p) in objects.iter().zip(&prepared) {
+                let _ = rig.pass.draw(&mut rpass, &o.object, p);
             }
         }
         q.submit(Some(enc.finish()));
-        blended = plans.iter().map(|p| p.bins_blended).sum();
-        tris = plans.iter().map(|p| p.triangles_drawn).sum();
+        for (o, p) in objects.iter().zip(&prepared) {
+            if let Ok(plan) = o.object.plan(&rig.pass, p) {
+                blended += plan.bins_blended;
+                tris += plan.triangles_drawn;
+            }
+        }
     });
     (ms, blended, tris)
 }
@@ -157,7 +172,7 @@ fn segment(
     rig: &mut Rig<'_>,
     path: &Turntable,
     k: u32,
-    objects: &[Variant],
+    objects: &mut [Variant],
     fill: bool,
     fulls: &mut Fulls,
 ) -> anyhow::Result<SegmentResult> {
@@ -414,9 +429,9 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 for (departures, mode) in MODES {
                     for (aa, rig, full_ms, ref_ms, fulls) in rigs.iter_mut() {
                         let (full_ms, ref_ms) = (*full_ms, *ref_ms);
-                        let objects =
+                        let mut objects =
                             [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                        let r = segment(rig, &path, k, &objects, true, fulls)?;
+                        let r = segment(rig, &path, k, &mut objects, true, fulls)?;
                         let schedule = WarpSchedule::new(k, false)?;
                         let amortized = schedule.amortized_ms(ref_ms, r.warp_ms);
                         let speedup = full_ms / amortized;
@@ -473,8 +488,9 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             // The ablation, the bin count, Table 3 and spreading, at the middle ratio.
             let mut ends = [f64::NAN; 2];
             for (variant, departure, departures) in ablation_rows() {
-                let objects = [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                let r = segment(rig, &path, 20, &objects, false, fulls)?;
+                let mut objects =
+                    [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
+                let r = segment(rig, &path, 20, &mut objects, false, fulls)?;
                 // Added to the paper: gain over the paper; removed from ours: loss from ours.
                 let delta = if variant == "paper" {
                     ends[0] = r.psnr_mean;
@@ -507,8 +523,8 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 continue;
             }
             for n in [2, 4, 8, 16, 32] {
-                let o = [rig.variant(&proxy, Departures::OURS, world_per_object, n, false)?];
-                let r = segment(rig, &path, 10, &o, false, fulls)?;
+                let mut o = [rig.variant(&proxy, Departures::OURS, world_per_object, n, false)?];
+                let r = segment(rig, &path, 10, &mut o, false, fulls)?;
                 t_bins.push(vec![
                     bm.name.clone().into(),
                     n.into(),
@@ -556,7 +572,7 @@ fn table3(
             .map(|i| Vec3::new((i % 2) as f32 * 2.2 - 1.1, 0.0, (i / 2) as f32 * -2.2 + 1.1))
             .collect();
         let (path, world_per_object) = path_for(&bm.mesh, offsets, 7.5, ORBIT);
-        let objects: Vec<Variant> = (0..n)
+        let mut objects: Vec<Variant> = (0..n)
             .map(|_| rig.variant(proxy, Departures::OURS, world_per_object, BINS, false))
             .collect::<Result<_, _>>()?;
         full_ms(rig, &path.pose(0.0))?;
@@ -573,7 +589,7 @@ fn table3(
             .map(|_| full_ms(rig, &one))
             .collect::<anyhow::Result<Vec<_>>>()?;
         let ref_ms = median(ref_ms);
-        let r = segment(rig, &path, k, &objects, false, &mut fulls)?;
+        let r = segment(rig, &path, k, &mut objects, false, &mut fulls)?;
         let amortized = WarpSchedule::new(k, false)?.amortized_ms(ref_ms, r.warp_ms);
         table.push(vec![
             bm.name.clone().into(),
@@ -609,18 +625,19 @@ fn spreading(
     for spread in [false, true] {
         let mut seq = WarpSequence::new(
             &ctx.device,
+            &ctx.queue,
             WarpSchedule::new(k, spread)?,
             ours.settings(proxy, world_per_object),
             SIZE,
             SIZE,
             TargetFormats::default(),
         )?;
-        let objects =
+        let mut objects =
             [seq.pass()
                 .create_object(&ctx.device, proxy, BINS, ours.inflation(proxy), false)?];
         let scene = |f: u32| path.pose(f as f32);
         let mut frame = |rig: &mut Rig<'_>, f: u32| -> anyhow::Result<()> {
-            rig.sequence_frame(&mut seq, &objects, &scene, f)?;
+            rig.sequence_frame(&mut seq, &mut objects, &scene, f)?;
             Ok(())
         };
         // Start-up (the first two references) is not timed.

@@ -14,7 +14,8 @@ use npr_gpu::figures::{framing_camera, save, sheet};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms};
 use npr_hatching::figures::{directions, directions_from};
 use npr_hatching::{
-    DirectionSource, HatchFrame, HatchParams, ShadowLight, TonalArtMap, VsmSettings,
+    DirectionSource, HatchFrame, HatchFrameSettings, HatchParams, HatchView, SceneSettings,
+    ShadowLight, TonalArtMap,
 };
 use std::path::Path;
 
@@ -54,17 +55,13 @@ pub fn render(
     outlines: Outlines,
     (w, h): (u32, u32),
 ) -> Result<Vec<image::RgbaImage>, Error> {
-    let first = params.first().copied().unwrap_or_default();
-    let mut frame = HatchFrame::new(
-        &ctx.device,
-        &ctx.queue,
-        tam,
-        &first,
-        VsmSettings::default(),
-        npr_gpu::COLOR_FORMAT,
-        (w, h),
-    )?;
-    let mut gpu = Vec::new();
+    let settings = HatchFrameSettings {
+        tam: tam.clone(),
+        scene: SceneSettings::default(),
+    };
+    let formats = npr_gpu::TargetFormats::default();
+    let mut frame = HatchFrame::new(&ctx.device, &ctx.queue, formats, &settings, (w, h))?;
+    let (mut meshes, mut gpu) = (Vec::new(), Vec::new());
     for item in &scene.items {
         let mesh = GpuMesh::upload(&ctx.device, &item.mesh)?;
         let uniforms = ObjectUniforms::new(
@@ -74,22 +71,39 @@ pub fn render(
             Vec3::ONE,
             24.0,
         );
-        let object = frame
-            .scene
-            .create_object(&ctx.device, &mesh, &uniforms, &item.directions)?;
-        gpu.push((mesh, object));
+        let object = frame.create_object(&ctx.device, &mesh, &item.directions)?;
+        meshes.push(mesh);
+        gpu.push((object, uniforms));
     }
-    let objects: Vec<_> = gpu.iter().map(|(m, o)| (m, o)).collect();
-    frame.set_view(&ctx.queue, &scene.camera, &scene.light);
-    let mut out = Vec::new();
-    let outlined: Vec<(&GpuMesh, Mat4)> = gpu
+    let outlined: Vec<(&GpuMesh, Mat4)> = meshes
         .iter()
         .zip(&scene.items)
-        .map(|((m, _), item)| (m, item.world_from_object))
+        .map(|(m, item)| (m, item.world_from_object))
         .collect();
-    for p in params {
-        frame.hatch.set_params(&ctx.queue, p)?;
-        let mut image = frame.render_hatched(&ctx.device, &ctx.queue, &objects)?;
+    let mut out = Vec::new();
+    // Every image is one still frame (clock 0): the same anchors, a new submission each.
+    let mut frame_id = npr_gpu::FrameId::default();
+    let phong = HatchParams::default();
+    let last = with_phong.then_some(&phong);
+    for (p, is_phong) in params
+        .iter()
+        .map(|p| (p, false))
+        .chain(last.map(|p| (p, true)))
+    {
+        frame_id = frame_id.next();
+        let view = HatchView {
+            frame: frame_id,
+            clock: 0,
+            camera: &scene.camera,
+            light: &scene.light,
+            params: p,
+        };
+        let mut pairs: Vec<_> = gpu.iter_mut().map(|(o, u)| (o, &*u)).collect();
+        if is_phong {
+            out.push(frame.render_phong(&ctx.device, &ctx.queue, &view, &mut pairs)?);
+            continue;
+        }
+        let mut image = frame.render_hatched(&ctx.device, &ctx.queue, &view, &mut pairs)?;
         if outlines == Outlines::On {
             image = npr_gpu::outline::outline_image(
                 &ctx.device,
@@ -101,9 +115,6 @@ pub fn render(
             )?;
         }
         out.push(image);
-    }
-    if with_phong {
-        out.push(frame.render_phong(&ctx.device, &ctx.queue, &objects)?);
     }
     Ok(out)
 }

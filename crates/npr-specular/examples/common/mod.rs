@@ -7,11 +7,13 @@ use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
 use npr_gpu::figures::{fixture_mesh, framing_camera};
 use npr_gpu::{
-    BaseShading, COLOR_FORMAT, DEPTH_FORMAT, FrameUniforms, GpuContext, GpuMesh, Light,
-    ObjectUniforms, OffscreenTarget, ShadingModel, TargetFormats, readback_rgba,
+    BaseShading, FrameUniforms, GpuContext, GpuMesh, Light, ObjectUniforms, OffscreenTarget,
+    ShadingModel, TargetFormats, readback_rgba,
 };
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use npr_specular::{FrameInput, HighlightPass, HighlightSet, HighlightShape, ProjectorControls};
+use npr_specular::{
+    HighlightInput, HighlightPass, HighlightSet, HighlightShape, ProjectorControls,
+};
 
 /// An example's error.
 pub type Error = Box<dyn std::error::Error>;
@@ -112,8 +114,8 @@ impl Unrestricted {
     pub fn new(ctx: &GpuContext) -> Result<Self, Error> {
         let (d, q) = (&ctx.device, &ctx.queue);
         Ok(Self {
-            base: BaseShading::new(d, q, TargetFormats::default()),
-            pass: HighlightPass::new(d, q, COLOR_FORMAT, DEPTH_FORMAT)?,
+            base: BaseShading::new(d, q, TargetFormats::default(), &Default::default()),
+            pass: HighlightPass::new(d, q, TargetFormats::default(), &Default::default())?,
             target: OffscreenTarget::new(d, TILE, TILE)?,
         })
     }
@@ -124,24 +126,32 @@ impl Unrestricted {
         scene: &HighlightScene<'_>,
     ) -> Result<image::RgbaImage, Error> {
         let (d, q) = (&ctx.device, &ctx.queue);
-        let frame = FrameUniforms::new(&scene.camera, &scene.light);
-        self.base.set_frame(q, &frame);
-        let object = self.base.create_object(d, &scene.object);
-        let mut draw = self.pass.create_draw(d, scene.mesh);
+        let view = FrameUniforms::new(&scene.camera, &scene.light);
+        let frame = npr_gpu::FrameId::default();
+        let mut object = self.base.create_object(d, scene.mesh);
+        let base_input = npr_gpu::BaseInput {
+            frame,
+            view: &view,
+            object: &scene.object,
+            model: scene.base,
+        };
+        let base = self.base.prepare(q, &mut object, &base_input)?;
+        let mut draw = self.pass.create_object(d, scene.mesh);
         let list = HighlightPass::draw_list_unrestricted(scene.set, scene.indices);
-        let input = FrameInput {
-            mesh: scene.mesh,
+        let input = HighlightInput {
+            frame,
             indices: scene.indices,
             set: scene.set,
-            frame: &frame,
+            view: &view,
             object: &scene.object,
+            list: Some(&list),
         };
-        self.pass.prepare_with_list(d, q, &mut draw, &input, &list);
+        let highlights = self.pass.prepare(q, &mut draw, &input)?;
         let mut enc = d.create_command_encoder(&Default::default());
         {
             let mut rpass = self.target.begin_clear_pass(&mut enc, scene.clear);
-            self.base.draw(&mut rpass, scene.base, &object, scene.mesh);
-            self.pass.draw(&mut rpass, &draw);
+            self.base.draw(&mut rpass, &object, &base)?;
+            self.pass.draw(&mut rpass, &draw, &highlights)?;
         }
         q.submit(Some(enc.finish()));
         Ok(readback_rgba(d, q, &self.target.color)?)
