@@ -821,7 +821,7 @@ impl Renderer {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("npr app warp reference"),
         });
-        let pose = warp_pose(view);
+        let pose = warp_view(view);
         let frame = self.submission.next();
         self.submission = frame;
         w.warper
@@ -864,7 +864,7 @@ impl Renderer {
             return Ok(stats);
         };
         stats.triangles = w.proxy_triangles;
-        let pose = warp_pose(view);
+        let pose = warp_view(view);
         let s = s.unwrap_or_else(|| w.warper.position(&pose));
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("npr app warp"),
@@ -1063,8 +1063,8 @@ pub fn render_warp_frames(
 }
 
 /// The warp pose of a view.
-pub fn warp_pose(view: &View) -> npr_warp::Pose {
-    npr_warp::Pose {
+pub fn warp_view(view: &View) -> npr_warp::ObjectView {
+    npr_warp::ObjectView {
         camera: view.camera,
         world_from_object: view.world_from_object,
     }

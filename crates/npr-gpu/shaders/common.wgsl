@@ -1,6 +1,6 @@
 // Shared declarations: the frame and object uniforms of npr-gpu (`uniforms.rs` mirrors
 // these layouts byte for byte) and the Blinn-Phong model (SPEC §2, Eq. (2)-(3)) whose CPU
-// twin is `npr_gpu::reference::blinn_phong`.
+// twin is `npr_gpu::cpu_twin::blinn_phong`.
 //
 // This file is prepended to every shader that uses it (see `npr_gpu::shaders::compose`).
 
@@ -36,7 +36,7 @@ fn light_dir_world(frame: Frame, p_world: vec3<f32>) -> vec3<f32> {
 
 // Blinn-Phong, Eq. (2)-(3) of the specular paper: I = k_a + k_d (N.L) + k_s (N.H)^n,
 // H = (L + V) / |L + V|. All vectors unit length, world space. Mirrors
-// `npr_gpu::reference::blinn_phong`.
+// `npr_gpu::cpu_twin::blinn_phong`.
 fn blinn_phong(frame: Frame, object: Object, n: vec3<f32>, l: vec3<f32>, v: vec3<f32>) -> vec3<f32> {
     let n_dot_l = max(dot(n, l), 0.0);
     var spec = 0.0;

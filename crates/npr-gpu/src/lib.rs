@@ -22,6 +22,8 @@
 mod camera;
 pub mod color;
 mod context;
+#[cfg(any(test, feature = "test-support"))]
+pub mod cpu_twin;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
 pub mod figures;
@@ -33,8 +35,6 @@ pub mod outline;
 pub mod pass;
 pub mod projective;
 mod readback;
-#[cfg(any(test, feature = "test-support"))]
-pub mod reference;
 pub mod render;
 pub mod shaders;
 mod shading;

@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_gpu::reference::{blinn_phong, srgb_to_linear, to_srgb8};
+use npr_gpu::cpu_twin::{blinn_phong, srgb_to_linear, to_srgb8};
 use npr_gpu::snapshot::{BaseScene, render_base};
 use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, ShadingModel, testing};
 

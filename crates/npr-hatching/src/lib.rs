@@ -14,7 +14,7 @@
 //!   shared by GPU and CPU.
 //! - [`inputs`]: tone/θ images from the caller ([`HatchInputs`]), including 2-D flow
 //!   fields (§5's "flow visualisation").
-//! - [`mod@reference`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
+//! - [`mod@cpu`]: the CPU reference of the per-pixel function ([`CpuHatcher`], rayon).
 //! - [`pass`]: the GPU hatching pass ([`HatchPass`]) and its G-buffer ([`GBuffer`]).
 //! - [`directions`]: per-vertex stroke directions ([`stroke_directions`]): by default a
 //!   smooth line field fitted to the principal curvature directions
@@ -53,6 +53,7 @@
 
 #[cfg(any(test, feature = "test-support"))]
 pub mod coherence;
+pub mod cpu;
 pub mod directions;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
@@ -61,11 +62,11 @@ pub mod frame;
 pub mod inputs;
 pub mod params;
 pub mod pass;
-pub mod reference;
 pub mod scene;
 pub mod shaders;
 pub mod tam;
 
+pub use cpu::{CpuHatcher, hatch_cpu};
 pub use directions::{
     DirectionSource, StrokeDirection, principal_directions, second_axis, stroke_directions,
 };
@@ -80,7 +81,6 @@ pub use pass::{
     ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchInput, HatchPass, HatchSettings, HatchSource,
     hatch_image_gpu,
 };
-pub use reference::{CpuHatcher, hatch_cpu};
 pub use scene::{
     DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, SceneInput, ScenePasses, SceneSettings,
     ShadowLight, VsmSettings,

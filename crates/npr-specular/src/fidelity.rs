@@ -210,7 +210,7 @@ pub struct FidelityRig {
 
 /// sRGB byte → linear.
 fn linear(c: u8) -> f32 {
-    npr_gpu::reference::srgb_to_linear(f32::from(c) / 255.0)
+    npr_gpu::cpu_twin::srgb_to_linear(f32::from(c) / 255.0)
 }
 
 impl FidelityRig {

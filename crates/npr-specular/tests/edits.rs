@@ -19,7 +19,7 @@ fn drawn(image: &image::RgbaImage) -> (usize, Vec2) {
     let mut n = 0;
     let mut sum = Vec2::ZERO;
     for (x, y, p) in image.enumerate_pixels() {
-        if npr_gpu::reference::srgb_to_linear(f32::from(p.0[0]) / 255.0) >= 0.5 {
+        if npr_gpu::cpu_twin::srgb_to_linear(f32::from(p.0[0]) / 255.0) >= 0.5 {
             n += 1;
             sum += Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
         }

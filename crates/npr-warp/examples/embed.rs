@@ -11,7 +11,7 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, FrameId, GpuMesh, Light, ObjectUniforms, TargetFormats};
-use npr_warp::{Departures, PhongBase, Pose, Proxy, WarpError, Warper};
+use npr_warp::{Departures, ObjectView, PhongBase, Proxy, WarpError, Warper};
 
 /// The renderer's colour format in this example.
 pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -29,8 +29,8 @@ pub fn knot() -> Mesh {
 pub const SCALE: f32 = 0.6;
 
 /// The pose of frame `t`: the knot turned `t` degrees about y, seen from a fixed camera.
-pub fn pose(t: f32) -> Pose {
-    Pose {
+pub fn pose(t: f32) -> ObjectView {
+    ObjectView {
         camera: Camera::look_at(Vec3::new(0.0, 1.2, 3.6), Vec3::ZERO, 1.0),
         world_from_object: Mat4::from_rotation_y(t.to_radians())
             * Mat4::from_scale(Vec3::splat(SCALE)),

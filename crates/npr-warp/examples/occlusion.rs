@@ -18,14 +18,14 @@ use npr_gpu::figures::{out_dir, save};
 use npr_gpu::{GpuContext, GpuMesh, ObjectUniforms, TargetFormats, readback_rgba};
 use npr_warp::metrics::difference_image;
 use npr_warp::rig::{Rig, Variant, light, path_for};
-use npr_warp::{Departures, PhongBase, Proxy, ReferenceFrame, ScenePose, compare};
+use npr_warp::{Departures, PhongBase, Proxy, ReferenceFrame, SceneView, compare};
 
 /// The paper's warp and ours of the same frame.
 fn paper_and_ours(
     rig: &mut Rig<'_>,
     refs: [&ReferenceFrame; 2],
     [paper, ours]: [&mut Variant; 2],
-    at: (&ScenePose, f32),
+    at: (&SceneView, f32),
 ) -> Result<(image::RgbaImage, image::RgbaImage), Error> {
     Ok((
         {
@@ -97,7 +97,7 @@ fn main() -> Result<(), Error> {
         1.0,
     );
     let mut occluder = PhongBase::new(&square, light(), red, TargetFormats::default());
-    let over = npr_warp::Pose {
+    let over = npr_warp::ObjectView {
         camera: r0.pose.camera,
         world_from_object: world_from_square,
     };

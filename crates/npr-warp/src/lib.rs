@@ -36,7 +36,7 @@
 //! ```no_run
 //! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue, mesh: &npr_geometry::Mesh,
 //! #     gpu_mesh: &npr_gpu::GpuMesh, target: &wgpu::Texture, depth: &wgpu::TextureView,
-//! #     poses: &[npr_warp::Pose]) -> Result<(), npr_warp::WarpError> {
+//! #     poses: &[npr_warp::ObjectView]) -> Result<(), npr_warp::WarpError> {
 //! use npr_warp::{Departures, PhongBase, Proxy, Warper};
 //! let (color_format, depth_format) =
 //!     (wgpu::TextureFormat::Bgra8UnormSrgb, wgpu::TextureFormat::Depth32Float);
@@ -96,9 +96,9 @@ pub use pass::{
 };
 pub use proxy::Proxy;
 pub use reference::{
-    BasePass, FullInput, FullRenderer, PhongBase, Pose, ReferenceDraw, ReferenceFrame,
+    BasePass, FullInput, FullRenderer, ObjectView, PhongBase, ReferenceDraw, ReferenceFrame,
 };
 pub use sequence::{
-    FrameReport, FrameRole, ScenePose, SequenceFrame, Turntable, WarpSchedule, WarpSequence,
+    FrameReport, FrameRole, SceneView, SequenceFrame, Turntable, WarpSchedule, WarpSequence,
 };
 pub use warper::Warper;

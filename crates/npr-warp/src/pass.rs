@@ -9,7 +9,7 @@
 
 use crate::bins::{BinPlan, DrawKind, NormalBins, PlanSettings};
 use crate::msaa::Antialiasing;
-use crate::reference::{Pose, ReferenceFrame};
+use crate::reference::{ObjectView, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
@@ -181,7 +181,7 @@ pub fn reference_empty(
 pub struct ReferencePair {
     bind_group: wgpu::BindGroup,
     /// Poses of reference 0 and 1 (copied when bound; rebind after re-rendering a slot).
-    pub poses: [Pose; 2],
+    pub poses: [ObjectView; 2],
     /// `clip_from_world` of reference 0 and 1.
     pub clip_from_world: [Mat4; 2],
     size: [u32; 2],
@@ -234,7 +234,7 @@ pub struct WarpInput<'a> {
     /// The two references warped from.
     pub pair: &'a ReferencePair,
     /// The object drawn now: its own camera and pose.
-    pub now: &'a Pose,
+    pub now: &'a ObjectView,
     /// The frame's position between the two references, `s ∈ [0, 1]`.
     pub s: f32,
     /// The plan settings and tolerances.
@@ -672,7 +672,11 @@ impl npr_gpu::Pass for WarpPass {
 }
 
 /// The `WarpObject` uniforms of `now` warped from `pair`.
-fn warp_uniforms(pair: &ReferencePair, now: &Pose, settings: &WarpSettings) -> WarpObjectUniforms {
+fn warp_uniforms(
+    pair: &ReferencePair,
+    now: &ObjectView,
+    settings: &WarpSettings,
+) -> WarpObjectUniforms {
     let tex = |i: usize| {
         (projective::tex_from_world(pair.clip_from_world[i]) * pair.poses[i].world_from_object)
             .to_cols_array_2d()

@@ -21,14 +21,14 @@ use std::ops::Range;
 
 /// Where and how a reference (or a full frame) is rendered.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pose {
+pub struct ObjectView {
     /// The camera.
     pub camera: Camera,
     /// Object → world of the (prototype) object.
     pub world_from_object: Mat4,
 }
 
-impl Pose {
+impl ObjectView {
     /// The camera's eye in the object's space.
     pub fn eye_object(&self) -> Vec3 {
         self.world_from_object
@@ -44,7 +44,7 @@ pub struct ReferenceDraw<'a> {
     /// submit share it, so a base pass keeps each one's state apart.
     pub frame: FrameId,
     /// The reference camera and the object's pose.
-    pub pose: &'a Pose,
+    pub pose: &'a ObjectView,
     /// The reference slot (0, 1, 2 in a [`crate::WarpSequence`]; 0, 1 in a
     /// [`crate::Warper`]): references alive at once have different slots, so a base pass
     /// that keeps its camera uniforms per slot may record several references before one
@@ -58,7 +58,7 @@ pub struct ReferenceDraw<'a> {
 
 impl<'a> ReferenceDraw<'a> {
     /// The whole reference at `pose` as slot `slot` (one slice), for submission `frame`.
-    pub fn whole(frame: FrameId, pose: &'a Pose, slot: usize) -> Self {
+    pub fn whole(frame: FrameId, pose: &'a ObjectView, slot: usize) -> Self {
         Self {
             frame,
             pose,
@@ -228,7 +228,7 @@ pub struct ReferenceFrame {
     /// Height in texels.
     pub height: u32,
     /// The pose the reference shows (valid after a complete record).
-    pub pose: Pose,
+    pub pose: ObjectView,
     /// `pose.camera.clip_from_world()`, kept for the projective texture matrix.
     pub clip_from_world: Mat4,
     /// The formats and samples per pixel the base pass draws into.
@@ -315,7 +315,7 @@ impl ReferenceFrame {
             depth,
             width,
             height,
-            pose: Pose {
+            pose: ObjectView {
                 camera,
                 world_from_object: Mat4::IDENTITY,
             },
@@ -357,7 +357,7 @@ impl ReferenceFrame {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
-        (frame, pose, slot): (FrameId, &Pose, usize),
+        (frame, pose, slot): (FrameId, &ObjectView, usize),
     ) -> Result<(), WarpError> {
         self.check_base(base)?;
         self.draw_base(

@@ -5,7 +5,7 @@
 
 use crate::{
     Antialiasing, Departures, FrameReport, FullInput, FullRenderer, MsaaTarget, PhongBase, Proxy,
-    ReferenceDraw, ReferenceFrame, ScenePose, SequenceFrame, Turntable, WarpError, WarpInput,
+    ReferenceDraw, ReferenceFrame, SceneView, SequenceFrame, Turntable, WarpError, WarpInput,
     WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSequence, WarpSettings,
 };
 use glam::{Mat4, Vec3};
@@ -247,7 +247,7 @@ impl<'a> Rig<'a> {
     }
 
     /// Records (without submitting) the full render of `scene` into the target.
-    pub fn record_full(&mut self, scene: &ScenePose) -> Result<wgpu::CommandEncoder, WarpError> {
+    pub fn record_full(&mut self, scene: &SceneView) -> Result<wgpu::CommandEncoder, WarpError> {
         let frame = self.next_frame();
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let input = FullInput {
@@ -272,14 +272,14 @@ impl<'a> Rig<'a> {
     }
 
     /// The full render of `scene`, read back.
-    pub fn full(&mut self, scene: &ScenePose) -> Result<image::RgbaImage, WarpError> {
+    pub fn full(&mut self, scene: &SceneView) -> Result<image::RgbaImage, WarpError> {
         let enc = self.record_full(scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
         self.image()
     }
 
     /// A reference frame of object 0 at `scene`.
-    pub fn reference(&mut self, scene: &ScenePose) -> Result<ReferenceFrame, WarpError> {
+    pub fn reference(&mut self, scene: &SceneView) -> Result<ReferenceFrame, WarpError> {
         let mut r = self.reference_slot()?;
         let enc = self.record_reference(&mut r, scene)?;
         self.ctx.queue.submit(Some(enc.finish()));
@@ -301,7 +301,7 @@ impl<'a> Rig<'a> {
     pub fn record_reference(
         &mut self,
         r: &mut ReferenceFrame,
-        scene: &ScenePose,
+        scene: &SceneView,
     ) -> Result<wgpu::CommandEncoder, WarpError> {
         let frame = self.next_frame();
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
@@ -324,7 +324,7 @@ impl<'a> Rig<'a> {
         &mut self,
         seq: &mut WarpSequence,
         objects: &mut [WarpObject],
-        path: &dyn Fn(u32) -> ScenePose,
+        path: &dyn Fn(u32) -> SceneView,
         frame: u32,
     ) -> Result<FrameReport, WarpError> {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
@@ -357,7 +357,7 @@ impl<'a> Rig<'a> {
         &mut self,
         refs: [&ReferenceFrame; 2],
         variant: &mut Variant,
-        (scene, s): (&ScenePose, f32),
+        (scene, s): (&SceneView, f32),
         mode: WarpMode,
         wire: bool,
     ) -> Result<image::RgbaImage, WarpError> {

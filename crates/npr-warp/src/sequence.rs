@@ -6,7 +6,7 @@
 use crate::WarpError;
 use crate::bins::BinPlan;
 use crate::pass::{ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpSettings};
-use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
+use crate::reference::{BasePass, ObjectView, ReferenceDraw, ReferenceFrame};
 use glam::Mat4;
 use npr_gpu::FrameId;
 use npr_gpu::{Camera, TargetFormats};
@@ -69,23 +69,23 @@ impl WarpSchedule {
 /// The scene along a known path at one frame: a camera and the world transform of every
 /// object (object 0 is the one the references show; every object shares them, Table 3).
 #[derive(Clone, Debug, PartialEq)]
-pub struct ScenePose {
+pub struct SceneView {
     /// The camera.
     pub camera: Camera,
     /// Object → world per object (at least one).
     pub objects: Vec<Mat4>,
 }
 
-impl ScenePose {
+impl SceneView {
     /// The pose of object `i` (object 0 when `i` is out of range; identity without objects).
-    pub fn object(&self, i: usize) -> Pose {
+    pub fn object(&self, i: usize) -> ObjectView {
         let m = self
             .objects
             .get(i)
             .or(self.objects.first())
             .copied()
             .unwrap_or(Mat4::IDENTITY);
-        Pose {
+        ObjectView {
             camera: self.camera,
             world_from_object: m,
         }
@@ -299,7 +299,7 @@ pub struct SequenceFrame<'a> {
     /// The warp objects, one per object of the path's scene.
     pub objects: &'a mut [WarpObject],
     /// The scene at each frame: the camera and every object's pose.
-    pub path: &'a dyn Fn(u32) -> ScenePose,
+    pub path: &'a dyn Fn(u32) -> SceneView,
     /// The frame to record.
     pub frame: u32,
 }
@@ -326,14 +326,14 @@ pub struct Turntable {
 
 impl Turntable {
     /// The scene at (possibly fractional) frame `t`.
-    pub fn pose(&self, t: f32) -> ScenePose {
+    pub fn pose(&self, t: f32) -> SceneView {
         let angle = (self.deg_per_frame * t).to_radians();
         if self.orbit_camera {
             let orbit = Mat4::from_rotation_y(-angle);
             let mut camera = self.camera;
             camera.eye = orbit.transform_point3(camera.eye);
             camera.target = orbit.transform_point3(camera.target);
-            return ScenePose {
+            return SceneView {
                 camera,
                 objects: self
                     .offsets
@@ -343,7 +343,7 @@ impl Turntable {
             };
         }
         let spin = Mat4::from_rotation_y(angle);
-        ScenePose {
+        SceneView {
             camera: self.camera,
             objects: self
                 .offsets

@@ -8,7 +8,7 @@ use crate::msaa::{Antialiasing, DepthResolve, MsaaTarget};
 use crate::pass::{
     ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSettings,
 };
-use crate::reference::{BasePass, Pose, ReferenceDraw, ReferenceFrame};
+use crate::reference::{BasePass, ObjectView, ReferenceDraw, ReferenceFrame};
 use crate::{Proxy, WarpError};
 use npr_gpu::{FrameId, Prepared, TargetFormats};
 
@@ -124,7 +124,7 @@ impl Warper {
         encoder: &mut wgpu::CommandEncoder,
         base: &mut dyn BasePass,
         frame: FrameId,
-        pose: &Pose,
+        pose: &ObjectView,
     ) -> Result<(), WarpError> {
         let slot = (self.recorded % 2) as usize;
         let draw = ReferenceDraw::whole(frame, pose, slot);
@@ -166,7 +166,7 @@ impl Warper {
     /// camera may move, the object may move, or both), `s ∈ [0, 1]`: its projection onto
     /// the segment from the older reference's eye to the newer's (0 when they coincide).
     /// For a known path pass the path's own fraction instead.
-    pub fn position(&self, pose: &Pose) -> f32 {
+    pub fn position(&self, pose: &ObjectView) -> f32 {
         let [a, b] = self.ordered().map(|r| r.pose.eye_object());
         let ab = b - a;
         let len2 = ab.length_squared();
@@ -195,7 +195,7 @@ impl Warper {
         &mut self,
         queue: &wgpu::Queue,
         frame: FrameId,
-        pose: &Pose,
+        pose: &ObjectView,
         s: f32,
     ) -> Result<Option<Prepared>, WarpError> {
         let Some(pair) = self.pair.as_ref() else {
@@ -254,7 +254,7 @@ impl Warper {
         encoder: &mut wgpu::CommandEncoder,
         (color, depth): (&wgpu::TextureView, &wgpu::TextureView),
         frame: FrameId,
-        pose: &Pose,
+        pose: &ObjectView,
         s: f32,
     ) -> Result<Option<BinPlan>, WarpError> {
         WarpError::check_samples("the colour target", color.texture().sample_count(), 1)?;

@@ -10,7 +10,7 @@ use npr_gpu::{
     TargetFormats, readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
-    Departures, FullRenderer, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, ScenePose,
+    Departures, FullRenderer, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, SceneView,
     SequenceFrame, Turntable, WarpMode, WarpObject, WarpPass, WarpSchedule, WarpSequence,
     WarpSettings, Warper, compare, metrics::read_rgba,
 };
@@ -89,7 +89,7 @@ impl Rig {
         )
     }
 
-    fn full_image(&self, scene: &ScenePose) -> image::RgbaImage {
+    fn full_image(&self, scene: &SceneView) -> image::RgbaImage {
         let (d, q) = (&self.ctx.device, &self.ctx.queue);
         let mut renderer = FullRenderer::new(d, q, TargetFormats::default());
         let input = npr_warp::FullInput {
@@ -310,7 +310,7 @@ fn depth_test_removes_texels_a_synthetic_occluder_hides() {
         * Mat4::from_quat(glam::Quat::from_rotation_arc(Vec3::Y, towards_eye));
     let red = ObjectUniforms::new(m, Vec3::new(1.0, 0.0, 0.0), 0.0, Vec3::ZERO, 1.0);
     let mut occluder = PhongBase::new(&quad_gpu, light(), red, TargetFormats::default());
-    let over = npr_warp::Pose {
+    let over = npr_warp::ObjectView {
         camera: r0.pose.camera,
         world_from_object: m,
     };

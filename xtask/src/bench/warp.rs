@@ -37,7 +37,7 @@ use npr_warp::rig::{
     CLEAR, DEG_PER_FRAME, Rig, Variant, WarpModel as BenchMesh, path_for, warp_models as meshes,
 };
 use npr_warp::{
-    Antialiasing, Departure, Departures, Proxy, ReferenceFrame, ScenePose, Turntable, WarpMode,
+    Antialiasing, Departure, Departures, Proxy, ReferenceFrame, SceneView, Turntable, WarpMode,
     WarpSchedule, WarpSequence, compare, metrics::flip_mean,
 };
 use std::path::Path;
@@ -83,7 +83,7 @@ fn submit_ms(ctx: &GpuContext, enc: wgpu::CommandEncoder) -> f64 {
 }
 
 /// Full render of `scene` into the rig's target; returns ms (submit to idle).
-fn full_ms(rig: &mut Rig<'_>, scene: &ScenePose) -> anyhow::Result<f64> {
+fn full_ms(rig: &mut Rig<'_>, scene: &SceneView) -> anyhow::Result<f64> {
     let enc = rig.record_full(scene)?;
     Ok(submit_ms(rig.ctx, enc))
 }
@@ -92,7 +92,7 @@ fn full_ms(rig: &mut Rig<'_>, scene: &ScenePose) -> anyhow::Result<f64> {
 fn reference_ms(
     rig: &mut Rig<'_>,
     slot: &mut ReferenceFrame,
-    scene: &ScenePose,
+    scene: &SceneView,
 ) -> anyhow::Result<f64> {
     let enc = rig.record_reference(slot, scene)?;
     Ok(submit_ms(rig.ctx, enc))
@@ -104,7 +104,7 @@ fn warp_ms(
     rig: &Rig<'_>,
     refs: [&ReferenceFrame; 2],
     objects: &mut [Variant],
-    scene: &ScenePose,
+    scene: &SceneView,
     s: f32,
     mode: WarpMode,
 ) -> (f64, usize, usize) {
@@ -581,7 +581,7 @@ fn table3(
             .collect::<anyhow::Result<Vec<_>>>()?;
         let full = median(full);
         // The shared reference renders object 0 only.
-        let one = ScenePose {
+        let one = SceneView {
             camera: path.camera,
             objects: vec![path.pose(0.0).objects[0]],
         };
