@@ -774,8 +774,10 @@ impl Renderer {
             w.departures(),
             1.0 / self.model.framing.radius,
             self.size(),
-            references,
-            antialiasing.warp_target(TargetFormats::default()),
+            (
+                references,
+                antialiasing.warp_target(TargetFormats::default()),
+            ),
         )?;
         let shades: Vec<[u8; 4]> = preset
             .base

@@ -67,8 +67,7 @@ pub fn record_frames(
         Departures::OURS,
         SCALE,
         size,
-        formats,
-        formats,
+        (formats, formats),
     )?;
     let (light, material) = look();
     let mut base = PhongBase::new(gpu_mesh, light, material, formats);

@@ -43,7 +43,7 @@
 //! let proxy = Proxy::simplify(mesh, 0.02)?; // §3.2: 2 % of the triangles
 //! let formats = npr_gpu::TargetFormats::new(color_format, depth_format);
 //! let mut warper = Warper::new(device, queue, &proxy, Departures::OURS, 1.0, (512, 512),
-//!     formats, formats)?;
+//!     (formats, formats))?;
 //! let light = npr_gpu::Light::directional(glam::Vec3::new(1.0, 1.5, 2.0));
 //! let material = npr_gpu::ObjectUniforms::default_material(glam::Mat4::IDENTITY);
 //! let mut base = PhongBase::new(gpu_mesh, light, material, formats);

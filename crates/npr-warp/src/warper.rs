@@ -62,8 +62,7 @@ impl Warper {
         departures: Departures,
         world_per_object: f32,
         (width, height): (u32, u32),
-        references: TargetFormats,
-        target: TargetFormats,
+        (references, target): (TargetFormats, TargetFormats),
     ) -> Result<Self, WarpError> {
         if !(world_per_object.is_finite() && world_per_object > 0.0) {
             return Err(WarpError::InvalidSetting(format!(

@@ -464,8 +464,10 @@ fn warper_draws_into_a_bgra_target_like_into_rgba() {
             Departures::OURS,
             0.6,
             (SIZE, SIZE),
-            TargetFormats::new(format, DEPTH_FORMAT),
-            TargetFormats::new(format, DEPTH_FORMAT),
+            (
+                TargetFormats::new(format, DEPTH_FORMAT),
+                TargetFormats::new(format, DEPTH_FORMAT),
+            ),
         )
         .unwrap();
         let mut base = rig.base(format);
@@ -535,8 +537,7 @@ fn the_papers_pass_at_a_reference_pose_reproduces_the_reference_where_the_proxy_
             Departures::PAPER,
             0.6,
             (SIZE, SIZE),
-            TargetFormats::default(),
-            TargetFormats::default(),
+            (TargetFormats::default(), TargetFormats::default()),
         )
         .unwrap();
         warper.mode = mode;

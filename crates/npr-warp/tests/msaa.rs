@@ -176,8 +176,10 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
             Departures::OURS,
             0.6,
             (SIZE, SIZE),
-            aa.references(TargetFormats::default()),
-            aa.warp_target(TargetFormats::default()),
+            (
+                aa.references(TargetFormats::default()),
+                aa.warp_target(TargetFormats::default()),
+            ),
         )
         .unwrap();
         assert_eq!(warper.antialiasing(), aa);
@@ -310,8 +312,10 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
         Departures::OURS,
         0.6,
         (SIZE, SIZE),
-        Msaa4.references(TargetFormats::default()),
-        Msaa4.warp_target(TargetFormats::default()),
+        (
+            Msaa4.references(TargetFormats::default()),
+            Msaa4.warp_target(TargetFormats::default()),
+        ),
     )
     .unwrap();
     let (r, err) = validated(ctx, |e| {
@@ -328,8 +332,7 @@ fn sample_count_mismatches_are_typed_errors_not_wgpu_validation_errors() {
         Departures::OURS,
         0.6,
         (SIZE, SIZE),
-        TargetFormats::default(),
-        TargetFormats::default(),
+        (TargetFormats::default(), TargetFormats::default()),
     )
     .unwrap();
     let mut base4 = PhongBase::new(
