@@ -1,3 +1,5 @@
+#![doc = include_str!("../README.md")]
+//!
 //! CPU mesh, topology, curvature tensor and the N = H solve.
 //!
 //! Implements §2.2 (curvature tensor, Eq. (1)) and §3.1 (maximum specular intensity

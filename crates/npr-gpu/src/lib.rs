@@ -1,3 +1,5 @@
+#![doc = include_str!("../README.md")]
+//!
 //! The GPU layer shared by every technique crate of the npr workspace.
 //!
 //! - [`GpuContext`]: a headless instance/adapter/device/queue, honouring `WGPU_BACKEND`,

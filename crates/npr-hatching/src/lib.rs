@@ -1,3 +1,5 @@
+#![doc = include_str!("../README.md")]
+//!
 //! Real-time image-space hatching with tonal art maps.
 //!
 //! Implements Yongjin Kim (김용진) and Seungyong Lee (이승용), "Real-time Image-space

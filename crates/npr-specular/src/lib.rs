@@ -1,3 +1,5 @@
+#![doc = include_str!("../README.md")]
+//!
 //! Stylized specular highlights by curvature-driven texture projectors.
 //!
 //! Implements Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using

@@ -1,3 +1,5 @@
+#![doc = include_str!("../README.md")]
+//!
 //! Post-rendering 3D warping with projective textures.
 //!
 //! Implements Huiwon Park (박희원) and Insung Ihm (임인성), "Post-Rendering 3D Warping using
