@@ -68,14 +68,14 @@ impl Section {
             Self::Base => "",
             Self::Specular => {
                 "Hwan-Jik Lee and Jung-Ju Choi, Stylized Specular Reflections Using \
-                 Projective Textures based on Principal Curvature Analysis (SPEC §2)"
+                 Projective Textures based on Principal Curvature Analysis (Lee & Choi)"
             }
             Self::Hatching => {
-                "Yongjin Kim and Seungyong Lee, Real-time Image-space Hatching (SPEC §3)"
+                "Yongjin Kim and Seungyong Lee, Real-time Image-space Hatching (Kim & Lee)"
             }
             Self::Warp => {
                 "Huiwon Park and Insung Ihm, Post-Rendering 3D Warping using Projective \
-                 Texture (SPEC §4)"
+                 Texture (Park & Ihm)"
             }
         }
     }
@@ -335,7 +335,7 @@ pub fn figures() -> Vec<Figure> {
         h,
         "hatching-directions-cad.png",
         None,
-        "Stroke directions on hard-edged CAD parts (issue 22; procedural: a block with a \
+        "Stroke directions on hard-edged CAD parts (procedural: a block with a \
          through-hole, a stepped shaft, a bent bracket), pen with outlines: (left) the \
          paper's rule, raw principal directions; (right) our default, the smooth field cut \
          at creases with one straight direction per flat face. `cargo xtask bench \

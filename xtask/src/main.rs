@@ -8,6 +8,7 @@ mod fixtures;
 mod gallery;
 mod gpu_setup;
 mod test;
+mod tidy;
 mod web;
 
 use clap::{Parser, Subcommand};

@@ -190,7 +190,7 @@ pub fn builtin_shape(name: &str) -> Option<HighlightShape> {
     HighlightShape::ALL.into_iter().find(|s| s.name() == name)
 }
 
-/// The global projector controls of a preset (SPEC §2, §3.4).
+/// The global projector controls of a preset (Lee & Choi §3.4).
 pub fn global_controls(preset: &Preset, layer: u32) -> ProjectorControls {
     ProjectorControls {
         sigma: preset.specular.sigma,
@@ -801,7 +801,7 @@ impl Renderer {
         Ok(())
     }
 
-    /// Warping (SPEC §4): records a reference of the full model at `view` (its base shading
+    /// Warping (Park & Ihm): records a reference of the full model at `view` (its base shading
     /// per the preset) and submits it. From then on warps interpolate between the previous
     /// newest reference (s = 0) and this one (s = 1).
     ///
@@ -839,7 +839,7 @@ impl Renderer {
             .map_or(0, |w| w.warper.references_recorded())
     }
 
-    /// Warping (SPEC §4): draws the proxy textured by the two newest references at `view`,
+    /// Warping (Park & Ihm): draws the proxy textured by the two newest references at `view`,
     /// at position `s` between them (`None`: estimated from the eye, as for an unknown
     /// path), over the preset's background, into the target, and submits it.
     ///
@@ -1000,7 +1000,7 @@ fn set_ramp(
     *current = bands.to_vec();
 }
 
-/// Renders `frames` turntable frames with warping (SPEC §4): along the known path, a
+/// Renders `frames` turntable frames with warping (Park & Ihm): along the known path, a
 /// reference every `k` frames (rendered one interval ahead), the frames between warped
 /// from the two around them at the path's own fraction, and each warped frame compared
 /// with a full render of the same view (PSNR in the stats). Reference frames are the full

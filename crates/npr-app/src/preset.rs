@@ -173,7 +173,7 @@ impl Default for BasePreset {
     }
 }
 
-/// Up axis of the highlight projectors (SPEC §2, Eq. (7)).
+/// Up axis of the highlight projectors (Lee & Choi Eq. (7)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum UpPreset {
@@ -296,12 +296,12 @@ impl From<BoundaryPreset> for npr_specular::HighlightBoundary {
 pub enum DirectionPreset {
     /// The smooth line field fitted to the direction of maximum curvature (Knöppel et al.
     /// 2013): strokes flow instead of following every bump of a scan. Cut at creases
-    /// (50°) and straight on flat faces (issue 22): a flat face joined smoothly to a
+    /// (50°) and straight on flat faces: a flat face joined smoothly to a
     /// curved one carries its direction, one bounded by creases takes `up × n`
     /// (`x × n` within 30° of facing up).
     #[default]
     Smooth,
-    /// The same field without the crease cuts and the flat-face rule (issue 11's).
+    /// The same field without the crease cuts and the flat-face rule (the curvature-only field).
     SmoothCurvatureOnly,
     /// The raw direction of maximum curvature, vertex by vertex.
     KMax,
@@ -348,7 +348,7 @@ impl OutlinePreset {
     }
 }
 
-/// Blend of direction bins (SPEC §3.2–3.3).
+/// Blend of direction bins (Kim & Lee §3.2–§3.3).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum BlendPreset {
@@ -371,7 +371,7 @@ impl From<BlendPreset> for npr_hatching::BlendMode {
     }
 }
 
-/// Where hatching strokes live (SPEC §3 and beyond).
+/// Where hatching strokes live (Kim & Lee, and beyond).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SpacePreset {
@@ -746,7 +746,7 @@ mod tests {
 
     #[test]
     fn every_direction_source_is_reachable_from_a_preset() {
-        // Issue 22: the hard-edge rules are the default, issue 11's field and the
+        // The hard-edge rules are the default, the curvature-only field and the
         // paper's raw directions stay one key away.
         assert_eq!(HatchingPreset::default().direction, DirectionPreset::Smooth);
         for (key, want) in [

@@ -560,7 +560,7 @@ fn bright_component(image: &image::RgbaImage, seed: [f64; 2]) -> usize {
     n
 }
 
-/// Issue 19: the drag of the GPU test (`npr-specular/tests/edits.rs`), replayed in the
+/// The drag of the GPU test (`npr-specular/tests/edits.rs`), replayed in the
 /// window. On a sphere seen and lit along the view axis (from far, with a narrow field of
 /// view, so perspective barely changes areas), the one highlight is picked and dragged by
 /// most of its half extent; its projector looks along the view axis, so the moved

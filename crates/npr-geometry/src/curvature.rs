@@ -35,13 +35,13 @@ pub enum CurvatureMethod {
     /// vertex inside the sphere of radius r, `|e ∩ B| = |e|` for each of their edges
     /// (each edge once), `|B|` = their area sum. The normal is the eigenvector with the
     /// smallest |eigenvalue|, as in the paper. Biased high (boundary edges of the patch
-    /// count in full, 9–33 % on a sphere, SPEC §1), and the normal choice can swap with a
+    /// count in full, 9–33 % on a sphere, Lee & Choi §2.2), and the normal choice can swap with a
     /// principal direction where one curvature is near zero.
     Paper,
     /// Cohen-Steiner & Morvan's clipped form: `|e ∩ B|` is the exact length of each edge
     /// inside the ball, `|B|` the area of the triangles inside the ball (boundary
     /// triangles clipped by recursive subdivision, 1/64 of a triangle resolution). Normal
-    /// as in [`CurvatureMethod::Paper`]. Its error swings with the radius (SPEC §1).
+    /// as in [`CurvatureMethod::Paper`]. Its error swings with the radius (Lee & Choi §2.2).
     Clipped,
     /// The corrected form (default): each face owns its area-proportional share of each
     /// of its edges (`A_f / (A_f + A_g)`, so edge content and area agree), faces are
@@ -73,7 +73,7 @@ pub enum CurvatureRadius {
     /// As a multiple of the mesh's mean edge length ([`Topology::mean_edge_length`]):
     /// scale-free, so it follows the mesh's resolution. Default: 3 edge lengths, where
     /// the corrected form measures best on regular, jittered and noisy tori (larger
-    /// balls smooth noise but pull `kappa_max` down and `kappa_min` up, SPEC §1).
+    /// balls smooth noise but pull `kappa_max` down and `kappa_min` up, Lee & Choi §2.2).
     EdgeLengths(f32),
 }
 

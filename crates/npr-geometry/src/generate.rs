@@ -478,7 +478,7 @@ fn annulus(segments: usize, rows: usize, inner: f64, outer: f64, y: f64, up: boo
     })
 }
 
-/// A CAD-style stepped shaft around the y axis (issue 22's procedural CAD parts):
+/// A CAD-style stepped shaft around the y axis (the procedural CAD parts):
 /// coaxial cylinders `steps = [(radius, length), ...]` stacked from `y = −L/2` upwards
 /// (L the total length), joined by flat annular shoulders, closed by flat discs. Every
 /// face meets the next at a 90° crease; each flat face and each cylinder has its own
@@ -533,7 +533,7 @@ pub fn stepped_shaft(steps: &[(f32, f32)], segments: usize) -> Mesh {
     mesh
 }
 
-/// A CAD-style block with a round through-hole (issue 22's procedural CAD parts): the box
+/// A CAD-style block with a round through-hole (the procedural CAD parts): the box
 /// `[−a, a] × [−b, b] × [−c, c]` (`half_extents = (a, b, c)`) pierced along y by a
 /// hole of radius `hole_radius` (clamped inside the footprint). Six flat faces (top and
 /// bottom with the hole) and the hole's cylindrical wall, all meeting at 90° creases,
@@ -646,7 +646,7 @@ impl Default for Bracket {
     }
 }
 
-/// A CAD-style L bracket bent from a sheet (issue 22's procedural CAD parts): a vertical
+/// A CAD-style L bracket bent from a sheet (the procedural CAD parts): a vertical
 /// leg (outer face at `x = 0` side, normal −x) and a horizontal leg (outer face normal
 /// −y) joined by a 90° bend of inner radius `bend_radius`, whose inner and outer faces
 /// are coaxial cylinder quarters (fillets) tangent to the legs; extruded along z over
@@ -720,7 +720,7 @@ pub fn filleted_bracket(k: &Bracket) -> Mesh {
     mesh
 }
 
-/// The CAD test part of issue 22 (13,864 triangles): a block with a through-hole,
+/// The CAD test part (13,864 triangles): a block with a through-hole,
 /// a stepped shaft and a bent bracket side by side (three components), each with flat
 /// faces, cylinders or fillets, and 90° creases. Shown in the gallery and measured by
 /// `cargo xtask bench hatching-directions` and `hatching-coherence`.

@@ -604,7 +604,7 @@ impl HighlightSearch {
     /// 0. per cluster of 16 nearby vertices (Morton order): the cluster's normal cone
     ///    against the half vectors its faces can see, bounded over its bounding sphere
     ///    (point light and near eye included); a cluster that fails is skipped whole, so a
-    ///    frame costs about the clusters plus the vertices near highlights (issue 13);
+    ///    frame costs about the clusters plus the vertices near highlights;
     /// 1. per vertex: a centre in a face around `v` means `angle(N_v, H_v) ≤ s_v + b_v`,
     ///    with `s_v` the normal spread of those faces (precomputed) and `b_v` a bound on
     ///    how far `H` turns across them (0 for directions; from the edge length, the
@@ -1003,7 +1003,7 @@ impl HighlightSearch {
         found.into_iter().map(|(c, _)| c).collect()
     }
 
-    /// [`HighlightSearch::find`] with frame coherence (issue 13): the same centres, at
+    /// [`HighlightSearch::find`] with frame coherence: the same centres, at
     /// the same positions, as `find` for every input, found cheaper when the light, eye
     /// and object move a little from frame to frame. See [`SearchCoherence`].
     pub fn find_coherent(

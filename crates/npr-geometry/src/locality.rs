@@ -1,4 +1,4 @@
-//! Reordering a mesh for memory locality (issue 13): triangles in meshoptimizer's
+//! Reordering a mesh for memory locality: triangles in meshoptimizer's
 //! vertex-cache order (each triangle shares vertices with the ones just before it, so a
 //! walk over neighbouring faces, as the §4.2 visibility search and the region growth do,
 //! touches nearby memory), then vertices in order of first use (meshoptimizer's fetch

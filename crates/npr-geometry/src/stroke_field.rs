@@ -1,5 +1,5 @@
 //! A globally smooth stroke-direction (line) field fitted to the principal curvature
-//! directions, for hatching (SPEC §3: "a principal curvature direction projected to the
+//! directions, for hatching (Kim & Lee: "a principal curvature direction projected to the
 //! screen"; the raw principal field jumps wherever curvature is nearly umbilic or noisy).
 //!
 //! Method: Felix Knöppel, Keenan Crane, Ulrich Pinkall, Peter Schröder, "Globally Optimal
@@ -33,7 +33,7 @@
 //! `|κ_max − κ_min|` over κ̄ = the median of `|κ_max| + |κ_min|`: both scale as 1/length. So a
 //! uniformly scaled or refined mesh gives the same field.
 //!
-//! Hard edges (issue 22; SPEC §3 leaves the direction undefined where the principal
+//! Hard edges (Kim & Lee leaves the direction undefined where the principal
 //! directions are): [`StrokeField::for_mesh`] cuts the mesh along crease lines
 //! ([`StrokeFieldOptions::crease_angle_deg`]) before computing curvature and the field, so
 //! nothing is smoothed or averaged across a crease. In [`StrokeField::compute`] the
@@ -55,7 +55,7 @@ type C64 = Complex<f64>;
 pub struct StrokeFieldOptions {
     /// Smoothing length ℓ as a fraction of the mesh size `√(total area)`: features of the
     /// principal field smaller than about ℓ are smoothed away. Default 0.02: with the
-    /// anisotropy defaults, the value that keeps both targets of issue 11 on the Stanford
+    /// anisotropy defaults, the value that keeps both direction targets on the Stanford
     /// bunny and Spot (≤ 2 % of edges turning by > 30°, ≤ 10° off the principal direction
     /// on the anisotropic half); larger is smoother and follows curvature less.
     pub smoothing: f32,
@@ -72,7 +72,7 @@ pub struct StrokeFieldOptions {
     pub max_iterations: usize,
     /// Relative residual `|b − A z| / |b|` at which the solve stops. Default 1e-6.
     pub tolerance: f64,
-    /// Creases (issue 22): an edge whose faces meet at more than this dihedral angle
+    /// Creases: an edge whose faces meet at more than this dihedral angle
     /// (`|β(e)|`, degrees) is cut, so the field does not smooth across it and each side
     /// keeps its own direction ([`Topology::split_creases`], applied by
     /// [`StrokeField::for_mesh`]). Default 50°, the default crease angle of the ink
@@ -87,7 +87,7 @@ pub struct StrokeFieldOptions {
     /// whose rim is shorter than this (diameter under about 6 % of the part's size) is
     /// smoothed into its face. 0 cuts every crease edge.
     pub min_crease_length: f32,
-    /// Planar patches (issue 22): faces connected across non-crease edges whose normals
+    /// Planar patches: faces connected across non-crease edges whose normals
     /// are within this many degrees of their seed face's normal form a patch
     /// ([`planar_patches`]); a patch that is flat against the mesh's scale (see
     /// [`StrokeFieldOptions::planar_max_curvature`]) gets one constant direction. Default
@@ -127,7 +127,7 @@ impl Default for StrokeFieldOptions {
 }
 
 impl StrokeFieldOptions {
-    /// The field of issue 11 alone: the curvature-fitted smooth field with neither the
+    /// The curvature-only field alone: the curvature-fitted smooth field with neither the
     /// crease cuts nor the planar rule (it smooths across creases and lets noise turn
     /// the strokes on flat faces).
     pub fn curvature_only() -> Self {
@@ -142,7 +142,7 @@ impl StrokeFieldOptions {
 /// No patch / no vertex.
 pub const NONE: u32 = u32::MAX;
 
-/// The planar rule of issue 22 (see [`StrokeFieldOptions::planar_axis`]): the unit
+/// The planar rule (see [`StrokeFieldOptions::planar_axis`]): the unit
 /// direction `axis × n`, or `second_axis × n` when `n` is within 30° of `±axis`
 /// (`|axis × n| < ½`); the zero vector only if that vanishes too.
 pub fn planar_direction(n: Vec3, axis: Vec3, second_axis: Vec3) -> Vec3 {
@@ -170,7 +170,7 @@ pub struct PlanarPatches {
     pub area: Vec<f64>,
 }
 
-/// Grows planar patches (issue 22): from each face not yet in a patch (in face order),
+/// Grows planar patches: from each face not yet in a patch (in face order),
 /// adds the faces reached across edges with exactly two faces whose normals are within
 /// `tolerance_deg` of the seed face's normal. Every non-degenerate face ends in one patch
 /// (most patches of a curved mesh are single faces). On a [`Topology::split_creases`]
@@ -323,7 +323,7 @@ fn cotan_weights(topo: &Topology) -> Vec<f64> {
     w
 }
 
-/// The planar patches of `topo` that are flat against the mesh's scale (issue 22): the
+/// The planar patches of `topo` that are flat against the mesh's scale: the
 /// median `(|κ_max| + |κ_min|) · √total_area` over a patch's face corners is at most
 /// [`StrokeFieldOptions::planar_max_curvature`]. Renumbered: only those patches remain,
 /// `face_patch` is [`NONE`] elsewhere.
@@ -536,7 +536,7 @@ impl StrokeField {
         }
         let total: f64 = area.iter().sum();
 
-        // Planar patches (issue 22): the vertices of a flat patch share one unknown.
+        // Planar patches: the vertices of a flat patch share one unknown.
         let flat = flat_patches(topo, curvature, options, total);
         let patch_of = vertex_patches(topo, &flat);
         let np = flat.normal.len();
@@ -740,7 +740,7 @@ impl StrokeField {
         out
     }
 
-    /// The field of a render mesh (issue 22): welds it, cuts the welded mesh along its
+    /// The field of a render mesh: welds it, cuts the welded mesh along its
     /// creases ([`StrokeFieldOptions::crease_angle_deg`], [`Topology::split_creases`]),
     /// computes curvature on the cut mesh (so no curvature ball reaches across a crease)
     /// and fits the field there ([`StrokeField::compute`]). With the cut and the planar
@@ -897,7 +897,7 @@ impl LineFieldStats {
     }
 }
 
-/// Measures of issue 22 on the directions a renderer receives (one per render vertex of
+/// Hard-edge measures on the directions a renderer receives (one per render vertex of
 /// a [`Mesh`], any sign, zero = undefined): `cargo xtask bench hatching-directions`'s
 /// `jump30_smooth_edge_share` and `planar_spread_deg`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]

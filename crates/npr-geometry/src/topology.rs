@@ -281,7 +281,7 @@ impl Topology {
 
     /// This mesh with every vertex split into one copy per fan of its faces that are
     /// joined around it by edges bending by at most `crease_angle_deg` (|β(e)|), so the
-    /// creases become boundaries (issue 22: hatching must not smooth across them).
+    /// creases become boundaries (hatching must not smooth across them).
     ///
     /// Face order and winding are kept: corner `k` of face `f` of the result is a copy
     /// of corner `k` of face `f` here. The copies of vertex `v` are numbered

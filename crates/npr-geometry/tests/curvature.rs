@@ -1,4 +1,4 @@
-//! Analytic checks of the curvature field (SPEC §1, issue 3 "Tests"): sphere, cylinder,
+//! Analytic checks of the curvature field (Lee & Choi §2.2): sphere, cylinder,
 //! torus, ellipsoid, plane; rigid motions and scaling; Gauss–Bonnet; bad meshes.
 #![allow(clippy::unwrap_used, clippy::expect_used, missing_docs)]
 
@@ -78,7 +78,7 @@ fn sphere_curvatures_are_one_over_radius() {
                 dir_kappa_max: DVec3::X,
             },
         );
-        // Issue 3 target: icosphere 10k k_max median ≤ 0.2 % (measured 0.16 %).
+        // Icosphere 10k k_max median ≤ 0.2 % (measured 0.16 %).
         assert!(ex < 0.2 && en < 0.2, "sphere errors {ex} {en} %");
         // Normals agree with the outward radial direction.
         for v in 0..topo.vertex_count() {
@@ -118,7 +118,7 @@ fn torus_meridian_parallel_and_signs() {
         |_| true,
         |p| analytic::torus(p, f64::from(big_r), f64::from(r)),
     );
-    // Issue 3 target: torus 10k k_max median ≤ 0.5 % of max |k|.
+    // Torus 10k k_max median ≤ 0.5 % of max |k|.
     assert!(
         ex < 0.5 && en < 1.0 && ed < 0.2,
         "torus errors {ex} % {en} % {ed}°"
@@ -171,7 +171,7 @@ fn plane_is_flat() {
 
 #[test]
 fn paper_and_clipped_forms_read_their_documented_bias() {
-    // SPEC §1 / README: on the 10k torus the paper's approximation of Eq. (1) reads k_max
+    // docs/results.md: on the 10k torus the paper's approximation of Eq. (1) reads k_max
     // high by 9.9 % of max |k| (median), the clipped-edge form by 1.7 %, the corrected
     // form by 0.13 %. Bands of ±0.5 pp (±0.1 pp for the corrected form) keep the methods
     // apart, so a silent swap fails.

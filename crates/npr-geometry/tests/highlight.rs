@@ -417,7 +417,7 @@ fn coherence_sequence(c: Vec3, r: f32) -> Vec<(LightEye, Mat4, NormalInterpolati
 
 #[test]
 fn coherent_search_finds_what_the_full_search_finds_frame_by_frame() {
-    // Issue 13: the frame-coherent search (watch lists kept while the light and eye move
+    // The frame-coherent search (watch lists kept while the light and eye move
     // within a budget) must return exactly `find`'s centres — the same faces solved in the
     // same order — on every frame, and those must be the exhaustive search's.
     for file in ["stanford-bunny.obj", "spot.obj"] {

@@ -126,7 +126,7 @@ fn crease_split_cuts_only_creases() {
 
 #[test]
 fn without_creases_and_flat_patches_the_field_is_unchanged() {
-    // Issue 22's rules change nothing on a smooth mesh: the default field of
+    // The rules change nothing on a smooth mesh: the default field of
     // `StrokeField::for_mesh` is the issue-11 field, bit for bit.
     let mesh = generate::torus(1.0, 0.35, 48, 24);
     let (_, _, plain) = fit_with(&mesh, &StrokeFieldOptions::curvature_only());

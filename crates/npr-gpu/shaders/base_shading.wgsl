@@ -1,4 +1,4 @@
-// Base shading passes shared by every technique: per-pixel Phong (Blinn-Phong, SPEC §2
+// Base shading passes shared by every technique: per-pixel Phong (Blinn-Phong, Lee & Choi
 // Eq. (2)-(3)), per-vertex Gouraud, and cel/toon shading with a 1-D ramp texture
 // (Lake, Marshall, Harris, Blackstein, "Stylized Rendering Techniques for Scalable
 // Real-Time 3D Animation", NPAR 2000). Prepended with `common.wgsl`.

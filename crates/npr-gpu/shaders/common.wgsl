@@ -1,5 +1,5 @@
 // Shared declarations: the frame and object uniforms of npr-gpu (`uniforms.rs` mirrors
-// these layouts byte for byte) and the Blinn-Phong model (SPEC §2, Eq. (2)-(3)) whose CPU
+// these layouts byte for byte) and the Blinn-Phong model (Lee & Choi Eq. (2)-(3)) whose CPU
 // twin is `npr_gpu::cpu_twin::blinn_phong`.
 //
 // This file is prepended to every shader that uses it (see `npr_gpu::shaders::compose`).

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-/// Blinn-Phong, SPEC §2 Eq. (2)–(3): `k_a·d + d·c·(N·L) + s·c·k_s·(N·H)^n`, with
+/// Blinn-Phong, Lee & Choi Eq. (2)–(3): `k_a·d + d·c·(N·L) + s·c·k_s·(N·H)^n`, with
 /// `H = (L+V)/|L+V|` and the specular term zero where `N·L ≤ 0`. Mirrors WGSL
 /// `blinn_phong`. `n`, `l`, `v` unit vectors.
 #[allow(clippy::too_many_arguments)]

@@ -4,7 +4,7 @@
 //! Image-space edge detection on a normal + depth buffer after T. Saito and T. Takahashi,
 //! "Comprehensible Rendering of 3-D Shapes", SIGGRAPH 1990, and P. Decaudin,
 //! "Cartoon-looking rendering of 3D scenes", INRIA research report 2919, 1996. Not part of
-//! the three papers (SPEC §2–§4); the figures that reproduce them are drawn without it.
+//! the three papers (docs/papers.md); the figures that reproduce them are drawn without it.
 //!
 //! Two passes, both on the pass contract ([`crate::pass`]):
 //! 1. [`NormalDepthPass`] draws meshes into a [`NormalDepthTarget`]

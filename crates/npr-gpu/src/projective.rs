@@ -18,7 +18,7 @@ pub const TEX_FROM_CLIP: Mat4 = Mat4::from_cols(
     Vec4::new(0.5, 0.5, 0.0, 1.0),
 );
 
-/// `tex_from_world = TEX_FROM_CLIP * clip_from_world_of_projector` (SPEC §2 Eq. (9), §4).
+/// `tex_from_world = TEX_FROM_CLIP * clip_from_world_of_projector` (Lee & Choi Eq. (9), §4).
 /// Applied to a homogeneous world point it gives `(u·w, v·w, z, w)`; divide by `w` for a
 /// perspective projector (w = 1 for an orthographic one).
 pub fn tex_from_world(clip_from_world_of_projector: Mat4) -> Mat4 {

@@ -33,7 +33,7 @@ struct Hatch {
 // sides of a uniform branch). `HatchPass` builds the four variants and picks one.
 override SURFACE: bool = false;
 override SHORT_STROKES: bool = false;
-// Which surface anchors the variant reads (issue 21): 2 = both, cross-faded by the
+// Which surface anchors the variant reads: 2 = both, cross-faded by the
 // G-buffer's weight; 0 or 1 = that anchor alone, for a frame whose weight is 0 or 1 on
 // every pixel (`ScenePasses::anchor_weight`), with the same result as 2 there.
 override ANCHORS: u32 = 2u;
@@ -68,7 +68,7 @@ fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32, k: f32) -> f32 
 // Bin k's (cos, sin) / stroke scale, k taken modulo the bin count. The modulo is
 // k - n*floor(k/n) in floats, exact for any |k| below 2^20 (k/n is then at least 1/n away
 // from the next integer or exactly on it), because integer `%` has no vector instruction
-// and a software rasterizer runs it lane by lane (issue 21). The CPU twin indexes the
+// and a software rasterizer runs it lane by lane. The CPU twin indexes the
 // same bin (`CpuHatcher::bin_cs`, `rem_euclid`).
 fn bin_cs(k: i32, offset: bool) -> vec2<f32> {
     let n = f32(hatch.config.x);
@@ -125,8 +125,8 @@ fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32, k: f32) -> f32 {
     return 0.5 * blended(t, false, p, slice, a, k) + 0.5 * blended(t, true, p, slice, a, k);
 }
 
-// Two fixed stroke lengths blended by the direction field's turn rate (issue 11 §3,
-// beyond the paper's §5): long strokes where the field is calm, `length.x` times shorter
+// Two fixed stroke lengths blended by the direction field's turn rate
+// (beyond the paper's §5): long strokes where the field is calm, `length.x` times shorter
 // where it turns fast, blended like the direction bins (a per-pixel scale would tear the
 // texture). Mirrors `CpuHatcher::length_blended`.
 fn length_blended(p: vec2<f32>, tone: f32, theta: f32, turn: f32) -> f32 {

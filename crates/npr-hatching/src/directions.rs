@@ -1,4 +1,4 @@
-//! Per-vertex stroke directions from principal curvature (SPEC §3: "a principal
+//! Per-vertex stroke directions from principal curvature (Kim & Lee: "a principal
 //! curvature direction projected to the screen"), computed by `npr-geometry` and carried
 //! per render vertex into the G-buffer pass ([`crate::ScenePasses::create_object`]).
 //!
@@ -7,7 +7,7 @@
 //! follows curvature where it is clearly directional and stays smooth elsewhere; and the
 //! raw principal directions of the curvature field, vertex by vertex (the paper's rule).
 //!
-//! Hard-edged models (issue 22): by default the smooth field is cut along creases (edges
+//! Hard-edged models: by default the smooth field is cut along creases (edges
 //! bending by more than 50°, the outline's crease angle, so strokes turn where a crease
 //! line is drawn; in lines at least a fifth of the mesh size long, so a scan's noise is
 //! not cut), and each flat patch gets one straight direction: the curvature field
@@ -26,11 +26,11 @@ pub enum DirectionSource {
     /// The smooth line field of [`npr_geometry::StrokeField`] (the default): on the
     /// Stanford bunny it turns by more than 30° across 1.7 % of the edges, against 9.8 %
     /// for [`DirectionSource::Principal`]. By default it is cut at creases and straight
-    /// on flat patches (issue 22, see the module docs);
+    /// on flat patches (see the module docs);
     /// `Smooth(StrokeFieldOptions::curvature_only())` is the field without those rules.
     Smooth(StrokeFieldOptions),
     /// The principal directions of the curvature field, vertex by vertex
-    /// ([`principal_directions`]): the paper's rule (SPEC §3).
+    /// ([`principal_directions`]): the paper's rule (Kim & Lee).
     Principal,
 }
 
@@ -67,7 +67,7 @@ pub fn second_axis(axis: Vec3) -> Vec3 {
 
 /// `d` projected onto the tangent plane of `n` and normalised, or `fallback_axis × n`
 /// when that vanishes, or `second_axis(fallback_axis) × n` where `n` is parallel to the
-/// axis (a flat cap facing up gets a direction, not θ = 0; issue 22).
+/// axis (a flat cap facing up gets a direction, not θ = 0).
 fn tangent_or_fallback(d: Option<Vec3>, n: Vec3, fallback_axis: Vec3) -> Vec3 {
     d.map(|d| (d - n * n.dot(d)).normalize_or_zero())
         .filter(|d| *d != Vec3::ZERO)
@@ -221,7 +221,7 @@ mod tests {
 
     #[test]
     fn the_field_cuts_creases_where_outlines_draw_them() {
-        // Issue 22: strokes turn exactly where a crease line is drawn.
+        // Strokes turn exactly where a crease line is drawn.
         assert_eq!(
             StrokeFieldOptions::default().crease_angle_deg,
             npr_gpu::outline::OutlineSettings::default().crease_angle_deg

@@ -30,7 +30,7 @@
 //! - Coherent hatching (beyond the paper, whose §5 names the "shower-door" effect as a
 //!   limit): with [`StrokeSpace::Surface`] (the default) the G-buffer pass also writes
 //!   per-pixel *surface anchors*, where the pixel's surface point was on the screen at two
-//!   reference views re-taken in turn and cross-faded ([`ScenePasses::anchor_period`]);
+//!   reference views re-taken in turn and cross-faded ([`SceneSettings::anchor_period`]);
 //!   Eq. (1) rotates those instead of the pixel position, so strokes move with the
 //!   surface while their screen-space density stays the paper's. `coherence` (feature
 //!   `test-support`) holds the

@@ -51,7 +51,7 @@ pub enum StrokeSpace {
     Screen,
     /// Coherent hatching, the default: Eq. (1) rotates the pixel's *surface anchors*,
     /// where its surface point was on the screen at two reference views that the
-    /// G-buffer pass re-takes in turn (every [`crate::ScenePasses::anchor_period`]
+    /// G-buffer pass re-takes in turn (every [`crate::SceneSettings::anchor_period`]
     /// frames) and cross-fades (after Breslav et al. 2007, "Dynamic 2D Patterns for
     /// Shading 3D Scenes", with per-pixel anchors instead of one similarity per object).
     /// The strokes move with the surface; θ, tone and stroke scale stay screen-space, so
@@ -82,7 +82,7 @@ impl StrokeSpace {
     }
 }
 
-/// Short strokes where the stroke direction turns fast (issue 11 §3, beyond the paper's
+/// Short strokes where the stroke direction turns fast (beyond the paper's
 /// §5, which suggests short strokes where curvature varies quickly): two fixed stroke
 /// lengths blended per pixel by the G-buffer's turn rate of the direction field, like the
 /// direction bins of Eq. (2)–(3) (a per-pixel scale of the texture coordinates would tear

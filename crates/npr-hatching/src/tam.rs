@@ -414,7 +414,7 @@ impl TonalArtMap {
     /// 2-D texture array: layer `s` holds slice `s` in r and slice `s + 1` in g, the two
     /// slices the pass blends for a tone between them (the volume lookup of the paper's
     /// §3.1, without mipmaps), so one fetch reads both: half the texture fetches of one
-    /// `R8Unorm` layer per slice (issue 21), the same texel values.
+    /// `R8Unorm` layer per slice, the same texel values.
     pub fn upload_tone_pairs(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> wgpu::Texture {
         use wgpu::util::DeviceExt;
         let area = (self.params.size * self.params.size) as usize;

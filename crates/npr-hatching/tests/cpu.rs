@@ -379,7 +379,7 @@ fn mean_run(cov: &[f32], w: usize, x0: usize, x1: usize) -> f32 {
     total as f32 / runs.max(1) as f32
 }
 
-/// Issue 11 §3: with `stroke_length` on, strokes where the direction field turns fast
+/// With `stroke_length` on, strokes where the direction field turns fast
 /// (right half, 0.5 rad/pixel) are about half as long (`shorten` = 2) as where it is calm
 /// (left half); with it off both halves have the same stroke length.
 #[test]

@@ -1,5 +1,5 @@
 //! The figure examples' shared code (`examples/common/mod.rs`, included here as a module)
-//! renders: the CAD-parts directions figure of the gallery (issue 22).
+//! renders: the CAD-parts directions figure of the gallery.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 #[path = "../examples/common/mod.rs"]

@@ -620,7 +620,7 @@ fn tile(img: &[f32], x0: u32, y0: u32, n: u32) -> Vec<f32> {
         .collect()
 }
 
-/// Issue 14: on a sphere turning 2° per frame, the hatching pattern's phase-correlation
+/// On a sphere turning 2° per frame, the hatching pattern's phase-correlation
 /// shift over a central 64² tile follows the analytic surface motion to within 25 % of it
 /// in surface space (every frame pair over two anchor periods); the paper's screen space
 /// does not (its pattern stays put, an error of about 100 %). The coherent frame also
@@ -688,7 +688,7 @@ fn surface_hatching_follows_a_turning_sphere() {
     }
 }
 
-/// Issue 14: over a 2× dolly (camera distance 6 → 3 in 24 frames, the sphere turning 1°
+/// Over a 2× dolly (camera distance 6 → 3 in 24 frames, the sphere turning 1°
 /// per frame), the ink coverage at constant tone and the screen-space stroke density stay
 /// within 25 % in surface space; a surface texture that is never re-anchored (no
 /// re-anchoring: strokes magnified with the sphere) loses more than 25 % of its density.
@@ -743,7 +743,7 @@ fn surface_hatching_keeps_density_under_dolly() {
     }
 }
 
-/// The scene frame's hatching pass (`HatchPass::record`, issue 21: background not
+/// The scene frame's hatching pass (`HatchPass::record`: background not
 /// shaded, one anchor outside the cross-fade) draws the image of the general pass
 /// (`HatchPass::draw`: every pixel, both anchors cross-faded by the G-buffer's weight)
 /// on the same G-buffer, over a whole anchor schedule (weights 1, ¾, ½, ¼, 0, …) and with

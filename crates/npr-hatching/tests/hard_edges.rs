@@ -1,4 +1,4 @@
-//! Stroke directions on hard-edged models (issue 22), on procedural CAD parts the
+//! Stroke directions on hard-edged models, on procedural CAD parts the
 //! defaults were not tuned on: straight strokes on every flat face, the curvature
 //! direction (around) on cylinders and fillets, no smoothing across creases; and an
 //! organic shape none of the defaults were chosen on keeps a smooth, curvature-following
@@ -74,7 +74,7 @@ fn flat_faces_get_straight_strokes() {
 
 #[test]
 fn the_curvature_only_field_is_not_straight_on_these_parts() {
-    // The test above can fail: the field of issue 11 (no crease cuts, no planar rule)
+    // The test above can fail: the curvature-only field (no crease cuts, no planar rule)
     // bends through the flat faces of every part.
     let old = DirectionSource::Smooth(StrokeFieldOptions::curvature_only());
     for (name, mesh) in parts() {
@@ -226,7 +226,7 @@ fn scans_keep_their_field() {
         let old = stats(&DirectionSource::Smooth(
             StrokeFieldOptions::curvature_only(),
         ));
-        eprintln!("{name}: {new:?}\n  issue 11: {old:?}");
+        eprintln!("{name}: {new:?}\n  curvature-only: {old:?}");
         assert!(
             (new.jump_edge_share - old.jump_edge_share).abs() <= 5e-4,
             "{name}"

@@ -15,7 +15,7 @@
 //! tint code) against the count of `N·H ≥ σ` blobs, both larger than [`MIN_BLOB_PX`],
 //! and the worst stretch `1/cos` of the projected texture on a receiving triangle.
 //!
-//! Shapes, not only pixels (issue 19):
+//! Shapes, not only pixels:
 //! - `overlap_share`: pixels covered by two or more projectors ÷ pixels covered by any
 //!   (a third render, every highlight at opacity 1/4: one layer reads 0.25, two 0.44);
 //! - `cut_boundary_share`: over every highlight's boundary pixels, the share where the

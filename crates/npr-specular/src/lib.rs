@@ -4,7 +4,7 @@
 //!
 //! Implements Hwan-Jik Lee and Jung-Ju Choi, "Stylized Specular Reflections Using
 //! Projective Textures based on Principal Curvature Analysis", Journal of the Korea
-//! Computer Graphics Society (SPEC §2): highlight centres where `N = H` (§3.1, in
+//! Computer Graphics Society (Lee & Choi): highlight centres where `N = H` (§3.1, in
 //! `npr-geometry`), orthographic projectors from the principal frame (Eq. (7)) sized to
 //! the region `N·H ≥ σ` measured on the mesh (default, [`region`]) or by the principal
 //! curvatures (Eq. (8), [`HighlightSizing::Paper`]), user controls (§3.4), visibility by

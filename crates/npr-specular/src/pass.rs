@@ -320,7 +320,7 @@ impl HighlightPass {
     /// The vertex stream without the §4.2 restriction: every face of the mesh is a
     /// receiver of every highlight, so a projector textures all the surface inside its
     /// frustum — the wrong projection of the specular paper's Fig. 5(a), for figures and
-    /// comparisons. Use it with [`HighlightPass::prepare_with_list`].
+    /// comparisons. Pass it as [`HighlightInput::list`].
     pub fn draw_list_unrestricted(set: &HighlightSet, indices: &[u32]) -> Vec<[u32; 2]> {
         let faces = indices.len() / 3;
         let mut out = Vec::with_capacity(faces * 3 * set.highlights().len());

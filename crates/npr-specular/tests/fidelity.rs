@@ -1,4 +1,4 @@
-//! Issue 11: the highlights match the light they stylize. GPU tests of the fidelity
+//! The highlights match the light they stylize. GPU tests of the fidelity
 //! measurement (`npr_specular::fidelity`) at a small resolution, on the sphere and a real
 //! mesh, for the default sizing against the paper's; CPU tests of frame coherence on the
 //! bunny turning and of the §3.4 controls on top of the measured footprints.
@@ -59,7 +59,7 @@ fn highlights_cover_the_region_they_stylize() {
     assert!(ours.stretch_max <= 4.0, "{ours:?}");
 }
 
-/// Issue 19: on a coarse mesh the interpolated normal turns by more across one triangle
+/// On a coarse mesh the interpolated normal turns by more across one triangle
 /// than the smooth falloff's fixed ramp (the cone margin), so the falloff ended within a
 /// few pixels, a hard cut of the texture that §4.2 alone would draw on, and the §3.4
 /// edits lost area to it. The ramp now spans at least the normal's turn across a face.

@@ -1,4 +1,4 @@
-//! `cargo xtask bench curvature`: speed and accuracy of the curvature field (issue 3)
+//! `cargo xtask bench curvature`: speed and accuracy of the curvature field
 //! on analytic meshes, irregular and noisy variants, and the real meshes in
 //! `fixtures/meshes`; a method comparison (paper / clipped / corrected) on the 10k
 //! torus; and the per-frame N = H highlight-centre search.

@@ -7,7 +7,7 @@
 //! pixels cost one comparison) and on an image of the same size inked everywhere
 //! (`cpu_mpix_per_s_all_inked`, the worst case; median and best of 15), with the machine's
 //! load average beside them, since other processes take cores from rayon.
-//! Targets (issue 5): ratio ≤ 1.5, CPU ≥ 20 megapixels per second on 2 cores.
+//! Targets: ratio ≤ 1.5, CPU ≥ 20 megapixels per second on 2 cores.
 //!
 //! Both frames share the 1024² variance shadow map and its two blur passes, which
 //! dominate on a software adapter. So each pass is also timed alone: the VSM (the shadow

@@ -1,5 +1,5 @@
 //! `cargo xtask bench hatching-coherence [--mesh PATH]... [--json PATH]`: does the hatching
-//! move with the surface (issue 14)? The paper's image-space strokes stay on the screen
+//! move with the surface? The paper's image-space strokes stay on the screen
 //! while the surface slides beneath them (the "shower-door" effect its §5 names as a
 //! limit); `npr_hatching::StrokeSpace::Surface` anchors them on the surface.
 //!
@@ -27,7 +27,7 @@
 //! change with the previous frame held still and with it warped by the surface motion
 //! (bilinear): the change neither the screen nor the surface motion explains.
 //! Targets: sliding ≤ 0.25, density_change ≤ 0.25, flicker ≤ 1.5 × the paper mode's
-//! (issue 22: on the CAD parts too, `npr_geometry::generate::cad_parts`).
+//! (on the CAD parts too, `npr_geometry::generate::cad_parts`).
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
@@ -270,7 +270,7 @@ fn default_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
             npr_geometry::load_obj(crate::fixture_mesh(name))?,
         ));
     }
-    // Issue 22: a hard-edged CAD part (flat faces, cylinders, fillets, creases).
+    // a hard-edged CAD part (flat faces, cylinders, fillets, creases).
     out.push(("cad-parts".to_string(), npr_geometry::generate::cad_parts()));
     Ok(out)
 }

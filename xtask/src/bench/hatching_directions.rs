@@ -1,5 +1,5 @@
 //! `cargo xtask bench hatching-directions [--mesh PATH]... [--json PATH]`: how smooth the
-//! hatching stroke directions are and how well they follow curvature (issue 11), for the
+//! hatching stroke directions are and how well they follow curvature, for the
 //! raw principal field (`raw`, `npr_hatching::DirectionSource::Principal`) and the smooth
 //! line field (`smooth`, Knöppel et al. 2013, the default), exactly as the hatching pass
 //! receives them (per render vertex, with the `y × n` fallback).
@@ -15,7 +15,7 @@
 //! `directions_ms` is the CPU wall time of the whole direction computation (curvature
 //! included), on this machine, for scale only.
 //!
-//! Hard edges (issue 22): `jump30_smooth_edge_share` is `jump30_edge_share` over the
+//! Hard edges: `jump30_smooth_edge_share` is `jump30_edge_share` over the
 //! edges whose dihedral angle is below the crease angle (50°, the outlines'), compared
 //! within each face between the render vertices it draws with (a jump at a crease is
 //! correct and not counted); `planar_spread_deg` is, over the planar patches (faces
@@ -25,7 +25,7 @@
 //! every mesh. The procedural CAD parts (`npr_geometry::generate::cad_parts`: a block
 //! with a through-hole, a stepped shaft, a bent bracket) are a default mesh, and a third
 //! field, `smooth-curvature-only` (`StrokeFieldOptions::curvature_only()`, the field
-//! before issue 22), shows what the crease cuts and the planar rule change.
+//! before the hard-edge rules), shows what the crease cuts and the planar rule change.
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;

@@ -1,5 +1,5 @@
 //! `cargo xtask bench specular-fidelity [--mesh PATH]... [--json PATH]`: do the highlights
-//! cover the light they stylize? (issue 11; SPEC §2 Eq. (8) sizes each projector so that
+//! cover the light they stylize? (Lee & Choi Eq. (8) sizes each projector so that
 //! its footprint is the region `N·H ≥ σ`). For each mesh, over 12 views × 2 lights at
 //! 640×480, the GPU renders the `N·H ≥ σ` mask and the projected-highlight mask
 //! (`npr_specular::fidelity`), for the paper's sizing and ours

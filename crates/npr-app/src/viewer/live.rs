@@ -1,4 +1,4 @@
-//! Live warping (SPEC §4) for the window and the browser page alike: reference frames
+//! Live warping (Park & Ihm) for the window and the browser page alike: reference frames
 //! every k frames at the current pose and at the pose the camera is predicted to reach k
 //! frames ahead, warped frames between them.
 

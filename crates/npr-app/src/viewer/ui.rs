@@ -68,7 +68,7 @@ pub fn gbuffer_image(
         .map(|(&t, &theta)| {
             if show_bins {
                 let n = bins.max(1) as usize;
-                // The bin the hatching pass reads (nearest, not floor: issue 19).
+                // The bin the hatching pass reads (nearest, not floor).
                 let b = npr_hatching::nearest_bin(theta, bins) as usize % n;
                 let [r, g, bl] = bin_colour(b, n);
                 let k = t.clamp(0.0, 1.0) * 0.5 + 0.5;

@@ -232,7 +232,7 @@ pub fn directions_sheet(
     Ok(())
 }
 
-/// `hatching-directions-cad.png` (issue 22): the procedural CAD parts
+/// `hatching-directions-cad.png`: the procedural CAD parts
 /// (`npr_geometry::generate::cad_parts`), pen with outlines, the paper's rule (raw
 /// principal directions) beside the default field (cut at creases, straight on flat
 /// faces), turned to show top and side faces.

@@ -29,7 +29,7 @@ use npr_gpu::{Camera, FrameUniforms, GpuMesh, ObjectUniforms, TargetFormats, Ver
 use wgpu::util::DeviceExt;
 
 /// Default frames between re-takes of a surface anchor's reference view
-/// ([`ScenePasses::anchor_period`]). Shorter periods track zoom more closely (the visible
+/// ([`SceneSettings::anchor_period`]). Shorter periods track zoom more closely (the visible
 /// pattern's reference view is on average one period old, so its stroke density lags the
 /// screen scale by one period of zoom) but cross-fade faster. On the benchmark's 2× dolly
 /// over 24 frames, 4 frames keep the stroke density within about 10 % with no more
