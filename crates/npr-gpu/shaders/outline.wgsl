@@ -73,7 +73,8 @@ fn inside(p: vec2<i32>, size: vec2<i32>) -> bool {
 // Whether pixel `p` is an edge pixel: foreground, and next (4-neighbourhood) to the
 // background, to a surface farther by more than the depth ratio, or, at a similar depth,
 // to a normal turned by more than the crease angle while p is not the farther one.
-// Neighbours outside the image are ignored (no line along the frame).
+// Neighbours outside the image are ignored (no line along the frame). CPU twin:
+// `is_edge` in `npr_gpu::outline` (behind `outline_mask_cpu`).
 fn is_edge(p: vec2<i32>, size: vec2<i32>) -> bool {
     if !inside(p, size) {
         return false;

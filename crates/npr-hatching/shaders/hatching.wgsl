@@ -2,7 +2,7 @@
 // Hatching" (실시간 영상 공간 해칭), Journal of the Korea Computer Graphics Society, 2008:
 // Eq. (1) (§3.1), Eq. (2)-(3) (§3.2) and §3.3, in one fragment shader over a full-screen
 // triangle. Each pixel reads only its own tone and direction from the G-buffer.
-// CPU twin: `npr_hatching::CpuHatcher` (crates/npr-hatching/src/reference.rs); the two
+// CPU twin: `npr_hatching::CpuHatcher` (crates/npr-hatching/src/cpu.rs); the two
 // read the same uniform block (`HatchUniforms`) and must stay in step.
 
 struct Hatch {

@@ -129,6 +129,8 @@ impl CpuHatcher {
         t0 + (t1 - t0) * a
     }
 
+    /// Bin `k`'s (cos, sin) over the stroke scale, wrapped into range. Mirrors WGSL
+    /// `bin_cs`.
     #[inline(always)]
     fn bin_cs(&self, k: i32, offset: bool) -> (f32, f32) {
         let b = match self.bins_ext.get(k.wrapping_add(1) as usize) {

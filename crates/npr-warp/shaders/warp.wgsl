@@ -114,7 +114,8 @@ struct Look {
 // (the nearest texel's depth alone would snap the silhouette to the reference's grid).
 // `min_alpha` is the coverage below which the point counts as off the object: 1/2 for
 // aliased references; near 0 with MSAA, where the fragment's sample mask
-// (`coverage_mask`) places the silhouette per sample instead.
+// (`coverage_mask`) places the silhouette per sample instead. CPU twins:
+// `npr_warp::pass::reference_sees` and `reference_empty`.
 fn look(t: vec4<f32>, uv: vec2<f32>, stored_depth: f32, near: f32, far: f32, tolerance: f32, color: vec4<f32>, min_alpha: f32) -> Look {
     var out: Look;
     out.see = false;
