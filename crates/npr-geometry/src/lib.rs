@@ -48,7 +48,6 @@ pub mod highlight;
 pub mod io;
 pub mod locality;
 pub mod mesh;
-pub mod obj;
 pub mod rng;
 pub mod stats;
 pub mod stroke_field;
@@ -61,8 +60,10 @@ pub use highlight::{
     CoherenceStats, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
     SearchCoherence, try_solve_barycentric, try_solve_barycentric_eq6, welded_mesh_normals,
 };
+/// The OBJ entry points at their former path (they live in [`io::obj`]).
+pub use io::obj;
+pub use io::obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
 pub use mesh::Mesh;
-pub use obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
 pub use stroke_field::{
     LineFieldStats, MeshStrokeField, PlanarPatches, RenderFieldStats, StrokeField,
     StrokeFieldOptions, line_angle_deg, planar_direction, planar_patches, planar_spreads_deg,

@@ -25,7 +25,7 @@
 mod error;
 pub mod fixtures;
 mod gltf;
-mod obj;
+pub mod obj;
 mod ply;
 pub mod write;
 
@@ -35,7 +35,6 @@ use std::path::Path;
 use glam::{Vec2, Vec3};
 
 pub use error::LoadError;
-pub(crate) use obj::parse_v;
 
 use crate::Mesh;
 
