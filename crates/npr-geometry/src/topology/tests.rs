@@ -145,11 +145,14 @@ fn assert_same(a: &Topology, b: &Topology, name: &str) {
     assert_eq!(a.face_adj, b.face_adj, "{name}");
 }
 
+/// A named test mesh: its positions and triangles.
+type NamedMesh = (&'static str, Vec<Vec3>, Vec<[u32; 3]>);
+
 /// The odd meshes the build must get right: a jittered, noisy torus with a hole, a
 /// fin, a duplicate face, a flipped face, faces with a repeated vertex and an
 /// out-of-range index and an isolated vertex; the scanned bunny; and a mesh smaller
 /// than the build's chunk count.
-fn odd_meshes() -> Vec<(&'static str, Vec<Vec3>, Vec<[u32; 3]>)> {
+fn odd_meshes() -> Vec<NamedMesh> {
     let mesh = generate::displace_along_normals(
         &generate::torus_jittered(2.0, 0.7, 90, 40, 0.3, 5),
         0.01,
