@@ -76,7 +76,7 @@ pub enum LightEye {
 /// One highlight centre (maximum specular intensity point, §3.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HighlightCentre {
-    /// Triangle holding the point (index into [`Topology::triangles`]).
+    /// Triangle holding the point (index into [`crate::Topology::triangles`]).
     pub face: u32,
     /// Barycentric α of Eq. (4) (weight of the triangle's vertex 1).
     pub alpha: f32,

@@ -57,7 +57,7 @@ impl HighlightSearch {
     ///    normals, up to the same bound (`N(α, β)` with non-negative weights spans exactly
     ///    that cone).
     ///
-    /// Then Eq. (6) and its normalised refinement ([`try_solve_barycentric`]).
+    /// Then Eq. (6) and its normalised refinement ([`crate::highlight::try_solve_barycentric`]).
     pub fn find(&self, light_eye: LightEye, world_from_object: Mat4) -> Vec<HighlightCentre> {
         self.find_with(light_eye, world_from_object, true)
     }
