@@ -75,7 +75,6 @@
 pub mod bins;
 pub mod departures;
 mod error;
-#[cfg(any(test, feature = "test-support"))]
 pub mod metrics;
 pub mod msaa;
 pub mod pass;
@@ -91,7 +90,8 @@ pub use bins::{BinPlan, Culling, DrawKind, Facing, NormalBins, PlanSettings, Ram
 pub use departures::{Departure, Departures};
 pub use error::WarpError;
 #[cfg(any(test, feature = "test-support"))]
-pub use metrics::{Quality, compare, flip_mean};
+pub use metrics::flip_mean;
+pub use metrics::{Quality, compare};
 pub use msaa::{Antialiasing, MsaaTarget};
 pub use pass::{
     ReferencePair, WarpInput, WarpMode, WarpObject, WarpPass, WarpPassSettings, WarpSettings,

@@ -6,11 +6,13 @@
 //! Object pixels: those with alpha > 0 in either image (render with a clear alpha of 0;
 //! every pass of the workspace writes alpha 1), so holes and spills both count.
 //!
-//! [`flip_mean`] is FLIP (P. Andersson, J. Nilsson, T. Akenine-Möller, M. Oskarsson,
-//! K. Åström, M. D. Fairchild, "FLIP: A Difference Evaluator for Alternating Images",
-//! HPG 2020; NVIDIA's library through the `nv-flip` crate, which wgpu's own image tests
-//! use): a perceptual difference in 0..1 per pixel, weighing edges and colour as a viewer
-//! does, so a silhouette that moves scores far above the same energy spread evenly.
+//! PSNR and SSIM are pure Rust and always built: the `npr` binary and the browser report
+//! them. With the `test-support` feature, `flip_mean` is FLIP (P. Andersson, J. Nilsson,
+//! T. Akenine-Möller, M. Oskarsson, K. Åström, M. D. Fairchild, "FLIP: A Difference
+//! Evaluator for Alternating Images", HPG 2020; NVIDIA's C++ library through the `nv-flip`
+//! crate, which wgpu's own image tests use): a perceptual difference in 0..1 per pixel,
+//! weighing edges and colour as a viewer does, so a silhouette that moves scores far above
+//! the same energy spread evenly.
 
 /// PSNR and SSIM of a test image against a reference image over the object's pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,11 +98,13 @@ pub fn compare(reference: &image::RgbaImage, test: &image::RgbaImage) -> Quality
 /// (alpha above 0 in either; transparent pixels count as black, as in [`compare`]), at
 /// `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (67: a 31.6-inch 3840-pixel-wide monitor seen
 /// from 0.7 m). 0 for identical images; `None` for mismatched sizes or no object pixels.
+#[cfg(any(test, feature = "test-support"))]
 pub fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<f64> {
     flip_stats(reference, test).map(|(mean, _)| mean)
 }
 
 /// Mean and largest per-pixel LDR FLIP over the object's pixels (see [`flip_mean`]).
+#[cfg(any(test, feature = "test-support"))]
 pub fn flip_stats(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<(f64, f64)> {
     if reference.dimensions() != test.dimensions() {
         return None;
