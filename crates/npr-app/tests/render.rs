@@ -241,7 +241,11 @@ fn specular_equals_the_library_snapshot_helper() {
         .map(|(a, b)| a.abs_diff(*b))
         .max()
         .unwrap();
-    assert!(worst <= 1, "app and snapshot differ by {worst}/255");
+    assert!(
+        worst <= 1,
+        "app and snapshot differ by {worst}/255; {}",
+        npr_gpu::testing::image_failure("app-highlight-snapshot", &expected, &got)
+    );
     // And the highlights are really there: without them the image differs.
     let mut base_only = preset.clone();
     base_only.effect = Effect::Phong;

@@ -102,6 +102,102 @@ pub fn skipped_count() -> usize {
     SKIPPED.load(Ordering::SeqCst)
 }
 
+/// Where failing image comparisons leave their pictures: `target/test-images/`, found from
+/// the test executable's own path (`target/<profile>/deps/<test>`), so it holds under any
+/// `CARGO_TARGET_DIR`.
+pub fn test_images_dir() -> std::path::PathBuf {
+    let exe = std::env::current_exe().unwrap_or_default();
+    // <target>/<profile>/deps/<exe>, or <target>/<profile>/examples/<exe>.
+    let target = exe
+        .ancestors()
+        .nth(3)
+        .map(std::path::Path::to_path_buf)
+        .unwrap_or_else(std::env::temp_dir);
+    target.join("test-images")
+}
+
+/// Writes the pictures of a failed image comparison, as wgpu's image tests do:
+/// `NAME-expected.png`, `NAME-actual.png` and `NAME-difference.png` (`|a − b|` per RGB
+/// channel, ×4, opaque) under [`test_images_dir`]. Returns one line naming the three paths,
+/// to end the failing assertion's message with; a write error is named in the line instead.
+///
+/// Call it in the message of an assertion (`assert!(ok, "...; {}", image_failure(..))`):
+/// the arguments are evaluated only when the assertion fails.
+pub fn image_failure(name: &str, expected: &image::RgbaImage, actual: &image::RgbaImage) -> String {
+    let dir = test_images_dir();
+    let safe: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let path = |kind: &str| dir.join(format!("{safe}-{kind}.png"));
+    let difference = difference(expected, actual);
+    let written = std::fs::create_dir_all(&dir)
+        .map_err(|e| e.to_string())
+        .and_then(|()| {
+            for (kind, img) in [
+                ("expected", expected),
+                ("actual", actual),
+                ("difference", &difference),
+            ] {
+                img.save(path(kind)).map_err(|e| e.to_string())?;
+            }
+            Ok(())
+        });
+    match written {
+        Ok(()) => format!(
+            "images: {} {} {}",
+            path("expected").display(),
+            path("actual").display(),
+            path("difference").display()
+        ),
+        Err(e) => format!(
+            "the failure images could not be written under {}: {e}",
+            dir.display()
+        ),
+    }
+}
+
+/// `4 × |a − b|` per RGB channel over the overlap of the two images, opaque.
+fn difference(a: &image::RgbaImage, b: &image::RgbaImage) -> image::RgbaImage {
+    let (w, h) = (a.width().min(b.width()), a.height().min(b.height()));
+    image::RgbaImage::from_fn(w, h, |x, y| {
+        let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+        let c = |i: usize| p[i].abs_diff(q[i]).saturating_mul(4);
+        image::Rgba([c(0), c(1), c(2), 255])
+    })
+}
+
+#[cfg(test)]
+mod failure_image_tests {
+    use super::*;
+
+    #[test]
+    fn a_failure_writes_the_three_pictures_and_names_them() {
+        let a = image::RgbaImage::from_pixel(8, 4, image::Rgba([10, 20, 30, 255]));
+        let mut b = a.clone();
+        b.put_pixel(3, 2, image::Rgba([50, 20, 30, 255]));
+        let line = image_failure("npr-gpu self test/one pixel", &a, &b);
+        let dir = test_images_dir();
+        for kind in ["expected", "actual", "difference"] {
+            let p = dir.join(format!("npr-gpu_self_test_one_pixel-{kind}.png"));
+            assert!(line.contains(&p.display().to_string()), "{line}");
+            assert!(p.is_file(), "{} missing", p.display());
+        }
+        let diff = image::open(dir.join("npr-gpu_self_test_one_pixel-difference.png"))
+            .map(|i| i.to_rgba8());
+        let diff = diff.unwrap_or_default();
+        assert_eq!(diff.get_pixel(3, 2).0, [160, 0, 0, 255]);
+        assert_eq!(diff.get_pixel(0, 0).0, [0, 0, 0, 255]);
+        assert!(dir.ends_with("target/test-images") || dir.ends_with("test-images"));
+    }
+}
+
 /// WGSL validation and struct layouts read with naga's reflection, for tests that compare
 /// them with the `#[repr(C)]` Rust structs that fill the buffers.
 ///

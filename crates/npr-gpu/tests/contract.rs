@@ -82,7 +82,11 @@ fn two_poses_of_one_object_in_one_submission_give_two_images() {
             .flat_map(|(a, b)| (0..4).map(move |c| a[c].abs_diff(b[c])))
             .max()
             .unwrap_or(0);
-        assert!(worst <= 1, "a pose drawn with another differs by {worst}");
+        assert!(
+            worst <= 1,
+            "a pose drawn with another differs by {worst}; {}",
+            npr_gpu::testing::image_failure("contract-two-poses", &alone, image)
+        );
     }
 }
 

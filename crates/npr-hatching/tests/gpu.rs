@@ -81,7 +81,8 @@ fn gpu_hatching_equals_cpu_reference() {
             );
             assert!(
                 mean <= 0.25 && frac <= 0.005,
-                "{style:?} {mode:?}: mean {mean}, fraction {frac}"
+                "{style:?} {mode:?}: mean {mean}, fraction {frac}; {}",
+                npr_gpu::testing::image_failure(&format!("hatch-{style:?}-{mode:?}"), &cpu, &gpu)
             );
         }
     }

@@ -178,9 +178,15 @@ fn warp_at_a_reference_pose_reproduces_the_reference() {
     // more than 2/255, PSNR above 38 dB.
     let off = differing_pixels(&reference, &warped, 2);
     eprintln!("pixels off by more than 2: {off} of {}", q.pixels);
-    assert!(off * 500 <= q.pixels, "{off} of {} pixels differ", q.pixels);
-    assert!(q.psnr_db > 38.0, "PSNR {}", q.psnr_db);
-    assert!(q.ssim > 0.998, "SSIM {}", q.ssim);
+    let ok = off * 500 <= q.pixels && q.psnr_db > 38.0 && q.ssim > 0.998;
+    assert!(
+        ok,
+        "{off} of {} pixels differ, PSNR {}, SSIM {}; {}",
+        q.pixels,
+        q.psnr_db,
+        q.ssim,
+        npr_gpu::testing::image_failure("warp-at-reference-pose", &reference, &warped)
+    );
     // The same at the other end of the pair.
     let reference1 = readback_rgba(&ctx.device, &ctx.queue, &r1.color).unwrap();
     let warped1 = rig.warp_image([&r0, &r1], 10.0, 1.0, WarpMode::DepthTested);

@@ -202,7 +202,11 @@ fn msaa_warp_at_a_reference_pose_matches_the_msaa_full_render() {
         let full0 = full(ctx, &gpu, 0.0, aa);
         let reference = readback_rgba(d, q, &warper.references()[0].color).unwrap();
         let same = compare(&full0, &reference);
-        assert!(same.max_abs_diff <= 1, "{aa:?} reference vs full: {same:?}");
+        assert!(
+            same.max_abs_diff <= 1,
+            "{aa:?} reference vs full: {same:?}; {}",
+            npr_gpu::testing::image_failure(&format!("msaa-{aa:?}-reference"), &full0, &reference)
+        );
         // The warp at each reference pose reproduces it.
         for (t, s) in [(0.0, 0.0), (10.0, 1.0)] {
             let pose = path().pose(t).object(0);
