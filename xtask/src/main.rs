@@ -3,6 +3,7 @@
 
 mod bench;
 mod browser;
+mod cargo;
 mod demo;
 mod fixtures;
 mod gallery;

@@ -5,31 +5,10 @@
 //! `embed` example, each writing its PNG to `target/embed/`; then the browser build in
 //! headless Chromium (`cargo xtask web --check`, installing Chromium as root when missing).
 
+use crate::cargo::cargo;
 use crate::{gpu_setup, project_root};
 use anyhow::bail;
-use std::process::Command;
 use std::time::Instant;
-
-/// Runs `cargo ARGS` in the workspace root with `extra_env`, timed; fails on failure.
-pub fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
-    let started = Instant::now();
-    println!("xtask: cargo {}", args.join(" "));
-    let mut cmd = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
-    cmd.args(args).current_dir(project_root());
-    for (k, v) in extra_env {
-        cmd.env(k, v);
-    }
-    let status = cmd.status()?;
-    println!(
-        "xtask: cargo {} finished in {:.1} s",
-        args.first().copied().unwrap_or(""),
-        started.elapsed().as_secs_f64()
-    );
-    if !status.success() {
-        bail!("cargo {} failed ({status})", args.join(" "));
-    }
-    Ok(())
-}
 
 /// The crates whose `examples/embed.rs` (the README's embedding example) the check runs.
 pub const EMBED_CRATES: [&str; 3] = ["npr-specular", "npr-hatching", "npr-warp"];

@@ -9,8 +9,8 @@
 //! 2 cores). Not with `--locked`: the CLI's own lockfile asks for a `webpki-roots`
 //! release some registries do not serve.
 
+use crate::cargo::cargo;
 use crate::project_root;
-use crate::test::cargo;
 use anyhow::{Context, bail};
 use std::collections::BTreeSet;
 use std::io::{BufRead, BufReader, Write};
