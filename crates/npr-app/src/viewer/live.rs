@@ -2,7 +2,7 @@
 //! every k frames at the current pose and at the pose the camera is predicted to reach k
 //! frames ahead, warped frames between them.
 
-use super::state::{CameraPredictor, Pose, ViewerState};
+use super::state::{CameraPredictor, OrbitView, ViewerState};
 use crate::AppError;
 use crate::engine::{FrameStats, Renderer};
 use crate::view::View;
@@ -54,7 +54,7 @@ impl WarpLive {
         frame: u64,
     ) -> Result<FrameStats, AppError> {
         self.predictor
-            .push(frame, Pose::of(&state.preset, state.turntable_deg));
+            .push(frame, OrbitView::of(&state.preset, state.turntable_deg));
         if state.preset.effect == crate::preset::Effect::Warp {
             self.frame(renderer, ctx, state, view, frame)
         } else {
@@ -92,7 +92,7 @@ impl WarpLive {
             let ahead = self
                 .predictor
                 .predict(k as f32)
-                .unwrap_or(Pose::of(preset, state.turntable_deg));
+                .unwrap_or(OrbitView::of(preset, state.turntable_deg));
             let mut future = preset.clone();
             future.camera.yaw_deg = ahead.yaw_deg;
             future.camera.pitch_deg = ahead.pitch_deg;

@@ -214,10 +214,10 @@ fn angle_about(h: &HighlightInfo, p: Vec3) -> f32 {
     d.dot(h.e_min).atan2(d.dot(h.e_max))
 }
 
-/// Camera and model poses for warping: yaw, pitch and distance of the orbit camera, and
-/// the model's turn, per frame.
+/// The orbit camera and the model turn of one frame, for warping: yaw, pitch and distance
+/// of the camera, and the model's turn.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pose {
+pub struct OrbitView {
     /// Camera yaw, degrees.
     pub yaw_deg: f32,
     /// Camera pitch, degrees.
@@ -228,7 +228,7 @@ pub struct Pose {
     pub turn_deg: f32,
 }
 
-impl Pose {
+impl OrbitView {
     /// The pose of a preset with the turntable at `turntable_deg`.
     pub fn of(preset: &Preset, turntable_deg: f32) -> Self {
         Self {
@@ -246,12 +246,12 @@ impl Pose {
 /// orbit or turntable.
 #[derive(Clone, Debug, Default)]
 pub struct CameraPredictor {
-    history: VecDeque<(u64, Pose)>,
+    history: VecDeque<(u64, OrbitView)>,
 }
 
 impl CameraPredictor {
     /// Records the pose of frame `frame`.
-    pub fn push(&mut self, frame: u64, pose: Pose) {
+    pub fn push(&mut self, frame: u64, pose: OrbitView) {
         if self.history.back().is_some_and(|(f, _)| *f >= frame) {
             self.history.clear();
         }
@@ -263,7 +263,7 @@ impl CameraPredictor {
 
     /// The pose `ahead` frames after the last recorded one (the last pose when there is
     /// no motion history).
-    pub fn predict(&self, ahead: f32) -> Option<Pose> {
+    pub fn predict(&self, ahead: f32) -> Option<OrbitView> {
         let (f1, p1) = *self.history.back()?;
         let Some(&(f0, p0)) = self.history.iter().rev().nth(1) else {
             return Some(p1);
@@ -271,7 +271,7 @@ impl CameraPredictor {
         let dt = (f1 - f0) as f32;
         let rate = |a: f32, b: f32| (b - a) / dt;
         let ld = |d: f32| d.max(1e-6).ln();
-        Some(Pose {
+        Some(OrbitView {
             yaw_deg: p1.yaw_deg + rate(p0.yaw_deg, p1.yaw_deg) * ahead,
             pitch_deg: (p1.pitch_deg + rate(p0.pitch_deg, p1.pitch_deg) * ahead).clamp(-85.0, 85.0),
             distance: (ld(p1.distance) + rate(ld(p0.distance), ld(p1.distance)) * ahead).exp(),
@@ -809,7 +809,7 @@ mod tests {
     #[test]
     fn camera_prediction_is_exact_for_steady_orbiting() {
         let mut p = CameraPredictor::default();
-        let pose = |f: f32| Pose {
+        let pose = |f: f32| OrbitView {
             yaw_deg: 10.0 + 1.5 * f,
             pitch_deg: 20.0 - 0.25 * f,
             distance: 3.0 * 1.01f32.powf(f),

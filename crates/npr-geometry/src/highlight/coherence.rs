@@ -99,7 +99,7 @@ impl HighlightSearch {
             state.stats = CoherenceStats::default();
             return Vec::new();
         };
-        let pose = Pose::of(&frame);
+        let pose = Viewpoint::of(&frame);
         let (previous, kept) = (state.pose.take(), state.key.take());
         let mut full = false;
         let key = match kept {
@@ -176,7 +176,7 @@ impl Budget {
 
 /// Light and eye of one frame as the search sees them (object space).
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Pose {
+enum Viewpoint {
     Direction(Vec3),
     Positions {
         light: Vec3,
@@ -186,32 +186,39 @@ enum Pose {
     Other,
 }
 
-impl Pose {
+impl Viewpoint {
     fn of(frame: &FrameSetup) -> Self {
         match frame.kind {
-            FrameKind::Direction(h) => Pose::Direction(h),
-            FrameKind::Positions { light_o, eye_o, .. } if frame.similarity => Pose::Positions {
-                light: light_o,
-                eye: eye_o,
-            },
-            FrameKind::Positions { .. } => Pose::Other,
+            FrameKind::Direction(h) => Viewpoint::Direction(h),
+            FrameKind::Positions { light_o, eye_o, .. } if frame.similarity => {
+                Viewpoint::Positions {
+                    light: light_o,
+                    eye: eye_o,
+                }
+            }
+            FrameKind::Positions { .. } => Viewpoint::Other,
         }
     }
 
     /// The budget of a new key frame: `frames_ahead` times the step from the previous
     /// pose (at least a small floor, so that a still scene keeps its key), `None` where
     /// no watch list can be kept.
-    fn budget(&self, previous: Option<&Pose>, frames_ahead: f32, extent: f32) -> Option<Budget> {
+    fn budget(
+        &self,
+        previous: Option<&Viewpoint>,
+        frames_ahead: f32,
+        extent: f32,
+    ) -> Option<Budget> {
         let k = if frames_ahead.is_finite() {
             frames_ahead.max(0.0)
         } else {
             0.0
         };
         match (self, previous) {
-            (Pose::Other, _) => None,
-            (Pose::Direction(h), previous) => {
+            (Viewpoint::Other, _) => None,
+            (Viewpoint::Direction(h), previous) => {
                 let step = match previous {
-                    Some(Pose::Direction(p)) => angle(*h, *p),
+                    Some(Viewpoint::Direction(p)) => angle(*h, *p),
                     _ => 0.0,
                 };
                 let angle = (k * step).max(1e-4);
@@ -220,9 +227,9 @@ impl Pose {
                     ..Budget::NONE
                 })
             }
-            (Pose::Positions { light, eye }, previous) => {
+            (Viewpoint::Positions { light, eye }, previous) => {
                 let (sl, se) = match previous {
-                    Some(Pose::Positions { light: pl, eye: pe }) => {
+                    Some(Viewpoint::Positions { light: pl, eye: pe }) => {
                         (light.distance(*pl), eye.distance(*pe))
                     }
                     _ => (0.0, 0.0),
@@ -243,7 +250,7 @@ impl Pose {
 /// move, and the vertices that can pass their test meanwhile.
 #[derive(Clone, Debug)]
 struct KeyFrame {
-    pose: Pose,
+    pose: Viewpoint,
     budget: Budget,
     interpolation: NormalInterpolation,
     watch: Vec<u32>,
@@ -252,13 +259,13 @@ struct KeyFrame {
 
 impl KeyFrame {
     /// Whether the watch list still holds every vertex that can pass at `pose`.
-    fn covers(&self, pose: &Pose, interpolation: NormalInterpolation) -> bool {
+    fn covers(&self, pose: &Viewpoint, interpolation: NormalInterpolation) -> bool {
         if !self.valid || interpolation != self.interpolation {
             return false;
         }
         match (self.pose, pose) {
-            (Pose::Direction(k), Pose::Direction(h)) => angle(*h, k) <= self.budget.angle,
-            (Pose::Positions { light: kl, eye: ke }, Pose::Positions { light, eye }) => {
+            (Viewpoint::Direction(k), Viewpoint::Direction(h)) => angle(*h, k) <= self.budget.angle,
+            (Viewpoint::Positions { light: kl, eye: ke }, Viewpoint::Positions { light, eye }) => {
                 light.distance(kl) <= self.budget.light && eye.distance(ke) <= self.budget.eye
             }
             _ => false,
@@ -293,7 +300,7 @@ pub struct SearchCoherence {
     /// 3): larger budgets rebuild less often but watch more vertices.
     pub frames_ahead: f32,
     key: Option<KeyFrame>,
-    pose: Option<Pose>,
+    pose: Option<Viewpoint>,
     /// [`HighlightSearch`]'s id the state belongs to (0: none).
     mesh: u64,
     last_input: Option<(LightEye, Mat4, NormalInterpolation)>,
