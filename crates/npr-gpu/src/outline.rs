@@ -21,7 +21,7 @@
 //! angle (crease); neighbours outside the image are ignored. A pixel is drawn when an edge pixel lies within `(width_px − 1) / 2`
 //! pixels (Euclidean) of it, so widths 1, 3, 5 … draw lines that many pixels across.
 
-use crate::pass::{FrameId, Pass, PassError, PassId, Prepared, Slots};
+use crate::pass::{FrameId, PassError, PassId, Prepared, Slots};
 use crate::render::{self, PipelineBuilder};
 use crate::{Camera, GpuError, GpuMesh, ObjectUniforms, TargetFormats, Vertex, texture_2d};
 use glam::Mat4;
@@ -379,29 +379,7 @@ impl NormalDepthPass {
     }
 }
 
-impl Pass for NormalDepthPass {
-    type Object = OutlineObject;
-    type Input<'a> = NormalDepthInput<'a>;
-    type Error = PassError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut OutlineObject,
-        input: &NormalDepthInput<'_>,
-    ) -> Result<Prepared, PassError> {
-        NormalDepthPass::prepare(self, queue, object, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        object: &OutlineObject,
-        prepared: &Prepared,
-    ) -> Result<(), PassError> {
-        NormalDepthPass::draw(self, pass, object, prepared)
-    }
-}
+crate::impl_pass!(NormalDepthPass, OutlineObject, NormalDepthInput, PassError);
 
 /// The G-buffer the outline pass reads, bound once ([`OutlinePass::create_object`]).
 #[derive(Debug)]
@@ -544,29 +522,7 @@ impl OutlinePass {
     }
 }
 
-impl Pass for OutlinePass {
-    type Object = OutlineSource;
-    type Input<'a> = OutlineInput<'a>;
-    type Error = PassError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        source: &mut OutlineSource,
-        input: &OutlineInput<'_>,
-    ) -> Result<Prepared, PassError> {
-        OutlinePass::prepare(self, queue, source, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        source: &OutlineSource,
-        prepared: &Prepared,
-    ) -> Result<(), PassError> {
-        OutlinePass::draw(self, pass, source, prepared)
-    }
-}
+crate::impl_pass!(OutlinePass, OutlineSource, OutlineInput, PassError);
 
 /// CPU twin of `is_edge` in `outline.wgsl` for a read-back G-buffer (`[nx, ny, nz, depth]`
 /// per pixel, row-major).

@@ -255,6 +255,39 @@ pub trait Pass {
     ) -> Result<(), Self::Error>;
 }
 
+/// Implements [`Pass`] for a pass whose inherent `prepare` and `draw` already have the
+/// trait's shape, by forwarding to them:
+/// `npr_gpu::impl_pass!(HighlightPass, HighlightObject, HighlightInput, SpecularError);`.
+/// The input type takes one lifetime (`HighlightInput<'a>`).
+#[macro_export]
+macro_rules! impl_pass {
+    ($pass:ty, $object:ty, $input:ident, $error:ty) => {
+        impl $crate::Pass for $pass {
+            type Object = $object;
+            type Input<'a> = $input<'a>;
+            type Error = $error;
+
+            fn prepare(
+                &self,
+                queue: &$crate::wgpu::Queue,
+                object: &mut $object,
+                input: &$input<'_>,
+            ) -> ::core::result::Result<$crate::Prepared, $error> {
+                <$pass>::prepare(self, queue, object, input)
+            }
+
+            fn draw(
+                &self,
+                pass: &mut $crate::wgpu::RenderPass<'_>,
+                object: &$object,
+                prepared: &$crate::Prepared,
+            ) -> ::core::result::Result<(), $error> {
+                <$pass>::draw(self, pass, object, prepared)
+            }
+        }
+    };
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

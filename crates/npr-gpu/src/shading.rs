@@ -3,7 +3,7 @@
 //! (Lake, Marshall, Harris, Blackstein, "Stylized Rendering Techniques for Scalable
 //! Real-Time 3D Animation", NPAR 2000). WGSL: `shaders/base_shading.wgsl`.
 
-use crate::pass::{FrameId, Pass, PassError, PassId, Prepared, Slots};
+use crate::pass::{FrameId, PassError, PassId, Prepared, Slots};
 use crate::render::{self, PipelineBuilder};
 use crate::{FrameUniforms, GpuMesh, ObjectUniforms, TargetFormats, Vertex, shaders};
 use wgpu::util::DeviceExt;
@@ -337,26 +337,4 @@ impl BaseShading {
     }
 }
 
-impl Pass for BaseShading {
-    type Object = BaseObject;
-    type Input<'a> = BaseInput<'a>;
-    type Error = PassError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut BaseObject,
-        input: &BaseInput<'_>,
-    ) -> Result<Prepared, PassError> {
-        BaseShading::prepare(self, queue, object, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        object: &BaseObject,
-        prepared: &Prepared,
-    ) -> Result<(), PassError> {
-        BaseShading::draw(self, pass, object, prepared)
-    }
-}
+crate::impl_pass!(BaseShading, BaseObject, BaseInput, PassError);

@@ -531,29 +531,7 @@ impl HatchPass {
     }
 }
 
-impl npr_gpu::Pass for HatchPass {
-    type Object = HatchSource;
-    type Input<'a> = HatchInput<'a>;
-    type Error = HatchError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        source: &mut HatchSource,
-        input: &HatchInput<'_>,
-    ) -> Result<Prepared, HatchError> {
-        HatchPass::prepare(self, queue, source, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        source: &HatchSource,
-        prepared: &Prepared,
-    ) -> Result<(), HatchError> {
-        HatchPass::draw(self, pass, source, prepared)
-    }
-}
+npr_gpu::impl_pass!(HatchPass, HatchSource, HatchInput, HatchError);
 
 /// One compiled form of the hatching shader: its pipeline-overridable constants (see
 /// `shaders/hatching.wgsl`) and whether it draws at the far plane against a depth buffer.

@@ -515,29 +515,12 @@ impl HighlightPass {
     }
 }
 
-impl npr_gpu::Pass for HighlightPass {
-    type Object = HighlightObject;
-    type Input<'a> = HighlightInput<'a>;
-    type Error = SpecularError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut HighlightObject,
-        input: &HighlightInput<'_>,
-    ) -> Result<Prepared, SpecularError> {
-        HighlightPass::prepare(self, queue, object, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        object: &HighlightObject,
-        prepared: &Prepared,
-    ) -> Result<(), SpecularError> {
-        HighlightPass::draw(self, pass, object, prepared)
-    }
-}
+npr_gpu::impl_pass!(
+    HighlightPass,
+    HighlightObject,
+    HighlightInput,
+    SpecularError
+);
 
 /// The set's normals (at its abstraction scale) where they fit the mesh, else zero: the
 /// shader then falls back to the mesh's own.

@@ -647,29 +647,7 @@ impl WarpPass {
     }
 }
 
-impl npr_gpu::Pass for WarpPass {
-    type Object = WarpObject;
-    type Input<'a> = WarpInput<'a>;
-    type Error = WarpError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut WarpObject,
-        input: &WarpInput<'_>,
-    ) -> Result<Prepared, WarpError> {
-        WarpPass::prepare(self, queue, object, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        object: &WarpObject,
-        prepared: &Prepared,
-    ) -> Result<(), WarpError> {
-        WarpPass::draw(self, pass, object, prepared)
-    }
-}
+npr_gpu::impl_pass!(WarpPass, WarpObject, WarpInput, WarpError);
 
 /// The `WarpObject` uniforms of `now` warped from `pair`.
 fn warp_uniforms(

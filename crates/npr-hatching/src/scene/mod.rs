@@ -577,29 +577,7 @@ impl ScenePasses {
     }
 }
 
-impl npr_gpu::Pass for ScenePasses {
-    type Object = HatchObject;
-    type Input<'a> = SceneInput<'a>;
-    type Error = HatchError;
-
-    fn prepare(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut HatchObject,
-        input: &SceneInput<'_>,
-    ) -> Result<Prepared, HatchError> {
-        ScenePasses::prepare(self, queue, object, input)
-    }
-
-    fn draw(
-        &self,
-        pass: &mut wgpu::RenderPass<'_>,
-        object: &HatchObject,
-        prepared: &Prepared,
-    ) -> Result<(), HatchError> {
-        ScenePasses::draw(self, pass, object, prepared)
-    }
-}
+npr_gpu::impl_pass!(ScenePasses, HatchObject, SceneInput, HatchError);
 
 /// The `Scene` uniforms of a light, shadow map settings and viewport.
 fn scene_uniforms(light: &ShadowLight, vsm: &VsmSettings, viewport: (u32, u32)) -> SceneUniforms {
