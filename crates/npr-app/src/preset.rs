@@ -431,7 +431,7 @@ impl Default for HatchingPreset {
 }
 
 /// Which warping path (npr-warp's `Departures`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum WarpMode {
     /// Ours: the paper's path plus every measured departure.

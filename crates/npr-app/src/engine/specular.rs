@@ -1,0 +1,179 @@
+//! The stylized highlights (Lee & Choi) in the engine: the highlight set, specialised by
+//! its curvature smoothing and abstraction, and the highlight pass, specialised by its
+//! texture shape. A new shape keeps the set (and its tracked highlights); new smoothing
+//! keeps the pass.
+
+use super::FrameStats;
+use super::inputs::{anchor_reach, apply_controls, builtin_shape};
+use super::specialized::Specialized;
+use crate::AppError;
+use crate::model::Model;
+use crate::preset::Preset;
+use crate::view::View;
+use npr_geometry::{CurvatureOptions, CurvatureRadius};
+use npr_gpu::{FrameId, FrameUniforms, GpuMesh, ObjectUniforms, Prepared, TargetFormats};
+use npr_specular::{HighlightObject, HighlightPass, HighlightSet, HighlightShape};
+// std's `Instant::now()` panics in the browser (wasm32-unknown-unknown has no clock).
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
+
+/// What the highlight set is built for: the curvature smoothing (edge lengths) and the
+/// abstraction scale, as bit patterns so that the key hashes.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct SetKey {
+    smoothing_edges: u32,
+    abstraction: u32,
+}
+
+impl SetKey {
+    fn of(preset: &Preset) -> Self {
+        Self {
+            smoothing_edges: preset.specular.smoothing_edges.to_bits(),
+            abstraction: preset.specular.abstraction.to_bits(),
+        }
+    }
+}
+
+/// The highlight pass of one texture shape (a built-in name or a PNG path), the model's
+/// object in it and the shape's texture layer.
+struct ShapePass {
+    pass: HighlightPass,
+    object: HighlightObject,
+    layer: u32,
+}
+
+/// The highlight set and pass (see the module docs).
+#[derive(Default)]
+pub(crate) struct SpecularEffect {
+    set: Specialized<SetKey, HighlightSet>,
+    shape: Specialized<String, ShapePass>,
+}
+
+impl SpecularEffect {
+    /// The highlight set, once a specular frame has been prepared.
+    pub(crate) fn set(&self) -> Option<&HighlightSet> {
+        self.set.get()
+    }
+
+    /// Forgets highlight tracking (the next frame starts a new sequence).
+    pub(crate) fn reset(&mut self) {
+        if let Some(set) = self.set.get_mut() {
+            set.reset();
+        }
+    }
+
+    /// Drops everything (a new model).
+    pub(crate) fn clear(&mut self) {
+        self.set.clear();
+        self.shape.clear();
+    }
+
+    /// Updates the highlights for `view` (the CPU setup: the `N = H` search, matching,
+    /// regions, visibility; timed into `stats`) and writes this draw's per-frame data.
+    ///
+    /// # Errors
+    /// A highlight texture that cannot be loaded, or a mesh the set cannot use.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn prepare(
+        &mut self,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        (model, mesh): (&Model, &GpuMesh),
+        preset: &Preset,
+        view: &View,
+        (frame, uniforms, object): (FrameId, &FrameUniforms, &ObjectUniforms),
+        stats: &mut FrameStats,
+    ) -> Result<Prepared, AppError> {
+        let sp = &preset.specular;
+        let shape = self.shape.get_or_build(&sp.shape, |shape| {
+            ShapePass::new(device, queue, mesh, shape)
+        })?;
+        let set = self.set.get_or_build(&SetKey::of(preset), |_| {
+            HighlightSet::with_abstraction(
+                &model.mesh,
+                &CurvatureOptions {
+                    radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
+                    ..CurvatureOptions::default()
+                },
+                sp.abstraction,
+            )
+        })?;
+        let started = Instant::now();
+        if set.highlights().is_empty() && sp.edits.iter().any(|e| e.anchor.is_some()) {
+            // A fresh sequence: find the highlights once so that anchored edits can be
+            // matched to their ids. Updating again with the same light and eye matches
+            // every highlight to itself (same ids, full opacity), now with the edits
+            // applied.
+            set.update(view.light_eye(), view.world_from_object);
+        }
+        apply_controls(set, preset, shape.layer, anchor_reach(&model.framing));
+        set.update(view.light_eye(), view.world_from_object);
+        stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
+        let st = set.stats();
+        stats.highlights = st.highlights;
+        stats.receiver_faces = st.receiver_faces;
+        let input = npr_specular::HighlightInput {
+            frame,
+            indices: &model.mesh.indices,
+            set,
+            view: uniforms,
+            object,
+            list: None,
+        };
+        Ok(shape.pass.prepare(queue, &mut shape.object, &input)?)
+    }
+
+    /// Draws the highlights prepared as `prepared`.
+    ///
+    /// # Errors
+    /// A [`npr_gpu::PassError`] for a stale ticket.
+    pub(crate) fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        prepared: &Prepared,
+    ) -> Result<(), AppError> {
+        if let Some(shape) = self.shape.get() {
+            shape.pass.draw(pass, &shape.object, prepared)?;
+        }
+        Ok(())
+    }
+}
+
+impl ShapePass {
+    /// The pass for a built-in shape name, or for a PNG (then an extra layer after the
+    /// built-in ones, at 128 × 128).
+    fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: &GpuMesh,
+        shape: &str,
+    ) -> Result<Self, AppError> {
+        let formats = TargetFormats::default();
+        let (pass, layer) = if let Some(builtin) = builtin_shape(shape) {
+            let pass = HighlightPass::new(device, queue, formats, &Default::default())?;
+            (pass, builtin.layer())
+        } else {
+            let size = 128;
+            let mut layers = npr_specular::textures::builtin_set(size);
+            let mut normal: Vec<bool> = HighlightShape::ALL
+                .iter()
+                .map(|s| s.is_normal_map())
+                .collect();
+            layers.push(npr_specular::textures::load_png(
+                std::path::Path::new(shape),
+                size,
+            )?);
+            normal.push(false);
+            let layer = (layers.len() - 1) as u32;
+            let pass = HighlightPass::with_textures(device, queue, formats, &layers, &normal)?;
+            (pass, layer)
+        };
+        let object = pass.create_object(device, mesh);
+        Ok(Self {
+            pass,
+            object,
+            layer,
+        })
+    }
+}
