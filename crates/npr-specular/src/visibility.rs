@@ -87,6 +87,17 @@ impl From<f32> for Facing<'_> {
 }
 
 impl Facing<'_> {
+    /// Sine and cosine of the interpolated test's limit angle (clamped to 0..π/2); (0, 1)
+    /// for the fixed cosine.
+    fn limit_sin_cos(&self) -> (f32, f32) {
+        match self {
+            Facing::Interpolated { limit_rad, .. } => {
+                limit_rad.clamp(0.0, std::f32::consts::FRAC_PI_2).sin_cos()
+            }
+            Facing::Cos(_) => (0.0, 1.0),
+        }
+    }
+
     /// The cosine every face passing this test exceeds at the least (for whole patches,
     /// a conservative bound).
     fn strict_cos(&self) -> f32 {
@@ -247,12 +258,7 @@ fn receivers_impl(
     out: &mut Vec<u32>,
 ) -> usize {
     let min_cos = facing.strict_cos();
-    let limit = match facing {
-        Facing::Interpolated { limit_rad, .. } => {
-            limit_rad.clamp(0.0, std::f32::consts::FRAC_PI_2).sin_cos()
-        }
-        Facing::Cos(_) => (0.0, 1.0),
-    };
+    let limit = facing.limit_sin_cos();
     let faces = topology.face_count();
     if start_face as usize >= faces {
         return 0;
@@ -260,35 +266,23 @@ fn receivers_impl(
     let cluster_count = clusters.map_or(0, |c| c.clusters.len());
     let generation = scratch.begin(faces, topology.vertex_count(), cluster_count);
     // N_world · N_max = (M⁻ᵀ n) · N_max = n · (M⁻¹ N_max): test in object space.
-    let linear = Mat3::from_mat4(world_from_object);
-    let n_max_object = linear.inverse() * projector.normal;
-    let normal_from_object = linear.inverse().transpose();
-    let ndc_from_object = projector.clip_from_world * world_from_object;
-    if !n_max_object.is_finite() || !ndc_from_object.is_finite() {
+    let Some((n_max_object, normal_from_object, ndc_from_object)) =
+        object_space(world_from_object, projector)
+    else {
         return 0;
-    }
+    };
     // The projector is orthographic (Eq. (7)): an affine map needs no division by w.
     let affine = ndc_from_object.row(3) == glam::Vec4::W;
     // |M⁻ᵀ n| for a unit face normal n is the same for every face under a similarity
     // (rotation, uniform scale, translation): the facing test's right side is constant.
-    let cols = [
-        normal_from_object.x_axis,
-        normal_from_object.y_axis,
-        normal_from_object.z_axis,
-    ];
-    let k = cols[0].length();
-    let similar = cols.iter().all(|c| (c.length() - k).abs() <= 1e-6 * k)
-        && cols[0].dot(cols[1]).abs() <= 1e-6 * k * k
-        && cols[1].dot(cols[2]).abs() <= 1e-6 * k * k
-        && cols[2].dot(cols[0]).abs() <= 1e-6 * k * k;
+    let k = normal_from_object.x_axis.length();
+    let similar = is_similarity(normal_from_object);
     let facing_floor = similar.then_some(min_cos * k);
     let before = out.len();
     // A translated projector (§3.4) may not cover the centre's own face: the walk
     // crosses the box spanning both the frustum and the untranslated centre, and only
     // faces touching the frustum itself are received.
-    let anchor = projector.ndc(projector.anchor_world);
-    let walk_lo = FRUSTUM_LO.min(anchor.with_z(0.0));
-    let walk_hi = FRUSTUM_HI.max(anchor.with_z(1.0));
+    let (walk_lo, walk_hi) = walk_box(projector);
     // `None`: not crossed; `Some(received)`: crossed, and received or not.
     let VisibilityScratch {
         stamp,
@@ -302,41 +296,13 @@ fn receivers_impl(
     // projector, and only when a typical patch is small against the frustum's width
     // (under 0.3 of its half width: else few are inside it and the checks cost more than
     // they save; on the bunny they would, on the 1.1M knot they save a third).
-    let linear_ndc = Mat3::from_mat4(ndc_from_object);
-    let row_len = Vec3::new(
-        linear_ndc.row(0).length(),
-        linear_ndc.row(1).length(),
-        linear_ndc.row(2).length(),
-    );
+    let patches = PatchTest::new(ndc_from_object, n_max_object, min_cos, facing_floor);
     let take_runs = clusters.filter(|c| {
-        affine && facing_floor.is_some() && c.median_radius * row_len.x.max(row_len.y) < 0.3
+        affine
+            && facing_floor.is_some()
+            && c.median_radius * patches.row_len.x.max(patches.row_len.y) < 0.3
     });
-    let floor = if min_cos > 0.0 {
-        facing_floor.unwrap_or(f32::INFINITY)
-    } else {
-        0.0
-    };
-    let m_len = n_max_object.length();
-    // Whether run `c` is received whole: every face facing (the run's normal cone against
-    // N_max) and the bounding sphere inside the frustum (an affine map takes it into a
-    // box of half extents radius·|row|).
-    let whole = |c: &FaceCluster| -> bool {
-        if !c.usable {
-            return false;
-        }
-        let theta = c
-            .axis
-            .cross(n_max_object)
-            .length()
-            .atan2(c.axis.dot(n_max_object));
-        let worst = theta + c.spread;
-        if worst >= std::f32::consts::PI || m_len * worst.cos() <= floor + RUN_MARGIN * m_len {
-            return false;
-        }
-        let q = ndc_from_object.transform_point3(c.centre);
-        let e = row_len * c.radius + Vec3::splat(RUN_MARGIN);
-        q.is_finite() && (q - e).cmpge(FRUSTUM_LO).all() && (q + e).cmple(FRUSTUM_HI).all()
-    };
+    let whole = |c: &FaceCluster| patches.whole(c);
     let mut visit = |f: usize| -> Option<bool> {
         // cos = (M⁻ᵀ n)·N_max / |M⁻ᵀ n| = n·(M⁻¹ N_max) / |M⁻ᵀ n|.
         let n = topology.face_normals[f];
@@ -374,34 +340,172 @@ fn receivers_impl(
         overlaps_box(q, walk_lo, walk_hi).then(|| overlaps_frustum(q))
     };
     stamp[start_face as usize] = generation;
-    match visit(start_face as usize) {
-        None => return 0,
-        Some(received) => {
-            if received {
-                out.push(start_face);
+    let Some(received) = visit(start_face as usize) else {
+        return 0;
+    };
+    if received {
+        out.push(start_face);
+    }
+    match take_runs {
+        None => walk_faces(
+            topology,
+            start_face,
+            generation,
+            (stamp, queue),
+            out,
+            &mut visit,
+        ),
+        Some(runs) => walk_patches(
+            topology,
+            runs,
+            start_face,
+            (generation, stamp, cluster_stamp, runs_taken),
+            queue,
+            out,
+            (&mut visit, &whole),
+        ),
+    }
+    out.len() - before
+}
+
+/// N_max in object space (`M⁻¹ N_max`), the normal map `M⁻ᵀ` and the projector's map from
+/// object space; `None` when the model matrix is singular.
+fn object_space(world_from_object: Mat4, projector: &Projector) -> Option<(Vec3, Mat3, Mat4)> {
+    let linear = Mat3::from_mat4(world_from_object);
+    let n_max_object = linear.inverse() * projector.normal;
+    let normal_from_object = linear.inverse().transpose();
+    let ndc_from_object = projector.clip_from_world * world_from_object;
+    (n_max_object.is_finite() && ndc_from_object.is_finite()).then_some((
+        n_max_object,
+        normal_from_object,
+        ndc_from_object,
+    ))
+}
+
+/// The box the walk crosses, in projector coordinates: the frustum and the untranslated
+/// centre.
+fn walk_box(projector: &Projector) -> (Vec3, Vec3) {
+    let anchor = projector.ndc(projector.anchor_world);
+    (
+        FRUSTUM_LO.min(anchor.with_z(0.0)),
+        FRUSTUM_HI.max(anchor.with_z(1.0)),
+    )
+}
+
+/// Whether the linear map `m` is a similarity (equal column lengths, orthogonal
+/// columns): then `|m n|` is the same for every unit `n`.
+fn is_similarity(m: Mat3) -> bool {
+    let cols = [m.x_axis, m.y_axis, m.z_axis];
+    let k = cols[0].length();
+    cols.iter().all(|c| (c.length() - k).abs() <= 1e-6 * k)
+        && cols[0].dot(cols[1]).abs() <= 1e-6 * k * k
+        && cols[1].dot(cols[2]).abs() <= 1e-6 * k * k
+        && cols[2].dot(cols[0]).abs() <= 1e-6 * k * k
+}
+
+/// The test that takes a patch of faces as received whole (see [`walk_patches`]).
+struct PatchTest {
+    ndc_from_object: Mat4,
+    n_max_object: Vec3,
+    m_len: f32,
+    /// The facing test's right side (under a similarity), 0 when only the sign counts.
+    floor: f32,
+    /// Lengths of the rows of the linear part of `ndc_from_object`: an affine map takes
+    /// a sphere of radius r into a box of half extents r·|row|.
+    row_len: Vec3,
+}
+
+impl PatchTest {
+    fn new(
+        ndc_from_object: Mat4,
+        n_max_object: Vec3,
+        min_cos: f32,
+        facing_floor: Option<f32>,
+    ) -> Self {
+        let linear_ndc = Mat3::from_mat4(ndc_from_object);
+        Self {
+            ndc_from_object,
+            n_max_object,
+            m_len: n_max_object.length(),
+            floor: if min_cos > 0.0 {
+                facing_floor.unwrap_or(f32::INFINITY)
+            } else {
+                0.0
+            },
+            row_len: Vec3::new(
+                linear_ndc.row(0).length(),
+                linear_ndc.row(1).length(),
+                linear_ndc.row(2).length(),
+            ),
+        }
+    }
+
+    /// Whether run `c` is received whole: every face facing (the run's normal cone
+    /// against N_max) and the bounding sphere inside the frustum.
+    fn whole(&self, c: &FaceCluster) -> bool {
+        if !c.usable {
+            return false;
+        }
+        let theta = c
+            .axis
+            .cross(self.n_max_object)
+            .length()
+            .atan2(c.axis.dot(self.n_max_object));
+        let worst = theta + c.spread;
+        if worst >= std::f32::consts::PI
+            || self.m_len * worst.cos() <= self.floor + RUN_MARGIN * self.m_len
+        {
+            return false;
+        }
+        let q = self.ndc_from_object.transform_point3(c.centre);
+        let e = self.row_len * c.radius + Vec3::splat(RUN_MARGIN);
+        q.is_finite() && (q - e).cmpge(FRUSTUM_LO).all() && (q + e).cmple(FRUSTUM_HI).all()
+    }
+}
+
+/// The receivers' walk face by face (§4.2): breadth first from the start face over
+/// neighbours that `visit` crosses; a face is stamped when it is queued.
+fn walk_faces(
+    topology: &Topology,
+    start_face: u32,
+    generation: u32,
+    (stamp, queue): (&mut [u32], &mut VecDeque<u32>),
+    out: &mut Vec<u32>,
+    visit: &mut impl FnMut(usize) -> Option<bool>,
+) {
+    // Face by face: a face is stamped when it is queued.
+    queue.push_back(start_face);
+    while let Some(f) = queue.pop_front() {
+        for &g in topology.face_neighbours(f as usize) {
+            let gi = g as usize;
+            if stamp[gi] == generation {
+                continue;
+            }
+            stamp[gi] = generation;
+            if let Some(received) = visit(gi) {
+                if received {
+                    out.push(g);
+                }
+                queue.push_back(g);
             }
         }
     }
-    let Some(runs) = take_runs else {
-        // Face by face: a face is stamped when it is queued.
-        queue.push_back(start_face);
-        while let Some(f) = queue.pop_front() {
-            for &g in topology.face_neighbours(f as usize) {
-                let gi = g as usize;
-                if stamp[gi] == generation {
-                    continue;
-                }
-                stamp[gi] = generation;
-                if let Some(received) = visit(gi) {
-                    if received {
-                        out.push(g);
-                    }
-                    queue.push_back(g);
-                }
-            }
-        }
-        return out.len() - before;
-    };
+}
+
+/// The receivers' walk over whole patches where `whole` says a patch is received entire,
+/// face by face elsewhere (the same faces as [`walk_faces`], fewer tests).
+fn walk_patches(
+    topology: &Topology,
+    runs: &FaceClusters,
+    start_face: u32,
+    (generation, stamp, cluster_stamp, runs_taken): (u32, &mut [u32], &mut [u32], &mut usize),
+    queue: &mut VecDeque<u32>,
+    out: &mut Vec<u32>,
+    (visit, whole): (
+        &mut impl FnMut(usize) -> Option<bool>,
+        &impl Fn(&FaceCluster) -> bool,
+    ),
+) {
     // With patches the queue holds faces to consider (stamped when considered): a face's
     // whole patch when it can be taken at once, else the face itself.
     queue.extend(topology.face_neighbours(start_face as usize));
@@ -441,7 +545,6 @@ fn receivers_impl(
             queue.extend(topology.face_neighbours(gi));
         }
     }
-    out.len() - before
 }
 
 /// Faces per patch of [`FaceClusters`] (at most). 16 rather than 64: a projector's frustum
