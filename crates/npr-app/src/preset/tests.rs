@@ -64,8 +64,7 @@ fn every_direction_source_is_reachable_from_a_preset() {
 
 #[test]
 fn partial_files_keep_defaults_and_typos_are_errors() {
-    let p =
-        Preset::from_toml("effect = \"cel\"\n[hatching]\nbins = 14\n", Path::new("a")).unwrap();
+    let p = Preset::from_toml("effect = \"cel\"\n[hatching]\nbins = 14\n", Path::new("a")).unwrap();
     assert_eq!(p.effect, Effect::Cel);
     assert_eq!(p.hatching.bins, 14);
     assert_eq!(p.camera, CameraPreset::default());

@@ -390,6 +390,110 @@ impl App {
         write_json(path, &report)
     }
 
+    /// Draws egui's output over the window's next surface texture and presents it (a
+    /// surface that changed under us is reconfigured, and the frame is skipped).
+    fn present(gfx: &mut Gfx, full: egui::FullOutput) {
+        let frame = match gfx.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                // The surface changed under us (resize, compositor restart): reconfigure
+                // and draw the next frame.
+                let size = gfx.window.inner_size();
+                Self::resize_surface(gfx, (size.width, size.height));
+                return;
+            }
+            _ => return,
+        };
+        let target = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [gfx.config.width, gfx.config.height],
+            pixels_per_point: full.pixels_per_point,
+        };
+        let jobs = gfx.egui_ctx.tessellate(full.shapes, full.pixels_per_point);
+        for (id, deltas) in &full.textures_delta.set {
+            for delta in deltas {
+                gfx.egui_renderer
+                    .update_texture(&gfx.ctx.device, &gfx.ctx.queue, *id, delta);
+            }
+        }
+        let mut encoder = gfx
+            .ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("npr view egui"),
+            });
+        let extra = gfx.egui_renderer.update_buffers(
+            &gfx.ctx.device,
+            &gfx.ctx.queue,
+            &mut encoder,
+            &jobs,
+            &screen,
+        );
+        {
+            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("npr view egui"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            gfx.egui_renderer
+                .render(&mut pass.forget_lifetime(), &jobs, &screen);
+        }
+        let submitted = gfx
+            .ctx
+            .queue
+            .submit(extra.into_iter().chain(Some(encoder.finish())));
+        gfx.throttle(submitted);
+        gfx.window.pre_present_notify();
+        gfx.ctx.queue.present(frame);
+        for id in &full.textures_delta.free {
+            gfx.egui_renderer.free_texture(id);
+        }
+    }
+
+    /// Refreshes the tone or bins debug picture from the hatching G-buffer when that view
+    /// is on.
+    fn update_debug_texture(
+        gfx: &mut Gfx,
+        state: &ViewerState,
+        debug: &ui::Debug,
+        debug_texture: &mut Option<egui::TextureHandle>,
+    ) {
+        if matches!(debug.image, ui::DebugImage::Tone | ui::DebugImage::Bins)
+            && state.preset.effect.is_hatching()
+            && let Ok(Some(inputs)) = gfx.renderer.hatch_inputs(&gfx.ctx.device, &gfx.ctx.queue)
+        {
+            let image = ui::gbuffer_image(
+                &inputs,
+                state.preset.hatching.bins,
+                debug.image == ui::DebugImage::Bins,
+            );
+            match debug_texture {
+                Some(t) => t.set(image, egui::TextureOptions::NEAREST),
+                None => {
+                    *debug_texture = Some(gfx.egui_ctx.load_texture(
+                        "npr-debug",
+                        image,
+                        egui::TextureOptions::NEAREST,
+                    ));
+                }
+            }
+        }
+    }
+
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<(), AppError> {
         self.run_script(event_loop);
         if self.result.is_err() {
@@ -482,28 +586,7 @@ impl App {
             Ok(stats) => self.stats = stats,
             Err(e) => self.status = Some(format!("error: {e}")),
         }
-        if matches!(
-            self.debug.image,
-            ui::DebugImage::Tone | ui::DebugImage::Bins
-        ) && self.state.preset.effect.is_hatching()
-            && let Ok(Some(inputs)) = gfx.renderer.hatch_inputs(&gfx.ctx.device, &gfx.ctx.queue)
-        {
-            let image = ui::gbuffer_image(
-                &inputs,
-                self.state.preset.hatching.bins,
-                self.debug.image == ui::DebugImage::Bins,
-            );
-            match &mut self.debug_texture {
-                Some(t) => t.set(image, egui::TextureOptions::NEAREST),
-                None => {
-                    self.debug_texture = Some(gfx.egui_ctx.load_texture(
-                        "npr-debug",
-                        image,
-                        egui::TextureOptions::NEAREST,
-                    ));
-                }
-            }
-        }
+        Self::update_debug_texture(gfx, &self.state, &self.debug, &mut self.debug_texture);
         gfx.highlights = gfx
             .renderer
             .highlight_set()
@@ -512,79 +595,7 @@ impl App {
             .unwrap_or_default();
 
         // egui over the window.
-        let frame = match gfx.surface.get_current_texture() {
-            wgpu::CurrentSurfaceTexture::Success(f)
-            | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
-            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
-                // The surface changed under us (resize, compositor restart): reconfigure
-                // and draw the next frame.
-                let size = gfx.window.inner_size();
-                Self::resize_surface(gfx, (size.width, size.height));
-                self.frame += 1;
-                return Ok(());
-            }
-            _ => {
-                self.frame += 1;
-                return Ok(());
-            }
-        };
-        let target = frame
-            .texture
-            .create_view(&wgpu::TextureViewDescriptor::default());
-        let screen = egui_wgpu::ScreenDescriptor {
-            size_in_pixels: [gfx.config.width, gfx.config.height],
-            pixels_per_point: full.pixels_per_point,
-        };
-        let jobs = gfx.egui_ctx.tessellate(full.shapes, full.pixels_per_point);
-        for (id, deltas) in &full.textures_delta.set {
-            for delta in deltas {
-                gfx.egui_renderer
-                    .update_texture(&gfx.ctx.device, &gfx.ctx.queue, *id, delta);
-            }
-        }
-        let mut encoder = gfx
-            .ctx
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("npr view egui"),
-            });
-        let extra = gfx.egui_renderer.update_buffers(
-            &gfx.ctx.device,
-            &gfx.ctx.queue,
-            &mut encoder,
-            &jobs,
-            &screen,
-        );
-        {
-            let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("npr view egui"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            gfx.egui_renderer
-                .render(&mut pass.forget_lifetime(), &jobs, &screen);
-        }
-        let submitted = gfx
-            .ctx
-            .queue
-            .submit(extra.into_iter().chain(Some(encoder.finish())));
-        gfx.throttle(submitted);
-        gfx.window.pre_present_notify();
-        gfx.ctx.queue.present(frame);
-        for id in &full.textures_delta.free {
-            gfx.egui_renderer.free_texture(id);
-        }
+        Self::present(gfx, full);
         self.frame += 1;
         if self.args.exit_after_frames.is_some_and(|n| self.frame >= n) {
             event_loop.exit();

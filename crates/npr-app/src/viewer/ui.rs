@@ -4,7 +4,9 @@
 use super::state::{Button, HighlightInfo, Input, Key, ViewerState};
 use crate::engine::{FrameStats, Renderer};
 use crate::model::Model;
-use crate::preset::{BaseModel, BlendPreset, BoundaryPreset, DirectionPreset, Effect, UpPreset};
+use crate::preset::{
+    BaseModel, BlendPreset, BoundaryPreset, DirectionPreset, Effect, Preset, UpPreset,
+};
 use egui::{Color32, Pos2, Sense, Stroke};
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;
@@ -150,256 +152,353 @@ pub fn panel(
         .default_size(300.0)
         .show(ui, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
-                ui.heading(&model.name);
-                ui.label(format!(
-                    "{} triangles, {} vertices",
-                    model.mesh.triangle_count(),
-                    model.mesh.vertex_count()
-                ));
-                for note in &model.notes {
-                    ui.small(note);
-                }
-                if let Some(s) = status {
-                    let color = if s.starts_with("error") {
-                        Color32::from_rgb(220, 60, 60)
-                    } else {
-                        Color32::GRAY
-                    };
-                    ui.colored_label(color, s);
-                }
+                model_header(ui, model, status);
                 ui.separator();
+                effect_row(ui, state);
+                let selected = state.selected;
                 let p = &mut state.preset;
-                egui::ComboBox::from_label("effect")
-                    .selected_text(p.effect.name())
-                    .show_ui(ui, |ui| {
-                        for e in Effect::ALL {
-                            ui.selectable_value(&mut p.effect, e, e.name());
-                        }
-                    });
-                ui.horizontal(|ui| {
-                    ui.checkbox(&mut state.turntable, "turntable (T)");
-                    if ui.button("reset view (R)").clicked() {
-                        p.camera = state.initial.camera;
-                        p.light = state.initial.light;
-                        p.turn_deg = state.initial.turn_deg;
-                        state.turntable_deg = 0.0;
-                    }
-                });
-                egui::CollapsingHeader::new("camera and light").show(ui, |ui| {
-                    ui.add(egui::Slider::new(&mut p.camera.yaw_deg, -180.0..=180.0).text("yaw"));
-                    ui.add(egui::Slider::new(&mut p.camera.pitch_deg, -85.0..=85.0).text("pitch"));
-                    ui.add(
-                        egui::Slider::new(&mut p.camera.distance, 1.05..=20.0)
-                            .logarithmic(true)
-                            .text("distance"),
-                    );
-                    ui.add(egui::Slider::new(&mut p.camera.fov_deg, 10.0..=90.0).text("fov"));
-                    let d = Vec3::from(p.light.direction).normalize_or(Vec3::Y);
-                    let (mut yaw, mut pitch) = (d.x.atan2(d.z).to_degrees(), d.y.asin().to_degrees());
-                    let a = ui.add(egui::Slider::new(&mut yaw, -180.0..=180.0).text("light yaw"));
-                    let b = ui.add(egui::Slider::new(&mut pitch, -89.0..=89.0).text("light pitch"));
-                    if a.changed() || b.changed() {
-                        let (y, q) = (yaw.to_radians(), pitch.to_radians());
-                        p.light.direction = [y.sin() * q.cos(), q.sin(), y.cos() * q.cos()];
-                    }
-                    ui.small("Ctrl-drag in the view also moves the light.");
-                });
-                egui::CollapsingHeader::new("base shading")
-                    .default_open(true)
-                    .show(ui, |ui| {
-                        ui.horizontal(|ui| {
-                            for (m, n) in [
-                                (BaseModel::Phong, "Phong"),
-                                (BaseModel::Gouraud, "Gouraud"),
-                                (BaseModel::Cel, "cel"),
-                            ] {
-                                ui.radio_value(&mut p.base.model, m, n);
-                            }
-                        });
-                        rgb(ui, "diffuse", &mut p.base.diffuse);
-                        rgb(ui, "background", &mut p.base.background);
-                        ui.add(egui::Slider::new(&mut p.base.ks, 0.0..=1.0).text("k_s"));
-                        ui.add(
-                            egui::Slider::new(&mut p.base.shininess, 1.0..=256.0)
-                                .logarithmic(true)
-                                .text("shininess"),
-                        );
-                        let mut bands = p.base.cel_bands.len();
-                        if ui
-                            .add(egui::Slider::new(&mut bands, 2..=6).text("cel bands"))
-                            .changed()
-                        {
-                            p.base.cel_bands = (0..bands)
-                                .map(|i| (70 + 185 * i / (bands - 1).max(1)) as u8)
-                                .collect();
-                        }
-                    });
-                egui::CollapsingHeader::new("specular (Lee & Choi)")
-                    .default_open(p.effect == Effect::Specular)
-                    .show(ui, |ui| {
-                        ui.add(egui::Slider::new(&mut p.specular.sigma, 0.5..=0.99).text("σ"));
-                        egui::ComboBox::from_label("shape")
-                            .selected_text(p.specular.shape.clone())
-                            .show_ui(ui, |ui| {
-                                for s in npr_specular::HighlightShape::ALL {
-                                    ui.selectable_value(&mut p.specular.shape, s.name().to_string(), s.name());
-                                }
-                            });
-                        if let Some(png) = path_field(ui, "shape", "use PNG") {
-                            p.specular.shape = png.display().to_string();
-                        }
-                        ui.horizontal(|ui| {
-                            ui.label("up");
-                            ui.radio_value(&mut p.specular.up, UpPreset::EMin, "e_min");
-                            ui.radio_value(&mut p.specular.up, UpPreset::EMax, "e_max");
-                        });
-                        ui.add(
-                            egui::Slider::new(&mut p.specular.smoothing_edges, 1.0..=12.0)
-                                .text("curvature smoothing (edges)"),
-                        );
-                        ui.add(
-                            egui::Slider::new(&mut p.specular.abstraction, 0.0..=crate::preset::MAX_ABSTRACTION)
-                                .text("abstraction (× radius)"),
-                        );
-                        ui.horizontal(|ui| {
-                            ui.label("edges");
-                            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::Smooth, "smooth");
-                            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::PerFace, "per face");
-                        });
-                        ui.add(egui::Slider::new(&mut p.specular.base_ks, 0.0..=1.0).text("base k_s"));
-                        if let Some(id) = state.selected {
-                            ui.label(format!("selected highlight #{id}"));
-                            if let Some(e) = p.specular.edits.iter_mut().find(|e| e.id == id) {
-                                ui.add(egui::Slider::new(&mut e.rotate_deg, -180.0..=180.0).text("rotate"));
-                                ui.add(egui::Slider::new(&mut e.scale[0], 0.05..=10.0).logarithmic(true).text("scale e_max"));
-                                ui.add(egui::Slider::new(&mut e.scale[1], 0.05..=10.0).logarithmic(true).text("scale e_min"));
-                            }
-                        } else {
-                            ui.small("Click a highlight to pick it; drag moves it, Shift-drag turns it, the wheel scales it.");
-                        }
-                        if !p.specular.edits.is_empty() && ui.button("clear edits").clicked() {
-                            p.specular.edits.clear();
-                        }
-                        if ui.button("restart tracking").clicked() {
-                            actions.reset_sequence = true;
-                        }
-                    });
-                egui::CollapsingHeader::new("hatching (Kim & Lee)")
-                    .default_open(p.effect.is_hatching())
-                    .show(ui, |ui| {
-                        ui.horizontal(|ui| {
-                            ui.radio_value(&mut p.effect, Effect::HatchingPen, "pen");
-                            ui.radio_value(&mut p.effect, Effect::HatchingPencil, "pencil");
-                        });
-                        ui.add(
-                            egui::Slider::new(
-                                &mut p.hatching.bins,
-                                npr_hatching::MIN_BINS..=npr_hatching::MAX_BINS,
-                            )
-                            .text("bins"),
-                        );
-                        ui.add(
-                            egui::Slider::new(&mut p.hatching.stroke_scale, 0.25..=4.0)
-                                .logarithmic(true)
-                                .text("stroke scale"),
-                        );
-                        ui.horizontal(|ui| {
-                            ui.radio_value(&mut p.hatching.blend, BlendPreset::CutAndPaste, "cut");
-                            ui.radio_value(&mut p.hatching.blend, BlendPreset::Blended, "blended");
-                            ui.radio_value(&mut p.hatching.blend, BlendPreset::Offset, "offset");
-                        });
-                        ui.checkbox(&mut p.hatching.shadows, "shadows");
-                        ui.horizontal(|ui| {
-                            ui.label("strokes");
-                            ui.radio_value(&mut p.hatching.space, crate::preset::SpacePreset::Surface, "move with the surface");
-                            ui.radio_value(&mut p.hatching.space, crate::preset::SpacePreset::Screen, "screen (paper)");
-                        });
-                        ui.horizontal(|ui| {
-                            ui.label("direction");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::Smooth, "smooth");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::SmoothCurvatureOnly, "smooth, no crease/flat rule");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMax, "raw k_max");
-                            ui.radio_value(&mut p.hatching.direction, DirectionPreset::KMin, "raw k_min");
-                        });
-                    });
-                egui::CollapsingHeader::new("warp (Park & Ihm)")
-                    .default_open(p.effect == Effect::Warp)
-                    .show(ui, |ui| {
-                        ui.add(egui::Slider::new(&mut p.warp.k, 1..=30).text("k"));
-                        ui.add(
-                            egui::Slider::new(&mut p.warp.proxy_ratio, 0.001..=1.0)
-                                .logarithmic(true)
-                                .text("proxy ratio"),
-                        );
-                        ui.horizontal(|ui| {
-                            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Ours, "ours");
-                            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Paper, "paper's path");
-                        });
-                        ui.add_enabled(
-                            p.warp.mode == crate::preset::WarpMode::Ours,
-                            egui::Checkbox::new(&mut p.warp.depth_test, "reference depth test"),
-                        );
-                        ui.horizontal(|ui| {
-                            use crate::preset::WarpAntialiasing as Aa;
-                            ui.label("antialiasing");
-                            ui.radio_value(&mut p.warp.antialiasing, Aa::None, "none");
-                            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4, "msaa4");
-                            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4Blend, "msaa4-blend");
-                        });
-                        ui.small("References every k frames, at the camera predicted k frames ahead; turn the turntable on to see warping. Full frames (and the full render the PSNR compares with) use the warp's antialiasing.");
-                    });
-                egui::CollapsingHeader::new("outlines").show(ui, |ui| {
-                    ui.checkbox(&mut p.outline.enabled, "silhouettes and creases");
-                    ui.add(egui::Slider::new(&mut p.outline.width_px, 1.0..=15.0).text("width (px)"));
-                    ui.add(egui::Slider::new(&mut p.outline.crease_deg, 1.0..=179.0).text("crease angle"));
-                    rgb(ui, "colour", &mut p.outline.color);
-                });
-                egui::CollapsingHeader::new("debug views").show(ui, |ui| {
-                    ui.radio_value(&mut debug.image, DebugImage::Shaded, "the effect");
-                    ui.radio_value(&mut debug.image, DebugImage::Curvature, "mean curvature as colour");
-                    let hatching = p.effect.is_hatching();
-                    ui.add_enabled_ui(hatching, |ui| {
-                        ui.radio_value(&mut debug.image, DebugImage::Tone, "tone (hatching)");
-                        ui.radio_value(&mut debug.image, DebugImage::Bins, "direction bins (hatching)");
-                    });
-                    ui.checkbox(&mut debug.frusta, "highlight frusta");
-                    ui.checkbox(&mut debug.directions, "principal directions");
-                });
+                camera_light_section(ui, p);
+                base_shading_section(ui, p);
+                specular_section(ui, p, selected, &mut actions);
+                hatching_section(ui, p);
+                warp_section(ui, p);
+                outlines_section(ui, p);
+                debug_views_section(ui, p.effect, debug);
                 ui.separator();
-                if let Some(p) = path_field(ui, "open", "open model") {
-                    actions.open_model = Some(p);
-                }
-                if let Some(p) = path_field(ui, "save", "save preset") {
-                    actions.save_preset = Some(p);
-                }
-                if let Some(p) = path_field(ui, "load", "load preset") {
-                    actions.load_preset = Some(p);
-                }
-                if let Some(p) = path_field(ui, "shot", "screenshot") {
-                    actions.screenshot = Some(p);
-                }
+                file_actions(ui, &mut actions);
                 ui.separator();
-                ui.small(format!(
-                    "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} triangles",
-                    stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
-                ));
-                if state.preset.effect == Effect::Warp {
-                    let fps = |ms: f64| if ms > 0.0 { 1e3 / ms } else { 0.0 };
-                    ui.small(format!(
-                        "warp: full frames {:.0} fps ({:.1} ms), warped {:.0} fps ({:.1} ms)",
-                        fps(warp.full_ms),
-                        warp.full_ms,
-                        fps(warp.warped_ms),
-                        warp.warped_ms,
-                    ));
-                    match stats.psnr_db {
-                        Some(psnr) => ui.small(format!("last measured warped frame: PSNR {psnr:.1} dB")),
-                        None => ui.small("PSNR: measured half-way between references"),
-                    };
-                }
+                frame_lines(ui, state, stats, warp, frame_ms);
             });
         });
     actions
+}
+
+/// The model's name, size and notes, and the last status line (red for an error).
+fn model_header(ui: &mut egui::Ui, model: &Model, status: Option<&str>) {
+    ui.heading(&model.name);
+    ui.label(format!(
+        "{} triangles, {} vertices",
+        model.mesh.triangle_count(),
+        model.mesh.vertex_count()
+    ));
+    for note in &model.notes {
+        ui.small(note);
+    }
+    if let Some(s) = status {
+        let color = if s.starts_with("error") {
+            Color32::from_rgb(220, 60, 60)
+        } else {
+            Color32::GRAY
+        };
+        ui.colored_label(color, s);
+    }
+    ui.separator();
+}
+
+/// The effect menu, the turntable switch and the view reset.
+fn effect_row(ui: &mut egui::Ui, state: &mut ViewerState) {
+    let p = &mut state.preset;
+    egui::ComboBox::from_label("effect")
+        .selected_text(p.effect.name())
+        .show_ui(ui, |ui| {
+            for e in Effect::ALL {
+                ui.selectable_value(&mut p.effect, e, e.name());
+            }
+        });
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut state.turntable, "turntable (T)");
+        if ui.button("reset view (R)").clicked() {
+            p.camera = state.initial.camera;
+            p.light = state.initial.light;
+            p.turn_deg = state.initial.turn_deg;
+            state.turntable_deg = 0.0;
+        }
+    });
+}
+
+/// The panel's section on camera and light: the orbit camera and the light direction.
+fn camera_light_section(ui: &mut egui::Ui, p: &mut Preset) {
+    egui::CollapsingHeader::new("camera and light").show(ui, |ui| {
+        ui.add(egui::Slider::new(&mut p.camera.yaw_deg, -180.0..=180.0).text("yaw"));
+        ui.add(egui::Slider::new(&mut p.camera.pitch_deg, -85.0..=85.0).text("pitch"));
+        ui.add(
+            egui::Slider::new(&mut p.camera.distance, 1.05..=20.0)
+                .logarithmic(true)
+                .text("distance"),
+        );
+        ui.add(egui::Slider::new(&mut p.camera.fov_deg, 10.0..=90.0).text("fov"));
+        let d = Vec3::from(p.light.direction).normalize_or(Vec3::Y);
+        let (mut yaw, mut pitch) = (d.x.atan2(d.z).to_degrees(), d.y.asin().to_degrees());
+        let a = ui.add(egui::Slider::new(&mut yaw, -180.0..=180.0).text("light yaw"));
+        let b = ui.add(egui::Slider::new(&mut pitch, -89.0..=89.0).text("light pitch"));
+        if a.changed() || b.changed() {
+            let (y, q) = (yaw.to_radians(), pitch.to_radians());
+            p.light.direction = [y.sin() * q.cos(), q.sin(), y.cos() * q.cos()];
+        }
+        ui.small("Ctrl-drag in the view also moves the light.");
+    });
+}
+
+/// The panel's section on base shading: model, material, cel bands.
+fn base_shading_section(ui: &mut egui::Ui, p: &mut Preset) {
+    egui::CollapsingHeader::new("base shading")
+        .default_open(true)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                for (m, n) in [
+                    (BaseModel::Phong, "Phong"),
+                    (BaseModel::Gouraud, "Gouraud"),
+                    (BaseModel::Cel, "cel"),
+                ] {
+                    ui.radio_value(&mut p.base.model, m, n);
+                }
+            });
+            rgb(ui, "diffuse", &mut p.base.diffuse);
+            rgb(ui, "background", &mut p.base.background);
+            ui.add(egui::Slider::new(&mut p.base.ks, 0.0..=1.0).text("k_s"));
+            ui.add(
+                egui::Slider::new(&mut p.base.shininess, 1.0..=256.0)
+                    .logarithmic(true)
+                    .text("shininess"),
+            );
+            let mut bands = p.base.cel_bands.len();
+            if ui
+                .add(egui::Slider::new(&mut bands, 2..=6).text("cel bands"))
+                .changed()
+            {
+                p.base.cel_bands = (0..bands)
+                    .map(|i| (70 + 185 * i / (bands - 1).max(1)) as u8)
+                    .collect();
+            }
+        });
+}
+
+/// The panel's section on the highlights (Lee & Choi): projector controls and the selected highlight's edit.
+fn specular_section(
+    ui: &mut egui::Ui,
+    p: &mut Preset,
+    selected: Option<u64>,
+    actions: &mut Actions,
+) {
+    egui::CollapsingHeader::new("specular (Lee & Choi)")
+    .default_open(p.effect == Effect::Specular)
+    .show(ui, |ui| {
+        ui.add(egui::Slider::new(&mut p.specular.sigma, 0.5..=0.99).text("σ"));
+        egui::ComboBox::from_label("shape")
+            .selected_text(p.specular.shape.clone())
+            .show_ui(ui, |ui| {
+                for s in npr_specular::HighlightShape::ALL {
+                    ui.selectable_value(&mut p.specular.shape, s.name().to_string(), s.name());
+                }
+            });
+        if let Some(png) = path_field(ui, "shape", "use PNG") {
+            p.specular.shape = png.display().to_string();
+        }
+        ui.horizontal(|ui| {
+            ui.label("up");
+            ui.radio_value(&mut p.specular.up, UpPreset::EMin, "e_min");
+            ui.radio_value(&mut p.specular.up, UpPreset::EMax, "e_max");
+        });
+        ui.add(
+            egui::Slider::new(&mut p.specular.smoothing_edges, 1.0..=12.0)
+                .text("curvature smoothing (edges)"),
+        );
+        ui.add(
+            egui::Slider::new(&mut p.specular.abstraction, 0.0..=crate::preset::MAX_ABSTRACTION)
+                .text("abstraction (× radius)"),
+        );
+        ui.horizontal(|ui| {
+            ui.label("edges");
+            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::Smooth, "smooth");
+            ui.radio_value(&mut p.specular.boundary, BoundaryPreset::PerFace, "per face");
+        });
+        ui.add(egui::Slider::new(&mut p.specular.base_ks, 0.0..=1.0).text("base k_s"));
+        if let Some(id) = selected {
+            ui.label(format!("selected highlight #{id}"));
+            if let Some(e) = p.specular.edits.iter_mut().find(|e| e.id == id) {
+                ui.add(egui::Slider::new(&mut e.rotate_deg, -180.0..=180.0).text("rotate"));
+                ui.add(egui::Slider::new(&mut e.scale[0], 0.05..=10.0).logarithmic(true).text("scale e_max"));
+                ui.add(egui::Slider::new(&mut e.scale[1], 0.05..=10.0).logarithmic(true).text("scale e_min"));
+            }
+        } else {
+            ui.small("Click a highlight to pick it; drag moves it, Shift-drag turns it, the wheel scales it.");
+        }
+        if !p.specular.edits.is_empty() && ui.button("clear edits").clicked() {
+            p.specular.edits.clear();
+        }
+        if ui.button("restart tracking").clicked() {
+            actions.reset_sequence = true;
+        }
+    });
+}
+
+/// The panel's section on hatching (Kim & Lee): map, bins, blending, shadows, stroke space and directions.
+fn hatching_section(ui: &mut egui::Ui, p: &mut Preset) {
+    egui::CollapsingHeader::new("hatching (Kim & Lee)")
+        .default_open(p.effect.is_hatching())
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut p.effect, Effect::HatchingPen, "pen");
+                ui.radio_value(&mut p.effect, Effect::HatchingPencil, "pencil");
+            });
+            ui.add(
+                egui::Slider::new(
+                    &mut p.hatching.bins,
+                    npr_hatching::MIN_BINS..=npr_hatching::MAX_BINS,
+                )
+                .text("bins"),
+            );
+            ui.add(
+                egui::Slider::new(&mut p.hatching.stroke_scale, 0.25..=4.0)
+                    .logarithmic(true)
+                    .text("stroke scale"),
+            );
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut p.hatching.blend, BlendPreset::CutAndPaste, "cut");
+                ui.radio_value(&mut p.hatching.blend, BlendPreset::Blended, "blended");
+                ui.radio_value(&mut p.hatching.blend, BlendPreset::Offset, "offset");
+            });
+            ui.checkbox(&mut p.hatching.shadows, "shadows");
+            ui.horizontal(|ui| {
+                ui.label("strokes");
+                ui.radio_value(
+                    &mut p.hatching.space,
+                    crate::preset::SpacePreset::Surface,
+                    "move with the surface",
+                );
+                ui.radio_value(
+                    &mut p.hatching.space,
+                    crate::preset::SpacePreset::Screen,
+                    "screen (paper)",
+                );
+            });
+            ui.horizontal(|ui| {
+                ui.label("direction");
+                ui.radio_value(&mut p.hatching.direction, DirectionPreset::Smooth, "smooth");
+                ui.radio_value(
+                    &mut p.hatching.direction,
+                    DirectionPreset::SmoothCurvatureOnly,
+                    "smooth, no crease/flat rule",
+                );
+                ui.radio_value(
+                    &mut p.hatching.direction,
+                    DirectionPreset::KMax,
+                    "raw k_max",
+                );
+                ui.radio_value(
+                    &mut p.hatching.direction,
+                    DirectionPreset::KMin,
+                    "raw k_min",
+                );
+            });
+        });
+}
+
+/// The panel's section on warping (Park & Ihm): interval, proxy, path, antialiasing.
+fn warp_section(ui: &mut egui::Ui, p: &mut Preset) {
+    egui::CollapsingHeader::new("warp (Park & Ihm)")
+    .default_open(p.effect == Effect::Warp)
+    .show(ui, |ui| {
+        ui.add(egui::Slider::new(&mut p.warp.k, 1..=30).text("k"));
+        ui.add(
+            egui::Slider::new(&mut p.warp.proxy_ratio, 0.001..=1.0)
+                .logarithmic(true)
+                .text("proxy ratio"),
+        );
+        ui.horizontal(|ui| {
+            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Ours, "ours");
+            ui.radio_value(&mut p.warp.mode, crate::preset::WarpMode::Paper, "paper's path");
+        });
+        ui.add_enabled(
+            p.warp.mode == crate::preset::WarpMode::Ours,
+            egui::Checkbox::new(&mut p.warp.depth_test, "reference depth test"),
+        );
+        ui.horizontal(|ui| {
+            use crate::preset::WarpAntialiasing as Aa;
+            ui.label("antialiasing");
+            ui.radio_value(&mut p.warp.antialiasing, Aa::None, "none");
+            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4, "msaa4");
+            ui.radio_value(&mut p.warp.antialiasing, Aa::Msaa4Blend, "msaa4-blend");
+        });
+        ui.small("References every k frames, at the camera predicted k frames ahead; turn the turntable on to see warping. Full frames (and the full render the PSNR compares with) use the warp's antialiasing.");
+    });
+}
+
+/// The panel's section on outlines: on/off, width, crease angle, colour.
+fn outlines_section(ui: &mut egui::Ui, p: &mut Preset) {
+    egui::CollapsingHeader::new("outlines").show(ui, |ui| {
+        ui.checkbox(&mut p.outline.enabled, "silhouettes and creases");
+        ui.add(egui::Slider::new(&mut p.outline.width_px, 1.0..=15.0).text("width (px)"));
+        ui.add(egui::Slider::new(&mut p.outline.crease_deg, 1.0..=179.0).text("crease angle"));
+        rgb(ui, "colour", &mut p.outline.color);
+    });
+}
+
+/// The panel's section on the debug views.
+fn debug_views_section(ui: &mut egui::Ui, effect: Effect, debug: &mut Debug) {
+    egui::CollapsingHeader::new("debug views").show(ui, |ui| {
+        ui.radio_value(&mut debug.image, DebugImage::Shaded, "the effect");
+        ui.radio_value(
+            &mut debug.image,
+            DebugImage::Curvature,
+            "mean curvature as colour",
+        );
+        let hatching = effect.is_hatching();
+        ui.add_enabled_ui(hatching, |ui| {
+            ui.radio_value(&mut debug.image, DebugImage::Tone, "tone (hatching)");
+            ui.radio_value(
+                &mut debug.image,
+                DebugImage::Bins,
+                "direction bins (hatching)",
+            );
+        });
+        ui.checkbox(&mut debug.frusta, "highlight frusta");
+        ui.checkbox(&mut debug.directions, "principal directions");
+    });
+}
+
+/// The file fields: open a model, save or load a preset, take a screenshot.
+fn file_actions(ui: &mut egui::Ui, actions: &mut Actions) {
+    if let Some(p) = path_field(ui, "open", "open model") {
+        actions.open_model = Some(p);
+    }
+    if let Some(p) = path_field(ui, "save", "save preset") {
+        actions.save_preset = Some(p);
+    }
+    if let Some(p) = path_field(ui, "load", "load preset") {
+        actions.load_preset = Some(p);
+    }
+    if let Some(p) = path_field(ui, "shot", "screenshot") {
+        actions.screenshot = Some(p);
+    }
+}
+
+/// The frame's timing and statistics, and the warp's rates and PSNR.
+fn frame_lines(
+    ui: &mut egui::Ui,
+    state: &ViewerState,
+    stats: &FrameStats,
+    warp: &super::live::WarpLive,
+    frame_ms: f64,
+) {
+    ui.small(format!(
+        "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} triangles",
+        stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
+    ));
+    if state.preset.effect == Effect::Warp {
+        let fps = |ms: f64| if ms > 0.0 { 1e3 / ms } else { 0.0 };
+        ui.small(format!(
+            "warp: full frames {:.0} fps ({:.1} ms), warped {:.0} fps ({:.1} ms)",
+            fps(warp.full_ms),
+            warp.full_ms,
+            fps(warp.warped_ms),
+            warp.warped_ms,
+        ));
+        match stats.psnr_db {
+            Some(psnr) => ui.small(format!("last measured warped frame: PSNR {psnr:.1} dB")),
+            None => ui.small("PSNR: measured half-way between references"),
+        };
+    }
 }
 
 fn to_pos(rect: egui::Rect, ppp: f32, px: Vec2) -> Pos2 {
@@ -438,70 +537,7 @@ pub fn central(
                 .sense(Sense::click_and_drag()),
         );
         let rect = resp.rect;
-        let to_px = |p: Pos2| Vec2::new((p.x - rect.min.x) * ppp, (p.y - rect.min.y) * ppp);
-        let keyboard_free = !ui.ctx().egui_wants_keyboard_input();
-        let events = ui.input(|i| i.events.clone());
-        for ev in events {
-            match ev {
-                egui::Event::PointerButton {
-                    pos,
-                    button,
-                    pressed,
-                    modifiers,
-                } => {
-                    if pressed && rect.contains(pos) {
-                        let button = match button {
-                            egui::PointerButton::Primary if modifiers.shift => Button::ShiftLeft,
-                            egui::PointerButton::Primary if modifiers.ctrl || modifiers.command => {
-                                Button::CtrlLeft
-                            }
-                            egui::PointerButton::Primary => Button::Left,
-                            _ => Button::Right,
-                        };
-                        inputs.push(Input::Press {
-                            at: to_px(pos),
-                            button,
-                        });
-                    } else if !pressed {
-                        inputs.push(Input::Release { at: to_px(pos) });
-                    }
-                }
-                egui::Event::PointerMoved(pos) => inputs.push(Input::Move { at: to_px(pos) }),
-                egui::Event::MouseWheel { delta, unit, .. } if resp.hovered() => {
-                    let notches = match unit {
-                        egui::MouseWheelUnit::Point => delta.y / 50.0,
-                        _ => delta.y,
-                    };
-                    if let Some(p) = ui.input(|i| i.pointer.hover_pos()) {
-                        inputs.push(Input::Scroll {
-                            at: to_px(p),
-                            notches,
-                        });
-                    }
-                }
-                egui::Event::Key {
-                    key, pressed: true, ..
-                } if keyboard_free => {
-                    let name = match key {
-                        egui::Key::T => "t",
-                        egui::Key::R => "r",
-                        egui::Key::Escape => "escape",
-                        egui::Key::Num1 => "1",
-                        egui::Key::Num2 => "2",
-                        egui::Key::Num3 => "3",
-                        egui::Key::Num4 => "4",
-                        egui::Key::Num5 => "5",
-                        egui::Key::Num6 => "6",
-                        egui::Key::Num7 => "7",
-                        _ => "",
-                    };
-                    if let Some(k) = Key::from_name(name) {
-                        inputs.push(Input::Key(k));
-                    }
-                }
-                _ => {}
-            }
-        }
+        push_inputs(ui, &resp, ppp, inputs);
         // Overlays.
         let painter = ui.painter_at(rect);
         let view = state.view(&renderer.model().framing, size);
@@ -511,59 +547,12 @@ pub fn central(
             painter.add(curvature_mesh(renderer.model(), h, &view, size, rect, ppp));
         }
         for h in highlights {
-            let selected = state.selected == Some(h.id);
-            if !(debug.frusta || selected) {
-                continue;
-            }
-            let v = h.normal.cross(h.axis_u);
-            let pts: Vec<Pos2> = (0..=32)
-                .filter_map(|i| {
-                    let a = i as f32 / 32.0 * std::f32::consts::TAU;
-                    proj(
-                        h.centre_world
-                            + h.axis_u * h.half_extent.x * a.cos()
-                            + v * h.half_extent.y * a.sin(),
-                    )
-                })
-                .collect();
-            let color = if selected {
-                Color32::from_rgb(255, 160, 0)
-            } else {
-                Color32::from_rgb(0, 160, 255)
-            };
-            painter.add(egui::Shape::line(pts, Stroke::new(1.5, color)));
-            if let (Some(c), Some(u)) = (
-                proj(h.centre_world),
-                proj(h.centre_world + h.axis_u * h.half_extent.x),
-            ) {
-                painter.line_segment([c, u], Stroke::new(1.5, color));
+            if debug.frusta || state.selected == Some(h.id) {
+                draw_frustum(&painter, h, state.selected == Some(h.id), &proj);
             }
         }
         if debug.directions {
-            let mesh = &renderer.model().mesh;
-            let step = (mesh.vertex_count() / 3000).max(1);
-            let len = 0.03;
-            let dirs = renderer
-                .cached_directions(DirectionPreset::KMax)
-                .unwrap_or(&[]);
-            for (i, (p, d)) in mesh.positions.iter().zip(dirs).enumerate().step_by(step) {
-                let n = view
-                    .world_from_object
-                    .transform_vector3(mesh.normals[i])
-                    .normalize_or_zero();
-                let pw = view.world_from_object.transform_point3(*p);
-                if n.dot(view.camera.eye - pw) <= 0.0 {
-                    continue;
-                }
-                let dw = view
-                    .world_from_object
-                    .transform_vector3(*d)
-                    .normalize_or_zero()
-                    * len;
-                if let (Some(a), Some(b)) = (proj(pw - dw), proj(pw + dw)) {
-                    painter.line_segment([a, b], Stroke::new(1.0, Color32::from_rgb(200, 40, 40)));
-                }
-            }
+            draw_directions(&painter, renderer, &view, &proj);
         }
         painter.text(
             rect.left_top() + egui::vec2(6.0, 4.0),
@@ -574,6 +563,141 @@ pub fn central(
         );
     });
     want
+}
+
+/// Turns this frame's pointer, wheel and key events over the view `resp` into [`Input`]s.
+fn push_inputs(ui: &egui::Ui, resp: &egui::Response, ppp: f32, inputs: &mut Vec<Input>) {
+    let rect = resp.rect;
+    let to_px = |p: Pos2| Vec2::new((p.x - rect.min.x) * ppp, (p.y - rect.min.y) * ppp);
+    let keyboard_free = !ui.ctx().egui_wants_keyboard_input();
+    let events = ui.input(|i| i.events.clone());
+    for ev in events {
+        match ev {
+            egui::Event::PointerButton {
+                pos,
+                button,
+                pressed,
+                modifiers,
+            } => {
+                if pressed && rect.contains(pos) {
+                    let button = match button {
+                        egui::PointerButton::Primary if modifiers.shift => Button::ShiftLeft,
+                        egui::PointerButton::Primary if modifiers.ctrl || modifiers.command => {
+                            Button::CtrlLeft
+                        }
+                        egui::PointerButton::Primary => Button::Left,
+                        _ => Button::Right,
+                    };
+                    inputs.push(Input::Press {
+                        at: to_px(pos),
+                        button,
+                    });
+                } else if !pressed {
+                    inputs.push(Input::Release { at: to_px(pos) });
+                }
+            }
+            egui::Event::PointerMoved(pos) => inputs.push(Input::Move { at: to_px(pos) }),
+            egui::Event::MouseWheel { delta, unit, .. } if resp.hovered() => {
+                let notches = match unit {
+                    egui::MouseWheelUnit::Point => delta.y / 50.0,
+                    _ => delta.y,
+                };
+                if let Some(p) = ui.input(|i| i.pointer.hover_pos()) {
+                    inputs.push(Input::Scroll {
+                        at: to_px(p),
+                        notches,
+                    });
+                }
+            }
+            egui::Event::Key {
+                key, pressed: true, ..
+            } if keyboard_free => {
+                let name = match key {
+                    egui::Key::T => "t",
+                    egui::Key::R => "r",
+                    egui::Key::Escape => "escape",
+                    egui::Key::Num1 => "1",
+                    egui::Key::Num2 => "2",
+                    egui::Key::Num3 => "3",
+                    egui::Key::Num4 => "4",
+                    egui::Key::Num5 => "5",
+                    egui::Key::Num6 => "6",
+                    egui::Key::Num7 => "7",
+                    _ => "",
+                };
+                if let Some(k) = Key::from_name(name) {
+                    inputs.push(Input::Key(k));
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Draws a highlight's projector footprint (its ellipse and `e_max` axis), orange when
+/// selected.
+fn draw_frustum(
+    painter: &egui::Painter,
+    h: &HighlightInfo,
+    selected: bool,
+    proj: &impl Fn(Vec3) -> Option<Pos2>,
+) {
+    let v = h.normal.cross(h.axis_u);
+    let pts: Vec<Pos2> = (0..=32)
+        .filter_map(|i| {
+            let a = i as f32 / 32.0 * std::f32::consts::TAU;
+            proj(
+                h.centre_world
+                    + h.axis_u * h.half_extent.x * a.cos()
+                    + v * h.half_extent.y * a.sin(),
+            )
+        })
+        .collect();
+    let color = if selected {
+        Color32::from_rgb(255, 160, 0)
+    } else {
+        Color32::from_rgb(0, 160, 255)
+    };
+    painter.add(egui::Shape::line(pts, Stroke::new(1.5, color)));
+    if let (Some(c), Some(u)) = (
+        proj(h.centre_world),
+        proj(h.centre_world + h.axis_u * h.half_extent.x),
+    ) {
+        painter.line_segment([c, u], Stroke::new(1.5, color));
+    }
+}
+
+/// Draws the `κ_max` directions of up to about 3,000 front-facing vertices.
+fn draw_directions(
+    painter: &egui::Painter,
+    renderer: &Renderer,
+    view: &crate::view::View,
+    proj: &impl Fn(Vec3) -> Option<Pos2>,
+) {
+    let mesh = &renderer.model().mesh;
+    let step = (mesh.vertex_count() / 3000).max(1);
+    let len = 0.03;
+    let dirs = renderer
+        .cached_directions(DirectionPreset::KMax)
+        .unwrap_or(&[]);
+    for (i, (p, d)) in mesh.positions.iter().zip(dirs).enumerate().step_by(step) {
+        let n = view
+            .world_from_object
+            .transform_vector3(mesh.normals[i])
+            .normalize_or_zero();
+        let pw = view.world_from_object.transform_point3(*p);
+        if n.dot(view.camera.eye - pw) <= 0.0 {
+            continue;
+        }
+        let dw = view
+            .world_from_object
+            .transform_vector3(*d)
+            .normalize_or_zero()
+            * len;
+        if let (Some(a), Some(b)) = (proj(pw - dw), proj(pw + dw)) {
+            painter.line_segment([a, b], Stroke::new(1.0, Color32::from_rgb(200, 40, 40)));
+        }
+    }
 }
 
 /// The model as an egui mesh coloured by mean curvature: front faces only, sorted back to

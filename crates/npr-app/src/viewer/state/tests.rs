@@ -116,8 +116,7 @@ fn an_edit_survives_the_next_frame_matching() {
     // the applied control persist.
     let mesh = generate::icosphere(4, 1.0);
     let mut set =
-        npr_specular::HighlightSet::new(&mesh, &npr_geometry::CurvatureOptions::default())
-            .unwrap();
+        npr_specular::HighlightSet::new(&mesh, &npr_geometry::CurvatureOptions::default()).unwrap();
     let le = |x: f32| npr_geometry::LightEye::Directions {
         to_light: Vec3::new(x, 0.3, 1.0),
         to_eye: Vec3::Z,
