@@ -145,6 +145,16 @@ fn fig(
 /// Every figure the demo writes, in page order.
 pub fn figures() -> Vec<Figure> {
     let mut out = Vec::new();
+    base_figures(&mut out);
+    specular_figures(&mut out);
+    hatching_paper_figures(&mut out);
+    hatching_own_figures(&mut out);
+    warp_figures(&mut out);
+    out
+}
+
+/// Appends the base-shading sheet and its tiles.
+fn base_figures(out: &mut Vec<Figure>) {
     let base = Section::Base;
     let mut sheet = fig(
         base,
@@ -163,7 +173,10 @@ pub fn figures() -> Vec<Figure> {
         }
     }
     out.push(sheet);
+}
 
+/// Appends the specular paper's figures (Lee & Choi Fig. 2, 4–8).
+fn specular_figures(out: &mut Vec<Figure>) {
     let sp = Section::Specular;
     let common = "Phong base unless named, directional light towards (0.4, 0.7, 1.0), the \
                   object turned 0.4 rad about y, curvature ball 3 mean edge lengths, 360×360 \
@@ -236,7 +249,11 @@ pub fn figures() -> Vec<Figure> {
         Some("Fig. 8"),
         "The same, all 72 frames (a full turn) as a looping GIF, 60 ms per frame.",
     ));
+}
 
+/// Appends the hatching paper's own figures (Kim & Lee Fig. 1–4), the tonal art maps and the
+/// Fig. 3 baseline.
+fn hatching_paper_figures(out: &mut Vec<Figure>) {
     let h = Section::Hatching;
     for style in [TamStyle::Pen, TamStyle::Pencil] {
         out.push(fig(
@@ -311,6 +328,11 @@ pub fn figures() -> Vec<Figure> {
          (2, 3) knot (720k), Spot (23k) and a sphere (82k); pen, directional light with cast \
          shadows, smooth stroke fields; no outlines. The demo prints the exact count.",
     ));
+}
+
+/// Appends our hatching figures: the spot-lit scene, stroke directions, coherence and flow.
+fn hatching_own_figures(out: &mut Vec<Figure>) {
+    let h = Section::Hatching;
     out.push(fig(
         h,
         "hatching-fig3-scene-spot-pen.png",
@@ -376,7 +398,10 @@ pub fn figures() -> Vec<Figure> {
         None,
         "The same flow hatched by the CPU reference with the pencil map.",
     ));
+}
 
+/// Appends the warping paper's figures (Park & Ihm Fig. 6, 8–10) and our sequence plots.
+fn warp_figures(out: &mut Vec<Figure>) {
     let w = Section::Warp;
     let ratios_caption = |model: &str, ratios: &str| {
         format!(
@@ -437,7 +462,6 @@ pub fn figures() -> Vec<Figure> {
          a red square hides part of the knot in reference 0 only (first tile); the paper's \
          pass projects it onto the knot, our reference depth test falls back to reference 1.",
     ));
-    out
 }
 
 /// The before/after pairs of our departures from the papers.
