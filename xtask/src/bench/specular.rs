@@ -15,7 +15,7 @@ use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
-use npr_gpu::{GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
+use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::HighlightSet;
 use npr_specular::snapshot::{HighlightScene, Renderer};
 use std::path::{Path, PathBuf};
@@ -29,6 +29,49 @@ const HEIGHT: u32 = 480;
 pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     let ctx = GpuContext::new()?;
     let adapter = ctx.adapter_summary();
+    let meshes = bench_meshes(extra)?;
+    let one_core = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
+    let mut table = new_table(&adapter);
+    for (name, file_mesh) in &meshes {
+        let reordered = npr_geometry::locality::reorder_for_locality(file_mesh).mesh;
+        let mesh = &reordered;
+        let (camera, world_from_normalized) =
+            npr_gpu::figures::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
+        let view = View {
+            camera,
+            world_from_normalized,
+            to_light: Vec3::new(0.4, 0.7, 1.0).normalize(),
+        };
+        let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name)?;
+        let (setup_1core, setup_1core_file_order) =
+            measure_one_core(&one_core, mesh, file_mesh, &view)?;
+        let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
+        table.push(vec![
+            name.as_str().into(),
+            (mesh.indices.len() / 3).into(),
+            gpu.hmin.into(),
+            gpu.hmax.into(),
+            Cell::Num(median(gpu.receivers), 0),
+            Cell::Num(median(gpu.setup), 1),
+            Cell::Num(median(setup_1core), 1),
+            Cell::Num(median(setup_1core_file_order), 1),
+            Cell::Num(median(gpu.search), 1),
+            Cell::Num(median(gpu.region), 1),
+            Cell::Num(median(gpu.visibility), 1),
+            Cell::Num(b, 3),
+            Cell::Num(w, 3),
+            Cell::Num(f, 3),
+            Cell::Num(w / b, 3),
+            Cell::Num(f / b, 3),
+            adapter.as_str().into(),
+        ]);
+    }
+    emit(&[table], json)
+}
+
+/// The meshes measured, in table order: the defaults, the 1.1M-face knot, then `extra`.
+fn bench_meshes(extra: &[PathBuf]) -> anyhow::Result<Vec<(String, Mesh)>> {
     let mut meshes: Vec<(String, Mesh)> = vec![
         ("sphere".into(), generate::icosphere(3, 1.0)),
         ("knot (paper, 2,880 faces)".into(), generate::paper_knot()),
@@ -52,9 +95,12 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         );
         meshes.push((name, mesh));
     }
-    let one_core = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
-    let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
-    let mut table = Table::new(
+    Ok(meshes)
+}
+
+/// The empty table, titled with the frame size, frame count and adapter.
+fn new_table(adapter: &str) -> Table {
+    Table::new(
         &format!(
             "specular: Table 1 on our meshes, {WIDTH}x{HEIGHT}, {FRAMES} frames, adapter {adapter}"
         ),
@@ -77,118 +123,156 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "highlight_cost_ratio_frame",
             "adapter",
         ],
-    );
-    for (name, file_mesh) in &meshes {
-        let reordered = npr_geometry::locality::reorder_for_locality(file_mesh).mesh;
-        let mesh = &reordered;
-        let (camera, world_from_normalized) =
-            npr_gpu::figures::framing_camera(mesh, WIDTH as f32 / HEIGHT as f32);
-        let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-        let gpu = GpuMesh::upload(&ctx.device, mesh)?;
-        let mut res = renderer.resources(&ctx.device, &gpu);
-        let to_light = Vec3::new(0.4, 0.7, 1.0).normalize();
-        let light = Light::directional(to_light);
-        let (mut setup, mut base, mut with, mut receivers) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let (mut hmin, mut hmax) = (usize::MAX, 0);
-        let (mut search, mut visibility, mut whole) = (Vec::new(), Vec::new(), Vec::new());
-        let mut region = Vec::new();
-        let bar = super::progress(FRAMES as u64 + 3, name);
-        for frame in 0..FRAMES + 3 {
-            let world_from_object =
-                Mat4::from_rotation_y((frame as f32 * 3.0).to_radians()) * world_from_normalized;
-            let le = LightEye::Positions {
-                light: to_light * 50.0,
-                eye: camera.eye,
-            };
+    )
+}
+
+/// The camera, framing and light shared by a mesh's frames.
+struct View {
+    /// The camera framing the mesh.
+    camera: Camera,
+    /// Places the mesh, normalised, in the world before the frame's turn.
+    world_from_normalized: Mat4,
+    /// Unit direction towards the light.
+    to_light: Vec3,
+}
+
+impl View {
+    /// The object's placement and the light and eye positions of frame `frame` (3° a frame).
+    fn frame(&self, frame: usize) -> (Mat4, LightEye) {
+        let world_from_object =
+            Mat4::from_rotation_y((frame as f32 * 3.0).to_radians()) * self.world_from_normalized;
+        let le = LightEye::Positions {
+            light: self.to_light * 50.0,
+            eye: self.camera.eye,
+        };
+        (world_from_object, le)
+    }
+}
+
+/// Per-frame samples of the multi-threaded run, warm-up frames left out.
+struct GpuSamples {
+    /// CPU setup per frame, µs.
+    setup: Vec<f64>,
+    /// GPU frame without the highlight pass, ms.
+    base: Vec<f64>,
+    /// GPU frame with the highlight pass, ms.
+    with: Vec<f64>,
+    /// GPU frame with the highlight pass plus the setup, ms.
+    whole: Vec<f64>,
+    /// Receiver faces per frame.
+    receivers: Vec<f64>,
+    /// N = H search per frame, µs.
+    search: Vec<f64>,
+    /// Highlight region per frame, µs.
+    region: Vec<f64>,
+    /// BFS visibility per frame, µs.
+    visibility: Vec<f64>,
+    /// Fewest highlights in a frame.
+    hmin: usize,
+    /// Most highlights in a frame.
+    hmax: usize,
+}
+
+/// Turns `mesh` for `FRAMES` frames (after 3 warm-up frames), timing the setup and the GPU
+/// frame without and with the highlight pass.
+fn measure_gpu(
+    ctx: &GpuContext,
+    renderer: &Renderer,
+    mesh: &Mesh,
+    view: &View,
+    name: &str,
+) -> anyhow::Result<GpuSamples> {
+    let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+    let gpu = GpuMesh::upload(&ctx.device, mesh)?;
+    let mut res = renderer.resources(&ctx.device, &gpu);
+    let light = Light::directional(view.to_light);
+    let mut out = GpuSamples {
+        setup: Vec::new(),
+        base: Vec::new(),
+        with: Vec::new(),
+        whole: Vec::new(),
+        receivers: Vec::new(),
+        search: Vec::new(),
+        region: Vec::new(),
+        visibility: Vec::new(),
+        hmin: usize::MAX,
+        hmax: 0,
+    };
+    let bar = super::progress(FRAMES as u64 + 3, name);
+    for frame in 0..FRAMES + 3 {
+        let (world_from_object, le) = view.frame(frame);
+        let t = Instant::now();
+        set.update(le, world_from_object);
+        let setup_us = t.elapsed().as_secs_f64() * 1e6;
+        let scene = |highlights| HighlightScene {
+            mesh: &gpu,
+            indices: &mesh.indices,
+            set: &set,
+            object: ObjectUniforms::new(
+                world_from_object,
+                Vec3::new(0.8, 0.35, 0.25),
+                0.0,
+                Vec3::ONE,
+                60.0,
+            ),
+            camera: view.camera,
+            light,
+            base: ShadingModel::Phong,
+            highlights,
+            clear: [1.0; 4],
+        };
+        let mut time = |highlights| -> anyhow::Result<f64> {
             let t = Instant::now();
-            set.update(le, world_from_object);
-            let setup_us = t.elapsed().as_secs_f64() * 1e6;
-            let scene = |highlights| HighlightScene {
-                mesh: &gpu,
-                indices: &mesh.indices,
-                set: &set,
-                object: ObjectUniforms::new(
-                    world_from_object,
-                    Vec3::new(0.8, 0.35, 0.25),
-                    0.0,
-                    Vec3::ONE,
-                    60.0,
-                ),
-                camera,
-                light,
-                base: ShadingModel::Phong,
-                highlights,
-                clear: [1.0; 4],
-            };
-            let mut time = |highlights| -> anyhow::Result<f64> {
-                let t = Instant::now();
-                renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res)?;
-                ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
-                Ok(t.elapsed().as_secs_f64() * 1e3)
-            };
-            let b = time(false)?;
-            let w = time(true)?;
-            if frame >= 3 {
-                setup.push(setup_us);
-                search.push(set.stats().search_us);
-                region.push(set.stats().region_us);
-                visibility.push(set.stats().visibility_us);
-                base.push(b);
-                with.push(w);
-                whole.push(w + setup_us / 1e3);
-                receivers.push(set.stats().receiver_faces as f64);
-                hmin = hmin.min(set.highlights().len());
-                hmax = hmax.max(set.highlights().len());
-            }
-            bar.inc(1);
+            renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res)?;
+            ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+            Ok(t.elapsed().as_secs_f64() * 1e3)
+        };
+        let b = time(false)?;
+        let w = time(true)?;
+        if frame >= 3 {
+            out.setup.push(setup_us);
+            out.search.push(set.stats().search_us);
+            out.region.push(set.stats().region_us);
+            out.visibility.push(set.stats().visibility_us);
+            out.base.push(b);
+            out.with.push(w);
+            out.whole.push(w + setup_us / 1e3);
+            out.receivers.push(set.stats().receiver_faces as f64);
+            out.hmin = out.hmin.min(set.highlights().len());
+            out.hmax = out.hmax.max(set.highlights().len());
         }
-        bar.finish_and_clear();
-        // The same turning sequence, setup only, on one core: as loaded, and in the file's
-        // own triangle order, frame by frame in turn so both see the same machine load.
-        let mut loaded = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-        let mut file_order = HighlightSet::new(file_mesh, &CurvatureOptions::default())?;
-        let (mut setup_1core, mut setup_1core_file_order) = (Vec::new(), Vec::new());
-        one_core.install(|| {
-            for frame in 0..FRAMES + 3 {
-                let world_from_object = Mat4::from_rotation_y((frame as f32 * 3.0).to_radians())
-                    * world_from_normalized;
-                let le = LightEye::Positions {
-                    light: to_light * 50.0,
-                    eye: camera.eye,
-                };
-                for (set, times) in [
-                    (&mut loaded, &mut setup_1core),
-                    (&mut file_order, &mut setup_1core_file_order),
-                ] {
-                    let t = Instant::now();
-                    set.update(le, world_from_object);
-                    if frame >= 3 {
-                        times.push(t.elapsed().as_secs_f64() * 1e6);
-                    }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(out)
+}
+
+/// The same turning sequence, setup only, on one core: as loaded, and in the file's own
+/// triangle order, frame by frame in turn so both see the same machine load. Returns the
+/// setup times in µs of each.
+fn measure_one_core(
+    one_core: &rayon::ThreadPool,
+    mesh: &Mesh,
+    file_mesh: &Mesh,
+    view: &View,
+) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
+    let mut loaded = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+    let mut file_order = HighlightSet::new(file_mesh, &CurvatureOptions::default())?;
+    let (mut setup_1core, mut setup_1core_file_order) = (Vec::new(), Vec::new());
+    one_core.install(|| {
+        for frame in 0..FRAMES + 3 {
+            let (world_from_object, le) = view.frame(frame);
+            for (set, times) in [
+                (&mut loaded, &mut setup_1core),
+                (&mut file_order, &mut setup_1core_file_order),
+            ] {
+                let t = Instant::now();
+                set.update(le, world_from_object);
+                if frame >= 3 {
+                    times.push(t.elapsed().as_secs_f64() * 1e6);
                 }
             }
-        });
-        let (b, w, f) = (median(base), median(with), median(whole));
-        table.push(vec![
-            name.as_str().into(),
-            (mesh.indices.len() / 3).into(),
-            hmin.into(),
-            hmax.into(),
-            Cell::Num(median(receivers), 0),
-            Cell::Num(median(setup), 1),
-            Cell::Num(median(setup_1core), 1),
-            Cell::Num(median(setup_1core_file_order), 1),
-            Cell::Num(median(search), 1),
-            Cell::Num(median(region), 1),
-            Cell::Num(median(visibility), 1),
-            Cell::Num(b, 3),
-            Cell::Num(w, 3),
-            Cell::Num(f, 3),
-            Cell::Num(w / b, 3),
-            Cell::Num(f / b, 3),
-            adapter.as_str().into(),
-        ]);
-    }
-    emit(&[table], json)
+        }
+    });
+    Ok((setup_1core, setup_1core_file_order))
 }
