@@ -142,6 +142,19 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         "curvature benchmark: {} rayon threads; corrected form at r = 3 mean edge lengths unless stated",
         rayon_threads()
     );
+    let cases = cases()?;
+    let bar = super::progress(cases.len() as u64 + 9 + 3, "curvature");
+    let main = field_table(&cases, &bar);
+    let methods = method_table(&bar);
+    let search = search_table(&bar)?;
+    bar.finish_and_clear();
+
+    emit(&[main, methods, search], json)
+}
+
+/// The meshes of the main table: analytic, irregular and noisy tori, then the fixtures and
+/// the 1.1M-triangle knot.
+fn cases() -> anyhow::Result<Vec<Case>> {
     let mut cases = vec![
         Case {
             name: "icosphere R=1 (10k)".into(),
@@ -193,7 +206,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         mesh: generate::benchmark_knot(),
         truth: None,
     });
+    Ok(cases)
+}
 
+/// The main table: time and error of the default (corrected) field on each case.
+fn field_table(cases: &[Case], bar: &indicatif::ProgressBar) -> Table {
     let mut columns = vec![
         "mesh",
         "vertices",
@@ -209,8 +226,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         &columns,
     );
     let opts = CurvatureOptions::default();
-    let bar = super::progress(cases.len() as u64 + 9 + 3, "curvature");
-    for c in &cases {
+    for c in cases {
         bar.set_message(c.name.clone());
         let runs = if c.mesh.triangle_count() > 500_000 {
             3
@@ -232,8 +248,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         main.push(row);
         bar.inc(1);
     }
+    main
+}
 
-    // Method comparison on the 10k torus.
+/// Method comparison on the 10k torus: paper, clipped and corrected at 2, 3 and 4 edges.
+fn method_table(bar: &indicatif::ProgressBar) -> Table {
     let mut columns = vec!["method", "radius_edges", "time_s_median", "vertices_per_s"];
     columns.extend(ERROR_COLUMNS);
     let mut methods = Table::new("method comparison, torus R=2 r=0.7 (10k)", &columns);
@@ -266,8 +285,11 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             bar.inc(1);
         }
     }
+    methods
+}
 
-    // Per-frame N = H search (§3.1): a light circling the object.
+/// Per-frame N = H search (§3.1): a light circling the object.
+fn search_table(bar: &indicatif::ProgressBar) -> anyhow::Result<Table> {
     let mut search = Table::new(
         "highlight centres (N = H, Eq. (4)-(6)), point light circling, 64 frames",
         &[
@@ -319,9 +341,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         ]);
         bar.inc(1);
     }
-    bar.finish_and_clear();
-
-    emit(&[main, methods, search], json)
+    Ok(search)
 }
 
 fn bounds(p: &[Vec3]) -> (Vec3, Vec3) {
