@@ -23,8 +23,8 @@ use npr_geometry::{Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, ObjectUniforms, OffscreenTarget};
 use npr_hatching::figures::directions;
 use npr_hatching::{
-    CpuHatcher, HatchFrame, HatchFrameSettings, HatchParams, HatchView, SceneSettings, ShadowLight,
-    StrokeSpace, TamParams, TonalArtMap,
+    CpuHatcher, HatchFrame, HatchFrameSettings, HatchObject, HatchParams, HatchPrepared, HatchView,
+    SceneSettings, ShadowLight, StrokeSpace, TamParams, TonalArtMap,
 };
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -121,7 +121,53 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     println!("bench hatching: adapter {}", ctx.adapter_summary());
     let tam = TonalArtMap::generate(&TamParams::pen())?;
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut table = Table::new(
+    let mut table = new_table();
+    let workloads = workloads();
+    for (w, space) in workloads
+        .iter()
+        .flat_map(|w| [StrokeSpace::Surface, StrokeSpace::Screen].map(move |s| (w, s)))
+    {
+        let params = HatchParams {
+            space,
+            ..HatchParams::default()
+        };
+        let cpu = CpuHatcher::new(&tam, &params)?;
+        let mut scene = GpuScene::new(&ctx, &tam, w)?;
+        let (gpu_t, last) = time_frames(&ctx, &mut scene, w, space, &params)?;
+        let cpu_t = time_cpu(&ctx, &scene, w.size, &cpu, last.as_ref())?;
+        let (width, height) = w.size;
+        let g = &gpu_t;
+        table.push(vec![
+            w.name.into(),
+            space.name().into(),
+            scene.triangles.into(),
+            width.into(),
+            height.into(),
+            adapter.clone().into(),
+            w.frames.into(),
+            Cell::Num(g.hatch_ms, 2),
+            Cell::Num(g.phong_ms, 2),
+            Cell::Num(g.hatch_ms / g.phong_ms, 3),
+            Cell::Num(g.vsm_ms, 2),
+            Cell::Num(g.gbuffer_ms, 2),
+            Cell::Num(g.hatching_ms, 2),
+            Cell::Num(g.phong_pass_ms, 2),
+            Cell::Num((g.gbuffer_ms + g.hatching_ms) / g.phong_pass_ms, 3),
+            Cell::Num(1e3 / g.hatch_ms, 1),
+            Cell::Num(w.paper_fps, 0),
+            Cell::Num(cpu_t.mpix, 1),
+            Cell::Num(cpu_t.mpix_inked, 1),
+            Cell::Num(cpu_t.mpix_inked_best, 1),
+            threads.into(),
+            load_average().map_or(Cell::Empty, |l| Cell::Num(l, 2)),
+        ]);
+    }
+    emit(&[table], json)
+}
+
+/// The empty table, with its title and columns.
+fn new_table() -> Table {
+    Table::new(
         "image-space hatching: whole frame vs Phong + VSM frame (median, GPU waited each frame); \
          passes alone: one submit each, waited (wall time, no timestamp queries)",
         &[
@@ -148,25 +194,36 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             "cpu_threads",
             "load_avg_1m",
         ],
-    );
-    let workloads = workloads();
-    for (w, space) in workloads
-        .iter()
-        .flat_map(|w| [StrokeSpace::Surface, StrokeSpace::Screen].map(move |s| (w, s)))
-    {
-        let params = HatchParams {
-            space,
-            ..HatchParams::default()
-        };
-        let cpu = CpuHatcher::new(&tam, &params)?;
+    )
+}
+
+/// A workload on the GPU: its hatching frame, uploaded objects, camera and target.
+struct GpuScene {
+    /// The hatching frame (VSM, G-buffer, hatching pass, Phong pass).
+    frame: HatchFrame,
+    /// The uploaded meshes, kept alive for the objects that draw them.
+    _meshes: Vec<GpuMesh>,
+    /// Each object's hatching state and uniforms.
+    objects: Vec<(HatchObject, ObjectUniforms)>,
+    /// Triangles in all objects.
+    triangles: usize,
+    /// The workload's camera, looking at (0, 0.3, 0).
+    camera: Camera,
+    /// The colour target the frames draw into.
+    target: OffscreenTarget,
+}
+
+impl GpuScene {
+    /// Creates the frame at the workload's size and uploads its objects.
+    fn new(ctx: &GpuContext, tam: &TonalArtMap, w: &Workload) -> anyhow::Result<Self> {
         let (width, height) = w.size;
         let settings = HatchFrameSettings {
             tam: tam.clone(),
             scene: SceneSettings::default(),
         };
         let formats = npr_gpu::TargetFormats::default();
-        let mut frame = HatchFrame::new(&ctx.device, &ctx.queue, formats, &settings, w.size)?;
-        let (mut meshes, mut gpu) = (Vec::new(), Vec::new());
+        let frame = HatchFrame::new(&ctx.device, &ctx.queue, formats, &settings, w.size)?;
+        let (mut meshes, mut objects) = (Vec::new(), Vec::new());
         let mut triangles = 0usize;
         for (mesh, m, dirs) in &w.objects {
             triangles += mesh.triangle_count();
@@ -174,7 +231,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             let u = ObjectUniforms::new(*m, Vec3::splat(0.9), 0.35, Vec3::ONE, 24.0);
             let o = frame.create_object(&ctx.device, &g, dirs)?;
             meshes.push(g);
-            gpu.push((o, u));
+            objects.push((o, u));
         }
         let camera = Camera::look_at(
             w.eye,
@@ -182,128 +239,171 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
             width as f32 / height as f32,
         );
         let target = OffscreenTarget::new(&ctx.device, width, height)?;
-        let wait = || {
-            ctx.device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map(|_| ())
-                .map_err(|e| anyhow::anyhow!("poll: {e}"))
-        };
-        let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
-        let mut passes_t: [Vec<Duration>; 4] = Default::default();
-        // Records with `record`, submits, waits: the wall time of that work alone.
-        let timed = |record: &dyn Fn(
-            &mut wgpu::CommandEncoder,
-        ) -> Result<(), npr_hatching::HatchError>|
-         -> anyhow::Result<Duration> {
-            let t = Instant::now();
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            record(&mut enc)?;
-            ctx.queue.submit(Some(enc.finish()));
-            wait()?;
-            Ok(t.elapsed())
-        };
-        let bar = super::progress(
-            w.frames as u64 + 2,
-            &format!("{} ({})", w.name, space.name()),
-        );
-        // Two warm-up frames of each, then alternate.
-        let mut last = None;
-        for i in 0..w.frames + 2 {
-            // One displayed frame each: advances the surface anchors' schedule (and so
-            // their cross-fade) as an application does. The prepare (uniform writes) is
-            // outside the timed work, as the CPU side of a frame.
-            let view = HatchView {
-                frame: npr_gpu::FrameId(i as u64),
-                clock: i as u64,
-                camera: &camera,
-                light: &w.light,
-                params: &params,
-            };
-            let mut pairs: Vec<_> = gpu.iter_mut().map(|(o, u)| (o, &*u)).collect();
-            let prepared = frame.prepare(&ctx.queue, &view, &mut pairs)?;
-            let objects: Vec<_> = gpu.iter().map(|(o, _)| o).collect();
-            let (frame, p) = (&frame, &prepared);
-            let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects, p))?;
-            let phong = timed(&|enc| frame.record_phong(enc, &target, &objects, p))?;
-            let passes = [
-                timed(&|enc| frame.record_shadow(enc, &objects, p))?,
-                timed(&|enc| frame.record_gbuffer(enc, &objects, p))?,
-                timed(&|enc| frame.record_hatching(enc, &target.color_view, p))?,
-                timed(&|enc| {
-                    let mut pass = target.begin_clear_pass(enc, [1.0; 4]);
-                    for (o, q) in objects.iter().zip(p.objects()) {
-                        frame.scene.draw(&mut pass, o, q)?;
-                    }
-                    Ok(())
-                })?,
-            ];
-            last = Some(prepared);
-            if i >= 2 {
-                hatch_t.push(hatch);
-                phong_t.push(phong);
-                for (all, t) in passes_t.iter_mut().zip(passes) {
-                    all.push(t);
-                }
-            }
-            bar.inc(1);
-        }
-        bar.finish_and_clear();
-        let (h_ms, p_ms) = (median_ms(&hatch_t), median_ms(&phong_t));
-        let [vsm_ms, gbuffer_ms, hatching_ms, phong_pass_ms] = passes_t.map(|t| median_ms(&t));
-        // CPU reference on this scene's G-buffer (left by the last hatching frame).
-        let objects: Vec<_> = gpu.iter().map(|(o, _)| o).collect();
-        if let Some(p) = &last {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            frame.record(&mut enc, &target.color_view, &objects, p)?;
-            ctx.queue.submit(Some(enc.finish()));
-        }
-        let inputs = frame.gbuffer.read(&ctx.device, &ctx.queue)?;
-        let mut cpu_t = Vec::new();
-        for _ in 0..7 {
-            let t = Instant::now();
-            let img = cpu.hatch_rgba8(&inputs)?;
-            cpu_t.push(t.elapsed());
-            std::hint::black_box(img);
-        }
-        let mpix = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
-        // Worst case: every pixel inked (no paper background), θ varying.
-        let inked = npr_hatching::HatchInputs::from_fn(width, height, |x, y| {
-            (0.5 + 0.4 * (0.01 * x).sin(), 0.003 * x + 0.002 * y)
-        })?;
-        let mut cpu_t = Vec::new();
-        for _ in 0..15 {
-            let t = Instant::now();
-            let img = cpu.hatch_rgba8(&inked)?;
-            cpu_t.push(t.elapsed());
-            std::hint::black_box(img);
-        }
-        let best = cpu_t.iter().min().map_or(f64::NAN, |d| d.as_secs_f64());
-        let mpix_inked_best = f64::from(width * height) / 1e6 / best;
-        let mpix_inked = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
-        table.push(vec![
-            w.name.into(),
-            space.name().into(),
-            triangles.into(),
-            width.into(),
-            height.into(),
-            adapter.clone().into(),
-            w.frames.into(),
-            Cell::Num(h_ms, 2),
-            Cell::Num(p_ms, 2),
-            Cell::Num(h_ms / p_ms, 3),
-            Cell::Num(vsm_ms, 2),
-            Cell::Num(gbuffer_ms, 2),
-            Cell::Num(hatching_ms, 2),
-            Cell::Num(phong_pass_ms, 2),
-            Cell::Num((gbuffer_ms + hatching_ms) / phong_pass_ms, 3),
-            Cell::Num(1e3 / h_ms, 1),
-            Cell::Num(w.paper_fps, 0),
-            Cell::Num(mpix, 1),
-            Cell::Num(mpix_inked, 1),
-            Cell::Num(mpix_inked_best, 1),
-            threads.into(),
-            load_average().map_or(Cell::Empty, |l| Cell::Num(l, 2)),
-        ]);
+        Ok(Self {
+            frame,
+            _meshes: meshes,
+            objects,
+            triangles,
+            camera,
+            target,
+        })
     }
-    emit(&[table], json)
+}
+
+/// Median GPU times of a workload, in milliseconds.
+struct GpuTimes {
+    /// The whole hatching frame.
+    hatch_ms: f64,
+    /// The Phong frame with the same shadow map.
+    phong_ms: f64,
+    /// The VSM alone (shadow pass and blur).
+    vsm_ms: f64,
+    /// The G-buffer pass alone.
+    gbuffer_ms: f64,
+    /// The hatching pass alone.
+    hatching_ms: f64,
+    /// The Phong pass alone.
+    phong_pass_ms: f64,
+}
+
+/// Times the hatching and Phong frames and each pass alone over the workload's frames
+/// (after two warm-up frames); returns the medians and the last frame's preparation.
+fn time_frames(
+    ctx: &GpuContext,
+    scene: &mut GpuScene,
+    w: &Workload,
+    space: StrokeSpace,
+    params: &HatchParams,
+) -> anyhow::Result<(GpuTimes, Option<HatchPrepared>)> {
+    let wait = || {
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| anyhow::anyhow!("poll: {e}"))
+    };
+    let (mut hatch_t, mut phong_t) = (Vec::new(), Vec::new());
+    let mut passes_t: [Vec<Duration>; 4] = Default::default();
+    // Records with `record`, submits, waits: the wall time of that work alone.
+    let timed = |record: &dyn Fn(
+        &mut wgpu::CommandEncoder,
+    ) -> Result<(), npr_hatching::HatchError>|
+     -> anyhow::Result<Duration> {
+        let t = Instant::now();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        record(&mut enc)?;
+        ctx.queue.submit(Some(enc.finish()));
+        wait()?;
+        Ok(t.elapsed())
+    };
+    let bar = super::progress(
+        w.frames as u64 + 2,
+        &format!("{} ({})", w.name, space.name()),
+    );
+    let target = &scene.target;
+    // Two warm-up frames of each, then alternate.
+    let mut last = None;
+    for i in 0..w.frames + 2 {
+        // One displayed frame each: advances the surface anchors' schedule (and so
+        // their cross-fade) as an application does. The prepare (uniform writes) is
+        // outside the timed work, as the CPU side of a frame.
+        let view = HatchView {
+            frame: npr_gpu::FrameId(i as u64),
+            clock: i as u64,
+            camera: &scene.camera,
+            light: &w.light,
+            params,
+        };
+        let mut pairs: Vec<_> = scene.objects.iter_mut().map(|(o, u)| (o, &*u)).collect();
+        let prepared = scene.frame.prepare(&ctx.queue, &view, &mut pairs)?;
+        let objects: Vec<_> = scene.objects.iter().map(|(o, _)| o).collect();
+        let (frame, p) = (&scene.frame, &prepared);
+        let hatch = timed(&|enc| frame.record(enc, &target.color_view, &objects, p))?;
+        let phong = timed(&|enc| frame.record_phong(enc, target, &objects, p))?;
+        let passes = [
+            timed(&|enc| frame.record_shadow(enc, &objects, p))?,
+            timed(&|enc| frame.record_gbuffer(enc, &objects, p))?,
+            timed(&|enc| frame.record_hatching(enc, &target.color_view, p))?,
+            timed(&|enc| {
+                let mut pass = target.begin_clear_pass(enc, [1.0; 4]);
+                for (o, q) in objects.iter().zip(p.objects()) {
+                    frame.scene.draw(&mut pass, o, q)?;
+                }
+                Ok(())
+            })?,
+        ];
+        last = Some(prepared);
+        if i >= 2 {
+            hatch_t.push(hatch);
+            phong_t.push(phong);
+            for (all, t) in passes_t.iter_mut().zip(passes) {
+                all.push(t);
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let [vsm_ms, gbuffer_ms, hatching_ms, phong_pass_ms] = passes_t.map(|t| median_ms(&t));
+    let times = GpuTimes {
+        hatch_ms: median_ms(&hatch_t),
+        phong_ms: median_ms(&phong_t),
+        vsm_ms,
+        gbuffer_ms,
+        hatching_ms,
+        phong_pass_ms,
+    };
+    Ok((times, last))
+}
+
+/// The CPU reference's throughput, in megapixels per second.
+struct CpuTimes {
+    /// On the scene's G-buffer, median of 7.
+    mpix: f64,
+    /// On an image inked everywhere, median of 15.
+    mpix_inked: f64,
+    /// On an image inked everywhere, best of 15.
+    mpix_inked_best: f64,
+}
+
+/// Times the CPU reference on this scene's G-buffer (left by the last hatching frame,
+/// `last`) and on an image of the same size inked everywhere.
+fn time_cpu(
+    ctx: &GpuContext,
+    scene: &GpuScene,
+    (width, height): (u32, u32),
+    cpu: &CpuHatcher,
+    last: Option<&HatchPrepared>,
+) -> anyhow::Result<CpuTimes> {
+    let frame = &scene.frame;
+    let objects: Vec<_> = scene.objects.iter().map(|(o, _)| o).collect();
+    if let Some(p) = last {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        frame.record(&mut enc, &scene.target.color_view, &objects, p)?;
+        ctx.queue.submit(Some(enc.finish()));
+    }
+    let inputs = frame.gbuffer.read(&ctx.device, &ctx.queue)?;
+    let mut cpu_t = Vec::new();
+    for _ in 0..7 {
+        let t = Instant::now();
+        let img = cpu.hatch_rgba8(&inputs)?;
+        cpu_t.push(t.elapsed());
+        std::hint::black_box(img);
+    }
+    let mpix = f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3);
+    // Worst case: every pixel inked (no paper background), θ varying.
+    let inked = npr_hatching::HatchInputs::from_fn(width, height, |x, y| {
+        (0.5 + 0.4 * (0.01 * x).sin(), 0.003 * x + 0.002 * y)
+    })?;
+    let mut cpu_t = Vec::new();
+    for _ in 0..15 {
+        let t = Instant::now();
+        let img = cpu.hatch_rgba8(&inked)?;
+        cpu_t.push(t.elapsed());
+        std::hint::black_box(img);
+    }
+    let best = cpu_t.iter().min().map_or(f64::NAN, |d| d.as_secs_f64());
+    Ok(CpuTimes {
+        mpix,
+        mpix_inked: f64::from(width * height) / 1e6 / (median_ms(&cpu_t) / 1e3),
+        mpix_inked_best: f64::from(width * height) / 1e6 / best,
+    })
 }
