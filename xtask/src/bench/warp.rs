@@ -265,6 +265,184 @@ fn ablation_rows() -> Vec<(String, &'static str, Departures)> {
     rows
 }
 
+/// The benchmark's tables, filled as the meshes run.
+struct Tables {
+    /// Tables 1–2: full render vs warped, per mesh, ratio, k, mode and antialiasing.
+    t1: Table,
+    /// Each departure alone, added to the paper's path and removed from ours.
+    ablation: Table,
+    /// The effect of the bin count N.
+    bins: Table,
+    /// Table 3: objects sharing one reference pair.
+    t3: Table,
+    /// Spreading the next reference over the frames between.
+    spread: Table,
+    /// The proxy builds.
+    proxy: Table,
+}
+
+impl Tables {
+    /// The empty tables, with their titles and columns.
+    fn new() -> Self {
+        Self {
+            t1: Table::new(
+                "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio, k and mode (paper's path, ours)",
+                &[
+                    "mesh",
+                    "triangles",
+                    "ratio_pct",
+                    "proxy_triangles",
+                    "proxy_error_rel",
+                    "k",
+                    "mode",
+                    "antialiasing",
+                    "full_ms",
+                    "ref_ms",
+                    "warp_ms",
+                    "amortized_ms",
+                    "speedup_x",
+                    "fill_ms",
+                    "ceiling_x",
+                    "speedup_of_ceiling",
+                    "psnr_mean_db",
+                    "psnr_worst_db",
+                    "ssim_mean",
+                    "flip_mean",
+                    "flip_worst",
+                    "adapter",
+                ],
+            ),
+            ablation: Table::new(
+                "Departures from the paper one at a time: added to the paper's path, removed from ours (k = 20, middle ratio)",
+                &[
+                    "mesh",
+                    "variant",
+                    "departure",
+                    "warp_ms",
+                    "psnr_mean_db",
+                    "psnr_worst_db",
+                    "ssim_mean",
+                    "delta_db",
+                    "adapter",
+                ],
+            ),
+            bins: Table::new(
+                "Effect of the bin count N (§3.3.2), ours, k = 10, middle ratio",
+                &[
+                    "mesh",
+                    "bins_per_axis",
+                    "warp_ms",
+                    "triangles_drawn",
+                    "blended_bins",
+                    "psnr_mean_db",
+                    "adapter",
+                ],
+            ),
+            t3: Table::new(
+                "Table 3: objects sharing one reference pair, ours, k = 10, middle ratio",
+                &[
+                    "mesh",
+                    "objects",
+                    "full_ms",
+                    "full_ms_per_object",
+                    "warp_ms",
+                    "amortized_ms",
+                    "amortized_ms_per_object",
+                    "speedup_x",
+                    "psnr_mean_db",
+                    "adapter",
+                ],
+            ),
+            spread: Table::new(
+                "Spreading the next reference over the k frames (§3.4), ours, k = 10, middle ratio",
+                &[
+                    "mesh",
+                    "spread",
+                    "frames",
+                    "frame_ms_mean",
+                    "frame_ms_worst",
+                    "adapter",
+                ],
+            ),
+            proxy: Table::new(
+                "Proxy build (meshopt, once per mesh)",
+                &[
+                    "mesh",
+                    "ratio_pct",
+                    "proxy_triangles",
+                    "error_rel",
+                    "error_object",
+                    "simplify_ms",
+                ],
+            ),
+        }
+    }
+}
+
+/// One antialiasing setting's rig and its measured costs.
+struct AaRig<'a> {
+    /// The antialiasing.
+    aa: Antialiasing,
+    /// The rig rendering with it.
+    rig: Rig<'a>,
+    /// FULL: the full render, ms.
+    full_ms: f64,
+    /// REF: a reference (the same draw plus, multisampled, its depth resolve), ms.
+    ref_ms: f64,
+    /// The full renders made so far.
+    fulls: Fulls,
+}
+
+/// Makes a rig per antialiasing and measures its FULL and REF (medians of 5 after one).
+fn aa_rigs<'a>(
+    ctx: &'a GpuContext,
+    bm: &BenchMesh,
+    path: &Turntable,
+    aas: &[Antialiasing],
+) -> anyhow::Result<Vec<AaRig<'a>>> {
+    let mut rigs = Vec::new();
+    for &aa in aas {
+        let mut r = Rig::with_antialiasing(ctx, &bm.mesh, SIZE, aa)?;
+        full_ms(&mut r, &path.pose(0.0))?;
+        let full = (0..5)
+            .map(|i| full_ms(&mut r, &path.pose(i as f32)))
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let full = median(full);
+        let mut slot = r.reference_slot()?;
+        reference_ms(&mut r, &mut slot, &path.pose(0.0))?;
+        let reference = (0..5)
+            .map(|i| reference_ms(&mut r, &mut slot, &path.pose(i as f32)))
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let reference = median(reference);
+        println!(
+            "  {}: full render {full:.2} ms, reference {reference:.2} ms",
+            aa.name()
+        );
+        rigs.push(AaRig {
+            aa,
+            rig: r,
+            full_ms: full,
+            ref_ms: reference,
+            fulls: Fulls::new(),
+        });
+    }
+    Ok(rigs)
+}
+
+/// What every row of one mesh shares.
+struct MeshRun<'a> {
+    /// The mesh.
+    bm: &'a BenchMesh,
+    /// The camera's orbit around it.
+    path: Turntable,
+    /// World units per object unit.
+    world_per_object: f32,
+    /// The adapter's name, for the tables.
+    adapter: &'a str,
+    /// When the benchmark started, for the progress lines.
+    started: Instant,
+}
+
 /// Runs the benchmark and prints (and optionally writes) its tables.
 pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     let started = Instant::now();
@@ -277,96 +455,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
          (k = 10)",
         sampled_steps(10)
     );
-    let mut t1 = Table::new(
-        "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio, k and mode (paper's path, ours)",
-        &[
-            "mesh",
-            "triangles",
-            "ratio_pct",
-            "proxy_triangles",
-            "proxy_error_rel",
-            "k",
-            "mode",
-            "antialiasing",
-            "full_ms",
-            "ref_ms",
-            "warp_ms",
-            "amortized_ms",
-            "speedup_x",
-            "fill_ms",
-            "ceiling_x",
-            "speedup_of_ceiling",
-            "psnr_mean_db",
-            "psnr_worst_db",
-            "ssim_mean",
-            "flip_mean",
-            "flip_worst",
-            "adapter",
-        ],
-    );
-    let mut t_ablation = Table::new(
-        "Departures from the paper one at a time: added to the paper's path, removed from ours (k = 20, middle ratio)",
-        &[
-            "mesh",
-            "variant",
-            "departure",
-            "warp_ms",
-            "psnr_mean_db",
-            "psnr_worst_db",
-            "ssim_mean",
-            "delta_db",
-            "adapter",
-        ],
-    );
-    let mut t_bins = Table::new(
-        "Effect of the bin count N (§3.3.2), ours, k = 10, middle ratio",
-        &[
-            "mesh",
-            "bins_per_axis",
-            "warp_ms",
-            "triangles_drawn",
-            "blended_bins",
-            "psnr_mean_db",
-            "adapter",
-        ],
-    );
-    let mut t3 = Table::new(
-        "Table 3: objects sharing one reference pair, ours, k = 10, middle ratio",
-        &[
-            "mesh",
-            "objects",
-            "full_ms",
-            "full_ms_per_object",
-            "warp_ms",
-            "amortized_ms",
-            "amortized_ms_per_object",
-            "speedup_x",
-            "psnr_mean_db",
-            "adapter",
-        ],
-    );
-    let mut t_spread = Table::new(
-        "Spreading the next reference over the k frames (§3.4), ours, k = 10, middle ratio",
-        &[
-            "mesh",
-            "spread",
-            "frames",
-            "frame_ms_mean",
-            "frame_ms_worst",
-            "adapter",
-        ],
-    );
-    let mut t_proxy = Table::new(
-        "Proxy build (meshopt, once per mesh)",
-        &[
-            "mesh",
-            "ratio_pct",
-            "proxy_triangles",
-            "error_rel",
-            "error_object",
-            "simplify_ms",
-        ],
-    );
+    let mut tables = Tables::new();
     let only = std::env::var("NPR_WARP_BENCH_ONLY").ok();
     let quick = std::env::var("NPR_WARP_BENCH_QUICK").is_ok_and(|v| v == "1");
     let aa_only = std::env::var("NPR_WARP_BENCH_AA").ok();
@@ -381,28 +470,14 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         let tris = bm.mesh.triangle_count();
         println!("bench warp: {} ({tris} triangles)", bm.name);
         let (path, world_per_object) = path_for(&bm.mesh, vec![Vec3::ZERO], 3.3, ORBIT);
-        // Per antialiasing: the rig, FULL (the full render), REF (a reference: the same
-        // draw plus, multisampled, its depth resolve) and the full renders made so far.
-        let mut rigs = Vec::new();
-        for &aa in &aas {
-            let mut r = Rig::with_antialiasing(&ctx, &bm.mesh, SIZE, aa)?;
-            full_ms(&mut r, &path.pose(0.0))?;
-            let full = (0..5)
-                .map(|i| full_ms(&mut r, &path.pose(i as f32)))
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            let full = median(full);
-            let mut slot = r.reference_slot()?;
-            reference_ms(&mut r, &mut slot, &path.pose(0.0))?;
-            let reference = (0..5)
-                .map(|i| reference_ms(&mut r, &mut slot, &path.pose(i as f32)))
-                .collect::<anyhow::Result<Vec<_>>>()?;
-            let reference = median(reference);
-            println!(
-                "  {}: full render {full:.2} ms, reference {reference:.2} ms",
-                aa.name()
-            );
-            rigs.push((aa, r, full, reference, Fulls::new()));
-        }
+        let mut rigs = aa_rigs(&ctx, &bm, &path, &aas)?;
+        let m = MeshRun {
+            bm: &bm,
+            path,
+            world_per_object,
+            adapter: &adapter,
+            started,
+        };
         for (ri, &ratio) in bm.ratios.iter().enumerate() {
             if quick && ri != 1 {
                 continue;
@@ -411,139 +486,31 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
                 .ok()
                 .and_then(|v| v.parse().ok())
                 .unwrap_or(ratio);
-            let t = Instant::now();
-            let proxy = Proxy::simplify(&bm.mesh, ratio)?;
-            let simplify_ms = t.elapsed().as_secs_f64() * 1e3;
-            t_proxy.push(vec![
-                bm.name.clone().into(),
-                Cell::Num(f64::from(ratio) * 100.0, 2),
-                proxy.triangles().into(),
-                Cell::Num(f64::from(proxy.error_relative), 5),
-                Cell::Num(f64::from(proxy.error_object), 5),
-                Cell::Num(simplify_ms, 0),
-            ]);
-            for k in KS {
-                if quick && k > 20 {
-                    continue;
-                }
-                for (departures, mode) in MODES {
-                    for (aa, rig, full_ms, ref_ms, fulls) in rigs.iter_mut() {
-                        let (full_ms, ref_ms) = (*full_ms, *ref_ms);
-                        let mut objects =
-                            [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                        let r = segment(rig, &path, k, &mut objects, true, fulls)?;
-                        let schedule = WarpSchedule::new(k, false)?;
-                        let amortized = schedule.amortized_ms(ref_ms, r.warp_ms);
-                        let speedup = full_ms / amortized;
-                        let kf = f64::from(k);
-                        let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
-                        t1.push(vec![
-                            bm.name.clone().into(),
-                            tris.into(),
-                            Cell::Num(f64::from(ratio) * 100.0, 2),
-                            proxy.triangles().into(),
-                            Cell::Num(f64::from(proxy.error_relative), 5),
-                            k.into(),
-                            mode.into(),
-                            aa.name().into(),
-                            Cell::Num(full_ms, 2),
-                            Cell::Num(ref_ms, 2),
-                            Cell::Num(r.warp_ms, 2),
-                            Cell::Num(amortized, 2),
-                            Cell::Num(speedup, 2),
-                            Cell::Num(r.fill_ms, 2),
-                            Cell::Num(ceiling, 2),
-                            Cell::Num(speedup / ceiling, 3),
-                            measured(r.psnr_mean, 2),
-                            measured(r.psnr_worst, 2),
-                            measured(r.ssim_mean, 4),
-                            measured(r.flip_mean, 4),
-                            measured(r.flip_worst, 4),
-                            adapter.clone().into(),
-                        ]);
-                        println!(
-                            "  ratio {ratio} k {k} {mode} {}: warp {:.2} ms, fill {:.2} ms, speedup \
-                         {speedup:.2}x (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, FLIP \
-                         {:.4} / {:.4}, {:.0} s",
-                            aa.name(),
-                            r.warp_ms,
-                            r.fill_ms,
-                            r.psnr_mean,
-                            r.psnr_worst,
-                            r.flip_mean,
-                            r.flip_worst,
-                            started.elapsed().as_secs_f64()
-                        );
-                    }
-                }
-            }
+            let proxy = build_proxy(&bm, ratio, &mut tables.proxy)?;
+            tables_1_2(&m, &mut rigs, &proxy, ratio, quick, &mut tables.t1)?;
             // The other tables are single-sample.
-            let Some((_, rig, _, _, fulls)) = rigs.iter_mut().find(|r| r.0 == Antialiasing::None)
-            else {
+            let Some(r) = rigs.iter_mut().find(|r| r.aa == Antialiasing::None) else {
                 continue;
             };
             if ri != 1 {
                 continue;
             }
             // The ablation, the bin count, Table 3 and spreading, at the middle ratio.
-            let mut ends = [f64::NAN; 2];
-            for (variant, departure, departures) in ablation_rows() {
-                let mut objects =
-                    [rig.variant(&proxy, departures, world_per_object, BINS, false)?];
-                let r = segment(rig, &path, 20, &mut objects, false, fulls)?;
-                // Added to the paper: gain over the paper; removed from ours: loss from ours.
-                let delta = if variant == "paper" {
-                    ends[0] = r.psnr_mean;
-                    0.0
-                } else if variant == "ours" {
-                    ends[1] = r.psnr_mean;
-                    r.psnr_mean - ends[0]
-                } else if variant.starts_with("paper") {
-                    r.psnr_mean - ends[0]
-                } else {
-                    r.psnr_mean - ends[1]
-                };
-                println!(
-                    "  ablation {variant}: warp {:.2} ms, PSNR {:.2} dB ({delta:+.2})",
-                    r.warp_ms, r.psnr_mean
-                );
-                t_ablation.push(vec![
-                    bm.name.clone().into(),
-                    variant.into(),
-                    departure.into(),
-                    Cell::Num(r.warp_ms, 2),
-                    measured(r.psnr_mean, 2),
-                    measured(r.psnr_worst, 2),
-                    measured(r.ssim_mean, 4),
-                    measured(delta, 2),
-                    adapter.clone().into(),
-                ]);
-            }
+            let (rig, fulls) = (&mut r.rig, &mut r.fulls);
+            ablation(&m, rig, fulls, &proxy, &mut tables.ablation)?;
             if quick {
                 continue;
             }
-            for n in [2, 4, 8, 16, 32] {
-                let mut o = [rig.variant(&proxy, Departures::OURS, world_per_object, n, false)?];
-                let r = segment(rig, &path, 10, &mut o, false, fulls)?;
-                t_bins.push(vec![
-                    bm.name.clone().into(),
-                    n.into(),
-                    Cell::Num(r.warp_ms, 2),
-                    Cell::Num(r.tris_drawn, 0),
-                    Cell::Num(r.blended_bins, 1),
-                    Cell::Num(r.psnr_mean, 2),
-                    adapter.clone().into(),
-                ]);
-            }
-            table3(rig, &bm, &proxy, &mut t3, &adapter)?;
+            bin_counts(&m, rig, fulls, &proxy, &mut tables.bins)?;
+            table3(rig, &bm, &proxy, &mut tables.t3, &adapter)?;
             spreading(
                 &ctx,
                 rig,
                 &bm,
                 &proxy,
-                &path,
+                &m.path,
                 world_per_object,
-                &mut t_spread,
+                &mut tables.spread,
                 &adapter,
             )?;
         }
@@ -553,7 +520,162 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
          Dragon 8.14x, Buddha 8.39x.",
         started.elapsed().as_secs_f64()
     );
-    emit(&[t1, t_ablation, t_bins, t3, t_spread, t_proxy], json)
+    let t = tables;
+    emit(&[t.t1, t.ablation, t.bins, t.t3, t.spread, t.proxy], json)
+}
+
+/// Builds the proxy of `bm` at `ratio` and records the build in the proxy table.
+fn build_proxy(bm: &BenchMesh, ratio: f32, table: &mut Table) -> anyhow::Result<Proxy> {
+    let t = Instant::now();
+    let proxy = Proxy::simplify(&bm.mesh, ratio)?;
+    let simplify_ms = t.elapsed().as_secs_f64() * 1e3;
+    table.push(vec![
+        bm.name.clone().into(),
+        Cell::Num(f64::from(ratio) * 100.0, 2),
+        proxy.triangles().into(),
+        Cell::Num(f64::from(proxy.error_relative), 5),
+        Cell::Num(f64::from(proxy.error_object), 5),
+        Cell::Num(simplify_ms, 0),
+    ]);
+    Ok(proxy)
+}
+
+/// Tables 1–2 at one ratio: every k, mode and antialiasing, the reference cost amortized,
+/// with the fill floor and the ceiling `k·FULL / (FULL + k·FILL)`.
+fn tables_1_2(
+    m: &MeshRun<'_>,
+    rigs: &mut [AaRig<'_>],
+    proxy: &Proxy,
+    ratio: f32,
+    quick: bool,
+    t1: &mut Table,
+) -> anyhow::Result<()> {
+    let tris = m.bm.mesh.triangle_count();
+    for k in KS {
+        if quick && k > 20 {
+            continue;
+        }
+        for (departures, mode) in MODES {
+            for a in rigs.iter_mut() {
+                let (full_ms, ref_ms) = (a.full_ms, a.ref_ms);
+                let mut objects =
+                    [a.rig
+                        .variant(proxy, departures, m.world_per_object, BINS, false)?];
+                let r = segment(&mut a.rig, &m.path, k, &mut objects, true, &mut a.fulls)?;
+                let schedule = WarpSchedule::new(k, false)?;
+                let amortized = schedule.amortized_ms(ref_ms, r.warp_ms);
+                let speedup = full_ms / amortized;
+                let kf = f64::from(k);
+                let ceiling = kf * full_ms / (full_ms + kf * r.fill_ms);
+                t1.push(vec![
+                    m.bm.name.clone().into(),
+                    tris.into(),
+                    Cell::Num(f64::from(ratio) * 100.0, 2),
+                    proxy.triangles().into(),
+                    Cell::Num(f64::from(proxy.error_relative), 5),
+                    k.into(),
+                    mode.into(),
+                    a.aa.name().into(),
+                    Cell::Num(full_ms, 2),
+                    Cell::Num(ref_ms, 2),
+                    Cell::Num(r.warp_ms, 2),
+                    Cell::Num(amortized, 2),
+                    Cell::Num(speedup, 2),
+                    Cell::Num(r.fill_ms, 2),
+                    Cell::Num(ceiling, 2),
+                    Cell::Num(speedup / ceiling, 3),
+                    measured(r.psnr_mean, 2),
+                    measured(r.psnr_worst, 2),
+                    measured(r.ssim_mean, 4),
+                    measured(r.flip_mean, 4),
+                    measured(r.flip_worst, 4),
+                    m.adapter.into(),
+                ]);
+                println!(
+                    "  ratio {ratio} k {k} {mode} {}: warp {:.2} ms, fill {:.2} ms, speedup \
+                 {speedup:.2}x (ceiling {ceiling:.2}x), PSNR {:.2} / {:.2} dB, FLIP \
+                 {:.4} / {:.4}, {:.0} s",
+                    a.aa.name(),
+                    r.warp_ms,
+                    r.fill_ms,
+                    r.psnr_mean,
+                    r.psnr_worst,
+                    r.flip_mean,
+                    r.flip_worst,
+                    m.started.elapsed().as_secs_f64()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The ablation at k = 20: each of [`ablation_rows`], with its PSNR change from the
+/// paper's path (a departure added) or from ours (a departure removed).
+fn ablation(
+    m: &MeshRun<'_>,
+    rig: &mut Rig<'_>,
+    fulls: &mut Fulls,
+    proxy: &Proxy,
+    table: &mut Table,
+) -> anyhow::Result<()> {
+    let mut ends = [f64::NAN; 2];
+    for (variant, departure, departures) in ablation_rows() {
+        let mut objects = [rig.variant(proxy, departures, m.world_per_object, BINS, false)?];
+        let r = segment(rig, &m.path, 20, &mut objects, false, fulls)?;
+        // Added to the paper: gain over the paper; removed from ours: loss from ours.
+        let delta = if variant == "paper" {
+            ends[0] = r.psnr_mean;
+            0.0
+        } else if variant == "ours" {
+            ends[1] = r.psnr_mean;
+            r.psnr_mean - ends[0]
+        } else if variant.starts_with("paper") {
+            r.psnr_mean - ends[0]
+        } else {
+            r.psnr_mean - ends[1]
+        };
+        println!(
+            "  ablation {variant}: warp {:.2} ms, PSNR {:.2} dB ({delta:+.2})",
+            r.warp_ms, r.psnr_mean
+        );
+        table.push(vec![
+            m.bm.name.clone().into(),
+            variant.into(),
+            departure.into(),
+            Cell::Num(r.warp_ms, 2),
+            measured(r.psnr_mean, 2),
+            measured(r.psnr_worst, 2),
+            measured(r.ssim_mean, 4),
+            measured(delta, 2),
+            m.adapter.into(),
+        ]);
+    }
+    Ok(())
+}
+
+/// The effect of the bin count N (§3.3.2): ours at k = 10 with 2 to 32 bins per axis.
+fn bin_counts(
+    m: &MeshRun<'_>,
+    rig: &mut Rig<'_>,
+    fulls: &mut Fulls,
+    proxy: &Proxy,
+    table: &mut Table,
+) -> anyhow::Result<()> {
+    for n in [2, 4, 8, 16, 32] {
+        let mut o = [rig.variant(proxy, Departures::OURS, m.world_per_object, n, false)?];
+        let r = segment(rig, &m.path, 10, &mut o, false, fulls)?;
+        table.push(vec![
+            m.bm.name.clone().into(),
+            n.into(),
+            Cell::Num(r.warp_ms, 2),
+            Cell::Num(r.tris_drawn, 0),
+            Cell::Num(r.blended_bins, 1),
+            Cell::Num(r.psnr_mean, 2),
+            m.adapter.into(),
+        ]);
+    }
+    Ok(())
 }
 
 /// Table 3: 1–4 copies sharing object 0's reference pair (the paper assumes they face
