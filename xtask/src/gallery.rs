@@ -251,8 +251,7 @@ fn specular_figures(out: &mut Vec<Figure>) {
     ));
 }
 
-/// Appends the hatching paper's own figures (Kim & Lee Fig. 1–4), the tonal art maps and the
-/// Fig. 3 baseline.
+/// Appends the tonal art maps and the hatching paper's figures (Kim & Lee Fig. 1–4).
 fn hatching_paper_figures(out: &mut Vec<Figure>) {
     let h = Section::Hatching;
     for style in [TamStyle::Pen, TamStyle::Pencil] {

@@ -152,8 +152,7 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
     emit(&[main, methods, search], json)
 }
 
-/// The meshes of the main table: analytic, irregular and noisy tori, then the fixtures and
-/// the 1.1M-triangle knot.
+/// The main table's meshes: analytic, jittered and noisy, the fixtures, the 1.1M knot.
 fn cases() -> anyhow::Result<Vec<Case>> {
     let mut cases = vec![
         Case {
@@ -209,7 +208,7 @@ fn cases() -> anyhow::Result<Vec<Case>> {
     Ok(cases)
 }
 
-/// The main table: time and error of the default (corrected) field on each case.
+/// Fills the main table: time and error of the default (corrected) field on each case.
 fn field_table(cases: &[Case], bar: &indicatif::ProgressBar) -> Table {
     let mut columns = vec![
         "mesh",
@@ -251,7 +250,7 @@ fn field_table(cases: &[Case], bar: &indicatif::ProgressBar) -> Table {
     main
 }
 
-/// Method comparison on the 10k torus: paper, clipped and corrected at 2, 3 and 4 edges.
+/// Fills the method comparison on the 10k torus: paper, clipped, corrected at r = 2, 3, 4.
 fn method_table(bar: &indicatif::ProgressBar) -> Table {
     let mut columns = vec!["method", "radius_edges", "time_s_median", "vertices_per_s"];
     columns.extend(ERROR_COLUMNS);
@@ -288,7 +287,7 @@ fn method_table(bar: &indicatif::ProgressBar) -> Table {
     methods
 }
 
-/// Per-frame N = H search (§3.1): a light circling the object.
+/// Fills the per-frame N = H search table (§3.1): a light circling the object.
 fn search_table(bar: &indicatif::ProgressBar) -> anyhow::Result<Table> {
     let mut search = Table::new(
         "highlight centres (N = H, Eq. (4)-(6)), point light circling, 64 frames",

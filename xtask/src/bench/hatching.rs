@@ -266,8 +266,7 @@ struct GpuTimes {
     phong_pass_ms: f64,
 }
 
-/// Times the hatching and Phong frames and each pass alone over the workload's frames
-/// (after two warm-up frames); returns the medians and the last frame's preparation.
+/// Times the frames and each pass alone; returns the medians and the last preparation.
 fn time_frames(
     ctx: &GpuContext,
     scene: &mut GpuScene,
@@ -364,8 +363,7 @@ struct CpuTimes {
     mpix_inked_best: f64,
 }
 
-/// Times the CPU reference on this scene's G-buffer (left by the last hatching frame,
-/// `last`) and on an image of the same size inked everywhere.
+/// Times the CPU reference on the scene's G-buffer and on an image inked everywhere.
 fn time_cpu(
     ctx: &GpuContext,
     scene: &GpuScene,
@@ -374,6 +372,7 @@ fn time_cpu(
     last: Option<&HatchPrepared>,
 ) -> anyhow::Result<CpuTimes> {
     let frame = &scene.frame;
+    // CPU reference on this scene's G-buffer (left by the last hatching frame).
     let objects: Vec<_> = scene.objects.iter().map(|(o, _)| o).collect();
     if let Some(p) = last {
         let mut enc = ctx.device.create_command_encoder(&Default::default());

@@ -173,8 +173,7 @@ struct GpuSamples {
     hmax: usize,
 }
 
-/// Turns `mesh` for `FRAMES` frames (after 3 warm-up frames), timing the setup and the GPU
-/// frame without and with the highlight pass.
+/// Times the setup and the GPU frame without and with the highlight pass, frame by frame.
 fn measure_gpu(
     ctx: &GpuContext,
     renderer: &Renderer,
@@ -247,15 +246,15 @@ fn measure_gpu(
     Ok(out)
 }
 
-/// The same turning sequence, setup only, on one core: as loaded, and in the file's own
-/// triangle order, frame by frame in turn so both see the same machine load. Returns the
-/// setup times in µs of each.
+/// Times the setup alone on one core, as loaded and in the file's order; µs each.
 fn measure_one_core(
     one_core: &rayon::ThreadPool,
     mesh: &Mesh,
     file_mesh: &Mesh,
     view: &View,
 ) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
+    // The same turning sequence, setup only, on one core: as loaded, and in the file's own
+    // triangle order, frame by frame in turn so both see the same machine load.
     let mut loaded = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let mut file_order = HighlightSet::new(file_mesh, &CurvatureOptions::default())?;
     let (mut setup_1core, mut setup_1core_file_order) = (Vec::new(), Vec::new());

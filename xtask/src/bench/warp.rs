@@ -540,8 +540,7 @@ fn build_proxy(bm: &BenchMesh, ratio: f32, table: &mut Table) -> anyhow::Result<
     Ok(proxy)
 }
 
-/// Tables 1–2 at one ratio: every k, mode and antialiasing, the reference cost amortized,
-/// with the fill floor and the ceiling `k·FULL / (FULL + k·FILL)`.
+/// Fills Tables 1–2 at one ratio: every k, mode and antialiasing, with fill and ceiling.
 fn tables_1_2(
     m: &MeshRun<'_>,
     rigs: &mut [AaRig<'_>],
@@ -610,8 +609,7 @@ fn tables_1_2(
     Ok(())
 }
 
-/// The ablation at k = 20: each of [`ablation_rows`], with its PSNR change from the
-/// paper's path (a departure added) or from ours (a departure removed).
+/// Fills the ablation table at k = 20, one row per [`ablation_rows`] entry.
 fn ablation(
     m: &MeshRun<'_>,
     rig: &mut Rig<'_>,
@@ -654,7 +652,7 @@ fn ablation(
     Ok(())
 }
 
-/// The effect of the bin count N (§3.3.2): ours at k = 10 with 2 to 32 bins per axis.
+/// Fills the bin-count table (§3.3.2): ours at k = 10 with 2 to 32 bins per axis.
 fn bin_counts(
     m: &MeshRun<'_>,
     rig: &mut Rig<'_>,
