@@ -64,6 +64,7 @@ pub mod frame;
 pub mod inputs;
 pub mod params;
 pub mod pass;
+pub mod pen;
 pub mod scene;
 pub mod shaders;
 pub mod tam;

@@ -77,7 +77,7 @@ impl GBuffer {
         let depth = make(
             "npr hatching g-buffer depth",
             npr_gpu::DEPTH_FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         Ok(Self {
             view: texture.create_view(&wgpu::TextureViewDescriptor::default()),
@@ -202,6 +202,24 @@ impl GBuffer {
         HatchInputs::from_interleaved(self.width(), self.height(), &pairs)?
             .with_anchors(anchors)?
             .with_turn(turn)
+    }
+
+    /// Reads back the depth buffer (`[0, 1]` device depth, rows top to bottom; 1 where
+    /// nothing was drawn; submits and waits), for the pen plotter's hidden-line removal
+    /// ([`crate::pen::OutlineView`]).
+    ///
+    /// # Errors
+    /// [`HatchError::Gpu`] when readback fails.
+    pub fn read_depth(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<f32>, HatchError> {
+        let bytes = npr_gpu::readback_texture(device, queue, &self.depth)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect())
     }
 
     /// Reads back which pixels a surface covers (the G-buffer's alpha; submits and waits).
