@@ -37,6 +37,16 @@ pub struct RenderArgs {
     /// as a JSON array.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Draw the hatching as vector strokes for a pen plotter into this SVG instead of a
+    /// PNG (with --turntable: STEM_0000.svg, ...). Needs a hatching effect.
+    #[arg(long, value_name = "OUT.svg")]
+    pub svg: Option<PathBuf>,
+    /// The SVG's page: a4, a3, letter or WxHmm (e.g. 200x150mm); 10 mm margins.
+    #[arg(long, default_value = "a4")]
+    pub page: String,
+    /// The pen's width in mm (the SVG's stroke-width).
+    #[arg(long, default_value_t = 0.3)]
+    pub pen_mm: f32,
 }
 
 /// Parses `WxH`.
@@ -91,7 +101,73 @@ pub fn resolve_preset(args: &RenderArgs) -> Result<Preset, AppError> {
     if args.gif && args.turntable.is_none() {
         return Err(AppError::Usage("--gif needs --turntable N".into()));
     }
+    if args.svg.is_some() {
+        if !preset.effect.is_hatching() {
+            return Err(AppError::Usage(format!(
+                "--svg draws the hatching: use --effect hatching-pen or hatching-pencil (the \
+                 effect is {})",
+                preset.effect.name()
+            )));
+        }
+        if args.gif {
+            return Err(AppError::Usage("--svg and --gif do not go together".into()));
+        }
+    }
     Ok(preset)
+}
+
+/// The page and pen of `--svg`, checked.
+///
+/// # Errors
+/// [`AppError::Hatching`] for an unknown page, a page smaller than its margins or a pen
+/// width that is not above 0.
+pub fn resolve_page(args: &RenderArgs) -> Result<npr_hatching::pen::Page, AppError> {
+    let page = npr_hatching::pen::Page {
+        pen_mm: args.pen_mm,
+        ..npr_hatching::pen::Page::named(&args.page)?
+    };
+    page.validate()?;
+    Ok(page)
+}
+
+/// Renders `frames` turntable frames of a hatching preset and hands each frame's SVG for
+/// a pen plotter to `sink` (frame index, SVG text, stats).
+///
+/// # Errors
+/// GPU or technique errors, or what `sink` returns.
+pub fn render_svgs(
+    ctx: &npr_gpu::GpuContext,
+    model: Model,
+    preset: &Preset,
+    (frames, page): (u32, &npr_hatching::pen::Page),
+    mut sink: impl FnMut(usize, String, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    let size = (preset.output.width, preset.output.height);
+    let framing = model.framing;
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let bar = progress::bar(u64::from(frames), "pen strokes");
+    let mm_per_px = page.fit(size).0;
+    let mut stats = Vec::new();
+    for i in 0..frames {
+        let turn = 360.0 * i as f32 / frames as f32;
+        let view = View::new(preset, &framing, size, turn);
+        let s = renderer.render(&ctx.device, &ctx.queue, preset, &view)?;
+        let drawing = renderer
+            .pen_drawing(
+                &ctx.device,
+                &ctx.queue,
+                preset,
+                &view,
+                (page.pen_px(size), mm_per_px),
+            )?
+            .unwrap_or_default();
+        let svg = npr_hatching::pen::to_svg(&drawing, page)?;
+        sink(i as usize, svg, &s)?;
+        stats.push(s);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
 }
 
 /// Renders `frames` turntable frames of `model` with `preset` and hands each image to
@@ -140,7 +216,25 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
     let ctx = npr_gpu::GpuContext::new()?;
     let frames = args.turntable.unwrap_or(1);
     let mut written = Vec::new();
-    let stats = if args.gif {
+    let stats = if let Some(svg) = &args.svg {
+        let page = resolve_page(args)?;
+        // Every SVG goes to a temporary name and is renamed only once all exist.
+        let mut temps: Vec<(PathBuf, PathBuf)> = Vec::new();
+        let result = render_svgs(&ctx, model, &preset, (frames, &page), |i, text, _| {
+            let path = if args.turntable.is_some() {
+                output::frame_path(svg, i).with_extension("svg")
+            } else {
+                svg.clone()
+            };
+            let tmp = output::temp_path(&path);
+            std::fs::write(&tmp, text.as_bytes()).map_err(|e| AppError::io(&tmp, e))?;
+            temps.push((tmp, path));
+            Ok(())
+        });
+        let stats = commit_temps(result, &temps)?;
+        written.extend(temps.into_iter().map(|(_, p)| p));
+        stats
+    } else if args.gif {
         let mut images = Vec::new();
         let stats = render_frames(&ctx, model, &preset, frames, |_, img, _| {
             images.push(img);
@@ -159,19 +253,9 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
             temps.push((tmp, path));
             Ok(())
         });
-        let finish = result.and_then(|stats| {
-            for (tmp, path) in &temps {
-                std::fs::rename(tmp, path).map_err(|e| AppError::io(path, e))?;
-            }
-            Ok(stats)
-        });
-        if finish.is_err() {
-            for (tmp, _) in &temps {
-                let _ = std::fs::remove_file(tmp);
-            }
-        }
+        let stats = commit_temps(result, &temps)?;
         written.extend(temps.into_iter().map(|(_, p)| p));
-        finish?
+        stats
     } else {
         let mut image = None;
         let stats = render_frames(&ctx, model, &preset, 1, |_, img, _| {
@@ -193,6 +277,29 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
         stats,
         notes,
     })
+}
+
+/// Renames every temporary file to its final name when `result` is a success; removes
+/// them all otherwise (or when a rename fails), so that nothing is left half written.
+///
+/// # Errors
+/// `result`'s error, or [`AppError::Io`] for a failed rename.
+fn commit_temps<T>(
+    result: Result<T, AppError>,
+    temps: &[(PathBuf, PathBuf)],
+) -> Result<T, AppError> {
+    let finish = result.and_then(|stats| {
+        for (tmp, path) in temps {
+            std::fs::rename(tmp, path).map_err(|e| AppError::io(path, e))?;
+        }
+        Ok(stats)
+    });
+    if finish.is_err() {
+        for (tmp, _) in temps {
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+    finish
 }
 
 /// Writes per-frame statistics as a JSON array, atomically.

@@ -156,6 +156,7 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
          @12 scroll-selected 3\n\
          @14 report {after}\n\
          @16 effect hatching-pen\n\
+         @18 save-svg {svg}\n\
          @20 key 7\n\
          @21 turntable on\n\
          @40 report {warp}\n\
@@ -175,6 +176,7 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
         after_bad = p("after-bad.json"),
         preset = p("preset.toml"),
         shot = p("view.png"),
+        svg = p("view.svg"),
     );
     std::fs::write(dir.join("script.txt"), script).unwrap();
     let spot = root().join("fixtures/meshes/spot.obj");
@@ -221,6 +223,19 @@ fn scripted_window_picks_moves_turns_and_scales_a_highlight() {
     assert!(
         h1[0] > 1.25 * h0[0] && h1[1] > 1.25 * h0[1],
         "{h0:?} -> {h1:?}"
+    );
+
+    // The hatching saved as pen strokes: the three layers, with strokes.
+    let svg = std::fs::read_to_string(dir.join("view.svg")).expect("save-svg wrote no file");
+    for label in ["1 hatching", "2 cross-hatching", "3 outlines"] {
+        assert!(
+            svg.contains(&format!("inkscape:label=\"{label}\"")),
+            "no layer {label}"
+        );
+    }
+    assert!(
+        svg.matches("<polyline").count() > 50,
+        "few strokes in the saved SVG"
     );
 
     // Warping ran live: references at predicted cameras, warped frames between, and a

@@ -13,6 +13,13 @@ use npr_gpu::{FrameId, GpuMesh, ObjectUniforms, TargetFormats};
 use npr_hatching::{HatchFrame, HatchObject, HatchParams, ShadowLight, TamParams, TonalArtMap};
 use std::collections::HashMap;
 
+/// A hatched frame's G-buffer as the pen plotter reads it.
+pub(crate) struct PenInputs {
+    pub hatch: npr_hatching::HatchInputs,
+    pub mask: Vec<bool>,
+    pub depth: Vec<f32>,
+}
+
 /// What a hatching frame is built for.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct HatchKey {
@@ -55,6 +62,27 @@ impl HatchingEffect {
             Some(h) => Ok(Some(h.frame.gbuffer.read(device, queue)?)),
             None => Ok(None),
         }
+    }
+
+    /// The last hatched frame's inputs for the pen plotter (tone and θ, which pixels the
+    /// object covers, the depth buffer), read back (submits and waits).
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when readback fails.
+    pub(crate) fn read_pen_inputs(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<PenInputs>, AppError> {
+        let Some(h) = self.frame.get() else {
+            return Ok(None);
+        };
+        let g = &h.frame.gbuffer;
+        Ok(Some(PenInputs {
+            hatch: g.read(device, queue)?,
+            mask: g.read_surface_mask(device, queue)?,
+            depth: g.read_depth(device, queue)?,
+        }))
     }
 
     /// Prepares and records one hatched frame of `preset` at `view` into `color`.

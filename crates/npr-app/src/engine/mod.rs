@@ -204,6 +204,39 @@ impl Renderer {
         self.hatching.read_inputs(device, queue)
     }
 
+    /// The last hatched frame traced for a pen plotter (see `npr_hatching::pen`): its
+    /// strokes and the model's visible outlines at `view`, with a pen `pen_px` wide and
+    /// strokes of at least 1 mm at `mm_per_px`. `None` before a hatched frame.
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when readback fails or the settings are out of range.
+    pub fn pen_drawing(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        preset: &Preset,
+        view: &View,
+        (pen_px, mm_per_px): (f32, f32),
+    ) -> Result<Option<npr_hatching::pen::PenDrawing>, AppError> {
+        let Some(inputs) = self.hatching.read_pen_inputs(device, queue)? else {
+            return Ok(None);
+        };
+        let outline = npr_hatching::pen::OutlineView {
+            camera: &view.camera,
+            world_from_object: view.world_from_object,
+            size: self.size(),
+            depth: &inputs.depth,
+            crease_deg: preset.outline.crease_deg,
+        };
+        let settings = npr_hatching::pen::PenSettings::for_pen(pen_px, mm_per_px);
+        Ok(Some(npr_hatching::pen::trace(
+            &inputs.hatch,
+            &inputs.mask,
+            Some((&self.model.mesh, &outline)),
+            &settings,
+        )?))
+    }
+
     /// The per-vertex stroke directions of `which`, if computed already (see
     /// [`Renderer::directions`]).
     pub fn cached_directions(&self, which: DirectionPreset) -> Option<&[Vec3]> {

@@ -326,6 +326,7 @@ impl App {
                 }
             }
             Command::Screenshot(p) => self.screenshot(&p)?,
+            Command::SaveSvg(p) => self.save_svg(&p)?,
             Command::SavePreset(p) => self.save_preset(&p)?,
             Command::Report(p) => self.report(&p)?,
             Command::Memory(p) => self.memory(&p)?,
@@ -335,6 +336,33 @@ impl App {
             _ => {}
         }
         Ok(())
+    }
+
+    /// Writes the hatching of the view as pen strokes on an A4 page (see `npr render
+    /// --svg`).
+    fn save_svg(&self, path: &std::path::Path) -> Result<(), AppError> {
+        let Some(gfx) = &self.gfx else { return Ok(()) };
+        let preset = &self.state.preset;
+        if !preset.effect.is_hatching() {
+            return Err(AppError::Usage(
+                "save SVG draws the hatching: switch to hatching-pen or hatching-pencil".into(),
+            ));
+        }
+        let page = npr_hatching::pen::Page::default();
+        let size = gfx.view_size;
+        let view = self.state.view(&gfx.renderer.model().framing, size);
+        let drawing = gfx
+            .renderer
+            .pen_drawing(
+                &gfx.ctx.device,
+                &gfx.ctx.queue,
+                preset,
+                &view,
+                (page.pen_px(size), page.fit(size).0),
+            )?
+            .unwrap_or_default();
+        let svg = npr_hatching::pen::to_svg(&drawing, &page)?;
+        output::write_atomic(path, svg.as_bytes())
     }
 
     fn screenshot(&self, path: &std::path::Path) -> Result<(), AppError> {
@@ -619,6 +647,12 @@ impl App {
                     self.state.preset = preset;
                     self.status = Some(format!("loaded {}", p.display()));
                 }
+                Err(e) => self.status = Some(format!("error: {e}")),
+            }
+        }
+        if let Some(p) = a.save_svg {
+            match self.save_svg(&p) {
+                Ok(()) => self.status = Some(format!("wrote {}", p.display())),
                 Err(e) => self.status = Some(format!("error: {e}")),
             }
         }

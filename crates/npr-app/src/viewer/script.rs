@@ -18,6 +18,7 @@
 //! | `effect NAME` | switches the effect by name (as the panel does) |
 //! | `turntable on\|off` | sets the turntable |
 //! | `screenshot PATH` | writes the 3-D view (no panel) as PNG |
+//! | `save-svg PATH` | writes the hatching of the 3-D view as pen strokes (SVG, A4) |
 //! | `save-preset PATH` | writes the preset (with the view's size) as TOML |
 //! | `report PATH` | writes the selected highlight's state as JSON |
 //! | `memory PATH` | writes resident memory and live GPU objects as JSON |
@@ -55,6 +56,8 @@ pub enum Command {
     Turntable(bool),
     /// Write the 3-D view.
     Screenshot(PathBuf),
+    /// Write the hatching as an SVG for pen plotters.
+    SaveSvg(PathBuf),
     /// Write the preset.
     SavePreset(PathBuf),
     /// Write the selected highlight's state.
@@ -136,6 +139,7 @@ pub fn parse(text: &str, origin: &Path) -> Result<Vec<Event>, AppError> {
                 _ => return Err(err("expected on or off")),
             }),
             "screenshot" => Command::Screenshot(path(0)?),
+            "save-svg" => Command::SaveSvg(path(0)?),
             "save-preset" => Command::SavePreset(path(0)?),
             "report" => Command::Report(path(0)?),
             "memory" => Command::Memory(path(0)?),

@@ -110,6 +110,8 @@ pub struct Actions {
     pub load_preset: Option<PathBuf>,
     /// Write a screenshot here.
     pub screenshot: Option<PathBuf>,
+    /// Write the hatching as an SVG for pen plotters here.
+    pub save_svg: Option<PathBuf>,
     /// Restart highlight tracking.
     pub reset_sequence: bool,
 }
@@ -470,6 +472,9 @@ fn file_actions(ui: &mut egui::Ui, actions: &mut Actions) {
     }
     if let Some(p) = path_field(ui, "shot", "screenshot") {
         actions.screenshot = Some(p);
+    }
+    if let Some(p) = path_field(ui, "svg", "save SVG (pen plotter)") {
+        actions.save_svg = Some(p);
     }
 }
 
