@@ -4,6 +4,7 @@ pub mod curvature;
 pub mod hatching;
 pub mod hatching_coherence;
 pub mod hatching_directions;
+pub mod plotter;
 pub mod specular;
 pub mod specular_fidelity;
 pub mod table;
@@ -33,6 +34,7 @@ pub const NAMES: &[&str] = &[
     "hatching-directions",
     "hatching-coherence",
     "warp",
+    "plotter",
 ];
 
 /// The benchmarks that take `--mesh`.
@@ -41,6 +43,7 @@ const TAKE_MESHES: &[&str] = &[
     "hatching-coherence",
     "specular",
     "specular-fidelity",
+    "plotter",
 ];
 
 /// Runs benchmark `name` (on `meshes`, added to or instead of its defaults, where it
@@ -60,6 +63,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
         "specular-fidelity" => specular_fidelity::run(json, meshes),
         "hatching" => hatching::run(json),
         "warp" => warp::run(json),
+        "plotter" => plotter::run(meshes, json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
     }
 }

@@ -204,6 +204,22 @@ impl Renderer {
         self.hatching.read_inputs(device, queue)
     }
 
+    /// Which pixels the model covers in the last hatched frame, read back (submits and
+    /// waits); `None` before a hatched frame.
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when readback fails.
+    pub fn hatch_coverage(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<Vec<bool>>, AppError> {
+        Ok(self
+            .hatching
+            .read_pen_inputs(device, queue)?
+            .map(|inputs| inputs.mask))
+    }
+
     /// The last hatched frame traced for a pen plotter (see `npr_hatching::pen`): its
     /// strokes and the model's visible outlines at `view`, with a pen `pen_px` wide and
     /// strokes of at least 1 mm at `mm_per_px`. `None` before a hatched frame.
