@@ -64,8 +64,10 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
 fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
     let model = Model::load(path)?;
     let name = model.name.clone();
-    let mut preset = Preset::default();
-    preset.effect = Effect::HatchingPen;
+    let mut preset = Preset {
+        effect: Effect::HatchingPen,
+        ..Preset::default()
+    };
     preset.output.width = SIZE.0;
     preset.output.height = SIZE.1;
     let view = View::new(&preset, &model.framing, SIZE, 0.0);
@@ -99,7 +101,7 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
     let raster_ink: Vec<f32> = raster
         .pixels()
         .map(|p| {
-            let l = luma([p[0], p[1], p[2]].map(|c| srgb_to_linear(c)));
+            let l = luma([p[0], p[1], p[2]].map(srgb_to_linear));
             ((paper - l) / (paper - ink).max(1e-3)).clamp(0.0, 1.0)
         })
         .collect();
