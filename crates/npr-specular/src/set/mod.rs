@@ -17,13 +17,15 @@
 //!   inside the central half of the other's frustum) are merged into the older one;
 //! - a merged or suppressed highlight fades out like a lost one.
 
+mod mesh;
+mod receivers;
+
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower, RegionPatches};
-use crate::visibility::{
-    FaceClusters, Facing, VisibilityScratch, face_slack, receivers_within_clustered,
-};
+use crate::visibility::{VisibilityScratch, face_slack};
 use crate::{HighlightControls, Projector, ProjectorControls, SpecularError};
 use glam::{Mat4, Vec3};
+use mesh::{bounding_radius, check, corner_normals, face_turn, mean_scale};
 use npr_geometry::{
     CoherenceStats, CurvatureField, CurvatureOptions, HighlightCentre, HighlightSearch, LightEye,
     Mesh, SearchCoherence, Topology,
@@ -84,6 +86,10 @@ static NEXT_NORMALS_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::Atomic
 
 /// No per-pixel falloff: every cosine is above both ends.
 pub const NO_FALLOFF: glam::Vec2 = glam::Vec2::new(-3.0, -2.0);
+
+/// A highlight to show this frame, as matched: (id, centre, found, previous highlight
+/// index).
+type Entry = (u64, HighlightCentre, bool, Option<usize>);
 
 /// Where a highlight's drawn boundary comes from, besides its texture's own edge.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -420,6 +426,44 @@ impl HighlightSet {
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
+        let (centres, search_us) = self.search_centres(light_eye, world_from_object);
+        let scale = mean_scale(world_from_object);
+        let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
+        // Pieces are made afresh from their highlight each frame.
+        let mut previous = std::mem::take(&mut self.highlights);
+        previous.retain(|h| h.piece == 0);
+        let next = self.match_centres(&previous, &centres, radius_world, scale, world_from_object);
+        let region_start = Instant::now();
+        let regions = self.grow_regions(&next, light_eye, world_from_object);
+        let region_us = region_start.elapsed().as_secs_f64() * 1e6;
+        let (mut kept, merged) = self.footprints(next, &previous, regions, radius_world, scale);
+        let visibility_start = Instant::now();
+        self.find_receivers(&mut kept, world_from_object);
+        self.share_regions(&mut kept);
+        let live: std::collections::HashSet<u64> = kept.iter().map(|h| h.id).collect();
+        self.per_highlight.retain(|id, _| live.contains(id));
+        self.stats = UpdateStats {
+            centres: centres.len(),
+            highlights: kept.iter().filter(|h| h.piece == 0).count(),
+            receiver_faces: self.receiver_faces.len(),
+            merged,
+            search_us,
+            search: self.coherence.stats(),
+            visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
+            region_us,
+            region_faces: self.grower.counts(),
+        };
+        self.highlights = kept;
+        &self.highlights
+    }
+
+    /// The `N = H` search (§3.1) of this frame and its wall time, microseconds: no centres
+    /// for non-finite or zero light/eye input.
+    fn search_centres(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+    ) -> (Vec<HighlightCentre>, f64) {
         let valid_input = match light_eye {
             LightEye::Directions { to_light, to_eye } => {
                 to_light.is_finite()
@@ -437,21 +481,22 @@ impl HighlightSet {
             Vec::new()
         };
         let search_us = search_start.elapsed().as_secs_f64() * 1e6;
-        let scale = mean_scale(world_from_object);
-        let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
-        // Pieces are made afresh from their highlight each frame.
-        let mut previous = std::mem::take(&mut self.highlights);
-        previous.retain(|h| h.piece == 0);
+        (centres, search_us)
+    }
+
+    /// Matches this frame's `centres` with the `previous` highlights: (id, centre, found,
+    /// previous highlight index) per highlight to show, oldest first.
+    fn match_centres(
+        &mut self,
+        previous: &[Highlight],
+        centres: &[HighlightCentre],
+        radius_world: f32,
+        scale: f32,
+        world_from_object: Mat4,
+    ) -> Vec<Entry> {
         let mut claimed = vec![false; centres.len()];
         // (id, centre, found, previous highlight index)
-        let mut next: Vec<(u64, HighlightCentre, bool, Option<usize>)> =
-            Vec::with_capacity(centres.len() + previous.len());
-        let step = if self.fade_frames == 0 {
-            1.0
-        } else {
-            1.0 / self.fade_frames as f32
-        };
-
+        let mut next: Vec<Entry> = Vec::with_capacity(centres.len() + previous.len());
         // Greedy matching, closest pairs first, in object space (rigid motion of the
         // object does not move a centre there; only lighting changes do).
         let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
@@ -490,7 +535,6 @@ impl HighlightSet {
             }
         }
         // New highlights fade in (appear at full opacity on the first frame).
-        let first_frame = previous.is_empty();
         for (j, c) in centres.iter().enumerate() {
             if !claimed[j] {
                 next.push((self.next_id, *c, true, None));
@@ -501,18 +545,24 @@ impl HighlightSet {
         // younger centre inside a region already claimed is suppressed (fades out if it
         // was shown, never appears if it is new).
         next.sort_by_key(|e| e.0);
-        let controls_of = |id: u64| {
-            self.global
-                .compose(&self.per_highlight.get(&id).copied().unwrap_or_default())
-        };
-        let region_start = Instant::now();
-        let mut regions = match self.sizing {
+        next
+    }
+
+    /// The regions of the found centres in `next` ([`HighlightSizing::Region`]; none for
+    /// the paper's sizing), grown all at once in `next`'s order.
+    fn grow_regions(
+        &mut self,
+        next: &[Entry],
+        light_eye: LightEye,
+        world_from_object: Mat4,
+    ) -> Vec<Region> {
+        match self.sizing {
             HighlightSizing::Paper => Vec::new(),
             HighlightSizing::Region => {
                 let seeds: Vec<(HighlightCentre, f32)> = next
                     .iter()
                     .filter(|e| e.2)
-                    .map(|e| (e.1, controls_of(e.0).sigma))
+                    .map(|e| (e.1, self.controls_of(e.0).sigma))
                     .collect();
                 let frame = RegionFrame {
                     topology: &self.topology,
@@ -523,15 +573,31 @@ impl HighlightSet {
                 self.grower.grow_all(&frame, &seeds)
             }
         }
-        .into_iter()
-        .enumerate();
-        let region_us = region_start.elapsed().as_secs_f64() * 1e6;
+    }
+
+    /// Footprints, opacities and pieces of the highlights in `next` (fades, suppression,
+    /// the paper's merging), and how many were merged away.
+    fn footprints(
+        &self,
+        next: Vec<Entry>,
+        previous: &[Highlight],
+        regions: Vec<Region>,
+        radius_world: f32,
+        scale: f32,
+    ) -> (Vec<Highlight>, usize) {
+        let step = if self.fade_frames == 0 {
+            1.0
+        } else {
+            1.0 / self.fade_frames as f32
+        };
+        let first_frame = previous.is_empty();
+        let mut regions = regions.into_iter().enumerate();
         let min_area = self.min_region_area * (self.radius_bound * scale).powi(2);
         let mut merged = 0;
         let mut kept: Vec<Highlight> = Vec::with_capacity(next.len());
         for (id, centre, found, prev) in next {
             let before = prev.map(|i| &previous[i]);
-            let controls = controls_of(id);
+            let controls = self.controls_of(id);
             let mut seed = None;
             let mut footprint = match (found, self.sizing) {
                 (false, _) => before.map(|h| h.footprint),
@@ -612,137 +678,13 @@ impl HighlightSet {
             kept.push(h);
             kept.extend(drawn);
         }
-        // Receivers (§4.2), over the region growth's face patches (none: face by face).
-        let visibility_start = Instant::now();
-        let no_clusters = FaceClusters::default();
-        self.receiver_faces.clear();
-        let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
-        for h in &mut kept {
-            let start = self.receiver_faces.len();
-            if h.pieces > 0 {
-                h.receivers = start..start;
-                h.falloff_cos = NO_FALLOFF;
-                continue;
-            }
-            // Ours: also within the measured region's normal cone, widened by
-            // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
-            // per face or as a per-pixel falloff.
-            // An edit may take the texture past the grazing limit of unedited highlights
-            // (onto surface the user asked it onto): then only §4.2's facing bounds it.
-            let turn = edit_turn(h);
-            let cap = if turn > 0.0 {
-                std::f32::consts::FRAC_PI_2 - 0.5 * self.receiver_cone_margin_rad
-            } else {
-                grazing
-            };
-            let cone = (self.sizing == HighlightSizing::Region
-                && self.boundary != HighlightBoundary::Unrestricted)
-                .then(|| {
-                    let measured = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
-                    (measured + turn + self.receiver_cone_margin_rad).min(cap)
-                });
-            h.falloff_cos = NO_FALLOFF;
-            let facing = match (cone, self.boundary) {
-                (None, _) => Facing::Cos(0.0),
-                (Some(limit), HighlightBoundary::Smooth) => {
-                    // Alpha 1/2 at the limit (where the per-face rule cut), ramping over
-                    // half the margin either side, and at least over the normal's turn
-                    // across a face either side: on a coarse mesh a narrower ramp ends
-                    // within a triangle, as hard a step as the per-face cut.
-                    // The far end no further out than a margin-wide ramp reaches at the
-                    // cap (so the grazing limit still bounds the stretch), the ramp no
-                    // wider than keeps alpha 1/2 at the limit.
-                    let half_margin = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
-                    let outer = (cap + half_margin).min(std::f32::consts::FRAC_PI_2);
-                    let band = self.face_turn.min(outer - limit).max(half_margin);
-                    let zero = (limit + band).min(outer);
-                    h.falloff_cos = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
-                    Facing::Interpolated {
-                        limit_rad: zero,
-                        slack: &self.face_slack,
-                    }
-                }
-                (Some(limit), _) => Facing::Cos(limit.cos()),
-            };
-            receivers_within_clustered(
-                &self.topology,
-                self.grower.patch_clusters().unwrap_or(&no_clusters),
-                world_from_object,
-                &h.projector,
-                h.centre.face,
-                facing,
-                &mut self.scratch,
-                &mut self.receiver_faces,
-            );
-            h.receivers = start..self.receiver_faces.len();
-        }
-        self.share_regions(&mut kept);
-        let live: std::collections::HashSet<u64> = kept.iter().map(|h| h.id).collect();
-        self.per_highlight.retain(|id, _| live.contains(id));
-        self.stats = UpdateStats {
-            centres: centres.len(),
-            highlights: kept.iter().filter(|h| h.piece == 0).count(),
-            receiver_faces: self.receiver_faces.len(),
-            merged,
-            search_us,
-            search: self.coherence.stats(),
-            visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
-            region_us,
-            region_faces: self.grower.counts(),
-        };
-        self.highlights = kept;
-        &self.highlights
+        (kept, merged)
     }
 
-    /// Fills [`Highlight::shared_with`]: for each highlight the (up to four) nearest
-    /// whose footprint can overlap its own (centres closer than the sum of their larger
-    /// half extents), when neither carries the user's own edits.
-    fn share_regions(&self, kept: &mut [Highlight]) {
-        let edited = |id: u64| {
-            self.per_highlight.get(&id).is_some_and(|c| {
-                c.translate != glam::Vec2::ZERO || c.rotate_rad != 0.0 || c.scale != glam::Vec2::ONE
-            })
-        };
-        // (centre, reach, edited, id, drawn)
-        let reach: Vec<(Vec3, f32, bool, u64, bool)> = kept
-            .iter()
-            .map(|h| {
-                let p = &h.projector;
-                let drawn = h.pieces == 0;
-                (
-                    p.centre_world,
-                    p.half_extent.max_element(),
-                    edited(h.id),
-                    h.id,
-                    drawn,
-                )
-            })
-            .collect();
-        for (i, h) in kept.iter_mut().enumerate() {
-            h.shared_with = [u32::MAX; 4];
-            let (ci, ri, ei, idi, drawn) = reach[i];
-            if !drawn {
-                continue;
-            }
-            // Pieces of one highlight always share; others when neither is edited. The
-            // four nearest, nearer first, ties in index order (no list per highlight).
-            let mut near = [(f32::INFINITY, u32::MAX); 4];
-            for (j, &(cj, rj, ej, idj, dj)) in reach.iter().enumerate() {
-                let shares = idi == idj || (!ei && !ej);
-                if j == i || !dj || !shares {
-                    continue;
-                }
-                let d = ci.distance(cj);
-                let overlaps = d < ri + rj; // false for NaN
-                if let Some(slot) = near.iter().position(|&(e, _)| overlaps && d < e) {
-                    near.copy_within(slot..3, slot + 1);
-                    near[slot] = (d, j as u32);
-                }
-            }
-            for (slot, (_, j)) in h.shared_with.iter_mut().zip(near) {
-                *slot = j;
-            }
-        }
+    /// The composed controls of highlight `id` (global ∘ per-highlight).
+    fn controls_of(&self, id: u64) -> ProjectorControls {
+        self.global
+            .compose(&self.per_highlight.get(&id).copied().unwrap_or_default())
     }
 
     fn make(
@@ -787,60 +729,6 @@ fn limit_change(last: &Footprint, next: Footprint, max_area_change: f32) -> Foot
     }
 }
 
-/// How far a highlight's §3.4 edits turn the surface normal under its footprint beyond
-/// what the unedited footprint spans (radians, ≥ 0). On the local quadric of the centre
-/// (its principal curvatures), a point at tangent offset `q` seen along the axis has a
-/// normal turned by `asin(min(1, |q| · |κ(q̂)|))`, `κ(d) = κ_max cos²φ + κ_min sin²φ` the
-/// normal curvature along `d` (exact on a sphere under the orthographic projector). The
-/// largest such turn over the drawn ellipse's rim, less the largest over the unedited
-/// footprint's rim: what a translation, rotation or scale adds to the measured cone.
-fn edit_turn(h: &Highlight) -> f32 {
-    // Unedited, the drawn ellipse is the footprint's own: no turn (and no rims sampled).
-    let k = &h.controls;
-    if k.translate == glam::Vec2::ZERO && k.rotate_rad == 0.0 && k.scale == glam::Vec2::ONE {
-        return 0.0;
-    }
-    let c = &h.centre;
-    let e_max = c.dir_kappa_max;
-    let e_min = c.normal_world.cross(e_max);
-    let turn_at = |q: Vec3| {
-        let len = q.length();
-        if len <= 0.0 {
-            return 0.0;
-        }
-        let cos = q.dot(e_max) / len;
-        let kappa = (c.kappa_max * cos * cos + c.kappa_min * (1.0 - cos * cos)).abs();
-        (len * kappa).min(1.0).asin()
-    };
-    // Largest turn over the rim of the ellipse centred `centre` (tangent offset from
-    // the N = H point) with half axes `a·u`, `b·v`.
-    let rim = |centre: Vec3, u: Vec3, v: Vec3, half: glam::Vec2| {
-        (0..24)
-            .map(|k| {
-                let (s, co) = (k as f32 * std::f32::consts::TAU / 24.0).sin_cos();
-                turn_at(centre + u * (half.x * co) + v * (half.y * s))
-            })
-            .fold(0f32, f32::max)
-    };
-    let p = &h.projector;
-    let drawn = rim(
-        p.centre_world - c.position_world,
-        p.axis_u,
-        p.axis_v,
-        p.half_extent,
-    );
-    let fp = &h.footprint;
-    let (s, co) = fp.rotate_rad.sin_cos();
-    let own = rim(
-        e_max * fp.offset.x + e_min * fp.offset.y,
-        e_max * co + e_min * s,
-        e_min * co - e_max * s,
-        fp.half_extent,
-    );
-    let turn = drawn - own;
-    if turn.is_finite() { turn.max(0.0) } else { 0.0 }
-}
-
 /// A piece's footprint under the §3.4 controls applied to the whole highlight as one
 /// group: its offset from the whole's centre scaled along the whole's axes and turned by
 /// the rotation; the translation, its own turn and its half extents' scale are then
@@ -855,68 +743,5 @@ fn group_edit(whole: &Footprint, piece: &Footprint, c: &ProjectorControls) -> Fo
     Footprint {
         offset: whole.offset + turned,
         ..*piece
-    }
-}
-
-/// The median over faces of the largest angle between two of a face's corner normals
-/// (`corners[3f + i]`), radians; faces with a missing or non-unit normal are skipped, 0
-/// when none is left.
-fn face_turn(corners: &[Vec3]) -> f32 {
-    let unit = |n: &Vec3| n.is_finite() && (n.length_squared() - 1.0).abs() < 1e-2;
-    let mut turns: Vec<f32> = corners
-        .chunks_exact(3)
-        .filter(|c| c.iter().all(unit))
-        .map(|c| {
-            let cos = c[0].dot(c[1]).min(c[1].dot(c[2])).min(c[2].dot(c[0]));
-            cos.clamp(-1.0, 1.0).acos()
-        })
-        .collect();
-    if turns.is_empty() {
-        return 0.0;
-    }
-    let mid = turns.len() / 2;
-    *turns.select_nth_unstable_by(mid, f32::total_cmp).1
-}
-
-/// Per face corner (`3f + i`), the vertex normal of that corner.
-fn corner_normals(topology: &Topology, normals: &[Vec3]) -> Vec<Vec3> {
-    topology
-        .triangles
-        .iter()
-        .flat_map(|t| t.map(|v| normals.get(v as usize).copied().unwrap_or(Vec3::ZERO)))
-        .collect()
-}
-
-/// The set needs a usable face and one curvature entry per vertex.
-fn check(topology: &Topology, field: &CurvatureField) -> Result<(), SpecularError> {
-    if topology.face_count() == 0 || (0..topology.face_count()).all(|f| topology.is_degenerate(f)) {
-        return Err(SpecularError::EmptyMesh);
-    }
-    if field.len() != topology.vertex_count() {
-        return Err(SpecularError::Mismatch(format!(
-            "{} curvature entries for {} vertices",
-            field.len(),
-            topology.vertex_count()
-        )));
-    }
-    Ok(())
-}
-
-/// The mean scale `|det|^(1/3)` of a transform's linear part (1 when singular).
-fn mean_scale(m: Mat4) -> f32 {
-    let d = glam::Mat3::from_mat4(m).determinant().abs().cbrt();
-    if d.is_finite() && d > 0.0 { d } else { 1.0 }
-}
-
-/// Radius of the bounding sphere about the box centre.
-fn bounding_radius(topology: &Topology) -> f32 {
-    let (lo, hi) = topology.positions.iter().filter(|p| p.is_finite()).fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    if lo.x > hi.x {
-        0.0
-    } else {
-        (hi - lo).length() * 0.5
     }
 }
