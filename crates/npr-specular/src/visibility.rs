@@ -276,7 +276,7 @@ fn receivers_impl(
     // |M⁻ᵀ n| for a unit face normal n is the same for every face under a similarity
     // (rotation, uniform scale, translation): the facing test's right side is constant.
     let k = normal_from_object.x_axis.length();
-    let similar = is_similarity(normal_from_object);
+    let similar = is_similarity(normal_from_object, 1e-6);
     let facing_floor = similar.then_some(min_cos * k);
     let before = out.len();
     // A translated projector (§3.4) may not cover the centre's own face: the walk
@@ -392,15 +392,16 @@ fn walk_box(projector: &Projector) -> (Vec3, Vec3) {
     )
 }
 
-/// Whether the linear map `m` is a similarity (equal column lengths, orthogonal
-/// columns): then `|m n|` is the same for every unit `n`.
-fn is_similarity(m: Mat3) -> bool {
+/// Whether the linear map `m` is a similarity (orthogonal columns of one length, within
+/// `tolerance` relative to that length): then `|m n|` is the same for every unit `n`.
+pub(crate) fn is_similarity(m: Mat3, tolerance: f32) -> bool {
     let cols = [m.x_axis, m.y_axis, m.z_axis];
     let k = cols[0].length();
-    cols.iter().all(|c| (c.length() - k).abs() <= 1e-6 * k)
-        && cols[0].dot(cols[1]).abs() <= 1e-6 * k * k
-        && cols[1].dot(cols[2]).abs() <= 1e-6 * k * k
-        && cols[2].dot(cols[0]).abs() <= 1e-6 * k * k
+    k > 0.0
+        && cols.iter().all(|c| (c.length() - k).abs() <= tolerance * k)
+        && cols[0].dot(cols[1]).abs() <= tolerance * k * k
+        && cols[1].dot(cols[2]).abs() <= tolerance * k * k
+        && cols[2].dot(cols[0]).abs() <= tolerance * k * k
 }
 
 /// The test that takes a patch of faces as received whole (see [`walk_patches`]).

@@ -203,10 +203,9 @@ impl RegionGrower {
         m3: Mat3,
     ) -> Option<std::sync::Arc<RegionPatches>> {
         // Whole patches only under a similarity (cones keep their angles) and for this mesh.
-        let patches = self
-            .patches
-            .clone()
-            .filter(|p| p.clusters.face_count == topo.face_count() && is_similarity(m3));
+        let patches = self.patches.clone().filter(|p| {
+            p.clusters.face_count == topo.face_count() && crate::visibility::is_similarity(m3, 1e-5)
+        });
         if let Some(p) = &patches {
             if self.patch_stamp.len() != p.patches.len() {
                 self.patch_stamp = vec![0; p.patches.len()];
@@ -531,17 +530,6 @@ pub(super) struct GrowContext<'a> {
     /// Its linear part and translation, double precision.
     pub(super) linear: glam::DMat3,
     pub(super) translation: glam::DVec3,
-}
-
-/// Whether a linear map is a similarity (orthogonal columns of one length).
-fn is_similarity(m: Mat3) -> bool {
-    let cols = [m.x_axis, m.y_axis, m.z_axis];
-    let k = cols[0].length();
-    k > 0.0
-        && cols.iter().all(|c| (c.length() - k).abs() <= 1e-5 * k)
-        && cols[0].dot(cols[1]).abs() <= 1e-5 * k * k
-        && cols[1].dot(cols[2]).abs() <= 1e-5 * k * k
-        && cols[2].dot(cols[0]).abs() <= 1e-5 * k * k
 }
 
 /// One seed's growing region: its projector frame (n, e_max, e_min), origin, σ, moments.
