@@ -137,3 +137,75 @@ fn bad_svg_requests_get_one_line_and_no_file() {
         assert!(!svg.exists(), "{extra:?} wrote a file");
     }
 }
+
+/// A segment's two ends.
+type Segment = ([f32; 2], [f32; 2]);
+
+/// Whether segments `a`–`b` and `c`–`d` cross properly (each one's ends on both sides of
+/// the other).
+fn cross(a: [f32; 2], b: [f32; 2], c: [f32; 2], d: [f32; 2]) -> bool {
+    let side = |p: [f32; 2], q: [f32; 2], r: [f32; 2]| {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    side(a, b, c) * side(a, b, d) < 0.0 && side(c, d, a) * side(c, d, b) < 0.0
+}
+
+#[test]
+fn no_stroke_crosses_a_visible_silhouette_of_a_real_model() {
+    use npr_app::engine::Renderer;
+    use npr_app::model::Model;
+    use npr_app::preset::{Effect, Preset};
+    use npr_app::view::View;
+    let Some(ctx) = context_or_skip("no_stroke_crosses_a_visible_silhouette_of_a_real_model")
+    else {
+        return;
+    };
+    let size = (480, 360);
+    for (mesh, turn) in [("spot.obj", 40.0), ("stanford-bunny.obj", 200.0)] {
+        let model = Model::load(&root().join("fixtures/meshes").join(mesh)).unwrap();
+        let mut preset = Preset {
+            effect: Effect::HatchingPen,
+            ..Preset::default()
+        };
+        (preset.output.width, preset.output.height) = size;
+        let view = View::new(&preset, &model.framing, size, turn);
+        let mut r = Renderer::new(&ctx.device, &ctx.queue, model, size).unwrap();
+        r.render(&ctx.device, &ctx.queue, &preset, &view).unwrap();
+        let d = r
+            .pen_drawing(&ctx.device, &ctx.queue, &preset, &view, (1.5, 0.4))
+            .unwrap()
+            .unwrap();
+        assert!(
+            d.silhouettes > 20,
+            "{mesh}: {} silhouette lines",
+            d.silhouettes
+        );
+        // Silhouette segments bucketed by 8-pixel cells.
+        let cell = |p: [f32; 2]| ((p[0] / 8.0) as i32, (p[1] / 8.0) as i32);
+        let mut grid: std::collections::HashMap<(i32, i32), Vec<Segment>> = Default::default();
+        for l in &d.outlines[..d.silhouettes] {
+            for w in l.windows(2) {
+                let (lo, hi) = (cell(w[0]), cell(w[1]));
+                for y in lo.1.min(hi.1) - 1..=lo.1.max(hi.1) + 1 {
+                    for x in lo.0.min(hi.0) - 1..=lo.0.max(hi.0) + 1 {
+                        grid.entry((x, y)).or_default().push((w[0], w[1]));
+                    }
+                }
+            }
+        }
+        let mut segments = 0;
+        for l in d.hatching.iter().chain(&d.cross_hatching) {
+            for w in l.windows(2) {
+                segments += 1;
+                for &(c, e) in grid.get(&cell(w[0])).into_iter().flatten() {
+                    assert!(
+                        !cross(w[0], w[1], c, e),
+                        "{mesh}: a stroke crosses a silhouette at {:?}",
+                        w[0]
+                    );
+                }
+            }
+        }
+        assert!(segments > 5000, "{mesh}: {segments} stroke segments");
+    }
+}

@@ -101,8 +101,10 @@ pub struct PenDrawing {
     pub hatching: Vec<Polyline>,
     /// Strokes along θ + 90°, in the darker tones.
     pub cross_hatching: Vec<Polyline>,
-    /// Silhouettes and creases, hidden parts removed.
+    /// Silhouettes and creases, hidden parts removed: the silhouettes first.
     pub outlines: Vec<Polyline>,
+    /// How many of `outlines` are silhouettes (the lines that cut the strokes).
+    pub silhouettes: usize,
 }
 
 /// Traces `inputs` (tone and θ per pixel) over the pixels `mask` covers into pen strokes;
@@ -161,6 +163,7 @@ pub fn trace(
     let hatching = streamlines::trace_layer(&field, &spacing, layer(0.0, false));
     let cross_hatching =
         streamlines::trace_layer(&field, &spacing, layer(std::f32::consts::FRAC_PI_2, true));
+    let silhouettes = outlines.as_ref().map_or(0, |o| o.silhouettes.len());
     let outlines = outlines.map_or_else(Vec::new, |o| {
         o.silhouettes.into_iter().chain(o.creases).collect()
     });
@@ -169,5 +172,6 @@ pub fn trace(
         hatching,
         cross_hatching,
         outlines,
+        silhouettes,
     })
 }
