@@ -265,6 +265,34 @@ impl Raw {
 /// The common end of every loader: non-finite and range checks, unreferenced vertices
 /// removed, normals kept or recomputed, the report completed.
 pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
+    check(&raw, file)?;
+    let mut notes = std::mem::take(&mut raw.notes);
+    let unused = remove_unreferenced(&mut raw);
+    if unused > 0 {
+        notes.push(LoadNote::UnreferencedVerticesRemoved { count: unused });
+    }
+    let degenerate = count_degenerate(&raw);
+    if degenerate > 0 {
+        notes.push(LoadNote::DegenerateKept { count: degenerate });
+    }
+    let (mesh, recomputed) = into_mesh(raw);
+    if let Some(reason) = recomputed {
+        notes.push(LoadNote::NormalsRecomputed { reason });
+    }
+    // Cannot fail after the checks above; kept as the single source of the invariants.
+    mesh.validate().map_err(|e| LoadError::Parse {
+        file: file.to_string(),
+        at: "mesh".into(),
+        reason: e.to_string(),
+    })?;
+    Ok(Loaded {
+        mesh,
+        report: notes,
+    })
+}
+
+/// Rejects non-finite positions, indices out of range and a file without triangles.
+fn check(raw: &Raw, file: &str) -> Result<(), LoadError> {
     let n = raw.positions.len();
     if let Some(i) = raw.positions.iter().position(|p| !p.is_finite()) {
         return Err(LoadError::NonFinite {
@@ -297,8 +325,12 @@ pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
             detail: found,
         });
     }
-    let mut notes = std::mem::take(&mut raw.notes);
-    // Unreferenced vertices: compact.
+    Ok(())
+}
+
+/// Drops the vertices no triangle uses, renumbering the triangles; returns how many.
+fn remove_unreferenced(raw: &mut Raw) -> usize {
+    let n = raw.positions.len();
     let mut used = vec![false; n];
     for t in &raw.triangles {
         for &i in t {
@@ -332,11 +364,13 @@ pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
         for t in &mut raw.triangles {
             *t = t.map(|i| remap[i as usize]);
         }
-        notes.push(LoadNote::UnreferencedVerticesRemoved { count: unused });
     }
-    let n = raw.positions.len();
-    let degenerate = raw
-        .triangles
+    unused
+}
+
+/// How many triangles repeat a vertex or have zero area.
+fn count_degenerate(raw: &Raw) -> usize {
+    raw.triangles
         .iter()
         .filter(|t| {
             let [a, b, c] = t.map(|i| raw.positions[i as usize].as_dvec3());
@@ -345,10 +379,13 @@ pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
                 || t[0] == t[2]
                 || (b - a).cross(c - a) == glam::DVec3::ZERO
         })
-        .count();
-    if degenerate > 0 {
-        notes.push(LoadNote::DegenerateKept { count: degenerate });
-    }
+        .count()
+}
+
+/// The mesh of the checked `raw`, and why its normals were recomputed, if they were.
+fn into_mesh(raw: Raw) -> (Mesh, Option<&'static str>) {
+    // The file's normals (normalised) when every one is usable; missing uvs are zero.
+    let n = raw.positions.len();
     let normals_ok = raw.normals.len() == n
         && raw
             .normals
@@ -377,20 +414,10 @@ pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
         },
         indices: raw.triangles.into_iter().flatten().collect(),
     };
-    if let Some(reason) = recompute {
+    if recompute.is_some() {
         mesh.recompute_normals();
-        notes.push(LoadNote::NormalsRecomputed { reason });
     }
-    // Cannot fail after the checks above; kept as the single source of the invariants.
-    mesh.validate().map_err(|e| LoadError::Parse {
-        file: file.to_string(),
-        at: "mesh".into(),
-        reason: e.to_string(),
-    })?;
-    Ok(Loaded {
-        mesh,
-        report: notes,
-    })
+    (mesh, recompute)
 }
 
 /// Fan-triangulates a polygon `[v0, v1, ..., vk]` as `(v0, vi, vi+1)`.

@@ -96,95 +96,163 @@ fn parse_v(vals: &[&str]) -> Option<Vec3> {
 }
 
 pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
-    let err = |at: String, reason: String| LoadError::Parse {
-        file: file.to_string(),
-        at,
-        reason,
-    };
     let text = std::str::from_utf8(bytes).map_err(|e| {
-        err(
+        parse_err(
+            file,
             format!("byte {}", e.valid_up_to()),
             "not UTF-8 text (is this really an OBJ file?)".into(),
         )
     })?;
+    let scan = Scan::run(text, file)?;
+    let models = read_models(text, file)?;
+    let mut raw = merge_models(&models);
+    scan.add_notes(&mut raw);
+    Ok(raw)
+}
 
-    // The scan: counts for the report, places for the errors.
-    let (mut nv, mut polygons, mut small, mut points, mut lines) = (0i64, 0, 0, 0, 0);
-    // `vt` and `vn` lines so far: face corners `v/vt/vn` are checked against all three,
-    // positive indices against the file's totals (a face may precede its vertices),
-    // negative ones against the lines so far.
-    let (mut nvt, mut nvn) = (0i64, 0i64);
-    let mut total = [0i64; 3];
-    for line in text.lines() {
-        match line.split_whitespace().next() {
-            Some("v") => total[0] += 1,
-            Some("vt") => total[1] += 1,
-            Some("vn") => total[2] += 1,
-            _ => {}
-        }
+/// A `parse` error at `at`.
+fn parse_err(file: &str, at: String, reason: String) -> LoadError {
+    LoadError::Parse {
+        file: file.to_string(),
+        at,
+        reason,
     }
-    for (k, line) in text.lines().enumerate() {
-        let at = || format!("line {}", k + 1);
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => {
-                let vals: Vec<&str> = words.collect();
-                let p = parse_v(&vals)
-                    .ok_or_else(|| err(at(), format!("bad vertex line `{}`", line.trim())))?;
-                if !p.is_finite() {
-                    return Err(LoadError::NonFinite {
+}
+
+/// The line scan: counts for the report, places for the errors.
+#[derive(Default)]
+struct Scan {
+    /// `v` lines so far.
+    nv: i64,
+    /// `vt` and `vn` lines so far: face corners `v/vt/vn` are checked against all three,
+    /// positive indices against the file's totals (a face may precede its vertices),
+    /// negative ones against the lines so far.
+    nvt: i64,
+    nvn: i64,
+    /// The file's `v`, `vt` and `vn` line totals.
+    total: [i64; 3],
+    /// Faces with more than 3 corners.
+    polygons: usize,
+    /// Faces with fewer than 3 corners.
+    small: usize,
+    /// `p` lines.
+    points: usize,
+    /// `l` lines.
+    lines: usize,
+}
+
+impl Scan {
+    /// Scans every line: `v` lines parsed and finite, face corners in range.
+    fn run(text: &str, file: &str) -> Result<Self, LoadError> {
+        let mut scan = Self::default();
+        for line in text.lines() {
+            match line.split_whitespace().next() {
+                Some("v") => scan.total[0] += 1,
+                Some("vt") => scan.total[1] += 1,
+                Some("vn") => scan.total[2] += 1,
+                _ => {}
+            }
+        }
+        for (k, line) in text.lines().enumerate() {
+            let at = || format!("line {}", k + 1);
+            let mut words = line.split_whitespace();
+            match words.next() {
+                Some("v") => {
+                    let vals: Vec<&str> = words.collect();
+                    let p = parse_v(&vals).ok_or_else(|| {
+                        parse_err(file, at(), format!("bad vertex line `{}`", line.trim()))
+                    })?;
+                    if !p.is_finite() {
+                        return Err(LoadError::NonFinite {
+                            file: file.to_string(),
+                            at: at(),
+                            what: format!("position {:?}", p.to_array()),
+                        });
+                    }
+                    scan.nv += 1;
+                }
+                Some("f") => scan.face(words.collect(), &at, file)?,
+                Some("vt") => scan.nvt += 1,
+                Some("vn") => scan.nvn += 1,
+                Some("p") => scan.points += 1,
+                Some("l") => scan.lines += 1,
+                _ => {}
+            }
+        }
+        Ok(scan)
+    }
+
+    /// Counts an `f` line's corners and checks each corner's `v/vt/vn` indices.
+    fn face(
+        &mut self,
+        corners: Vec<&str>,
+        at: &dyn Fn() -> String,
+        file: &str,
+    ) -> Result<(), LoadError> {
+        match corners.len() {
+            0..=2 => self.small += 1,
+            3 => {}
+            _ => self.polygons += 1,
+        }
+        for c in corners {
+            let so_far = [self.nv, self.nvt, self.nvn];
+            for (slot, part) in c.split('/').take(3).enumerate() {
+                if part.is_empty() && slot > 0 {
+                    continue;
+                }
+                let i: i64 = part
+                    .parse()
+                    .map_err(|_| parse_err(file, at(), format!("bad face corner `{c}`")))?;
+                // 1-based, or negative = relative to the last line so far.
+                let (resolved, count) = if i < 0 {
+                    (so_far[slot].checked_add(i), so_far[slot])
+                } else {
+                    (i.checked_sub(1), self.total[slot])
+                };
+                if !resolved.is_some_and(|r| (0..count).contains(&r)) {
+                    return Err(LoadError::IndexOutOfRange {
                         file: file.to_string(),
-                        at: at(),
-                        what: format!("position {:?}", p.to_array()),
+                        at: format!("{} (`{}` of a face corner)", at(), ["v", "vt", "vn"][slot]),
+                        index: i,
+                        count: count as usize,
                     });
                 }
-                nv += 1;
             }
-            Some("f") => {
-                let corners: Vec<&str> = words.collect();
-                match corners.len() {
-                    0..=2 => small += 1,
-                    3 => {}
-                    _ => polygons += 1,
-                }
-                for c in corners {
-                    let so_far = [nv, nvt, nvn];
-                    for (slot, part) in c.split('/').take(3).enumerate() {
-                        if part.is_empty() && slot > 0 {
-                            continue;
-                        }
-                        let i: i64 = part
-                            .parse()
-                            .map_err(|_| err(at(), format!("bad face corner `{c}`")))?;
-                        // 1-based, or negative = relative to the last line so far.
-                        let (resolved, count) = if i < 0 {
-                            (so_far[slot].checked_add(i), so_far[slot])
-                        } else {
-                            (i.checked_sub(1), total[slot])
-                        };
-                        if !resolved.is_some_and(|r| (0..count).contains(&r)) {
-                            return Err(LoadError::IndexOutOfRange {
-                                file: file.to_string(),
-                                at: format!(
-                                    "{} (`{}` of a face corner)",
-                                    at(),
-                                    ["v", "vt", "vn"][slot]
-                                ),
-                                index: i,
-                                count: count as usize,
-                            });
-                        }
-                    }
-                }
-            }
-            Some("vt") => nvt += 1,
-            Some("vn") => nvn += 1,
-            Some("p") => points += 1,
-            Some("l") => lines += 1,
-            _ => {}
         }
+        Ok(())
     }
 
+    /// The report's notes and the no-triangles detail.
+    fn add_notes(&self, raw: &mut Raw) {
+        let Self {
+            nv,
+            polygons,
+            small,
+            points,
+            lines,
+            ..
+        } = *self;
+        if polygons > 0 {
+            raw.notes.push(LoadNote::Triangulated { polygons });
+        }
+        for (what, count) in [
+            ("OBJ faces with fewer than 3 vertices", small),
+            ("OBJ point (`p`) lines", points),
+            ("OBJ line (`l`) lines", lines),
+        ] {
+            if count > 0 {
+                raw.notes.push(LoadNote::Skipped {
+                    what: what.into(),
+                    count,
+                });
+            }
+        }
+        raw.found = format!("{nv} `v` lines, {points} `p` lines, {lines} `l` lines and no faces");
+    }
+}
+
+/// The file through `tobj`: triangulated, single-indexed, points and lines ignored.
+fn read_models(text: &str, file: &str) -> Result<Vec<tobj::Model>, LoadError> {
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
@@ -195,11 +263,15 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
         tobj::load_obj_buf(&mut BufReader::new(text.as_bytes()), &opts, |_| {
             Err(tobj::LoadError::OpenFileFailed)
         })
-        .map_err(|e| err("file".into(), e.to_string()))?;
+        .map_err(|e| parse_err(file, "file".into(), e.to_string()))?;
+    Ok(models)
+}
 
+/// Every model's vertices and triangles, concatenated (normals only if all have them).
+fn merge_models(models: &[tobj::Model]) -> Raw {
     let mut raw = Raw::default();
     let mut all_normals = true;
-    for m in &models {
+    for m in models {
         let t = &m.mesh;
         let base = raw.positions.len() as u32;
         let n = t.positions.len() / 3;
@@ -236,23 +308,7 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
         }
         raw.normals.clear();
     }
-    if polygons > 0 {
-        raw.notes.push(LoadNote::Triangulated { polygons });
-    }
-    for (what, count) in [
-        ("OBJ faces with fewer than 3 vertices", small),
-        ("OBJ point (`p`) lines", points),
-        ("OBJ line (`l`) lines", lines),
-    ] {
-        if count > 0 {
-            raw.notes.push(LoadNote::Skipped {
-                what: what.into(),
-                count,
-            });
-        }
-    }
-    raw.found = format!("{nv} `v` lines, {points} `p` lines, {lines} `l` lines and no faces");
-    Ok(raw)
+    raw
 }
 
 #[cfg(test)]

@@ -11,7 +11,8 @@ use std::io::{BufReader, ErrorKind};
 use glam::{Vec2, Vec3};
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
-    ElementDef, Encoding, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
+    ElementDef, Encoding, Header, Property, PropertyAccess, PropertyAccessResult, PropertyType,
+    ScalarType,
 };
 
 use super::{LoadError, LoadNote, Raw, fan};
@@ -142,61 +143,101 @@ fn scalar_size(t: &ScalarType) -> usize {
 }
 
 pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
-    let parse_err = |at: String, reason: String| LoadError::Parse {
-        file: file.to_string(),
-        at,
-        reason,
-    };
+    let r = PlyReader { bytes, file };
     if !bytes.starts_with(b"ply") {
-        return Err(parse_err(
+        return Err(r.parse_err(
             "byte 0".into(),
             "missing the `ply` magic line (is this really a PLY file?)".into(),
         ));
     }
-    // A parser error as `truncated` (with what was expected) or `parse` (its message).
-    let classify =
-        |e: &ply_rs_bw::parser::ParseError, truncated: bool, at: String, expected: &str| {
-            if truncated {
-                LoadError::Truncated {
-                    file: file.to_string(),
-                    at,
-                    reason: expected.to_string(),
-                }
-            } else {
-                parse_err(at, parser_message(e))
-            }
-        };
     let mut reader = Reader::new(BufReader::new(bytes));
-    let vparser = Parser::<PlyVertex>::new();
-    let header = vparser.read_header(&mut reader).map_err(|e| {
-        let at = e
-            .line()
-            .map_or("header".into(), |l| format!("header line {l}"));
-        let truncated = e.kind() == ErrorKind::UnexpectedEof;
-        classify(&e, truncated, at, "the header has no `end_header` line")
-    })?;
-    let vdef = header
-        .elements
-        .get("vertex")
-        .ok_or_else(|| parse_err("header".into(), "no `vertex` element".into()))?;
-    if !(has(vdef, &["x"]) && has(vdef, &["y"]) && has(vdef, &["z"])) {
-        return Err(parse_err(
-            "header".into(),
-            "the `vertex` element lacks an `x`, `y` or `z` property".into(),
-        ));
+    let header = r.read_header(&mut reader)?;
+    let vdef = r.vertex_def(&header)?;
+    r.check_binary_sizes(&header)?;
+    let (vertices, faces) = r.read_elements(&mut reader, &header)?;
+    let mut raw = vertex_attributes(&vertices, vdef);
+    r.triangulate_faces(&faces, vertices.len(), &mut raw)?;
+    raw.found = format!("{} vertices and {} faces", vertices.len(), faces.len());
+    Ok(raw)
+}
+
+/// The file being read, for the errors that name it and the checks on its raw bytes.
+struct PlyReader<'a> {
+    bytes: &'a [u8],
+    file: &'a str,
+}
+
+impl PlyReader<'_> {
+    /// A `parse` error at `at`.
+    fn parse_err(&self, at: String, reason: String) -> LoadError {
+        LoadError::Parse {
+            file: self.file.to_string(),
+            at,
+            reason,
+        }
     }
-    // Binary with fixed-size vertices: check the vertex block fits before reading it, to
-    // name the byte where the data runs out.
-    let body = bytes
-        .windows(10)
-        .position(|w| w == b"end_header")
-        .and_then(|p| {
-            bytes[p..]
-                .iter()
-                .position(|&b| b == b'\n')
-                .map(|q| p + q + 1)
-        });
-    if header.encoding != Encoding::Ascii {
+
+    /// A parser error as `truncated` (with what was expected) or `parse` (its message).
+    fn classify(
+        &self,
+        e: &ply_rs_bw::parser::ParseError,
+        truncated: bool,
+        at: String,
+        expected: &str,
+    ) -> LoadError {
+        if truncated {
+            LoadError::Truncated {
+                file: self.file.to_string(),
+                at,
+                reason: expected.to_string(),
+            }
+        } else {
+            self.parse_err(at, parser_message(e))
+        }
+    }
+
+    /// Reads the header, naming its line on error.
+    fn read_header(&self, reader: &mut Reader<BufReader<&[u8]>>) -> Result<Header, LoadError> {
+        Parser::<PlyVertex>::new().read_header(reader).map_err(|e| {
+            let at = e
+                .line()
+                .map_or("header".into(), |l| format!("header line {l}"));
+            let truncated = e.kind() == ErrorKind::UnexpectedEof;
+            self.classify(&e, truncated, at, "the header has no `end_header` line")
+        })
+    }
+
+    /// The `vertex` element's definition, which must have `x`, `y` and `z`.
+    fn vertex_def<'h>(&self, header: &'h Header) -> Result<&'h ElementDef, LoadError> {
+        let vdef = header
+            .elements
+            .get("vertex")
+            .ok_or_else(|| self.parse_err("header".into(), "no `vertex` element".into()))?;
+        if !(has(vdef, &["x"]) && has(vdef, &["y"]) && has(vdef, &["z"])) {
+            return Err(self.parse_err(
+                "header".into(),
+                "the `vertex` element lacks an `x`, `y` or `z` property".into(),
+            ));
+        }
+        Ok(vdef)
+    }
+
+    /// Binary: checks the fixed-size element blocks fit, to name where the data runs out.
+    fn check_binary_sizes(&self, header: &Header) -> Result<(), LoadError> {
+        // Checked before reading, up to the first element with a list property.
+        if header.encoding == Encoding::Ascii {
+            return Ok(());
+        }
+        let bytes = self.bytes;
+        let body = bytes
+            .windows(10)
+            .position(|w| w == b"end_header")
+            .and_then(|p| {
+                bytes[p..]
+                    .iter()
+                    .position(|&b| b == b'\n')
+                    .map(|q| p + q + 1)
+            });
         let mut offset = body.unwrap_or(bytes.len()) as u128;
         for (name, e) in &header.elements {
             let size: Option<usize> = e
@@ -211,7 +252,7 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
             let end = offset + size as u128 * e.count as u128;
             if end > bytes.len() as u128 {
                 return Err(LoadError::Truncated {
-                    file: file.to_string(),
+                    file: self.file.to_string(),
                     at: format!("byte {}", bytes.len()),
                     reason: format!(
                         "{} `{name}` elements of {size} bytes need the file to reach byte {end}",
@@ -221,10 +262,13 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
             }
             offset = end;
         }
+        Ok(())
     }
 
-    let last_line = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
-    let element_err = |name: &str, e: ply_rs_bw::parser::ParseError| {
+    /// An error reading the payload of element `name`, as `truncated` or `parse`.
+    fn element_err(&self, name: &str, e: ply_rs_bw::parser::ParseError) -> LoadError {
+        let bytes = self.bytes;
+        let last_line = bytes.iter().filter(|&&b| b == b'\n').count() + 1;
         let at = match e.line() {
             Some(l) => format!("line {l} (element `{name}`)"),
             None => format!("element `{name}`"),
@@ -232,37 +276,91 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
         // ASCII cut mid-line: the parser sees a short last line, not the end of the file.
         let cut_last_line = !bytes.ends_with(b"\n") && e.line() == Some(last_line);
         let truncated = e.kind() == ErrorKind::UnexpectedEof || cut_last_line;
-        classify(
+        self.classify(
             &e,
             truncated,
             at,
             "the file ends before the elements its header announces",
         )
-    };
-    let fparser = Parser::<PlyFace>::new();
-    let sparser = Parser::<Skip>::new();
-    let mut vertices = Vec::new();
-    let mut faces = Vec::new();
-    for (name, def) in &header.elements {
-        match name.as_str() {
-            "vertex" => {
-                vertices = vparser
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(|e| element_err(name, e))?;
-            }
-            "face" => {
-                faces = fparser
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(|e| element_err(name, e))?;
-            }
-            _ => {
-                sparser
-                    .read_payload_for_element(&mut reader, def, &header)
-                    .map_err(|e| element_err(name, e))?;
-            }
-        }
     }
 
+    /// Reads every element in header order: the vertices and faces, the others dropped.
+    fn read_elements(
+        &self,
+        reader: &mut Reader<BufReader<&[u8]>>,
+        header: &Header,
+    ) -> Result<(Vec<PlyVertex>, Vec<PlyFace>), LoadError> {
+        let vparser = Parser::<PlyVertex>::new();
+        let fparser = Parser::<PlyFace>::new();
+        let sparser = Parser::<Skip>::new();
+        let mut vertices = Vec::new();
+        let mut faces = Vec::new();
+        for (name, def) in &header.elements {
+            match name.as_str() {
+                "vertex" => {
+                    vertices = vparser
+                        .read_payload_for_element(reader, def, header)
+                        .map_err(|e| self.element_err(name, e))?;
+                }
+                "face" => {
+                    faces = fparser
+                        .read_payload_for_element(reader, def, header)
+                        .map_err(|e| self.element_err(name, e))?;
+                }
+                _ => {
+                    sparser
+                        .read_payload_for_element(reader, def, header)
+                        .map_err(|e| self.element_err(name, e))?;
+                }
+            }
+        }
+        Ok((vertices, faces))
+    }
+
+    /// Checks the face indices and fan-triangulates the faces into `raw`, with the notes.
+    fn triangulate_faces(
+        &self,
+        faces: &[PlyFace],
+        nv: usize,
+        raw: &mut Raw,
+    ) -> Result<(), LoadError> {
+        let (mut polygons, mut small) = (0, 0);
+        let mut poly = Vec::new();
+        for (k, f) in faces.iter().enumerate() {
+            poly.clear();
+            for &i in &f.0 {
+                if !(0..nv as i64).contains(&i) {
+                    return Err(LoadError::IndexOutOfRange {
+                        file: self.file.to_string(),
+                        at: format!("face element {k}"),
+                        index: i,
+                        count: nv,
+                    });
+                }
+                poly.push(i as u32);
+            }
+            match poly.len() {
+                0..=2 => small += 1,
+                3 => {}
+                _ => polygons += 1,
+            }
+            fan(&poly, &mut raw.triangles);
+        }
+        if polygons > 0 {
+            raw.notes.push(LoadNote::Triangulated { polygons });
+        }
+        if small > 0 {
+            raw.notes.push(LoadNote::Skipped {
+                what: "PLY faces with fewer than 3 vertices".into(),
+                count: small,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Positions, and normals and uvs where the `vertex` element has all their properties.
+fn vertex_attributes(vertices: &[PlyVertex], vdef: &ElementDef) -> Raw {
     let mut raw = Raw::default();
     let nv = vertices.len();
     raw.positions = vertices
@@ -284,37 +382,5 @@ pub(crate) fn parse(bytes: &[u8], file: &str) -> Result<Raw, LoadError> {
             .map(|v| Vec2::new(v.uv[0] as f32, v.uv[1] as f32))
             .collect();
     }
-    let (mut polygons, mut small) = (0, 0);
-    let mut poly = Vec::new();
-    for (k, f) in faces.iter().enumerate() {
-        poly.clear();
-        for &i in &f.0 {
-            if !(0..nv as i64).contains(&i) {
-                return Err(LoadError::IndexOutOfRange {
-                    file: file.to_string(),
-                    at: format!("face element {k}"),
-                    index: i,
-                    count: nv,
-                });
-            }
-            poly.push(i as u32);
-        }
-        match poly.len() {
-            0..=2 => small += 1,
-            3 => {}
-            _ => polygons += 1,
-        }
-        fan(&poly, &mut raw.triangles);
-    }
-    if polygons > 0 {
-        raw.notes.push(LoadNote::Triangulated { polygons });
-    }
-    if small > 0 {
-        raw.notes.push(LoadNote::Skipped {
-            what: "PLY faces with fewer than 3 vertices".into(),
-            count: small,
-        });
-    }
-    raw.found = format!("{nv} vertices and {} faces", faces.len());
-    Ok(raw)
+    raw
 }
