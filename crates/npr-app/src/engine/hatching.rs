@@ -1,6 +1,7 @@
 //! Real-time hatching (Kim & Lee) in the engine: the hatching frame (VSM, G-buffer and
-//! composite) specialised by the target size, the shadow setting, the stroke directions
-//! and the tonal art map, which is generated once per style and kept.
+//! composite) specialised by the target size, the shadow setting and the stroke
+//! directions; the tonal art map of each style is generated once, kept, and swapped into
+//! the frame when the style changes.
 
 use super::specialized::Specialized;
 use super::surface::SurfaceFields;
@@ -26,14 +27,15 @@ struct HatchKey {
     size: (u32, u32),
     shadows: bool,
     direction: DirectionPreset,
-    /// The pencil map rather than the pen map.
-    pencil: bool,
 }
 
-/// A hatching frame and the model's object in it.
+/// A hatching frame, the model's object in it, and which map it draws with (a new style
+/// swaps the map in the frame, `HatchFrame::set_tam`, rather than rebuilding the frame and
+/// its shadow and G-buffer targets).
 struct HatchState {
     frame: HatchFrame,
     object: HatchObject,
+    pencil: bool,
 }
 
 /// The hatching effect (see the module docs).
@@ -105,12 +107,12 @@ impl HatchingEffect {
             size,
             shadows: h.shadows,
             direction: h.direction,
-            pencil: preset.effect == Effect::HatchingPencil,
         };
-        let tam = match self.tams.entry(key.pencil) {
+        let pencil = preset.effect == Effect::HatchingPencil;
+        let tam = match self.tams.entry(pencil) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::hash_map::Entry::Vacant(e) => {
-                let p = if key.pencil {
+                let p = if pencil {
                     TamParams::pencil()
                 } else {
                     TamParams::pen()
@@ -135,8 +137,16 @@ impl HatchingEffect {
                 let frame = HatchFrame::new(device, queue, formats, &settings, key.size)?;
                 let dirs = fields.directions(&model.mesh, key.direction);
                 let object = frame.create_object(device, mesh, dirs)?;
-                Ok(HatchState { frame, object })
+                Ok(HatchState {
+                    frame,
+                    object,
+                    pencil,
+                })
             })?;
+        if state.pencil != pencil {
+            state.frame.set_tam(device, queue, tam)?;
+            state.pencil = pencil;
+        }
         let params = HatchParams {
             bins: h.bins,
             stroke_scale: h.stroke_scale,
