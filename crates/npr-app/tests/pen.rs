@@ -3,27 +3,10 @@
 //! input refused with one line and no file.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+use common::{npr, out_dir, root};
+
 use npr_gpu::testing::context_or_skip;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("npr-app-pen-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn npr(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_npr"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 /// Every `points="..."` list of the layer labelled `label`, as numbers.
 fn layer_points(svg: &str, label: &str) -> Vec<Vec<[f32; 2]>> {

@@ -3,31 +3,15 @@
 //! their frames, and bad input gets one line and no output file.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+use common::{npr, out_dir, root};
+
 use npr_app::engine::{self, Renderer};
 use npr_app::model::Model;
 use npr_app::preset::{Effect, Preset};
 use npr_app::view::View;
 use npr_gpu::testing::context_or_skip;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("npr-app-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn npr(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_npr"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 /// Share of pixels that differ from the background (the top-left pixel), and the centre
 /// of their bounding box in [0, 1]².

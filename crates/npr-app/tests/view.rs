@@ -11,19 +11,11 @@
 //! without running) unless `NPR_SKIP_GPU=1` asks to skip GPU and window tests.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+use common::{out_dir, root};
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("npr-view-test-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// How to reach a display: `xvfb-run` if installed, else an existing `DISPLAY`.
 fn display_runner() -> Option<Vec<String>> {

@@ -1,0 +1,28 @@
+//! What the app's test binaries share: the workspace root, a fresh output folder per
+//! test, and the `npr` binary.
+// Each test binary uses its own share of these.
+#![allow(dead_code, clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The workspace root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// An empty folder for test `name` of this process.
+pub fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("npr-app-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs the `npr` binary with `args`, waiting for its output.
+pub fn npr(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_npr"))
+        .args(args)
+        .output()
+        .unwrap()
+}
