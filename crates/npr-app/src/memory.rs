@@ -1,5 +1,5 @@
-//! What a long session holds: the process's resident memory and the GPU objects that wgpu
-//! keeps alive. The soak tests compare these after a warm-up and after hundreds of frames;
+//! What a long session holds: the heap in use, the process's resident memory and the GPU
+//! objects that wgpu keeps alive. The soak tests compare these after a warm-up and after hundreds of frames;
 //! `npr view --script` writes them with the `memory PATH` command.
 
 use serde::Serialize;
@@ -11,6 +11,28 @@ pub fn resident_bytes() -> Option<u64> {
     let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+/// Bytes the C allocator has handed out and not yet taken back, over all its arenas
+/// (glibc's `mallinfo2`: chunks in use plus blocks it mapped on its own). Rust's heap and the
+/// Vulkan driver's host memory both come from it.
+///
+/// This is the figure a leak grows. Resident memory also moves when the allocator opens
+/// another arena for a busy thread, or keeps pages it freed. `None` off glibc.
+pub fn heap_in_use_bytes() -> Option<u64> {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        // SAFETY: `mallinfo2` takes no arguments, returns a struct by value and only reads
+        // the allocator's statistics under its own locks (glibc 2.33 and later; Debian 12
+        // ships 2.36).
+        #[allow(unsafe_code)]
+        let info = unsafe { libc::mallinfo2() };
+        Some((info.uordblks + info.hblkhd) as u64)
+    }
+    #[cfg(not(all(target_os = "linux", target_env = "gnu")))]
+    {
+        None
+    }
 }
 
 /// GPU objects alive in a wgpu instance, by kind (wgpu-core's registries: ids handed out
@@ -71,6 +93,8 @@ impl GpuObjects {
 /// its work (so that objects dropped by the frames before are released).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct MemoryReading {
+    /// [`heap_in_use_bytes`].
+    pub heap_bytes: Option<u64>,
     /// [`resident_bytes`].
     pub resident_bytes: Option<u64>,
     /// [`GpuObjects::of`].
@@ -82,6 +106,7 @@ impl MemoryReading {
     pub fn take(instance: &wgpu::Instance, device: &wgpu::Device) -> Self {
         let _ = device.poll(wgpu::PollType::wait_indefinitely());
         Self {
+            heap_bytes: heap_in_use_bytes(),
             resident_bytes: resident_bytes(),
             gpu_objects: GpuObjects::of(instance),
         }
@@ -90,14 +115,44 @@ impl MemoryReading {
     /// Growth of resident memory from `earlier` to `self`, as a fraction of `earlier`
     /// (0.05 = 5 %), when both were read.
     pub fn resident_growth_since(&self, earlier: &MemoryReading) -> Option<f64> {
-        let (a, b) = (earlier.resident_bytes?, self.resident_bytes?);
-        (a > 0).then(|| (b as f64 - a as f64) / a as f64)
+        growth(earlier.resident_bytes?, self.resident_bytes?)
     }
+
+    /// Growth of the heap in use from `earlier` to `self`, as a fraction of `earlier`, when
+    /// both were read.
+    pub fn heap_growth_since(&self, earlier: &MemoryReading) -> Option<f64> {
+        growth(earlier.heap_bytes?, self.heap_bytes?)
+    }
+}
+
+fn growth(a: u64, b: u64) -> Option<f64> {
+    (a > 0).then(|| (b as f64 - a as f64) / a as f64)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    #[test]
+    fn heap_in_use_follows_an_allocation_and_its_release() {
+        let before = heap_in_use_bytes().expect("mallinfo2 on glibc");
+        // Not touched: the heap counts what was handed out, resident or not.
+        // (black_box: the optimiser may otherwise elide an allocation nothing writes to.)
+        let block: Vec<u8> = std::hint::black_box(Vec::with_capacity(64 << 20));
+        let held = heap_in_use_bytes().expect("mallinfo2 on glibc");
+        assert!(block.capacity() >= 64 << 20);
+        drop(block);
+        let after = heap_in_use_bytes().expect("mallinfo2 on glibc");
+        assert!(
+            held >= before + (64 << 20),
+            "heap {before} -> {held} bytes with 64 MiB allocated"
+        );
+        assert!(
+            after + (60 << 20) <= held,
+            "heap {held} -> {after} bytes after the 64 MiB were freed"
+        );
+    }
 
     #[test]
     fn resident_memory_is_read_and_follows_a_large_allocation() {
@@ -115,14 +170,18 @@ mod tests {
     #[test]
     fn growth_is_relative_to_the_earlier_reading() {
         let a = MemoryReading {
+            heap_bytes: Some(50),
             resident_bytes: Some(100),
             gpu_objects: None,
         };
         let b = MemoryReading {
+            heap_bytes: Some(51),
             resident_bytes: Some(104),
             gpu_objects: None,
         };
         assert_eq!(b.resident_growth_since(&a), Some(0.04));
+        assert_eq!(b.heap_growth_since(&a), Some(0.02));
         assert_eq!(a.resident_growth_since(&MemoryReading::default()), None);
+        assert_eq!(a.heap_growth_since(&MemoryReading::default()), None);
     }
 }

@@ -3,9 +3,12 @@
 //! ([`npr_app::render::render_frames`] and [`npr_app::engine::Renderer`]).
 //!
 //! Each scenario renders a warm-up, takes a [`MemoryReading`], renders 300 more frames and
-//! reads again: the GPU objects wgpu holds must be the same, and resident memory may grow by
-//! at most 5 %. The readings are process-wide, so the scenarios run one at a time (a lock)
-//! and nothing else shares this test binary. No wall time is measured.
+//! reads again: the GPU objects wgpu holds must be the same, and the heap in use (Rust's and
+//! the Vulkan driver's, [`npr_app::memory::heap_in_use_bytes`]) may grow by at most 5 %.
+//! Resident memory is checked too, against a looser bound: it also catches memory mapped
+//! outside the heap, but it moves with the allocator's arenas and kept pages, which the load
+//! on the machine decides. The readings are process-wide, so the scenarios run one at a
+//! time (a lock) and nothing else shares this test binary. No wall time is measured.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use npr_app::engine::Renderer;
@@ -22,8 +25,12 @@ use std::sync::Mutex;
 const WARM_UP: usize = 30;
 /// Frames between the two readings.
 const SOAK: usize = 300;
-/// Allowed growth of resident memory between the readings.
+/// Allowed growth of the heap in use between the readings.
 const MAX_GROWTH: f64 = 0.05;
+/// Allowed growth of resident memory between the readings. Under CPU contention glibc
+/// opens another arena for a busy thread and resident memory steps up by several per cent
+/// (8.6 % once in CI) while the heap in use stays flat.
+const MAX_RESIDENT_GROWTH: f64 = 0.25;
 /// Small frames: the growth being looked for does not scale with the image.
 const SIZE: (u32, u32) = (160, 120);
 
@@ -57,41 +64,80 @@ fn check_flat(what: &str, warm: &MemoryReading, end: &MemoryReading) -> String {
         a, b,
         "{what}: GPU objects after the warm-up {a:?} and at the end {b:?}"
     );
-    let growth = end
+    let mib = |m: &MemoryReading, f: fn(&MemoryReading) -> Option<u64>| f(m).unwrap_or(0) >> 20;
+    let heap = end
+        .heap_growth_since(warm)
+        .expect("the heap in use is readable on glibc");
+    let resident = end
         .resident_growth_since(warm)
         .expect("resident memory is readable on Linux");
+    let line = format!(
+        "{what}: heap {} -> {} MiB ({:+.2} %), resident {} -> {} MiB ({:+.2} %)",
+        mib(warm, |m| m.heap_bytes),
+        mib(end, |m| m.heap_bytes),
+        100.0 * heap,
+        mib(warm, |m| m.resident_bytes),
+        mib(end, |m| m.resident_bytes),
+        100.0 * resident
+    );
     assert!(
-        growth <= MAX_GROWTH,
-        "{what}: resident memory grew {:.1} % ({} -> {} MiB); at most {:.0} %",
-        100.0 * growth,
-        warm.resident_bytes.unwrap_or(0) >> 20,
-        end.resident_bytes.unwrap_or(0) >> 20,
+        heap <= MAX_GROWTH,
+        "{line}: the heap may grow at most {:.0} %",
         100.0 * MAX_GROWTH
     );
-    format!(
-        "{what}: {} -> {} MiB ({:+.2} %), GPU objects unchanged",
-        warm.resident_bytes.unwrap_or(0) >> 20,
-        end.resident_bytes.unwrap_or(0) >> 20,
-        100.0 * growth
-    )
+    assert!(
+        resident <= MAX_RESIDENT_GROWTH,
+        "{line}: resident memory may grow at most {:.0} %",
+        100.0 * MAX_RESIDENT_GROWTH
+    );
+    format!("{line}, GPU objects unchanged")
+}
+
+/// Frames between readings within a side.
+const READ_EVERY: usize = 10;
+/// Readings on each side; a side is their median. What is alive after a frame depends on the
+/// view (the highlights and strokes it holds), by a few per cent from frame to frame, so one
+/// reading could be taken at a peak; a leak moves every reading.
+const READINGS: usize = 5;
+
+/// The reading whose heap in use (and, apart, whose resident memory) is the median of
+/// `readings`.
+fn median(readings: &[MemoryReading]) -> MemoryReading {
+    let mid = |f: fn(&MemoryReading) -> Option<u64>| {
+        let mut v: Vec<u64> = readings.iter().filter_map(f).collect();
+        v.sort_unstable();
+        v.get(v.len() / 2).copied()
+    };
+    MemoryReading {
+        heap_bytes: mid(|m| m.heap_bytes),
+        resident_bytes: mid(|m| m.resident_bytes),
+        gpu_objects: readings.first().and_then(|m| m.gpu_objects),
+    }
 }
 
 /// Renders `WARM_UP + SOAK` turntable frames of `preset` as `npr render` does and checks
-/// the readings after the warm-up and at the end.
+/// the median of the first [`READINGS`] readings after the warm-up against the median of
+/// the last ones.
 fn soak_effect(ctx: &GpuContext, preset: &Preset, what: &str) -> String {
-    let mut warm = None;
-    let mut end = None;
+    let mut readings = Vec::new();
     let frames = (WARM_UP + SOAK) as u32;
     npr_app::render::render_frames(ctx, spot(), preset, frames, |i, _image, _stats| {
-        if i + 1 == WARM_UP {
-            warm = Some(MemoryReading::take(&ctx.instance, &ctx.device));
-        } else if i + 1 == WARM_UP + SOAK {
-            end = Some(MemoryReading::take(&ctx.instance, &ctx.device));
+        let done = i + 1;
+        if done >= WARM_UP && (done - WARM_UP).is_multiple_of(READ_EVERY) {
+            readings.push(MemoryReading::take(&ctx.instance, &ctx.device));
         }
         Ok(())
     })
     .unwrap();
-    check_flat(what, &warm.unwrap(), &end.unwrap())
+    assert!(readings.len() > 2 * READINGS, "{} readings", readings.len());
+    let warm = median(&readings[..READINGS]);
+    let end = median(&readings[readings.len() - READINGS..]);
+    assert_eq!(
+        readings[0].gpu_objects,
+        readings[readings.len() - 1].gpu_objects,
+        "{what}: GPU objects after the warm-up and at the end"
+    );
+    check_flat(what, &warm, &end)
 }
 
 fn every_effect() -> Vec<(Preset, String)> {
@@ -147,15 +193,11 @@ fn every_effect_stays_flat_over_300_frames() {
 
 /// One renderer through effect switches and model loads, as a viewer session: each cycle
 /// visits every effect (both stroke spaces) for a few frames, then loads the next of three
-/// models. Readings are taken at the start of every cycle. The heap settles only once
-/// every model has been loaded twice (each load frees one model's buffers and curvature
-/// field and allocates another's), so the warm-up is two rounds of the three models; the
-/// soak is the rounds after it, at least [`SOAK`] frames. Each side is the median of one
-/// round's three readings, so that a reading taken while the allocator's top chunk
-/// happens to be high is not mistaken for growth; a leak grows every reading. Growth over
-/// 5 % is accepted only as a step that then held: the last round within 0.5 % of the one
-/// before it and the whole step at most 10 % (a leak above 5 % over the soak grows about
-/// 1.7 % a round, so it still fails).
+/// models. A reading is taken after every effect. Every model is loaded twice in the
+/// warm-up (each load frees one model's buffers and curvature field and allocates
+/// another's); the soak is the rounds after it, at least [`SOAK`] frames. Each side is the
+/// median of one round's readings (every model with every effect), so that both sides hold
+/// the same models and effects; a leak grows every reading.
 #[test]
 fn switches_and_reloads_stay_flat() {
     let Some(ctx) = context_or_skip("switches_and_reloads_stay_flat") else {
@@ -200,60 +242,32 @@ fn switches_and_reloads_stay_flat() {
                 }
                 frame += 1;
             }
+            readings.push(MemoryReading::take(&ctx.instance, &ctx.device));
         }
-        readings.push(MemoryReading::take(&ctx.instance, &ctx.device));
     }
-    // The last round of the warm-up, and the last round of the soak (same models, in the
-    // same order).
-    let warm_round = &readings[warm_cycles - round..warm_cycles];
-    let end_round = &readings[readings.len() - round..];
+    // A reading after every effect of every cycle; a round is every model once.
+    let per_round = round * presets.len();
+    let warm_round = &readings[(warm_cycles - round) * presets.len()..warm_cycles * presets.len()];
+    let end_round = &readings[readings.len() - per_round..];
     for (w, e) in warm_round.iter().zip(end_round) {
         assert_eq!(
             w.gpu_objects, e.gpu_objects,
             "GPU objects with the same model and effect, after the warm-up and after the soak"
         );
     }
-    let median = |r: &[MemoryReading]| {
-        let mut v: Vec<u64> = r.iter().filter_map(|m| m.resident_bytes).collect();
-        v.sort_unstable();
-        MemoryReading {
-            resident_bytes: v.get(v.len() / 2).copied(),
-            gpu_objects: r.first().and_then(|m| m.gpu_objects),
-        }
-    };
     let what = format!(
         "{} effect switches and {soak_cycles} model loads ({} frames)",
         soak_cycles * presets.len(),
         soak_cycles * cycle
     );
-    let rounds: Vec<MemoryReading> = readings[warm_cycles - round..]
-        .chunks(round)
+    let rounds: Vec<MemoryReading> = readings[(warm_cycles - round) * presets.len()..]
+        .chunks(per_round)
         .map(median)
         .collect();
     let mib: Vec<u64> = rounds
         .iter()
-        .map(|m| m.resident_bytes.unwrap_or(0) >> 20)
+        .map(|m| m.heap_bytes.unwrap_or(0) >> 20)
         .collect();
-    let (first, last) = (&rounds[0], &rounds[rounds.len() - 1]);
-    let total = last.resident_growth_since(first).unwrap_or(f64::INFINITY);
-    let last_step = last
-        .resident_growth_since(&rounds[rounds.len() - 2])
-        .unwrap_or(f64::INFINITY);
-    if total > MAX_GROWTH && last_step <= SETTLED_STEP && total <= MAX_STEP {
-        // A step, not a trend: under CPU contention glibc can open another malloc arena
-        // for a thread, and resident memory jumps once, then holds. A leak grows every
-        // round, so it would also grow in the last one.
-        println!(
-            "{what}: a one-off step of {:+.1} % that then held (per round: {mib:?} MiB)",
-            100.0 * total
-        );
-        return;
-    }
-    let line = check_flat(&what, first, last);
-    println!("{line} (per round: {mib:?} MiB)");
+    let line = check_flat(&what, &rounds[0], &rounds[rounds.len() - 1]);
+    println!("{line} (heap per round: {mib:?} MiB)");
 }
-
-/// The last round's growth that counts as settled (see [`switches_and_reloads_stay_flat`]).
-const SETTLED_STEP: f64 = 0.005;
-/// The largest one-off step accepted when the last round has settled.
-const MAX_STEP: f64 = 0.10;

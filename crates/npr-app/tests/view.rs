@@ -458,9 +458,9 @@ fn random_session(
 }
 
 /// `npr view` plays a random session of 500 events (plus its tour and readings) without a
-/// panic or an error exit, and its resident memory at the end is within 10 % of where it
-/// stood after the first 100 events, with the same GPU objects alive (same model, effect
-/// and size at both readings).
+/// panic or an error exit, and its heap in use at the end is within 10 % of where it stood
+/// after the first 100 events (resident memory within 25 %), with the same GPU objects alive
+/// (same model, effect and size at both readings).
 #[test]
 fn a_random_500_event_session_keeps_memory_flat() {
     let test = "a_random_500_event_session_keeps_memory_flat";
@@ -511,27 +511,33 @@ fn a_random_500_event_session_keeps_memory_flat() {
         serde_json::from_slice(&std::fs::read(p).unwrap()).unwrap()
     };
     let (a, b) = (read(&early), read(&end));
+    let field = |v: &serde_json::Value, key: &str| v[key].as_u64().unwrap_or(0);
     let series: Vec<u64> = (2..5)
-        .map(|i| {
-            read(&dir.join(format!("memory-{i}00.json")))["resident_bytes"]
-                .as_u64()
-                .unwrap_or(0)
-                >> 20
-        })
+        .map(|i| field(&read(&dir.join(format!("memory-{i}00.json"))), "heap_bytes") >> 20)
         .collect();
-    println!("{test}: resident MiB at events 200-400: {series:?}");
-    let rss = |v: &serde_json::Value| v["resident_bytes"].as_u64().expect("resident memory");
-    let growth = rss(&b) as f64 / rss(&a) as f64 - 1.0;
-    println!(
-        "{test}: {events} events; resident {} MiB after 100 events, {} MiB at the end ({:+.1} %)",
-        rss(&a) >> 20,
-        rss(&b) >> 20,
-        100.0 * growth
-    );
+    println!("{test}: heap MiB at events 200-400: {series:?}");
+    let growth = |key: &str| {
+        let (x, y) = (field(&a, key), field(&b, key));
+        assert!(x > 0 && y > 0, "{key} in both readings: {a} {b}");
+        println!(
+            "{test}: {events} events; {key} {} MiB after 100 events, {} MiB at the end",
+            x >> 20,
+            y >> 20
+        );
+        y as f64 / x as f64 - 1.0
+    };
+    let (heap, resident) = (growth("heap_bytes"), growth("resident_bytes"));
     assert!(
-        growth <= 0.10,
+        heap <= 0.10,
+        "the heap in use grew {:.1} % from event 100 to the end ({a} -> {b})",
+        100.0 * heap
+    );
+    // Resident memory also moves with the allocator's arenas and kept pages (see the soak
+    // tests), hence the looser bound; it catches what is mapped outside the heap.
+    assert!(
+        resident <= 0.25,
         "resident memory grew {:.1} % from event 100 to the end ({a} -> {b})",
-        100.0 * growth
+        100.0 * resident
     );
     assert_eq!(a["gpu_objects"], b["gpu_objects"], "GPU objects alive");
 }

@@ -394,6 +394,7 @@ impl App {
         let reading = crate::memory::MemoryReading::take(&gfx.ctx.instance, &gfx.ctx.device);
         let report = serde_json::json!({
             "frame": self.frame,
+            "heap_bytes": reading.heap_bytes,
             "resident_bytes": reading.resident_bytes,
             "gpu_objects": reading.gpu_objects,
         });

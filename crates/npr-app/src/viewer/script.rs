@@ -21,7 +21,7 @@
 //! | `save-svg PATH` | writes the hatching of the 3-D view as pen strokes (SVG, A4) |
 //! | `save-preset PATH` | writes the preset (with the view's size) as TOML |
 //! | `report PATH` | writes the selected highlight's state as JSON |
-//! | `memory PATH` | writes resident memory and live GPU objects as JSON |
+//! | `memory PATH` | writes the heap in use, resident memory and live GPU objects as JSON |
 //! | `load MODEL` | opens a model as if dropped on the window |
 //! | `exit` | closes the viewer |
 
