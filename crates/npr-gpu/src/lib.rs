@@ -52,7 +52,7 @@ pub use context::GpuContext;
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use pass::{FrameId, Pass, PassError, Prepared};
-pub use readback::{padded_bytes_per_row, readback_rgba, readback_texture};
+pub use readback::{TextureReadback, padded_bytes_per_row, readback_rgba, readback_texture};
 pub use render::{PipelineBuilder, TargetFormats};
 pub use shading::{
     BaseInput, BaseObject, BaseSettings, BaseShading, ShadingModel, default_ramp, toon_ramp,

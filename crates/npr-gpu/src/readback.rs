@@ -12,7 +12,9 @@ pub fn padded_bytes_per_row(width: u32, bytes_per_pixel: u32) -> u32 {
 }
 
 /// Copies a whole 2-D texture (mip 0, layer 0) to the CPU, returning tightly packed rows.
-/// Submits its own command buffer and waits: call it outside a frame.
+/// Submits its own command buffer and waits: call it outside a frame. Native only: in the
+/// browser the map completes only once control returns to the page, so use
+/// [`TextureReadback`] and poll it from frame to frame.
 ///
 /// # Errors
 /// [`GpuError::UnsupportedFormat`] for formats without a fixed texel size (depth24,
@@ -22,67 +24,132 @@ pub fn readback_texture(
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
 ) -> Result<Vec<u8>, GpuError> {
-    let format = texture.format();
-    let bpp = format
-        .block_copy_size(Some(wgpu::TextureAspect::All))
-        .filter(|_| format.block_dimensions() == (1, 1))
-        .ok_or(GpuError::UnsupportedFormat(format))?;
-    let (width, height) = (texture.width(), texture.height());
-    let padded = padded_bytes_per_row(width, bpp);
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("npr readback"),
-        size: u64::from(padded) * u64::from(height),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("npr readback"),
-    });
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(height),
+    TextureReadback::start(device, queue, texture)?.wait(device)
+}
+
+/// What a map callback has reported: nothing yet, or its result.
+type MapSlot = std::sync::Arc<std::sync::Mutex<Option<Result<(), String>>>>;
+
+/// A texture copy on its way to the CPU: [`TextureReadback::start`] records and submits
+/// the copy and asks for the map; [`TextureReadback::try_take`] returns the bytes once the
+/// map has completed, without blocking, which is how the browser reads back (the map
+/// completes between two animation frames); [`TextureReadback::wait`] blocks until then
+/// (native).
+#[derive(Debug)]
+pub struct TextureReadback {
+    buffer: wgpu::Buffer,
+    padded: u32,
+    row: u32,
+    height: u32,
+    mapped: MapSlot,
+}
+
+impl TextureReadback {
+    /// Submits a copy of `texture` (mip 0, layer 0) to a mappable buffer and asks for the
+    /// map.
+    ///
+    /// # Errors
+    /// [`GpuError::UnsupportedFormat`] for formats without a fixed texel size.
+    pub fn start(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        texture: &wgpu::Texture,
+    ) -> Result<Self, GpuError> {
+        let format = texture.format();
+        let bpp = format
+            .block_copy_size(Some(wgpu::TextureAspect::All))
+            .filter(|_| format.block_dimensions() == (1, 1))
+            .ok_or(GpuError::UnsupportedFormat(format))?;
+        let (width, height) = (texture.width(), texture.height());
+        let padded = padded_bytes_per_row(width, bpp);
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr readback"),
+            size: u64::from(padded) * u64::from(height),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr readback"),
+        });
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
             },
-        },
-        wgpu::Extent3d {
-            width,
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        queue.submit(Some(encoder.finish()));
+        let mapped = MapSlot::default();
+        let slot = mapped.clone();
+        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            if let Ok(mut s) = slot.lock() {
+                *s = Some(r.map_err(|e| e.to_string()));
+            }
+        });
+        Ok(Self {
+            buffer,
+            padded,
+            row: width * bpp,
             height,
-            depth_or_array_layers: 1,
-        },
-    );
-    queue.submit(Some(encoder.finish()));
-    let (tx, rx) = std::sync::mpsc::channel();
-    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| GpuError::Readback(e.to_string()))?
-        .map_err(|e| GpuError::Readback(e.to_string()))?;
-    let row = (width * bpp) as usize;
-    let mut out = Vec::with_capacity(row * height as usize);
-    {
-        let view = buffer
-            .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        for y in 0..height as usize {
-            let start = y * padded as usize;
-            out.extend_from_slice(&view[start..start + row]);
-        }
+            mapped,
+        })
     }
-    buffer.unmap();
-    Ok(out)
+
+    /// The tightly packed rows once the map has completed; `None` while it has not. After
+    /// it has returned `Some`, the buffer is unmapped and further calls fail.
+    pub fn try_take(&self) -> Option<Result<Vec<u8>, GpuError>> {
+        let done = match self.mapped.lock() {
+            Ok(mut s) => s.take()?,
+            Err(_) => Err("the map callback panicked".to_string()),
+        };
+        Some(done.map_err(GpuError::Readback).and_then(|()| self.rows()))
+    }
+
+    /// Blocks until the map has completed and returns the rows (native: polls `device`).
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`] when polling or mapping fails.
+    pub fn wait(self, device: &wgpu::Device) -> Result<Vec<u8>, GpuError> {
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        self.try_take().unwrap_or_else(|| {
+            Err(GpuError::Readback(
+                "the map had not completed after the device went idle".into(),
+            ))
+        })
+    }
+
+    fn rows(&self) -> Result<Vec<u8>, GpuError> {
+        let (row, padded) = (self.row as usize, self.padded as usize);
+        let mut out = Vec::with_capacity(row * self.height as usize);
+        {
+            let view = self
+                .buffer
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Readback(e.to_string()))?;
+            for y in 0..self.height as usize {
+                let start = y * padded;
+                out.extend_from_slice(&view[start..start + row]);
+            }
+        }
+        self.buffer.unmap();
+        Ok(out)
+    }
 }
 
 /// Reads an RGBA8 texture (`Rgba8Unorm` or `Rgba8UnormSrgb`) back as an image. For an sRGB

@@ -81,8 +81,8 @@ pub use params::{
     nearest_bin,
 };
 pub use pass::{
-    ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, HatchInput, HatchPass, HatchSettings, HatchSource,
-    hatch_image_gpu,
+    ANCHOR_FORMAT, GBUFFER_FORMAT, GBuffer, GBufferContents, GBufferReadback, HatchInput,
+    HatchPass, HatchSettings, HatchSource, hatch_image_gpu,
 };
 pub use scene::{
     DEFAULT_ANCHOR_PERIOD, HatchObject, MOMENTS_FORMAT, SceneInput, ScenePasses, SceneSettings,

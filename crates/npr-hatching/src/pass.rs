@@ -167,7 +167,7 @@ impl GBuffer {
     }
 
     /// Reads the G-buffer back as [`HatchInputs`] with its surface anchors (submits and
-    /// waits: outside a frame).
+    /// waits: outside a frame; native only, see [`GBuffer::start_read`] for the browser).
     ///
     /// # Errors
     /// [`HatchError::Gpu`] when readback fails.
@@ -176,32 +176,9 @@ impl GBuffer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<HatchInputs, HatchError> {
-        let texels = |t: &wgpu::Texture| -> Result<Vec<[f32; 4]>, HatchError> {
-            let bytes = npr_gpu::readback_texture(device, queue, t)?;
-            Ok(bytes
-                .chunks_exact(TEXEL_BYTES as usize)
-                .map(|c| {
-                    let f = |o: usize| f32::from_le_bytes([c[o], c[o + 1], c[o + 2], c[o + 3]]);
-                    [f(0), f(4), f(8), f(12)]
-                })
-                .collect())
-        };
-        let main = texels(&self.texture)?;
-        let anchors = texels(&self.anchors)?;
-        let pairs: Vec<[f32; 2]> = main.iter().map(|m| [m[0], m[1]]).collect();
-        let anchors = main
-            .iter()
-            .zip(&anchors)
-            .map(|(m, a)| crate::Anchor {
-                a: [a[0], a[1]],
-                b: [a[2], a[3]],
-                weight_b: m[2],
-            })
-            .collect();
-        let turn = main.iter().map(|m| (m[3] - 1.0).max(0.0)).collect();
-        HatchInputs::from_interleaved(self.width(), self.height(), &pairs)?
-            .with_anchors(anchors)?
-            .with_turn(turn)
+        let main = npr_gpu::readback_texture(device, queue, &self.texture)?;
+        let anchors = npr_gpu::readback_texture(device, queue, &self.anchors)?;
+        inputs_from(self.width(), self.height(), &main, &anchors)
     }
 
     /// Reads back the depth buffer (`[0, 1]` device depth, rows top to bottom; 1 where
@@ -215,11 +192,11 @@ impl GBuffer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<f32>, HatchError> {
-        let bytes = npr_gpu::readback_texture(device, queue, &self.depth)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-            .collect())
+        Ok(depth_from(&npr_gpu::readback_texture(
+            device,
+            queue,
+            &self.depth,
+        )?))
     }
 
     /// Reads back which pixels a surface covers (the G-buffer's alpha; submits and waits).
@@ -231,12 +208,145 @@ impl GBuffer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<bool>, HatchError> {
-        let bytes = npr_gpu::readback_texture(device, queue, &self.texture)?;
-        Ok(bytes
-            .chunks_exact(TEXEL_BYTES as usize)
-            .map(|c| f32::from_le_bytes([c[12], c[13], c[14], c[15]]) > 0.5)
-            .collect())
+        Ok(mask_from(&npr_gpu::readback_texture(
+            device,
+            queue,
+            &self.texture,
+        )?))
     }
+
+    /// Starts reading back everything the pen plotter traces from ([`GBufferContents`]):
+    /// the copies are submitted now, and [`GBufferReadback::try_take`] hands the contents
+    /// over once they have reached the CPU, without blocking. This is how the browser
+    /// reads back (its maps complete between animation frames); natively,
+    /// [`GBufferReadback::wait`] blocks instead.
+    ///
+    /// # Errors
+    /// [`HatchError::Gpu`] when a copy cannot be set up.
+    pub fn start_read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<GBufferReadback, HatchError> {
+        let start = |t: &wgpu::Texture| npr_gpu::TextureReadback::start(device, queue, t);
+        Ok(GBufferReadback {
+            size: (self.width(), self.height()),
+            pending: [
+                Some(start(&self.texture)?),
+                Some(start(&self.anchors)?),
+                Some(start(&self.depth)?),
+            ],
+            bytes: Default::default(),
+        })
+    }
+}
+
+/// What a [`GBuffer`] holds, on the CPU: the inputs of the raster hatching, which pixels a
+/// surface covers, and the depth ([`GBuffer::start_read`]).
+#[derive(Clone, Debug)]
+pub struct GBufferContents {
+    /// [`GBuffer::read`].
+    pub inputs: HatchInputs,
+    /// [`GBuffer::read_surface_mask`].
+    pub mask: Vec<bool>,
+    /// [`GBuffer::read_depth`].
+    pub depth: Vec<f32>,
+}
+
+/// A [`GBuffer`] readback in flight ([`GBuffer::start_read`]).
+#[derive(Debug)]
+pub struct GBufferReadback {
+    size: (u32, u32),
+    /// The main texture, the anchors and the depth, until each has arrived.
+    pending: [Option<npr_gpu::TextureReadback>; 3],
+    bytes: [Option<Vec<u8>>; 3],
+}
+
+impl GBufferReadback {
+    /// The contents once every copy has reached the CPU; `None` while one has not.
+    ///
+    /// # Errors
+    /// [`HatchError::Gpu`] when a map failed, or the inputs' errors for contents that do
+    /// not fit the size.
+    pub fn try_take(&mut self) -> Option<Result<GBufferContents, HatchError>> {
+        for (pending, bytes) in self.pending.iter_mut().zip(&mut self.bytes) {
+            if let Some(p) = pending {
+                match p.try_take()? {
+                    Ok(b) => *bytes = Some(b),
+                    Err(e) => return Some(Err(e.into())),
+                }
+                *pending = None;
+            }
+        }
+        let [Some(main), Some(anchors), Some(depth)] = std::mem::take(&mut self.bytes) else {
+            return Some(Err(HatchError::Gpu(npr_gpu::GpuError::Readback(
+                "the G-buffer readback was already taken".into(),
+            ))));
+        };
+        let (w, h) = self.size;
+        Some(
+            inputs_from(w, h, &main, &anchors).map(|inputs| GBufferContents {
+                inputs,
+                mask: mask_from(&main),
+                depth: depth_from(&depth),
+            }),
+        )
+    }
+
+    /// Blocks until the contents have reached the CPU (native: polls `device`).
+    ///
+    /// # Errors
+    /// As [`GBufferReadback::try_take`], or [`HatchError::Gpu`] when polling fails.
+    pub fn wait(mut self, device: &wgpu::Device) -> Result<GBufferContents, HatchError> {
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+        self.try_take().unwrap_or_else(|| {
+            Err(HatchError::Gpu(npr_gpu::GpuError::Readback(
+                "the G-buffer maps had not completed after the device went idle".into(),
+            )))
+        })
+    }
+}
+
+/// The G-buffer's `Rgba32Float` texels.
+fn texels(bytes: &[u8]) -> impl Iterator<Item = [f32; 4]> + '_ {
+    bytes.chunks_exact(TEXEL_BYTES as usize).map(|c| {
+        let f = |o: usize| f32::from_le_bytes([c[o], c[o + 1], c[o + 2], c[o + 3]]);
+        [f(0), f(4), f(8), f(12)]
+    })
+}
+
+/// [`HatchInputs`] with anchors from the main texture's and the anchors' bytes.
+fn inputs_from(w: u32, h: u32, main: &[u8], anchors: &[u8]) -> Result<HatchInputs, HatchError> {
+    let main: Vec<[f32; 4]> = texels(main).collect();
+    let pairs: Vec<[f32; 2]> = main.iter().map(|m| [m[0], m[1]]).collect();
+    let anchors = main
+        .iter()
+        .zip(texels(anchors))
+        .map(|(m, a)| crate::Anchor {
+            a: [a[0], a[1]],
+            b: [a[2], a[3]],
+            weight_b: m[2],
+        })
+        .collect();
+    let turn = main.iter().map(|m| (m[3] - 1.0).max(0.0)).collect();
+    HatchInputs::from_interleaved(w, h, &pairs)?
+        .with_anchors(anchors)?
+        .with_turn(turn)
+}
+
+/// Which pixels a surface covers: the main texture's alpha.
+fn mask_from(main: &[u8]) -> Vec<bool> {
+    texels(main).map(|t| t[3] > 0.5).collect()
+}
+
+/// The depth texture's `Depth32Float` values.
+fn depth_from(bytes: &[u8]) -> Vec<f32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
 }
 
 /// The hatching pass's settings: the tonal art map, uploaded once by [`HatchPass::new`]

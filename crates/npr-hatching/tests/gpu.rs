@@ -816,3 +816,54 @@ fn scene_pass_draws_the_general_pass_image() {
         assert!(weights.contains(&0.0) && weights.contains(&1.0) && weights.contains(&0.5));
     }
 }
+
+/// The G-buffer readback that does not block (what the browser polls from frame to frame)
+/// hands over what the blocking reads return, only once, and only after the copies were
+/// polled to completion; the frame drawn after the copy was submitted does not leak in.
+#[test]
+fn polled_gbuffer_readback_equals_the_blocking_reads() {
+    let Some(ctx) = testing::context_or_skip("polled_gbuffer_readback_equals_the_blocking_reads")
+    else {
+        return;
+    };
+    let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+    let mut rig = sphere_rig(ctx, &tam, npr_hatching::StrokeSpace::Surface, 16);
+    let camera = Camera::look_at(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, 1.0);
+    rig.render(ctx, &camera, 0.0);
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    let g = &rig.frame.gbuffer;
+    let (inputs, mask, depth) = (
+        g.read(device, queue).unwrap(),
+        g.read_surface_mask(device, queue).unwrap(),
+        g.read_depth(device, queue).unwrap(),
+    );
+    let mut pending = g.start_read(device, queue).unwrap();
+    // The next frame (turned, from nearer) is drawn after the copies were submitted.
+    let near = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, 1.0);
+    rig.render(ctx, &near, 0.5);
+    let g = &rig.frame.gbuffer;
+    let mut polls = 0;
+    let contents = loop {
+        if let Some(c) = pending.try_take() {
+            break c.unwrap();
+        }
+        polls += 1;
+        assert!(polls < 10_000, "the readback never completed");
+        device.poll(wgpu::PollType::Poll).unwrap();
+    };
+    assert!(
+        pending.try_take().is_some_and(|r| r.is_err()),
+        "taken twice"
+    );
+    assert!(mask.iter().any(|&m| m) && mask.iter().any(|&m| !m));
+    assert_eq!(contents.mask, mask);
+    assert_eq!(contents.depth, depth);
+    assert_eq!(contents.inputs.interleaved(), inputs.interleaved());
+    assert_eq!(contents.inputs.turn(), inputs.turn());
+    assert_eq!(contents.inputs.anchors(), inputs.anchors());
+    let now = g.read_depth(device, queue).unwrap();
+    assert_ne!(
+        now, depth,
+        "the second frame differs, so the test can see a late copy"
+    );
+}

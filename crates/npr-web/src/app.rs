@@ -38,6 +38,16 @@ pub struct Viewer {
     script_pos: usize,
     /// What the script asked of the page (downloads), as JSON objects, until taken.
     actions: Vec<serde_json::Value>,
+    /// A "save SVG" on its way: asked for, then read back over the next frames.
+    svg: Option<SvgRequest>,
+}
+
+/// A "save SVG" ([`Viewer::save_svg`]): the file name and page asked for, and once the
+/// next frame is drawn, the G-buffer readback with the view it was drawn from.
+struct SvgRequest {
+    file: String,
+    page: npr_hatching::pen::Page,
+    readback: Option<(npr_hatching::GBufferReadback, npr_app::view::View, Preset)>,
 }
 
 #[wasm_bindgen]
@@ -99,6 +109,7 @@ impl Viewer {
             script_start: 0,
             script_pos: 0,
             actions: Vec::new(),
+            svg: None,
         })
     }
 
@@ -134,6 +145,7 @@ impl Viewer {
         );
         self.frame += 1;
         self.stats = drawn.map_err(js_error)?;
+        self.advance_svg(&view)?;
         let (device, queue) = (&self.ctx.device, &self.ctx.queue);
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f)
@@ -162,8 +174,30 @@ impl Viewer {
         scripted
     }
 
+    /// Traces the hatching of the view as pen strokes for a plotter, as `npr render --svg`
+    /// does: `page` is `a4`, `a3`, `letter` or `WxHmm`, `pen_mm` the pen width. The G-buffer
+    /// is read back over the next frames; the SVG then arrives as a download
+    /// ([`Viewer::take_actions`], kind `svg`). Fails with one line for an effect other than
+    /// hatching, an unknown or too small page, or a pen width not above 0.
+    pub fn save_svg(&mut self, file: &str, page: &str, pen_mm: f32) -> Result<(), JsValue> {
+        self.state.can_save_svg().map_err(js_error)?;
+        let page = npr_hatching::pen::Page {
+            pen_mm,
+            ..npr_hatching::pen::Page::named(page).map_err(js_error)?
+        };
+        page.validate().map_err(js_error)?;
+        self.svg = Some(SvgRequest {
+            file: file.to_string(),
+            page,
+            readback: None,
+        });
+        Ok(())
+    }
+
     /// Resizes the canvas surface and the engine's target.
     pub fn resize(&mut self, width: u32, height: u32) -> Result<(), JsValue> {
+        // A readback in flight holds the old size.
+        self.svg = None;
         let (width, height) = (width.max(1), height.max(1));
         self.renderer
             .resize(&self.ctx.device, (width, height))
@@ -212,8 +246,8 @@ impl Viewer {
 
     /// Loads an `npr view --script` (the same format: `@FRAME COMMAND ARGS...`); frame 0
     /// is the next frame drawn. Input commands go through the shared viewer state, as in
-    /// the window; `resize` resizes the canvas; `screenshot`, `save-preset` and `report`
-    /// become downloads ([`Viewer::take_actions`]); `exit` ends the script; `memory` and
+    /// the window; `resize` resizes the canvas; `screenshot`, `save-preset`, `save-svg` (A4,
+    /// 0.3 mm pen) and `report` become downloads ([`Viewer::take_actions`]); `exit` ends the script; `memory` and
     /// `load` need a file system and are refused with their line's message.
     pub fn load_script(&mut self, text: &str, name: &str) -> Result<(), JsValue> {
         let events = script::parse(text, Path::new(name)).map_err(js_error)?;
@@ -239,7 +273,7 @@ impl Viewer {
 
     /// The downloads the script asked for since the last call, as a JSON array of
     /// `{"file", "kind", "text"}` (`kind`: `screenshot`, whose text is empty: the page
-    /// saves its canvas; `preset`, TOML; `report`, JSON).
+    /// saves its canvas; `preset`, TOML; `report`, JSON; `svg`, the pen plotter's SVG).
     pub fn take_actions(&mut self) -> String {
         serde_json::Value::from(std::mem::take(&mut self.actions)).to_string()
     }
@@ -272,6 +306,8 @@ impl Viewer {
         self.renderer
             .set_model(&self.ctx.device, model)
             .map_err(js_error)?;
+        // A readback in flight traces against the model it was drawn from.
+        self.svg = None;
         self.state.selected = None;
         self.warp = WarpLive::default();
         Ok(())
@@ -359,6 +395,53 @@ impl Viewer {
 }
 
 impl Viewer {
+    /// Moves a "save SVG" on: after the frame it was asked before, starts the readback of
+    /// that frame's G-buffer; on a later frame, once the copies have reached the CPU, traces
+    /// them and queues the download. A failure drops the request and shows its line.
+    fn advance_svg(&mut self, view: &npr_app::view::View) -> Result<(), JsValue> {
+        let Some(request) = &mut self.svg else {
+            return Ok(());
+        };
+        let (device, queue) = (&self.ctx.device, &self.ctx.queue);
+        let Some((readback, drawn, preset)) = &mut request.readback else {
+            let started = self.renderer.start_pen_readback(device, queue);
+            match started {
+                Ok(Some(r)) => {
+                    let preset = self.state.preset.clone();
+                    request.readback = Some((r, *view, preset));
+                    return Ok(());
+                }
+                Ok(None) => {
+                    self.svg = None;
+                    return Err(js_error("save SVG: no hatched frame was drawn"));
+                }
+                Err(e) => {
+                    self.svg = None;
+                    return Err(js_error(e));
+                }
+            }
+        };
+        let Some(contents) = readback.try_take() else {
+            return Ok(());
+        };
+        let size = self.renderer.size();
+        let page = request.page;
+        let traced = contents.map_err(js_error).and_then(|c| {
+            let pen = (page.pen_px(size), page.fit(size).0);
+            let drawing = self
+                .renderer
+                .pen_drawing_from(&c, preset, drawn, pen)
+                .map_err(js_error)?;
+            npr_hatching::pen::to_svg(&drawing, &page).map_err(js_error)
+        });
+        let file = request.file.clone();
+        self.svg = None;
+        let text = traced?;
+        self.actions
+            .push(serde_json::json!({ "file": file, "kind": "svg", "text": text }));
+        Ok(())
+    }
+
     /// Runs the script's commands due at this frame. Input goes through the shared viewer
     /// state; the rest is the page's to do (or refused).
     fn run_script(&mut self) -> Result<(), JsValue> {
@@ -405,6 +488,7 @@ impl Viewer {
                         "file": file(&p), "kind": "report", "text": report.to_string()
                     }));
                 }
+                Some(Command::SaveSvg(p)) => self.save_svg(&file(&p), "a4", 0.3)?,
                 Some(Command::Exit) => self.script_pos = self.script.len(),
                 Some(other) => {
                     return Err(js_error(format!(

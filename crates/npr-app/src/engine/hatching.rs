@@ -14,13 +14,6 @@ use npr_gpu::{FrameId, GpuMesh, ObjectUniforms, TargetFormats};
 use npr_hatching::{HatchFrame, HatchObject, HatchParams, ShadowLight, TamParams, TonalArtMap};
 use std::collections::HashMap;
 
-/// A hatched frame's G-buffer as the pen plotter reads it.
-pub(crate) struct PenInputs {
-    pub hatch: npr_hatching::HatchInputs,
-    pub mask: Vec<bool>,
-    pub depth: Vec<f32>,
-}
-
 /// What a hatching frame is built for.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct HatchKey {
@@ -66,25 +59,21 @@ impl HatchingEffect {
         }
     }
 
-    /// The last hatched frame's inputs for the pen plotter (tone and θ, which pixels the
-    /// object covers, the depth buffer), read back (submits and waits).
+    /// Starts reading back the last hatched frame's G-buffer for the pen plotter (tone
+    /// and θ, which pixels the object covers, the depth buffer); `None` before a hatched
+    /// frame.
     ///
     /// # Errors
-    /// [`AppError::Hatching`] when readback fails.
-    pub(crate) fn read_pen_inputs(
+    /// [`AppError::Hatching`] when a copy cannot be set up.
+    pub(crate) fn start_pen_read(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-    ) -> Result<Option<PenInputs>, AppError> {
-        let Some(h) = self.frame.get() else {
-            return Ok(None);
-        };
-        let g = &h.frame.gbuffer;
-        Ok(Some(PenInputs {
-            hatch: g.read(device, queue)?,
-            mask: g.read_surface_mask(device, queue)?,
-            depth: g.read_depth(device, queue)?,
-        }))
+    ) -> Result<Option<npr_hatching::GBufferReadback>, AppError> {
+        match self.frame.get() {
+            Some(h) => Ok(Some(h.frame.gbuffer.start_read(device, queue)?)),
+            None => Ok(None),
+        }
     }
 
     /// Prepares and records one hatched frame of `preset` at `view` into `color`.

@@ -214,15 +214,17 @@ impl Renderer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Option<Vec<bool>>, AppError> {
-        Ok(self
-            .hatching
-            .read_pen_inputs(device, queue)?
-            .map(|inputs| inputs.mask))
+        match self.start_pen_readback(device, queue)? {
+            Some(r) => Ok(Some(r.wait(device)?.mask)),
+            None => Ok(None),
+        }
     }
 
     /// The last hatched frame traced for a pen plotter (see `npr_hatching::pen`): its
     /// strokes and the model's visible outlines at `view`, with a pen `pen_px` wide and
-    /// strokes of at least 1 mm at `mm_per_px`. `None` before a hatched frame.
+    /// strokes of at least 1 mm at `mm_per_px`. `None` before a hatched frame. Submits and
+    /// waits (native); the browser uses [`Renderer::start_pen_readback`] and
+    /// [`Renderer::pen_drawing_from`].
     ///
     /// # Errors
     /// [`AppError::Hatching`] when readback fails or the settings are out of range.
@@ -232,25 +234,59 @@ impl Renderer {
         queue: &wgpu::Queue,
         preset: &Preset,
         view: &View,
-        (pen_px, mm_per_px): (f32, f32),
+        pen: (f32, f32),
     ) -> Result<Option<npr_hatching::pen::PenDrawing>, AppError> {
-        let Some(inputs) = self.hatching.read_pen_inputs(device, queue)? else {
+        let Some(readback) = self.start_pen_readback(device, queue)? else {
             return Ok(None);
         };
+        let contents = readback.wait(device)?;
+        self.pen_drawing_from(&contents, preset, view, pen)
+            .map(Some)
+    }
+
+    /// Starts reading back what the pen plotter traces from, for the last hatched frame:
+    /// poll the readback ([`npr_hatching::GBufferReadback::try_take`]) from frame to frame
+    /// and hand its contents to [`Renderer::pen_drawing_from`]. `None` before a hatched
+    /// frame.
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when a copy cannot be set up.
+    pub fn start_pen_readback(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<npr_hatching::GBufferReadback>, AppError> {
+        self.hatching.start_pen_read(device, queue)
+    }
+
+    /// Traces `contents` (a hatched frame read back at `view`) for a pen plotter: the
+    /// strokes and this model's visible outlines, with a pen `pen_px` wide and strokes of
+    /// at least 1 mm at `mm_per_px`.
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when the settings are out of range or the contents do not
+    /// fit the view.
+    pub fn pen_drawing_from(
+        &self,
+        contents: &npr_hatching::GBufferContents,
+        preset: &Preset,
+        view: &View,
+        (pen_px, mm_per_px): (f32, f32),
+    ) -> Result<npr_hatching::pen::PenDrawing, AppError> {
         let outline = npr_hatching::pen::OutlineView {
             camera: &view.camera,
             world_from_object: view.world_from_object,
-            size: self.size(),
-            depth: &inputs.depth,
+            size: (contents.inputs.width(), contents.inputs.height()),
+            depth: &contents.depth,
             crease_deg: preset.outline.crease_deg,
         };
         let settings = npr_hatching::pen::PenSettings::for_pen(pen_px, mm_per_px);
-        Ok(Some(npr_hatching::pen::trace(
-            &inputs.hatch,
-            &inputs.mask,
+        Ok(npr_hatching::pen::trace(
+            &contents.inputs,
+            &contents.mask,
             Some((&self.model.mesh, &outline)),
             &settings,
-        )?))
+        )?)
     }
 
     /// The per-vertex stroke directions of `which`, if computed already (see

@@ -342,12 +342,8 @@ impl App {
     /// --svg`).
     fn save_svg(&self, path: &std::path::Path) -> Result<(), AppError> {
         let Some(gfx) = &self.gfx else { return Ok(()) };
+        self.state.can_save_svg()?;
         let preset = &self.state.preset;
-        if !preset.effect.is_hatching() {
-            return Err(AppError::Usage(
-                "save SVG draws the hatching: switch to hatching-pen or hatching-pencil".into(),
-            ));
-        }
         let page = npr_hatching::pen::Page::default();
         let size = gfx.view_size;
         let view = self.state.view(&gfx.renderer.model().framing, size);

@@ -501,6 +501,23 @@ impl ViewerState {
         view.to_pixel(h.centre_world, size)
     }
 
+    /// Whether "save SVG" can draw this view: it traces the hatching, so the effect must
+    /// be one of the two hatching styles.
+    ///
+    /// # Errors
+    /// [`AppError::Usage`] naming the effects that can.
+    pub fn can_save_svg(&self) -> Result<(), AppError> {
+        if self.preset.effect.is_hatching() {
+            Ok(())
+        } else {
+            Err(AppError::Usage(format!(
+                "save SVG draws the hatching: switch to hatching-pen or hatching-pencil (the \
+                 effect is {})",
+                self.preset.effect.name()
+            )))
+        }
+    }
+
     /// The preset as `npr render` needs it to draw this view: the current parameters, the
     /// view's `size`, and the turntable's angle folded into the model turn.
     pub fn preset_for_render(&self, size: (u32, u32)) -> Preset {

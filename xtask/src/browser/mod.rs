@@ -22,6 +22,8 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod svg;
+
 /// Chromium's flags for WebGPU with no GPU.
 const CHROMIUM_FLAGS: [&str; 7] = [
     "--headless=new",
@@ -185,6 +187,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
     }
     check_shaders(driver, session)?;
     check_bad_drop(driver, session, site, site_port, &ctx, &model)?;
+    svg::check(driver, session, (site, site_port), &ctx, &model)?;
     Ok(rows)
 }
 
