@@ -47,6 +47,8 @@ pub fn run() -> anyhow::Result<()> {
         written.extend(run_examples(krate, examples, &dir, &bar)?);
         bar.inc(1);
     }
+    bar.set_message("the pen plotter's SVGs");
+    written.extend(plotter_figures(&dir)?);
     bar.finish_and_clear();
     for p in &written {
         println!("demo: wrote {}", p.display());
@@ -60,6 +62,50 @@ pub fn run() -> anyhow::Result<()> {
         index.display()
     );
     Ok(())
+}
+
+/// The plotter section: for each of [`crate::gallery::PLOTTER_SUBJECTS`], the SVG that
+/// `npr render --effect hatching-pen --svg` writes (A4, 0.3 mm pen, from the 640×480
+/// view), its rasterisation by resvg at one dot per view pixel (cropped to the view), the
+/// raster hatching of the same view, and the two side by side.
+fn plotter_figures(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    use crate::bench::plotter::{SIZE, rasterise, trace};
+    let ctx = npr_gpu::GpuContext::new()?;
+    let mut written = Vec::new();
+    for name in crate::gallery::PLOTTER_SUBJECTS {
+        let model = npr_app::model::Model::load(
+            &project_root().join(format!("fixtures/meshes/{name}.obj")),
+        )?;
+        let t = trace(&ctx, model)?;
+        let (scale, origin) = t.page.fit(SIZE);
+        let pixmap = rasterise(&t.svg, &t.page, 1.0 / scale)?;
+        let (x0, y0) = (
+            (origin[0] / scale).round() as u32,
+            (origin[1] / scale).round() as u32,
+        );
+        let svg_png = image::RgbaImage::from_fn(SIZE.0, SIZE.1, |x, y| {
+            let p = pixmap.pixel(x + x0, y + y0);
+            let v = p.map_or(255, |p| p.red());
+            image::Rgba([v, v, v, 255])
+        });
+        let svg_path = dir.join(format!("plotter-{name}.svg"));
+        std::fs::write(&svg_path, &t.svg)?;
+        written.push(svg_path);
+        let files = [
+            (format!("plotter-{name}-svg.png"), svg_png.clone()),
+            (format!("plotter-{name}-raster.png"), t.raster.clone()),
+            (
+                format!("plotter-{name}.png"),
+                npr_gpu::figures::row(&[svg_png, t.raster]),
+            ),
+        ];
+        for (file, img) in files {
+            let path = dir.join(file);
+            img.save(&path)?;
+            written.push(path);
+        }
+    }
+    Ok(written)
 }
 
 /// Builds `examples` of `krate`, runs each with `dir` as its output directory, and returns

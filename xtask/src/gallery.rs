@@ -37,7 +37,10 @@ pub const SIZING_SUBJECTS: [&str; 2] = ["spot", "stanford-bunny"];
 /// The single objects of the hatching paper's Fig. 2, in order.
 pub const HATCHING_SINGLES: [&str; 5] = ["knot", "sphere", "torus", "spot", "stanford-bunny"];
 
-/// A section of the page: the base shadings, or one paper.
+/// The models of the plotter section (`plotter-NAME.*`, fixtures' OBJ files).
+pub const PLOTTER_SUBJECTS: [&str; 2] = ["stanford-bunny", "spot"];
+
+/// A section of the page: the base shadings, one paper, or the pen plotter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Section {
     /// Base shadings shared by the papers (`npr-gpu`).
@@ -48,11 +51,19 @@ pub enum Section {
     Hatching,
     /// Park & Ihm, post-rendering 3D warping (`npr-warp`).
     Warp,
+    /// The hatching as pen strokes for a plotter (`npr_hatching::pen`), ours.
+    Plotter,
 }
 
 impl Section {
     /// Every section, in page order.
-    pub const ALL: [Section; 4] = [Self::Base, Self::Specular, Self::Hatching, Self::Warp];
+    pub const ALL: [Section; 5] = [
+        Self::Base,
+        Self::Specular,
+        Self::Hatching,
+        Self::Warp,
+        Self::Plotter,
+    ];
 
     fn title(self) -> &'static str {
         match self {
@@ -60,12 +71,13 @@ impl Section {
             Self::Specular => "Stylized specular highlights (npr-specular)",
             Self::Hatching => "Image-space hatching (npr-hatching)",
             Self::Warp => "Post-rendering 3D warping (npr-warp)",
+            Self::Plotter => "Hatching for pen plotters (npr-hatching::pen)",
         }
     }
 
     fn paper(self) -> &'static str {
         match self {
-            Self::Base => "",
+            Self::Base | Self::Plotter => "",
             Self::Specular => {
                 "Hwan-Jik Lee and Jung-Ju Choi, Stylized Specular Reflections Using \
                  Projective Textures based on Principal Curvature Analysis (Lee & Choi)"
@@ -83,7 +95,7 @@ impl Section {
     /// Short paper name for captions.
     fn short(self) -> &'static str {
         match self {
-            Self::Base => "",
+            Self::Base | Self::Plotter => "",
             Self::Specular => "Lee & Choi",
             Self::Hatching => "Kim & Lee",
             Self::Warp => "Park & Ihm",
@@ -150,7 +162,33 @@ pub fn figures() -> Vec<Figure> {
     hatching_paper_figures(&mut out);
     hatching_own_figures(&mut out);
     warp_figures(&mut out);
+    plotter_figures(&mut out);
     out
+}
+
+/// Appends the plotter section: each subject's SVG beside the raster hatching.
+fn plotter_figures(out: &mut Vec<Figure>) {
+    for name in PLOTTER_SUBJECTS {
+        let mut f = fig(
+            Section::Plotter,
+            format!("plotter-{name}.png"),
+            None,
+            format!(
+                "The {name} as pen strokes for a plotter, A4 at 0.3 mm, traced from the \
+                 640×480 view (`npr render --effect hatching-pen --svg`): (left) the SVG \
+                 rasterised by resvg, one dot per view pixel; (right) the raster hatching of \
+                 the same view. Evenly spaced streamlines along the stroke field, spaced by \
+                 tone, cross-hatched past mid-tone, cut at visible silhouettes, with the \
+                 visible outlines. `cargo xtask bench plotter` measures the tone of both."
+            ),
+        );
+        f.parts = vec![
+            format!("plotter-{name}.svg"),
+            format!("plotter-{name}-svg.png"),
+            format!("plotter-{name}-raster.png"),
+        ];
+        out.push(f);
+    }
 }
 
 /// Appends the base-shading sheet and its tiles.

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// The view size traced.
-const SIZE: (u32, u32) = (640, 480);
+pub const SIZE: (u32, u32) = (640, 480);
 /// Rasterisation resolution of the SVG, dots per mm (300 dpi).
 const DOTS_PER_MM: f32 = 300.0 / 25.4;
 /// Blur width in view pixels.
@@ -60,10 +60,31 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     emit(&[table], json)
 }
 
-/// One model's row.
-fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
-    let model = Model::load(path)?;
-    let name = model.name.clone();
+/// A model hatched at [`SIZE`] with the default pen preset and traced onto an A4 page.
+pub struct Traced {
+    /// The preset drawn.
+    pub preset: Preset,
+    /// The raster hatching.
+    pub raster: image::RgbaImage,
+    /// The page the SVG is laid out on.
+    pub page: Page,
+    /// The pen drawing, in view pixels.
+    pub drawing: npr_hatching::pen::PenDrawing,
+    /// The SVG.
+    pub svg: String,
+    /// The G-buffer's tone on each view pixel, and which pixels the object covers.
+    pub tone: Vec<f32>,
+    /// Which view pixels the object covers.
+    pub mask: Vec<bool>,
+    /// The readback and the trace, ms.
+    pub trace_ms: f64,
+}
+
+/// Hatches `model` and traces it (see [`Traced`]).
+///
+/// # Errors
+/// GPU or technique errors.
+pub fn trace(ctx: &npr_gpu::GpuContext, model: Model) -> anyhow::Result<Traced> {
     let mut preset = Preset {
         effect: Effect::HatchingPen,
         ..Preset::default()
@@ -75,7 +96,6 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
     renderer.render(&ctx.device, &ctx.queue, &preset, &view)?;
     let raster = renderer.read(&ctx.device, &ctx.queue)?;
     let page = Page::default();
-    let (scale, origin) = page.fit(SIZE);
     let started = Instant::now();
     let drawing = renderer
         .pen_drawing(
@@ -83,11 +103,10 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
             &ctx.queue,
             &preset,
             &view,
-            (page.pen_px(SIZE), scale),
+            (page.pen_px(SIZE), page.fit(SIZE).0),
         )?
         .unwrap_or_default();
     let trace_ms = started.elapsed().as_secs_f64() * 1e3;
-    let stats = plot_stats(&page_layers(&drawing, &page));
     let svg = to_svg(&drawing, &page)?;
     let inputs = renderer
         .hatch_inputs(&ctx.device, &ctx.queue)?
@@ -95,10 +114,30 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
     let mask = renderer
         .hatch_coverage(&ctx.device, &ctx.queue)?
         .unwrap_or_default();
-    let target: Vec<f32> = inputs.tone().iter().map(|t| 1.0 - t).collect();
-    let svg_ink = svg_ink(&svg, &page, (scale, origin))?;
-    let [ink, paper] = [preset.hatching.ink, preset.hatching.paper].map(luma);
-    let raster_ink: Vec<f32> = raster
+    Ok(Traced {
+        preset,
+        raster,
+        page,
+        drawing,
+        svg,
+        tone: inputs.tone().to_vec(),
+        mask,
+        trace_ms,
+    })
+}
+
+/// One model's row.
+fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
+    let model = Model::load(path)?;
+    let name = model.name.clone();
+    let t = trace(ctx, model)?;
+    let (scale, origin) = t.page.fit(SIZE);
+    let stats = plot_stats(&page_layers(&t.drawing, &t.page));
+    let target: Vec<f32> = t.tone.iter().map(|t| 1.0 - t).collect();
+    let svg_ink = svg_ink(&t.svg, &t.page, (scale, origin))?;
+    let [ink, paper] = [t.preset.hatching.ink, t.preset.hatching.paper].map(luma);
+    let raster_ink: Vec<f32> = t
+        .raster
         .pixels()
         .map(|p| {
             let l = luma([p[0], p[1], p[2]].map(srgb_to_linear));
@@ -106,6 +145,7 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
         })
         .collect();
     let (svg_b, raster_b, target_b) = (blur(&svg_ink), blur(&raster_ink), blur(&target));
+    let mask = &t.mask;
     let on: Vec<usize> = (0..mask.len()).filter(|&i| mask[i]).collect();
     let mean = |f: &dyn Fn(usize) -> f32| {
         on.iter().map(|&i| f64::from(f(i))).sum::<f64>() / on.len().max(1) as f64
@@ -120,19 +160,25 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
         Cell::Num(mean(&|i| (svg_b[i] - target_b[i]).abs()), 3),
         Cell::Num(mean(&|i| (raster_b[i] - target_b[i]).abs()), 3),
         Cell::Num(mean(&|i| (svg_b[i] - raster_b[i]).abs()), 3),
-        Cell::Num(trace_ms, 0),
+        Cell::Num(t.trace_ms, 0),
     ])
 }
 
-/// The SVG's ink (0 paper, 1 black) averaged over each view pixel, rasterised by resvg at
-/// [`DOTS_PER_MM`].
-fn svg_ink(svg: &str, page: &Page, (scale, origin): (f32, [f32; 2])) -> anyhow::Result<Vec<f32>> {
+/// The SVG rasterised by resvg on white at `dots_per_mm`.
+///
+/// # Errors
+/// An SVG resvg cannot read, or a page too large for a pixmap.
+pub fn rasterise(
+    svg: &str,
+    page: &Page,
+    dots_per_mm: f32,
+) -> anyhow::Result<resvg::tiny_skia::Pixmap> {
     use resvg::{tiny_skia, usvg};
     let tree = usvg::Tree::from_str(svg, &usvg::Options::default())?;
     let (pw, ph) = page.oriented(SIZE);
     let (w, h) = (
-        (pw * DOTS_PER_MM).ceil() as u32,
-        (ph * DOTS_PER_MM).ceil() as u32,
+        (pw * dots_per_mm).ceil() as u32,
+        (ph * dots_per_mm).ceil() as u32,
     );
     let mut pixmap =
         tiny_skia::Pixmap::new(w, h).ok_or_else(|| anyhow::anyhow!("no {w}×{h} pixmap"))?;
@@ -143,6 +189,14 @@ fn svg_ink(svg: &str, page: &Page, (scale, origin): (f32, [f32; 2])) -> anyhow::
         tiny_skia::Transform::from_scale(fit, fit),
         &mut pixmap.as_mut(),
     );
+    Ok(pixmap)
+}
+
+/// The SVG's ink (0 paper, 1 black) averaged over each view pixel, rasterised by resvg at
+/// [`DOTS_PER_MM`].
+fn svg_ink(svg: &str, page: &Page, (scale, origin): (f32, [f32; 2])) -> anyhow::Result<Vec<f32>> {
+    let pixmap = rasterise(svg, page, DOTS_PER_MM)?;
+    let (w, h) = (pixmap.width(), pixmap.height());
     let dots_per_px = scale * DOTS_PER_MM;
     let (vw, vh) = (SIZE.0 as usize, SIZE.1 as usize);
     let mut ink = vec![0.0f32; vw * vh];
