@@ -6,6 +6,15 @@ use anyhow::bail;
 use std::process::Command;
 use std::time::Instant;
 
+/// Cargo's target directory: `CARGO_TARGET_DIR` or the workspace's `target/`.
+pub fn target_dir() -> std::path::PathBuf {
+    let root = project_root();
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(std::path::PathBuf::from)
+        .map(|d| if d.is_absolute() { d } else { root.join(d) })
+        .unwrap_or_else(|| root.join("target"))
+}
+
 /// Runs `cargo ARGS` in the workspace root with `extra_env`, timed; fails on failure.
 pub fn cargo(args: &[&str], extra_env: &[(&str, &str)]) -> anyhow::Result<()> {
     let started = Instant::now();

@@ -33,7 +33,7 @@ pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
     let bindgen = ensure_wasm_bindgen(&version)?;
     // npr-web is its own workspace (see its manifest); it builds into the main target
     // folder, so the library crates' wasm artifacts are shared with any other wasm build.
-    let target = target_dir(&root);
+    let target = crate::cargo::target_dir();
     let target_arg = target.to_string_lossy();
     cargo(
         &[
@@ -192,14 +192,6 @@ fn ensure_wasm_bindgen(version: &str) -> anyhow::Result<PathBuf> {
         .find(|c| matches(c))
         .cloned()
         .with_context(|| format!("wasm-bindgen {version} installed but not found on PATH"))
-}
-
-/// Cargo's target directory: `CARGO_TARGET_DIR` or the workspace's `target/`.
-fn target_dir(root: &Path) -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .map(|d| if d.is_absolute() { d } else { root.join(d) })
-        .unwrap_or_else(|| root.join("target"))
 }
 
 /// Serves `dir` on `127.0.0.1:port`: GET of its files only, one thread per connection.

@@ -287,3 +287,51 @@ fn bad_pages_pens_and_inputs_are_typed_errors() {
     assert!(trace(&input, &[true; 10], None, &settings(1.0)).is_err());
     assert!(trace(&input, &[true; 64], None, &settings(0.0)).is_err());
 }
+
+/// Outline pieces whose ends lie within the pen's width are joined on the page, and what
+/// is still under 1 mm after that is left out; hatching pieces are joined only within the
+/// merge distance, and never dropped by length here.
+#[test]
+fn outline_specks_are_joined_or_left_out() {
+    let page = Page::default();
+    let size = (200, 100);
+    let (mm_per_px, _) = page.fit(size);
+    let px = |mm: f32| mm / mm_per_px;
+    // Along y = 50: a 0.6 mm piece, a gap of 0.2 mm (under the 0.3 mm pen), another
+    // 0.6 mm piece; far from them, a lone 0.5 mm speck.
+    let a = vec![[10.0, 50.0], [10.0 + px(0.6), 50.0]];
+    let b = vec![[10.0 + px(0.8), 50.0], [10.0 + px(1.4), 50.0]];
+    let speck = vec![[150.0, 20.0], [150.0 + px(0.5), 20.0]];
+    let drawing = PenDrawing {
+        size,
+        hatching: vec![a.clone(), b.clone(), speck.clone()],
+        cross_hatching: Vec::new(),
+        outlines: vec![a, b, speck],
+        silhouettes: 3,
+    };
+    let [hatching, _, outlines] = npr_hatching::pen::page_layers(&drawing, &page);
+    assert_eq!(
+        hatching.len(),
+        3,
+        "hatching pieces stay apart: {hatching:?}"
+    );
+    assert_eq!(
+        outlines.len(),
+        1,
+        "one joined outline, no speck: {outlines:?}"
+    );
+    let length: f32 = outlines[0]
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+        .sum();
+    assert!(
+        (length - 1.4).abs() < 0.01,
+        "joined across the gap: {length} mm"
+    );
+    assert_eq!(
+        npr_hatching::pen::plot_stats(&npr_hatching::pen::page_layers(&drawing, &page))
+            .short_strokes,
+        3,
+        "the three hatching pieces under 1 mm are still counted"
+    );
+}

@@ -8,6 +8,7 @@ pub mod plotter;
 pub mod specular;
 pub mod specular_fidelity;
 pub mod table;
+pub mod vpype;
 pub mod warp;
 
 use std::path::{Path, PathBuf};

@@ -6,7 +6,10 @@
 //! object's pixels; the raster hatching's own ink, blurred alike, is the row to beat, and
 //! `ink_vs_raster` is the mean absolute difference of the two blurred inks. Pen-up travel
 //! is between strokes of a layer; the plot time is at 25 mm/s drawing, 80 mm/s travel.
-//! `trace_ms` is the G-buffer readback and the trace, one core.
+//! `trace_ms` is the G-buffer readback and the trace, one core. vpype (see
+//! [`super::vpype`]) reads each SVG, must see its three layers, and sorts it with its own
+//! `linesort --two-opt`: `travel_vs_vpype` is our pen-up travel over what that reaches, both
+//! measured by vpype's `stat`.
 
 use super::table::{Cell, Table, emit};
 use npr_app::engine::Renderer;
@@ -49,11 +52,14 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "tone_error_raster",
             "ink_vs_raster",
             "trace_ms",
+            "vpype_travel_share",
+            "travel_vs_vpype",
         ],
     );
+    let vpype = super::vpype::find_or_install();
     let bar = super::progress(paths.len() as u64, "plotter");
     for path in &paths {
-        table.push(row(&ctx, path)?);
+        table.push(row(&ctx, path, vpype.as_deref())?);
         bar.inc(1);
     }
     bar.finish_and_clear();
@@ -127,10 +133,25 @@ pub fn trace(ctx: &npr_gpu::GpuContext, model: Model) -> anyhow::Result<Traced> 
 }
 
 /// One model's row.
-fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
+fn row(ctx: &npr_gpu::GpuContext, path: &Path, vpype: Option<&Path>) -> anyhow::Result<Vec<Cell>> {
     let model = Model::load(path)?;
     let name = model.name.clone();
     let t = trace(ctx, model)?;
+    let vpype_cells = match vpype {
+        Some(exe) => {
+            let dir = crate::cargo::target_dir().join("bench-plotter");
+            std::fs::create_dir_all(&dir)?;
+            let file = dir.join(format!("{name}.svg"));
+            std::fs::write(&file, &t.svg)?;
+            let ours = super::vpype::stat(exe, &file, false)?;
+            let sorted = super::vpype::stat(exe, &file, true)?;
+            [
+                Cell::Num(sorted.pen_up / sorted.length.max(1e-9), 3),
+                Cell::Num(ours.pen_up / sorted.pen_up.max(1e-9), 3),
+            ]
+        }
+        None => [Cell::Empty, Cell::Empty],
+    };
     let (scale, origin) = t.page.fit(SIZE);
     let stats = plot_stats(&page_layers(&t.drawing, &t.page));
     let target: Vec<f32> = t.tone.iter().map(|t| 1.0 - t).collect();
@@ -150,7 +171,7 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
     let mean = |f: &dyn Fn(usize) -> f32| {
         on.iter().map(|&i| f64::from(f(i))).sum::<f64>() / on.len().max(1) as f64
     };
-    Ok(vec![
+    Ok([
         name.into(),
         stats.strokes.into(),
         Cell::Num(stats.draw_mm, 0),
@@ -161,7 +182,10 @@ fn row(ctx: &npr_gpu::GpuContext, path: &Path) -> anyhow::Result<Vec<Cell>> {
         Cell::Num(mean(&|i| (raster_b[i] - target_b[i]).abs()), 3),
         Cell::Num(mean(&|i| (svg_b[i] - raster_b[i]).abs()), 3),
         Cell::Num(t.trace_ms, 0),
-    ])
+    ]
+    .into_iter()
+    .chain(vpype_cells)
+    .collect())
 }
 
 /// The SVG rasterised by resvg on white at `dots_per_mm`.

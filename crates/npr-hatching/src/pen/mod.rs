@@ -38,7 +38,9 @@ pub struct PenSettings {
     /// Darkness past which the cross-hatching is drawn, 0.5 by default.
     pub cross_from: f32,
     /// A stroke stops when another comes closer than this share of the spacing
-    /// (Jobard and Lefer's `d_test / d_sep`), 0.75 by default.
+    /// (Jobard and Lefer's `d_test / d_sep`), 0.6 by default: at 0.75 strokes stop early
+    /// and leave gaps, at 0.5 converging strokes over-ink (`docs/results.md`, "Pen plotter
+    /// SVG").
     pub test_ratio: f32,
     /// Integration step along a stroke, view pixels (1 by default).
     pub step_px: f32,
@@ -54,7 +56,7 @@ impl PenSettings {
             pen_px,
             levels: 8,
             cross_from: 0.5,
-            test_ratio: 0.75,
+            test_ratio: 0.6,
             step_px: 1.0,
             min_length_px: (1.0 / mm_per_px.max(1e-6)).max(2.0),
         }

@@ -142,7 +142,15 @@ impl PlotStats {
     }
 }
 
-/// The drawing's layers on the page: merged, simplified and ordered, in mm.
+/// Outline pieces shorter than this after joining are left out, mm: to the pen they are
+/// dots. They are what is left of a silhouette or crease that the depth test cuts into
+/// specks, or of a crease on a noisy scan's triangulation, not a line a reader follows.
+/// (The streamlines have their own minimum, [`crate::pen::PenSettings::min_length_px`].)
+pub const MIN_OUTLINE_MM: f32 = 1.0;
+
+/// The drawing's layers on the page: merged, simplified and ordered, in mm. Hatching ends
+/// within [`Page::merge_mm`] are joined; outline ends within the pen's width too (the pen
+/// draws them touching anyway), and outline pieces under [`MIN_OUTLINE_MM`] are left out.
 pub fn page_layers(drawing: &PenDrawing, page: &Page) -> [Vec<Polyline>; 3] {
     let (scale, origin) = page.fit(drawing.size);
     let to_page = |l: &Polyline| -> Polyline {
@@ -150,20 +158,24 @@ pub fn page_layers(drawing: &PenDrawing, page: &Page) -> [Vec<Polyline>; 3] {
             .map(|p| [origin[0] + scale * p[0], origin[1] + scale * p[1]])
             .collect()
     };
-    let layer = |lines: &[Polyline]| {
+    let layer = |lines: &[Polyline], join_mm: f32, min_mm: f32| {
         let lines: Vec<Polyline> = lines.iter().map(to_page).collect();
-        let merged = order::merge_ends(lines, page.merge_mm);
+        let merged = order::merge_ends(lines, join_mm);
         let simple: Vec<Polyline> = merged
             .iter()
             .map(|l| order::simplify(l, page.merge_mm))
-            .filter(|l| l.len() >= 2)
+            .filter(|l| l.len() >= 2 && order::length(l) >= min_mm)
             .collect();
         order::order(simple)
     };
     [
-        layer(&drawing.hatching),
-        layer(&drawing.cross_hatching),
-        layer(&drawing.outlines),
+        layer(&drawing.hatching, page.merge_mm, 0.0),
+        layer(&drawing.cross_hatching, page.merge_mm, 0.0),
+        layer(
+            &drawing.outlines,
+            page.merge_mm.max(page.pen_mm),
+            MIN_OUTLINE_MM,
+        ),
     ]
 }
 
