@@ -65,8 +65,9 @@ pub use io::obj;
 pub use io::obj::{ObjMesh, load_obj, load_obj_with_vertex_map};
 pub use mesh::Mesh;
 pub use stroke_field::{
-    LineFieldStats, MeshStrokeField, PlanarPatches, RenderFieldStats, StrokeField,
-    StrokeFieldOptions, line_angle_deg, planar_direction, planar_patches, planar_spreads_deg,
+    FLAT_REGION_DEG, FLAT_REGION_MIN_SHARE, LineFieldStats, MeshStrokeField, PlanarPatches,
+    RenderFieldStats, StrokeField, StrokeFieldOptions, line_angle_deg, planar_direction,
+    planar_patches, planar_regions, planar_spreads_deg,
 };
 pub use topology::{CreaseSplit, EdgeKind, Topology};
 pub use weld::{Welded, weld};

@@ -27,8 +27,11 @@ pub fn readback_texture(
     TextureReadback::start(device, queue, texture)?.wait(device)
 }
 
-/// What a map callback has reported: nothing yet, or its result.
-type MapSlot = std::sync::Arc<std::sync::Mutex<Option<Result<(), String>>>>;
+/// What a map callback has reported (nothing yet, or its result), and a signal for it.
+type MapSlot = std::sync::Arc<(
+    std::sync::Mutex<Option<Result<(), String>>>,
+    std::sync::Condvar,
+)>;
 
 /// A texture copy on its way to the CPU: [`TextureReadback::start`] records and submits
 /// the copy and asks for the map; [`TextureReadback::try_take`] returns the bytes once the
@@ -96,9 +99,10 @@ impl TextureReadback {
         let mapped = MapSlot::default();
         let slot = mapped.clone();
         buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            if let Ok(mut s) = slot.lock() {
+            if let Ok(mut s) = slot.0.lock() {
                 *s = Some(r.map_err(|e| e.to_string()));
             }
+            slot.1.notify_all();
         });
         Ok(Self {
             buffer,
@@ -112,7 +116,7 @@ impl TextureReadback {
     /// The tightly packed rows once the map has completed; `None` while it has not. After
     /// it has returned `Some`, the buffer is unmapped and further calls fail.
     pub fn try_take(&self) -> Option<Result<Vec<u8>, GpuError>> {
-        let done = match self.mapped.lock() {
+        let done = match self.mapped.0.lock() {
             Ok(mut s) => s.take()?,
             Err(_) => Err("the map callback panicked".to_string()),
         };
@@ -120,13 +124,30 @@ impl TextureReadback {
     }
 
     /// Blocks until the map has completed and returns the rows (native: polls `device`).
+    /// Another thread polling the same device may be the one that runs the map's callback,
+    /// a moment after this thread's poll has returned, so the callback is waited for too.
     ///
     /// # Errors
-    /// [`GpuError::Readback`] when polling or mapping fails.
+    /// [`GpuError::Readback`] when polling or mapping fails, or no callback came within
+    /// a minute of the device going idle.
     pub fn wait(self, device: &wgpu::Device) -> Result<Vec<u8>, GpuError> {
         device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| GpuError::Readback(e.to_string()))?;
+        {
+            let (lock, signal) = &*self.mapped;
+            let guard = lock
+                .lock()
+                .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
+            let (_guard, timeout) = signal
+                .wait_timeout_while(guard, std::time::Duration::from_secs(60), |s| s.is_none())
+                .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
+            if timeout.timed_out() {
+                return Err(GpuError::Readback(
+                    "the map had not completed a minute after the device went idle".into(),
+                ));
+            }
+        }
         self.try_take().unwrap_or_else(|| {
             Err(GpuError::Readback(
                 "the map had not completed after the device went idle".into(),

@@ -298,9 +298,11 @@ impl GBufferReadback {
     /// # Errors
     /// As [`GBufferReadback::try_take`], or [`HatchError::Gpu`] when polling fails.
     pub fn wait(mut self, device: &wgpu::Device) -> Result<GBufferContents, HatchError> {
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+        for (pending, bytes) in self.pending.iter_mut().zip(&mut self.bytes) {
+            if let Some(p) = pending.take() {
+                *bytes = Some(p.wait(device)?);
+            }
+        }
         self.try_take().unwrap_or_else(|| {
             Err(HatchError::Gpu(npr_gpu::GpuError::Readback(
                 "the G-buffer maps had not completed after the device went idle".into(),

@@ -53,8 +53,11 @@ mod stats;
 #[cfg(test)]
 mod tests;
 
-pub use planar::{PlanarPatches, planar_direction, planar_patches};
-pub use stats::{LineFieldStats, RenderFieldStats, line_angle_deg, planar_spreads_deg};
+pub use planar::{PlanarPatches, planar_direction, planar_patches, planar_regions};
+pub use stats::{
+    FLAT_REGION_DEG, FLAT_REGION_MIN_SHARE, LineFieldStats, RenderFieldStats, line_angle_deg,
+    planar_spreads_deg,
+};
 /// Settings of [`StrokeField::compute`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StrokeFieldOptions {

@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::planar::planar_patches;
+use super::planar::planar_regions;
 use super::{C64, NONE, basis, median, unit_normal};
 use crate::{CurvatureField, Mesh, Topology};
 /// Angle in degrees (0..=90) between the lines along `a` and `b` after projecting both
@@ -106,28 +106,37 @@ pub struct RenderFieldStats {
     pub jump_smooth_edge_share: f64,
     /// Edges measured for [`RenderFieldStats::jump_smooth_edge_share`].
     pub smooth_edges_measured: usize,
-    /// Over the planar patches (faces within 1° of one plane, connected, [`planar_patches`],
-    /// each covering at least 1 % of the area): the area-weighted median of each patch's
-    /// circular standard deviation of the stroke direction as a line (angles doubled,
-    /// `√(−2 ln R) / 2`, corners weighted by a third of their face's area), in degrees;
-    /// `None` when the mesh has no such patch.
+    /// Over the flat regions ([`FLAT_REGION_DEG`], [`planar_regions`], each covering at
+    /// least [`FLAT_REGION_MIN_SHARE`] of the area): the area-weighted median of each
+    /// region's circular standard deviation of the stroke direction as a line (angles
+    /// doubled, `√(−2 ln R) / 2`, corners weighted by a third of their face's area), in
+    /// degrees; `None` when the mesh has no such region.
     pub planar_spread_deg: Option<f64>,
-    /// Planar patches measured.
+    /// Flat regions measured.
     pub planar_patches: usize,
+    /// The share (0–1) of the mesh's area those regions cover.
+    pub planar_area_share: f64,
 }
 
-/// Per planar patch of `topo` (the welded topology of `mesh`; faces within 1° of one
-/// plane, connected, [`planar_patches`]) covering at least `min_area_share` of the area:
-/// the circular standard deviation of the stroke line `directions` (per render vertex)
-/// over the patch's face corners, in degrees (angles doubled, `√(−2 ln R) / 2`, corners
-/// weighted by a third of their face's area), and the patch's area.
+/// The benchmarks' fixed measure of flat regions, independent of the stroke field's own
+/// planar rule: faces grown while their normals stay within this many degrees of the
+/// region's mean normal ([`planar_regions`]).
+pub const FLAT_REGION_DEG: f32 = 5.0;
+/// The smallest flat region measured, as a share of the mesh's area.
+pub const FLAT_REGION_MIN_SHARE: f64 = 0.01;
+
+/// Per flat region of `topo` (the welded topology of `mesh`; [`planar_regions`] at
+/// [`FLAT_REGION_DEG`]) covering at least `min_area_share` of the area: the circular
+/// standard deviation of the stroke line `directions` (per render vertex) over the
+/// region's face corners, in degrees (angles doubled, `√(−2 ln R) / 2`, corners weighted by
+/// a third of their face's area), and the region's area.
 pub fn planar_spreads_deg(
     mesh: &Mesh,
     topo: &Topology,
     directions: &[Vec3],
     min_area_share: f64,
 ) -> Vec<(f64, f64)> {
-    let patches = planar_patches(topo, 1.0);
+    let patches = planar_regions(topo, FLAT_REGION_DEG);
     let total: f64 = patches.area.iter().sum();
     let mut sums = vec![(C64::new(0.0, 0.0), 0.0f64); patches.normal.len()];
     for (f, &p) in patches.face_patch.iter().enumerate() {
@@ -207,7 +216,8 @@ impl RenderFieldStats {
             }
         }
 
-        let mut spreads = planar_spreads_deg(mesh, topo, directions, 0.01);
+        let mut spreads = planar_spreads_deg(mesh, topo, directions, FLAT_REGION_MIN_SHARE);
+        let total_area: f64 = topo.face_areas.iter().map(|&a| f64::from(a)).sum();
         spreads.sort_by(|a, b| a.0.total_cmp(&b.0));
         let weight: f64 = spreads.iter().map(|s| s.1).sum();
         let mut acc = 0.0;
@@ -227,6 +237,11 @@ impl RenderFieldStats {
             smooth_edges_measured: measured,
             planar_spread_deg,
             planar_patches: spreads.len(),
+            planar_area_share: if total_area > 0.0 {
+                weight / total_area
+            } else {
+                0.0
+            },
         }
     }
 }
