@@ -22,7 +22,7 @@ mod svg;
 
 pub use outline::OutlineView;
 pub use streamlines::Polyline;
-pub use svg::{Page, PlotStats, page_layers, plot_stats, to_svg};
+pub use svg::{MIN_OUTLINE_MM, Page, PlotStats, page_layers, plot_stats, to_svg};
 
 use crate::{HatchError, HatchInputs};
 use npr_geometry::Mesh;
