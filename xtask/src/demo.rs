@@ -69,14 +69,14 @@ pub fn run() -> anyhow::Result<()> {
 /// view), its rasterisation by resvg at one dot per view pixel (cropped to the view), the
 /// raster hatching of the same view, and the two side by side.
 fn plotter_figures(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
-    use crate::bench::plotter::{SIZE, rasterise, trace};
+    use crate::bench::plotter::{SIZE, pen_preset, rasterise, trace};
     let ctx = npr_gpu::GpuContext::new()?;
     let mut written = Vec::new();
     for name in crate::gallery::PLOTTER_SUBJECTS {
         let model = npr_app::model::Model::load(
             &project_root().join(format!("fixtures/meshes/{name}.obj")),
         )?;
-        let t = trace(&ctx, model)?;
+        let t = trace(&ctx, model, pen_preset())?;
         let (scale, origin) = t.page.fit(SIZE);
         let pixmap = rasterise(&t.svg, &t.page, 1.0 / scale)?;
         let (x0, y0) = (

@@ -86,19 +86,26 @@ pub struct Traced {
     pub trace_ms: f64,
 }
 
-/// Hatches `model` and traces it (see [`Traced`]).
-///
-/// # Errors
-/// GPU or technique errors.
-pub fn trace(ctx: &npr_gpu::GpuContext, model: Model) -> anyhow::Result<Traced> {
+/// The default preset in the pen style at [`SIZE`].
+pub fn pen_preset() -> Preset {
     let mut preset = Preset {
         effect: Effect::HatchingPen,
         ..Preset::default()
     };
     preset.output.width = SIZE.0;
     preset.output.height = SIZE.1;
-    let view = View::new(&preset, &model.framing, SIZE, 0.0);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, SIZE)?;
+    preset
+}
+
+/// Hatches `model` with `preset` (a hatching effect) and traces it onto A4 as `npr
+/// render --svg` does (see [`Traced`]).
+///
+/// # Errors
+/// GPU or technique errors.
+pub fn trace(ctx: &npr_gpu::GpuContext, model: Model, preset: Preset) -> anyhow::Result<Traced> {
+    let size = (preset.output.width, preset.output.height);
+    let view = View::new(&preset, &model.framing, size, 0.0);
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
     renderer.render(&ctx.device, &ctx.queue, &preset, &view)?;
     let raster = renderer.read(&ctx.device, &ctx.queue)?;
     let page = Page::default();
@@ -109,7 +116,7 @@ pub fn trace(ctx: &npr_gpu::GpuContext, model: Model) -> anyhow::Result<Traced> 
             &ctx.queue,
             &preset,
             &view,
-            (page.pen_px(SIZE), page.fit(SIZE).0),
+            (page.pen_px(size), page.fit(size).0),
         )?
         .unwrap_or_default();
     let trace_ms = started.elapsed().as_secs_f64() * 1e3;
@@ -136,7 +143,7 @@ pub fn trace(ctx: &npr_gpu::GpuContext, model: Model) -> anyhow::Result<Traced> 
 fn row(ctx: &npr_gpu::GpuContext, path: &Path, vpype: Option<&Path>) -> anyhow::Result<Vec<Cell>> {
     let model = Model::load(path)?;
     let name = model.name.clone();
-    let t = trace(ctx, model)?;
+    let t = trace(ctx, model, pen_preset())?;
     let vpype_cells = match vpype {
         Some(exe) => {
             let dir = crate::cargo::target_dir().join("bench-plotter");

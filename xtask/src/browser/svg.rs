@@ -3,10 +3,8 @@
 
 use super::{Driver, page_error};
 use anyhow::bail;
-use npr_app::engine::Renderer;
 use npr_app::model::Model;
 use npr_app::preset::Preset;
-use npr_app::view::View;
 use std::path::Path;
 
 /// The largest difference in each layer's drawn length, page against native (the two
@@ -103,21 +101,7 @@ pub(super) fn check(
     std::fs::write(site.join("check-pen.svg"), &page_svg)?;
 
     let preset = Preset::from_toml(&std::fs::read_to_string(site.join(name))?, Path::new(name))?;
-    let size = (preset.output.width, preset.output.height);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size)?;
-    let view = View::new(&preset, &model.framing, size, 0.0);
-    renderer.render(&ctx.device, &ctx.queue, &preset, &view)?;
-    let page = npr_hatching::pen::Page::default();
-    let drawing = renderer
-        .pen_drawing(
-            &ctx.device,
-            &ctx.queue,
-            &preset,
-            &view,
-            (page.pen_px(size), page.fit(size).0),
-        )?
-        .unwrap_or_default();
-    let native_svg = npr_hatching::pen::to_svg(&drawing, &page)?;
+    let native_svg = crate::bench::plotter::trace(ctx, model.clone(), preset)?.svg;
     std::fs::write(site.join("check-pen-native.svg"), &native_svg)?;
 
     let (on_page, native) = (layers(&page_svg), layers(&native_svg));
