@@ -14,6 +14,7 @@ use super::{LoadError, Raw};
 
 mod buffers;
 mod primitive;
+pub(crate) mod rig;
 
 use buffers::{GLB_MAGIC, load_buffers, split_glb};
 use primitive::Merged;
@@ -47,7 +48,13 @@ impl Ctx<'_> {
     }
 }
 
-pub(crate) fn parse(bytes: &[u8], file: &str, dir: Option<&Path>) -> Result<Raw, LoadError> {
+/// The merged mesh, and the rig parts when the file has a skin, a morph target or an
+/// animation.
+pub(crate) fn parse(
+    bytes: &[u8],
+    file: &str,
+    dir: Option<&Path>,
+) -> Result<(Raw, Option<rig::RigParts>), LoadError> {
     let c = Ctx { file };
     let (json, bin) = if bytes.starts_with(GLB_MAGIC) {
         split_glb(bytes, &c)?
@@ -57,11 +64,17 @@ pub(crate) fn parse(bytes: &[u8], file: &str, dir: Option<&Path>) -> Result<Raw,
     let doc = read_document(json, &c)?;
     let buffers = load_buffers(&doc, bin, dir, &c)?;
     let instances = mesh_instances(&doc, &c)?;
-    let mut merged = Merged::default();
-    for (mesh, world) in &instances {
-        merged.instance(mesh, *world, &buffers, &c)?;
+    let animated = rig::has_animation(&doc);
+    let mut merged = Merged::new(animated);
+    for (mesh, node, world) in &instances {
+        merged.instance(mesh, node.as_ref(), *world, &buffers, &c)?;
     }
-    Ok(merged.into_raw(instances.len()))
+    let (raw, parts) = merged.into_raw(instances.len());
+    let parts = match parts {
+        Some((insts, verts)) => Some(rig::read(&doc, &buffers, insts, verts, &c)?),
+        None => None,
+    };
+    Ok((raw, parts))
 }
 
 /// Parses and validates the JSON document, refusing extensions that change geometry.
@@ -135,14 +148,17 @@ fn validate(root: gltf::json::Root, c: &Ctx<'_>) -> Result<gltf::Document, LoadE
     }
 }
 
-/// Mesh instances: (mesh, world matrix) from the default (or first) scene's graph.
+/// A mesh, the node that instances it (none without a scene) and its world matrix.
+type MeshInstance<'d> = (gltf::Mesh<'d>, Option<gltf::Node<'d>>, Mat4);
+
+/// Mesh instances from the default (or first) scene's graph.
 fn mesh_instances<'d>(
     doc: &'d gltf::Document,
     c: &Ctx<'_>,
-) -> Result<Vec<(gltf::Mesh<'d>, Mat4)>, LoadError> {
+) -> Result<Vec<MeshInstance<'d>>, LoadError> {
     // Iteratively, with a step bound so a cyclic graph cannot loop; without a scene,
     // every mesh untransformed.
-    let mut instances: Vec<(gltf::Mesh<'_>, Mat4)> = Vec::new();
+    let mut instances: Vec<MeshInstance<'d>> = Vec::new();
     match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => {
             let mut stack: Vec<(gltf::Node<'_>, Mat4)> =
@@ -157,7 +173,7 @@ fn mesh_instances<'d>(
                 }
                 let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
                 if let Some(mesh) = node.mesh() {
-                    instances.push((mesh, world));
+                    instances.push((mesh, Some(node.clone()), world));
                 }
                 // Reversed: nodes pop in document order, depth first.
                 let at = stack.len();
@@ -165,7 +181,7 @@ fn mesh_instances<'d>(
                 stack[at..].reverse();
             }
         }
-        None => instances.extend(doc.meshes().map(|m| (m, Mat4::IDENTITY))),
+        None => instances.extend(doc.meshes().map(|m| (m, None, Mat4::IDENTITY))),
     }
     Ok(instances)
 }
