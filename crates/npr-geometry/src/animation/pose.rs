@@ -45,6 +45,21 @@ impl Pose {
     pub fn morph_weights(&self, instance: usize) -> &[f32] {
         self.weights.get(instance).map_or(&[], Vec::as_slice)
     }
+
+    /// Sets instance `instance`'s morph weights (as many as it has targets; extra
+    /// values are ignored, missing ones keep their value). Returns whether the instance
+    /// exists.
+    pub fn set_morph_weights(&mut self, instance: usize, weights: &[f32]) -> bool {
+        match self.weights.get_mut(instance) {
+            Some(w) => {
+                for (a, b) in w.iter_mut().zip(weights) {
+                    *a = *b;
+                }
+                true
+            }
+            None => false,
+        }
+    }
 }
 
 /// `p + Σ wₖ dₖ` (glTF 2.0, §3.7.2.2 Morph Targets), weights past `w` read as zero.

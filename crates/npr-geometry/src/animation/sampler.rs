@@ -74,7 +74,7 @@ impl Sampler {
             1
         };
         let outputs = values.len() / width;
-        if values.len() % width != 0 || outputs != per_key * times.len() {
+        if !values.len().is_multiple_of(width) || outputs != per_key * times.len() {
             return Err(if per_key == 3 {
                 AnimationError::CubicSplineOutputs {
                     keys: times.len(),

@@ -156,6 +156,12 @@ pub(super) fn default_weights(
     Ok(w)
 }
 
+/// Per morph target, its POSITION and NORMAL deltas.
+pub(super) type Targets = Vec<(Vec<Vec3>, Vec<Vec3>)>;
+
+/// Per vertex, its (joint, weight) pairs.
+pub(super) type Influences = Vec<Vec<(u16, f32)>>;
+
 /// The primitive's morph targets: per target, POSITION and NORMAL deltas, `n` each
 /// (zeros for an attribute the target lacks).
 pub(super) fn morph_targets(
@@ -164,7 +170,7 @@ pub(super) fn morph_targets(
     at: &str,
     buffers: &[Vec<u8>],
     c: &Ctx<'_>,
-) -> Result<Vec<(Vec<Vec3>, Vec<Vec3>)>, LoadError> {
+) -> Result<Targets, LoadError> {
     let read = |acc: Option<gltf::Accessor<'_>>, k: usize, what: &str| {
         let Some(acc) = acc else {
             return Ok(vec![Vec3::ZERO; n]);
@@ -216,7 +222,7 @@ pub(super) fn skin_influences(
     at: &str,
     buffers: &[Vec<u8>],
     c: &Ctx<'_>,
-) -> Result<(Vec<Vec<(u16, f32)>>, usize), LoadError> {
+) -> Result<(Influences, usize), LoadError> {
     let mut out: Vec<Vec<(u16, f32)>> = vec![Vec::new(); n];
     for set in 0u32.. {
         let (Some(j_acc), w_acc) = (
