@@ -439,3 +439,167 @@ fn a_skin_on_a_primitive_without_joints_is_an_error() {
     };
     assert_eq!(animation_error(tri), "missing-skin-attribute");
 }
+
+// ---- Procedural rigged models -----------------------------------------------------
+
+use npr_geometry::generate;
+
+/// The bent tube at its keys is the torus section: every vertex at distance `r` from
+/// the arc of radius ρ about (−ρ, 0, 0), its ring in the plane at angle s / ρ, its
+/// normal pointing away from the arc.
+#[test]
+fn bent_tube_is_a_torus_section_at_its_keys() {
+    let (r, rho, theta) = (0.3f32, 2.0f32, std::f32::consts::FRAC_PI_2);
+    let m = generate::bent_tube(r, rho, theta, 32, 24);
+    let rig = &m.rig;
+    assert!(rig.skins()[0].joints.len() >= 16);
+    let loaded = Loaded {
+        mesh: m.mesh.clone(),
+        report: Vec::new(),
+        rig: Some(rig.clone()),
+    };
+    check_bind_is_loaded(&loaded);
+    let clip = rig.clip_named("bend").unwrap();
+    // t = 0: still the straight tube.
+    let straight = rig.pose_mesh(&rig.sample(clip, 0.0));
+    assert!(max_distance(&straight.positions, &m.mesh.positions) < 1e-5);
+    for (t, big_r, angle) in [(1.0, rho, theta), (0.5, 2.0 * rho, theta / 2.0)] {
+        let posed = rig.pose_mesh(&rig.sample(clip, t));
+        let centre = Vec3::new(-big_r, 0.0, 0.0);
+        let mut worst = (0.0f32, 0.0f32, 0.0f32);
+        for v in 0..posed.vertex_count() {
+            let s = m.mesh.positions[v].y; // arc length along the straight tube
+            let q = posed.positions[v] - centre;
+            let rxy = (q.x * q.x + q.y * q.y).sqrt();
+            let tube = ((rxy - big_r).powi(2) + q.z * q.z).sqrt();
+            let ring_angle = q.y.atan2(q.x);
+            let on_arc = centre + big_r * Vec3::new(ring_angle.cos(), ring_angle.sin(), 0.0);
+            let out = (posed.positions[v] - on_arc).normalize();
+            worst.0 = worst.0.max((tube - r).abs());
+            worst.1 = worst.1.max((ring_angle - s / big_r).abs());
+            worst.2 = worst.2.max((posed.normals[v] - out).length());
+        }
+        assert!(
+            worst.0 < 1e-5 * big_r,
+            "t = {t}: off the torus by {}",
+            worst.0
+        );
+        assert!(
+            worst.1 < 1e-5,
+            "t = {t}: ring planes off by {} rad",
+            worst.1
+        );
+        assert!(worst.2 < 1e-4, "t = {t}: normals off by {}", worst.2);
+        // The last ring is at the bend angle.
+        let last = posed
+            .positions
+            .iter()
+            .map(|p| (p.y).atan2(p.x - centre.x))
+            .fold(f32::MIN, f32::max);
+        assert!(
+            (last - angle).abs() < 1e-4,
+            "t = {t}: ends at {last}, not {angle}"
+        );
+    }
+}
+
+/// Curvature of the bent tube against the torus: `1/r` along the meridian and
+/// `cos φ / (ρ + r cos φ)` along the parallel (φ measured from the outer equator), on
+/// the outer half, away from the open ends.
+#[test]
+fn bent_tube_curvature_is_the_torus_curvature() {
+    use npr_geometry::{CurvatureField, CurvatureOptions, Topology};
+    let (r, rho, theta) = (0.4f32, 2.0f32, std::f32::consts::PI);
+    let m = generate::bent_tube(r, rho, theta, 48, 96);
+    let clip = &m.rig.clips()[0];
+    let posed = m.rig.pose_mesh(&m.rig.sample(clip, 1.0));
+    let topo = Topology::new(&weld(&posed));
+    let field = CurvatureField::compute(&topo, &CurvatureOptions::default());
+    let centre = Vec3::new(-rho, 0.0, 0.0);
+    let (mut checked, mut worst_max, mut worst_min) = (0, 0.0f32, 0.0f32);
+    for (v, p) in topo.positions.iter().enumerate() {
+        let q = *p - centre;
+        let a = q.y.atan2(q.x);
+        let rxy = (q.x * q.x + q.y * q.y).sqrt();
+        let cos_phi = (rxy - rho) / r;
+        if !(a > 0.2 * theta && a < 0.8 * theta && cos_phi > 0.2) {
+            continue;
+        }
+        checked += 1;
+        worst_max = worst_max.max((field.kappa_max[v] - 1.0 / r).abs() * r);
+        let k_par = cos_phi / (rho + r * cos_phi);
+        worst_min = worst_min.max((field.kappa_min[v] - k_par).abs() * r);
+    }
+    assert!(checked > 100);
+    assert!(
+        worst_max < 0.03,
+        "k_max off 1/r by {worst_max} (relative to 1/r)"
+    );
+    assert!(
+        worst_min < 0.03,
+        "k_min off the torus by {worst_min} (relative to 1/r)"
+    );
+}
+
+#[test]
+fn stretched_sphere_is_the_ellipsoid() {
+    let (a, b, c) = (2.0f32, 1.2f32, 0.8f32);
+    let m = generate::stretched_sphere(a, b, c, 6);
+    let clip = &m.rig.clips()[0];
+    let posed = m.rig.pose_mesh(&m.rig.sample(clip, 1.0));
+    let centre = Vec3::new(0.0, 2.0, 0.0);
+    let reference = generate::ellipsoid(a, b, c, 6);
+    assert_eq!(posed.vertex_count(), reference.vertex_count());
+    for v in 0..posed.vertex_count() {
+        let p = posed.positions[v] - centre;
+        let f = (p.x / a).powi(2) + (p.y / b).powi(2) + (p.z / c).powi(2);
+        assert!((f - 1.0).abs() < 1e-5, "vertex {v}: F = {f}");
+        assert!((p - reference.positions[v]).length() < 1e-5);
+        let grad = Vec3::new(p.x / (a * a), p.y / (b * b), p.z / (c * c)).normalize();
+        assert!((posed.normals[v] - grad).length() < 1e-4, "vertex {v}");
+    }
+    // Halfway the scale is (1.5, 1.1, 0.9).
+    let half = m.rig.pose_mesh(&m.rig.sample(clip, 0.5));
+    for (p, q) in half.positions.iter().zip(&m.mesh.positions) {
+        let want = (*q - centre) * Vec3::new(1.5, 1.1, 0.9) + centre;
+        assert!((*p - want).length() < 1e-5);
+    }
+}
+
+#[test]
+fn twisted_bar_wraps_like_a_candy_and_stays_finite() {
+    let (width, length) = (0.5f32, 4.0f32);
+    let m = generate::twisted_bar(width, length, 16);
+    let clip = &m.rig.clips()[0];
+    let half = 0.5 * length;
+    let circumradius = width * std::f32::consts::FRAC_1_SQRT_2;
+    for (t, mid_scale) in [(0.5, std::f32::consts::FRAC_1_SQRT_2), (1.0, 0.0)] {
+        let posed = m.rig.pose_mesh(&m.rig.sample(clip, t));
+        posed.validate().unwrap();
+        assert_eq!(posed.indices, m.mesh.indices);
+        assert_eq!(
+            weld(&posed).render_to_welded,
+            weld(&m.mesh).render_to_welded
+        );
+        let turn = glam::Quat::from_rotation_y((180.0 * t).to_radians());
+        let mut seen = [0usize; 3];
+        for (p, q) in posed.positions.iter().zip(&m.mesh.positions) {
+            seen[usize::from(q.y != half) + usize::from(q.y.abs() < 1e-6)] += 1;
+            if q.y == half {
+                assert!((*p - turn * *q).length() < 1e-5, "top {q} → {p}");
+            } else if q.y == -half {
+                assert!((*p - *q).length() < 1e-6, "bottom {q} → {p}");
+            } else if q.y.abs() < 1e-6 && (q.x != 0.0 || q.z != 0.0) {
+                // Halfway along, weights ½ and ½: the blend ½ (I + R) scales the
+                // cross-section by cos(angle / 2): 0.707 at 90°, 0 at 180°.
+                let radial = Vec3::new(p.x, 0.0, p.z).length();
+                assert!(
+                    (radial - mid_scale * circumradius).abs() < 1e-5,
+                    "mid {q} → {p}"
+                );
+            }
+        }
+        // Top vertices, others, and a middle ring were all there to check.
+        assert!(seen.iter().all(|&k| k >= 4), "{seen:?}");
+    }
+}

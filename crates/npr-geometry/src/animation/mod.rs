@@ -300,6 +300,95 @@ impl Rig {
     }
 }
 
+impl Rig {
+    /// The rig of one mesh skinned by one skin (the procedural models of
+    /// [`crate::generate`]): `nodes[0]` holds the mesh, `influences` has one list of
+    /// (joint, weight) per vertex of `mesh`, weights summing to 1.
+    pub(crate) fn skinned(
+        mesh: &Mesh,
+        nodes: Vec<Node>,
+        skin: Skin,
+        influences: &[Vec<(u16, f32)>],
+        clips: Vec<Clip>,
+    ) -> Self {
+        let n = mesh.vertex_count();
+        let mut influence_offsets = vec![0u32];
+        let mut flat = Vec::new();
+        for v in 0..n {
+            flat.extend_from_slice(influences.get(v).map_or(&[][..], Vec::as_slice));
+            influence_offsets.push(flat.len() as u32);
+        }
+        Self {
+            order: node_order(&nodes),
+            nodes,
+            skins: vec![skin],
+            instances: vec![Instance {
+                node: 0,
+                skin: Some(0),
+                weights: Vec::new(),
+            }],
+            clips,
+            base: mesh.clone(),
+            source: (0..n as u32)
+                .map(|v| FileVertex {
+                    vertex: v,
+                    ..FileVertex::default()
+                })
+                .collect(),
+            vertex_instance: vec![0; n],
+            influence_offsets,
+            influences: flat,
+            morph_offsets: vec![0; n + 1],
+            morph_positions: Vec::new(),
+            morph_normals: Vec::new(),
+            recompute_normals: false,
+            weld_rep: weld_representatives(mesh),
+        }
+    }
+}
+
+/// Nodes with parents before children (depth first from the roots); nodes on a cycle
+/// are left out.
+pub(crate) fn node_order(nodes: &[Node]) -> Vec<usize> {
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); nodes.len()];
+    for (i, n) in nodes.iter().enumerate() {
+        if let Some(c) = n.parent.and_then(|p| children.get_mut(p)) {
+            c.push(i);
+        }
+    }
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut stack: Vec<usize> = (0..nodes.len())
+        .filter(|&i| nodes[i].parent.is_none_or(|p| p >= nodes.len()))
+        .rev()
+        .collect();
+    while let Some(i) = stack.pop() {
+        order.push(i);
+        stack.extend(children[i].iter().rev());
+    }
+    order
+}
+
+/// For each render vertex of `mesh`, the first render vertex with the same position
+/// (the representative of its welded vertex).
+pub(crate) fn weld_representatives(mesh: &Mesh) -> Vec<u32> {
+    let welded = crate::weld(mesh);
+    let mut first = vec![u32::MAX; welded.positions.len()];
+    welded
+        .render_to_welded
+        .iter()
+        .enumerate()
+        .map(|(v, &w)| match first.get_mut(w as usize) {
+            Some(f) => {
+                if *f == u32::MAX {
+                    *f = v as u32;
+                }
+                *f
+            }
+            None => v as u32,
+        })
+        .collect()
+}
+
 fn range(offsets: &[u32], v: usize) -> Option<std::ops::Range<usize>> {
     let a = *offsets.get(v)? as usize;
     let b = *offsets.get(v + 1)? as usize;

@@ -75,20 +75,7 @@ impl RigParts {
             .report
             .iter()
             .any(|n| matches!(n, crate::io::LoadNote::NormalsRecomputed { .. }));
-        let welded = crate::weld(&loaded.mesh);
-        let mut first = vec![u32::MAX; welded.positions.len()];
-        let weld_rep = welded
-            .render_to_welded
-            .iter()
-            .enumerate()
-            .map(|(v, &w)| {
-                let f = &mut first[w as usize];
-                if *f == u32::MAX {
-                    *f = v as u32;
-                }
-                *f
-            })
-            .collect();
+        let weld_rep = crate::animation::weld_representatives(&loaded.mesh);
         Rig {
             nodes: self.nodes,
             order: self.order,
