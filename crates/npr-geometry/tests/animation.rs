@@ -237,6 +237,12 @@ struct Tri {
     times: Vec<f32>,
     values: Vec<[f32; 3]>,
     interpolation: &'static str,
+    /// The JOINTS_0 component type (5121: unsigned byte).
+    joints_type: u32,
+    /// The channel's target path.
+    path: &'static str,
+    /// Extra members of the skinned mesh's node (e.g. a translation).
+    mesh_node: &'static str,
 }
 
 impl Default for Tri {
@@ -248,6 +254,9 @@ impl Default for Tri {
             times: vec![0.0, 1.0],
             values: vec![[0.0, 0.0, 0.0], [2.0, 0.0, 0.0]],
             interpolation: "LINEAR",
+            joints_type: 5121,
+            path: "translation",
+            mesh_node: "",
         }
     }
 }
@@ -291,20 +300,23 @@ impl Tri {
         };
         format!(
             r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,1]}}],
-"nodes":[{{"mesh":0,"skin":0}},{{"children":[2]}},{{"translation":[0,1,0]}}],
+"nodes":[{{"mesh":0,"skin":0{mesh_node}}},{{"children":[2]}},{{"translation":[0,1,0]}}],
 "skins":[{{"joints":[1,2]}}],
 "meshes":[{{"primitives":[{{"attributes":{attributes}}}]}}],
-"animations":[{{"channels":[{{"sampler":0,"target":{{"node":2,"path":"translation"}}}}],
+"animations":[{{"channels":[{{"sampler":0,"target":{{"node":2,"path":"{path}"}}}}],
   "samplers":[{{"input":3,"output":4,"interpolation":"{interp}"}}]}}],
 "accessors":[
  {{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
- {{"bufferView":1,"componentType":5121,"count":3,"type":"VEC4"}},
+ {{"bufferView":1,"componentType":{jt},"count":3,"type":"VEC4"}},
  {{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"}},
  {{"bufferView":3,"componentType":5126,"count":{nt},"type":"SCALAR"}},
  {{"bufferView":4,"componentType":5126,"count":{nv},"type":"VEC3"}}],
 "bufferViews":[{v0},{v1},{v2},{v3},{v4}],
 "buffers":[{{"byteLength":{len},"uri":"data:application/octet-stream;base64,{data}"}}]}}"#,
             interp = self.interpolation,
+            mesh_node = self.mesh_node,
+            path = self.path,
+            jt = self.joints_type,
             nt = self.times.len(),
             nv = self.values.len(),
             v0 = view(0, 36),
@@ -602,4 +614,67 @@ fn twisted_bar_wraps_like_a_candy_and_stays_finite() {
         // Top vertices, others, and a middle ring were all there to check.
         assert!(seen.iter().all(|&k| k >= 4), "{seen:?}");
     }
+}
+
+#[test]
+fn joints_of_a_type_gltf_forbids_are_errors() {
+    let tri = Tri {
+        joints_type: 5126,
+        ..Tri::default()
+    };
+    assert_eq!(animation_error(tri), "attribute-type");
+}
+
+#[test]
+fn channels_that_do_not_fit_their_target_are_errors() {
+    // A rotation needs VEC4 outputs; the triangle's sampler has VEC3.
+    let tri = Tri {
+        path: "rotation",
+        ..Tri::default()
+    };
+    assert_eq!(animation_error(tri), "output-width");
+    // Node 2 has no mesh, so no morph targets to weigh.
+    let tri = Tri {
+        path: "weights",
+        ..Tri::default()
+    };
+    assert_eq!(animation_error(tri), "morph-target");
+}
+
+#[test]
+fn the_skinned_mesh_node_transform_is_ignored() {
+    let plain = Tri::default().load().unwrap();
+    let moved = Tri {
+        mesh_node: r#","translation":[5,0,0],"scale":[2,2,2]"#,
+        ..Tri::default()
+    }
+    .load()
+    .unwrap();
+    assert_eq!(moved.mesh.positions, plain.mesh.positions);
+    assert!(
+        moved
+            .report
+            .contains(&LoadNote::SkinnedTransformIgnored { instances: 1 }),
+        "{:?}",
+        moved.report
+    );
+    assert!(
+        !plain
+            .report
+            .iter()
+            .any(|n| matches!(n, LoadNote::SkinnedTransformIgnored { .. }))
+    );
+    // And in a pose: the joints alone place the vertices.
+    let rig = moved.rig.as_ref().unwrap();
+    let m = rig.pose_mesh(&rig.sample(&rig.clips()[0], 0.5));
+    assert!((m.positions[1] - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6);
+}
+
+#[test]
+fn a_node_with_two_parents_is_an_error() {
+    let tri = Tri {
+        mesh_node: r#","children":[2]"#,
+        ..Tri::default()
+    };
+    assert_eq!(animation_error(tri), "hierarchy");
 }

@@ -16,8 +16,8 @@ pub enum AnimationError {
         /// The key (for a value, the key it belongs to).
         key: usize,
     },
-    /// Key times must increase strictly (glTF 2.0, §3.11: "the values represent time in
-    /// seconds ... MUST be strictly increasing").
+    /// Key times must increase strictly (glTF 2.0, §3.11 Animations: sampler input
+    /// times are strictly increasing, `time[n + 1] > time[n]`).
     #[error("key time {time} at key {key} does not increase (previous key at {previous})")]
     TimesNotIncreasing {
         /// The first key whose time is not above its predecessor's.

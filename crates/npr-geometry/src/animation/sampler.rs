@@ -26,8 +26,8 @@ pub enum Interpolation {
 /// in-tangent, value and out-tangent of each key, in that order, as glTF stores them).
 ///
 /// Before the first key the first value holds, after the last key the last value holds
-/// (glTF 2.0, §3.11: "the animated property keeps its value" outside the keyed range);
-/// for CUBICSPLINE these are the keys' values, not their tangents.
+/// (glTF 2.0, §3.11 Animations: outside the keyed range the end values are held); for
+/// CUBICSPLINE these are the keys' values, not their tangents.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sampler {
     interpolation: Interpolation,
