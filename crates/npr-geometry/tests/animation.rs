@@ -79,6 +79,10 @@ fn fox_has_its_clips_and_joints_and_poses_in_the_loaded_layout() {
         );
     }
     assert!(rig.clip_named("Jump").is_none());
+    // The Fox's joints at rest match its inverse bind matrices: rest pose = bind pose.
+    let rest = rig.pose_mesh(&rig.rest_pose());
+    let d = max_distance(&rest.positions, &loaded.mesh.positions);
+    assert!(d < 1e-5 * radius(&loaded.mesh), "rest is {d} from bind");
     // Every vertex is skinned with weights summing to 1 and joints in range.
     for v in 0..rig.vertex_count() {
         let inf = rig.influences(v);
@@ -677,4 +681,19 @@ fn a_node_with_two_parents_is_an_error() {
         ..Tri::default()
     };
     assert_eq!(animation_error(tri), "hierarchy");
+}
+
+#[test]
+fn a_singular_node_matrix_loads() {
+    // A zero-scale matrix (a hidden node) cannot be decomposed into TRS; it must still
+    // load, and the rest pose keeps it exactly.
+    let tri = Tri {
+        mesh_node: r#","matrix":[0,0,0,0, 0,0,0,0, 0,0,0,0, 3,0,0,1]"#,
+        ..Tri::default()
+    };
+    let loaded = tri.load().unwrap();
+    let rig = loaded.rig.as_ref().unwrap();
+    let m = rig.nodes()[0].matrix.unwrap();
+    assert_eq!(rig.rest_pose().node_global(0), Some(m));
+    check_bind_is_loaded(&loaded);
 }

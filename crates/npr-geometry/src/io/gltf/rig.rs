@@ -343,15 +343,23 @@ fn nodes(doc: &gltf::Document, c: &Ctx<'_>) -> Result<(Vec<Node>, Vec<usize>), L
         let (rest, matrix) = match n.transform() {
             gltf::scene::Transform::Matrix { matrix } => {
                 let m = Mat4::from_cols_array_2d(&matrix);
+                if !m.is_finite() {
+                    return Err(LoadError::NonFinite {
+                        file: c.file.to_string(),
+                        at: format!("node {}", n.index()),
+                        what: "matrix".into(),
+                    });
+                }
+                // A singular matrix (a zero scale hides a node) has no rotation to
+                // decompose: it stays exact as `matrix` and animates from identity TRS.
                 let (scale, rotation, translation) = m.to_scale_rotation_translation();
-                (
-                    Trs {
-                        translation,
-                        rotation,
-                        scale,
-                    },
-                    Some(m),
-                )
+                let trs = Trs {
+                    translation,
+                    rotation,
+                    scale,
+                };
+                let finite = translation.is_finite() && rotation.is_finite() && scale.is_finite();
+                (if finite { trs } else { Trs::default() }, Some(m))
             }
             gltf::scene::Transform::Decomposed {
                 translation,
@@ -360,7 +368,15 @@ fn nodes(doc: &gltf::Document, c: &Ctx<'_>) -> Result<(Vec<Node>, Vec<usize>), L
             } => (
                 Trs {
                     translation: Vec3::from(translation),
-                    rotation: Quat::from_array(rotation).normalize(),
+                    // A zero quaternion (invalid, but harmless before) reads as none.
+                    rotation: {
+                        let q = Quat::from_array(rotation);
+                        if q.length_squared() > 0.0 {
+                            q.normalize()
+                        } else {
+                            Quat::IDENTITY
+                        }
+                    },
                     scale: Vec3::from(scale),
                 },
                 None,
