@@ -697,3 +697,53 @@ fn a_singular_node_matrix_loads() {
     assert_eq!(rig.rest_pose().node_global(0), Some(m));
     check_bind_is_loaded(&loaded);
 }
+
+mod mutated {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn bytes(name: &str) -> Vec<u8> {
+        std::fs::read(format!(
+            "{}/../../fixtures/meshes/{name}",
+            env!("CARGO_MANIFEST_DIR")
+        ))
+        .unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 600, ..ProptestConfig::default() })]
+
+        /// Flipped bytes in the animated files (keys, weights, joints, matrices, JSON):
+        /// loading and posing every clip give an error or a mesh, never a panic.
+        #[test]
+        fn mutated_animated_files_never_panic(
+            which in 0..3usize,
+            flips in proptest::collection::vec((any::<usize>(), 1..=255u8), 1..8),
+        ) {
+            let (name, format) = [
+                ("Fox.glb", Format::Glb),
+                ("SimpleSkin.gltf", Format::Gltf),
+                ("Tri", Format::Gltf),
+            ][which];
+            let mut b = if name == "Tri" { Tri::default().gltf() } else { bytes(name) };
+            let n = b.len();
+            for &(i, x) in &flips {
+                b[i % n] ^= x;
+            }
+            let result = std::panic::catch_unwind(|| {
+                let loaded = io::load_bytes(&b, format)?;
+                if let Some(rig) = &loaded.rig {
+                    for clip in rig.clips() {
+                        for t in [-1.0, 0.0, 0.37 * clip.duration(), clip.duration() + 1.0] {
+                            let m = rig.pose_mesh(&rig.sample(clip, t));
+                            assert_eq!(m.indices, loaded.mesh.indices);
+                        }
+                    }
+                    let _ = rig.pose_mesh(&rig.bind_pose());
+                }
+                Ok::<_, io::LoadError>(())
+            });
+            prop_assert!(result.is_ok(), "panic on {name} after {flips:?}");
+        }
+    }
+}

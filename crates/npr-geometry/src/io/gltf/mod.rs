@@ -98,6 +98,8 @@ fn read_document(json: &[u8], c: &Ctx<'_>) -> Result<gltf::Document, LoadError> 
     // `gltf-json`'s validation indexes the POSITION accessor unchecked: check primitive
     // accessor indices first.
     check_primitive_accessors(&root, c)?;
+    // Nor does it check animation channel targets, which `gltf` then unwraps.
+    check_channel_targets(&root, c)?;
     validate(root, c)
 }
 
@@ -117,6 +119,24 @@ fn check_primitive_accessors(root: &gltf::json::Root, c: &Ctx<'_>) -> Result<(),
                     format!("meshes[{m}].primitives[{p}]"),
                     format!("accessor {i} does not exist ({n_acc} accessors)"),
                 ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every animation channel targets a node that exists, with a known path.
+fn check_channel_targets(root: &gltf::json::Root, c: &Ctx<'_>) -> Result<(), LoadError> {
+    let n_nodes = root.nodes.len();
+    for (a, anim) in root.animations.iter().enumerate() {
+        for (k, ch) in anim.channels.iter().enumerate() {
+            let at = format!("animations[{a}].channels[{k}].target");
+            let node = ch.target.node.value();
+            if node >= n_nodes {
+                return Err(c.parse(at, format!("node {node} does not exist ({n_nodes} nodes)")));
+            }
+            if matches!(ch.target.path, gltf::json::validation::Checked::Invalid) {
+                return Err(c.parse(at, "unknown target path"));
             }
         }
     }
