@@ -41,6 +41,7 @@
 
 #[cfg(any(test, feature = "test-support"))]
 pub mod analytic;
+pub mod animation;
 pub mod curvature;
 pub mod error;
 pub mod generate;

@@ -5,7 +5,8 @@
 //! cylinder, torus, ellipsoid, the (p, q) torus knot of the specular paper's Fig. 8
 //! ([`paper_knot`], 2,880 faces), a plane, and [`benchmark_knot`] with about 1.1 million
 //! triangles. Irregular variants ([`torus_jittered`], [`displace_along_normals`]) are
-//! seeded and deterministic.
+//! seeded and deterministic. Rigged models ([`bent_tube`], [`stretched_sphere`],
+//! [`twisted_bar`]) come with a [`crate::animation::Rig`] and one clip.
 //!
 //! Parametric surfaces duplicate the render vertices on their UV seams; the duplicates
 //! are evaluated from the same wrapped parameter, so their positions are bit-identical
@@ -20,12 +21,14 @@ use crate::weld::position_key;
 
 mod cad;
 mod knot;
+mod rigged;
 mod surfaces;
 #[cfg(test)]
 mod tests;
 
 pub use cad::{Bracket, box_with_hole, cad_parts, filleted_bracket, stepped_shaft};
 pub use knot::{TorusKnot, benchmark_knot, paper_knot, torus_knot};
+pub use rigged::{Rigged, bent_tube, stretched_sphere, twisted_bar};
 pub use surfaces::{
     cylinder, ellipsoid, geodesic_sphere, icosphere, plane, torus, torus_jittered,
     torus_segments_for, uv_sphere,

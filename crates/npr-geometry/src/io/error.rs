@@ -102,6 +102,18 @@ pub enum LoadError {
         /// What.
         feature: String,
     },
+    /// A skin, morph target or animation cannot be used (joint index out of range, key
+    /// times that do not increase, NaN keys, CUBICSPLINE outputs not three per key, a
+    /// skinned primitive without `JOINTS_0`, ...). Fix: re-export the animation.
+    #[error("{file}: {at}: {error}")]
+    Animation {
+        /// The file.
+        file: String,
+        /// Where (mesh and primitive, skin, or animation and channel).
+        at: String,
+        /// What is wrong; [`crate::animation::AnimationError::kind`] names it.
+        error: crate::animation::AnimationError,
+    },
     /// The file parsed but holds no triangle (only points, lines, or nothing).
     /// Fix: export the model with its faces.
     #[error("{file}: no triangles ({detail})")]
@@ -116,7 +128,7 @@ pub enum LoadError {
 impl LoadError {
     /// A stable short name for the kind of error: `missing`, `io`, `empty`,
     /// `unsupported-format`, `parse`, `truncated`, `index-out-of-range`, `non-finite`,
-    /// `unsupported-extension`, `unsupported-feature`, `no-triangles`.
+    /// `unsupported-extension`, `unsupported-feature`, `no-triangles`, `animation`.
     pub fn kind(&self) -> &'static str {
         match self {
             Self::Missing { .. } => "missing",
@@ -130,6 +142,7 @@ impl LoadError {
             Self::UnsupportedExtension { .. } => "unsupported-extension",
             Self::UnsupportedFeature { .. } => "unsupported-feature",
             Self::NoTriangles { .. } => "no-triangles",
+            Self::Animation { .. } => "animation",
         }
     }
 
@@ -146,7 +159,8 @@ impl LoadError {
             | Self::NonFinite { file, .. }
             | Self::UnsupportedExtension { file, .. }
             | Self::UnsupportedFeature { file, .. }
-            | Self::NoTriangles { file, .. } => file,
+            | Self::NoTriangles { file, .. }
+            | Self::Animation { file, .. } => file,
         }
     }
 }

@@ -37,6 +37,7 @@ use glam::{Vec2, Vec3};
 pub use error::LoadError;
 
 use crate::Mesh;
+use crate::animation::Rig;
 
 /// A model file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -81,6 +82,10 @@ pub struct Loaded {
     pub mesh: Mesh,
     /// What was dropped, converted or recomputed, for the caller to print.
     pub report: Vec<LoadNote>,
+    /// The skins, morph targets and clips of a glTF file that has any, tied to `mesh`'s
+    /// render vertices ([`Rig::pose_mesh`] gives `mesh` again in [`Rig::bind_pose`]);
+    /// `None` for other files.
+    pub rig: Option<Rig>,
 }
 
 /// One thing the loader dropped, converted or recomputed.
@@ -126,6 +131,17 @@ pub enum LoadNote {
         /// How many mesh instances were placed.
         instances: usize,
     },
+    /// glTF skin weights that did not sum to 1 were normalised.
+    WeightsNormalised {
+        /// How many vertices.
+        vertices: usize,
+    },
+    /// The transform of a node with a skinned mesh was ignored, as glTF 2.0 requires
+    /// (§3.7.3: the joints alone place skinned vertices).
+    SkinnedTransformIgnored {
+        /// How many instances.
+        instances: usize,
+    },
 }
 
 impl fmt::Display for LoadNote {
@@ -153,6 +169,14 @@ impl fmt::Display for LoadNote {
             Self::TransformsApplied { instances } => {
                 write!(f, "node transforms applied to {instances} mesh instance(s)")
             }
+            Self::WeightsNormalised { vertices } => write!(
+                f,
+                "skin weights of {vertices} vertices did not sum to 1 and were normalised"
+            ),
+            Self::SkinnedTransformIgnored { instances } => write!(
+                f,
+                "the node transform of {instances} skinned mesh instance(s) ignored (glTF: joints place skinned vertices)"
+            ),
         }
     }
 }
@@ -227,12 +251,16 @@ fn load_source(
             file: file.to_string(),
         });
     }
-    let raw = match format {
-        Format::Obj => obj::parse(bytes, file)?,
-        Format::Ply => ply::parse(bytes, file)?,
+    let (raw, rig) = match format {
+        Format::Obj => (obj::parse(bytes, file)?, None),
+        Format::Ply => (ply::parse(bytes, file)?, None),
         Format::Gltf | Format::Glb => gltf::parse(bytes, file, dir)?,
     };
-    finish(raw, file)
+    let (mut loaded, kept) = finish_mapped(raw, file)?;
+    if let Some(parts) = rig {
+        loaded.rig = Some(parts.into_rig(&kept, &loaded));
+    }
+    Ok(loaded)
 }
 
 /// What a format parser produces; [`finish`] validates and cleans it.
@@ -264,10 +292,11 @@ impl Raw {
 
 /// The common end of every loader: non-finite and range checks, unreferenced vertices
 /// removed, normals kept or recomputed, the report completed.
-pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
+/// Also returns, for each vertex of the mesh, its index in `raw`.
+pub(crate) fn finish_mapped(mut raw: Raw, file: &str) -> Result<(Loaded, Vec<u32>), LoadError> {
     check(&raw, file)?;
     let mut notes = std::mem::take(&mut raw.notes);
-    let unused = remove_unreferenced(&mut raw);
+    let (unused, kept) = remove_unreferenced(&mut raw);
     if unused > 0 {
         notes.push(LoadNote::UnreferencedVerticesRemoved { count: unused });
     }
@@ -285,10 +314,14 @@ pub(crate) fn finish(mut raw: Raw, file: &str) -> Result<Loaded, LoadError> {
         at: "mesh".into(),
         reason: e.to_string(),
     })?;
-    Ok(Loaded {
-        mesh,
-        report: notes,
-    })
+    Ok((
+        Loaded {
+            mesh,
+            report: notes,
+            rig: None,
+        },
+        kept,
+    ))
 }
 
 /// Rejects non-finite positions, indices out of range and a file without triangles.
@@ -328,8 +361,9 @@ fn check(raw: &Raw, file: &str) -> Result<(), LoadError> {
     Ok(())
 }
 
-/// Drops the vertices no triangle uses, renumbering the triangles; returns how many.
-fn remove_unreferenced(raw: &mut Raw) -> usize {
+/// Drops the vertices no triangle uses, renumbering the triangles; returns how many, and
+/// for each vertex kept its former index.
+fn remove_unreferenced(raw: &mut Raw) -> (usize, Vec<u32>) {
     let n = raw.positions.len();
     let mut used = vec![false; n];
     for t in &raw.triangles {
@@ -365,7 +399,8 @@ fn remove_unreferenced(raw: &mut Raw) -> usize {
             *t = t.map(|i| remap[i as usize]);
         }
     }
-    unused
+    let kept = (0..n as u32).filter(|&i| used[i as usize]).collect();
+    (unused, kept)
 }
 
 /// How many triangles repeat a vertex or have zero area.

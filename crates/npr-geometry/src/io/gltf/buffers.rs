@@ -222,6 +222,8 @@ pub(super) fn read_accessor(
         Dimensions::Vec2 => 2,
         Dimensions::Vec3 => 3,
         Dimensions::Vec4 => 4,
+        // Columns of 4 components need no padding for any component type.
+        Dimensions::Mat4 => 16,
         d => return Err(c.parse(at(), format!("unexpected accessor type {d:?}"))),
     };
     let ty = acc.data_type();

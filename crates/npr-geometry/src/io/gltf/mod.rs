@@ -14,6 +14,7 @@ use super::{LoadError, Raw};
 
 mod buffers;
 mod primitive;
+pub(crate) mod rig;
 
 use buffers::{GLB_MAGIC, load_buffers, split_glb};
 use primitive::Merged;
@@ -47,7 +48,13 @@ impl Ctx<'_> {
     }
 }
 
-pub(crate) fn parse(bytes: &[u8], file: &str, dir: Option<&Path>) -> Result<Raw, LoadError> {
+/// The merged mesh, and the rig parts when the file has a skin, a morph target or an
+/// animation.
+pub(crate) fn parse(
+    bytes: &[u8],
+    file: &str,
+    dir: Option<&Path>,
+) -> Result<(Raw, Option<rig::RigParts>), LoadError> {
     let c = Ctx { file };
     let (json, bin) = if bytes.starts_with(GLB_MAGIC) {
         split_glb(bytes, &c)?
@@ -57,11 +64,17 @@ pub(crate) fn parse(bytes: &[u8], file: &str, dir: Option<&Path>) -> Result<Raw,
     let doc = read_document(json, &c)?;
     let buffers = load_buffers(&doc, bin, dir, &c)?;
     let instances = mesh_instances(&doc, &c)?;
-    let mut merged = Merged::default();
-    for (mesh, world) in &instances {
-        merged.instance(mesh, *world, &buffers, &c)?;
+    let animated = rig::has_animation(&doc);
+    let mut merged = Merged::new(animated);
+    for (mesh, node, world) in &instances {
+        merged.instance(mesh, node.as_ref(), *world, &buffers, &c)?;
     }
-    Ok(merged.into_raw(instances.len()))
+    let (raw, parts) = merged.into_raw(instances.len());
+    let parts = match parts {
+        Some((insts, verts)) => Some(rig::read(&doc, &buffers, insts, verts, &c)?),
+        None => None,
+    };
+    Ok((raw, parts))
 }
 
 /// Parses and validates the JSON document, refusing extensions that change geometry.
@@ -85,6 +98,8 @@ fn read_document(json: &[u8], c: &Ctx<'_>) -> Result<gltf::Document, LoadError> 
     // `gltf-json`'s validation indexes the POSITION accessor unchecked: check primitive
     // accessor indices first.
     check_primitive_accessors(&root, c)?;
+    // Nor does it check animation channel targets, which `gltf` then unwraps.
+    check_channel_targets(&root, c)?;
     validate(root, c)
 }
 
@@ -104,6 +119,24 @@ fn check_primitive_accessors(root: &gltf::json::Root, c: &Ctx<'_>) -> Result<(),
                     format!("meshes[{m}].primitives[{p}]"),
                     format!("accessor {i} does not exist ({n_acc} accessors)"),
                 ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks that every animation channel targets a node that exists, with a known path.
+fn check_channel_targets(root: &gltf::json::Root, c: &Ctx<'_>) -> Result<(), LoadError> {
+    let n_nodes = root.nodes.len();
+    for (a, anim) in root.animations.iter().enumerate() {
+        for (k, ch) in anim.channels.iter().enumerate() {
+            let at = format!("animations[{a}].channels[{k}].target");
+            let node = ch.target.node.value();
+            if node >= n_nodes {
+                return Err(c.parse(at, format!("node {node} does not exist ({n_nodes} nodes)")));
+            }
+            if matches!(ch.target.path, gltf::json::validation::Checked::Invalid) {
+                return Err(c.parse(at, "unknown target path"));
             }
         }
     }
@@ -135,14 +168,17 @@ fn validate(root: gltf::json::Root, c: &Ctx<'_>) -> Result<gltf::Document, LoadE
     }
 }
 
-/// Mesh instances: (mesh, world matrix) from the default (or first) scene's graph.
+/// A mesh, the node that instances it (none without a scene) and its world matrix.
+type MeshInstance<'d> = (gltf::Mesh<'d>, Option<gltf::Node<'d>>, Mat4);
+
+/// Mesh instances from the default (or first) scene's graph.
 fn mesh_instances<'d>(
     doc: &'d gltf::Document,
     c: &Ctx<'_>,
-) -> Result<Vec<(gltf::Mesh<'d>, Mat4)>, LoadError> {
+) -> Result<Vec<MeshInstance<'d>>, LoadError> {
     // Iteratively, with a step bound so a cyclic graph cannot loop; without a scene,
     // every mesh untransformed.
-    let mut instances: Vec<(gltf::Mesh<'_>, Mat4)> = Vec::new();
+    let mut instances: Vec<MeshInstance<'d>> = Vec::new();
     match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => {
             let mut stack: Vec<(gltf::Node<'_>, Mat4)> =
@@ -157,7 +193,7 @@ fn mesh_instances<'d>(
                 }
                 let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
                 if let Some(mesh) = node.mesh() {
-                    instances.push((mesh, world));
+                    instances.push((mesh, Some(node.clone()), world));
                 }
                 // Reversed: nodes pop in document order, depth first.
                 let at = stack.len();
@@ -165,7 +201,7 @@ fn mesh_instances<'d>(
                 stack[at..].reverse();
             }
         }
-        None => instances.extend(doc.meshes().map(|m| (m, Mat4::IDENTITY))),
+        None => instances.extend(doc.meshes().map(|m| (m, None, Mat4::IDENTITY))),
     }
     Ok(instances)
 }

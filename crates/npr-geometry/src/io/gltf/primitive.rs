@@ -7,7 +7,21 @@ use gltf::mesh::{Mode, Semantic};
 
 use super::Ctx;
 use super::buffers::{read_accessor, vec3s};
+use super::rig::{self, AnimVertices};
+use crate::animation::{FileVertex, Instance, morph};
 use crate::io::{LoadError, LoadNote, Raw, fan};
+
+/// What a primitive needs to know of the instance it belongs to.
+struct InstanceInfo<'w> {
+    node: u32,
+    mesh: u32,
+    /// Index into [`Merged::instances`].
+    instance: u32,
+    /// The skin's joint count, when the instance is skinned.
+    joints: Option<usize>,
+    /// Default morph weights.
+    weights: &'w [f32],
+}
 
 /// A mesh instance's world transform, for points, normals and winding.
 struct Placement {
@@ -46,20 +60,56 @@ pub(super) struct Merged {
     strips: usize,
     /// Instances with a transform other than the identity.
     placed: usize,
+    /// Per-vertex animation data, when the file has a skin, morph or animation.
+    anim: Option<AnimVertices>,
+    /// The instances (filled with `anim`).
+    instances: Vec<Instance>,
+    /// Skinned instances whose node transform was not the identity.
+    skinned_ignored: usize,
 }
 
 impl Merged {
-    /// Adds every triangle primitive of `mesh`, placed by `world`.
+    /// An empty merge; `animated`: also collect what a rig needs.
+    pub(super) fn new(animated: bool) -> Self {
+        Self {
+            anim: animated.then(AnimVertices::default),
+            ..Self::default()
+        }
+    }
+
+    /// Adds every triangle primitive of `mesh`, instanced by `node` and placed by
+    /// `world`; a skinned instance ignores `world` (glTF 2.0, §3.7.3), and morph targets
+    /// are applied with the instance's default weights.
     pub(super) fn instance(
         &mut self,
         mesh: &gltf::Mesh<'_>,
+        node: Option<&gltf::Node<'_>>,
         world: Mat4,
         buffers: &[Vec<u8>],
         c: &Ctx<'_>,
     ) -> Result<(), LoadError> {
+        let skin = node.and_then(gltf::Node::skin);
+        let world = match skin {
+            Some(_) => {
+                if world != Mat4::IDENTITY {
+                    self.skinned_ignored += 1;
+                }
+                Mat4::IDENTITY
+            }
+            None => world,
+        };
         if world != Mat4::IDENTITY {
             self.placed += 1;
         }
+        let weights = rig::default_weights(node, mesh, c)?;
+        let node_index = node.map_or(usize::MAX, gltf::Node::index);
+        let info = InstanceInfo {
+            node: node_index as u32,
+            mesh: mesh.index() as u32,
+            instance: self.instances.len() as u32,
+            joints: skin.as_ref().map(|s| s.joints().count()),
+            weights: &weights,
+        };
         let place = Placement::new(world);
         for prim in mesh.primitives() {
             let at = format!("mesh {} primitive {}", mesh.index(), prim.index());
@@ -71,7 +121,14 @@ impl Merged {
                 *self.skipped.entry(format!("{mode:?}")).or_insert(0usize) += 1;
                 continue;
             }
-            self.primitive(&prim, &at, &place, buffers, c)?;
+            self.primitive(&prim, &at, &place, &info, buffers, c)?;
+        }
+        if self.anim.is_some() {
+            self.instances.push(Instance {
+                node: node_index,
+                skin: skin.map(|s| s.index()),
+                weights,
+            });
         }
         Ok(())
     }
@@ -82,11 +139,32 @@ impl Merged {
         prim: &gltf::Primitive<'_>,
         at: &str,
         place: &Placement,
+        info: &InstanceInfo<'_>,
         buffers: &[Vec<u8>],
         c: &Ctx<'_>,
     ) -> Result<(), LoadError> {
         let positions = primitive_positions(prim, at, buffers, c)?;
         let n = positions.len();
+        let targets = rig::morph_targets(prim, n, at, buffers, c)?;
+        if !targets.is_empty() && targets.len() != info.weights.len() {
+            return Err(c.anim(
+                at,
+                crate::animation::AnimationError::MorphTarget {
+                    target: targets.len().min(info.weights.len()),
+                    reason: format!(
+                        "{} targets, the mesh has {} weights",
+                        targets.len(),
+                        info.weights.len()
+                    ),
+                },
+            ));
+        }
+        let deltas = |v: usize, normal: bool| -> Vec<Vec3> {
+            targets
+                .iter()
+                .map(|(p, n)| if normal { n[v] } else { p[v] })
+                .collect()
+        };
         let ids = primitive_indices(prim, n, at, buffers, c)?;
         let mode = prim.mode();
         if matches!(mode, Mode::TriangleStrip | Mode::TriangleFan) {
@@ -103,20 +181,70 @@ impl Merged {
         raw.triangles
             .extend(tris.iter().map(|t| t.map(|i| i + base)));
         raw.positions
-            .extend(positions.iter().map(|&p| place.world.transform_point3(p)));
-        self.normals(prim, n, place, buffers, c)?;
-        self.uvs(prim, n, buffers, c)
+            .extend(positions.iter().enumerate().map(|(v, &p)| {
+                let p = if targets.is_empty() {
+                    p
+                } else {
+                    morph(p, info.weights, &deltas(v, false))
+                };
+                place.world.transform_point3(p)
+            }));
+        let normals = self.normals(prim, n, buffers, c)?;
+        match &normals {
+            Some(file) => self
+                .raw
+                .normals
+                .extend(file.iter().enumerate().map(|(v, &nv)| {
+                    let nv = if targets.is_empty() {
+                        nv
+                    } else {
+                        morph(nv, info.weights, &deltas(v, true))
+                    };
+                    (place.normal * nv).normalize_or_zero()
+                })),
+            None => self.raw.normals.extend(std::iter::repeat_n(Vec3::ZERO, n)),
+        }
+        self.uvs(prim, n, buffers, c)?;
+        let Some(anim) = &mut self.anim else {
+            return Ok(());
+        };
+        anim.base_positions.extend_from_slice(&positions);
+        match normals {
+            Some(file) => anim.base_normals.extend(file),
+            None => anim.base_normals.extend(std::iter::repeat_n(Vec3::ZERO, n)),
+        }
+        anim.source.extend((0..n as u32).map(|v| FileVertex {
+            node: info.node,
+            mesh: info.mesh,
+            primitive: prim.index() as u32,
+            vertex: v,
+        }));
+        anim.instance.extend(std::iter::repeat_n(info.instance, n));
+        match info.joints {
+            Some(joints) => {
+                let (inf, normalised) = rig::skin_influences(prim, n, joints, at, buffers, c)?;
+                anim.normalised += normalised;
+                anim.influences.extend(inf);
+            }
+            None => anim.influences.extend(std::iter::repeat_n(Vec::new(), n)),
+        }
+        anim.morphs.extend((0..n).map(|v| {
+            targets
+                .iter()
+                .map(|(p, nn)| (p[v], nn[v]))
+                .collect::<Vec<_>>()
+        }));
+        Ok(())
     }
 
-    /// Appends the primitive's NORMALs (transformed), or zeros when it has none.
+    /// The primitive's NORMALs as the file has them, or `None` when it has none.
     fn normals(
         &mut self,
         prim: &gltf::Primitive<'_>,
         n: usize,
-        place: &Placement,
         buffers: &[Vec<u8>],
         c: &Ctx<'_>,
-    ) -> Result<(), LoadError> {
+    ) -> Result<Option<Vec<Vec3>>, LoadError> {
         match prim.get(&Semantic::Normals) {
             Some(acc) => {
                 self.any_normals = true;
@@ -127,18 +255,13 @@ impl Merged {
                         format!("{} normals for {n} positions", normals.len()),
                     ));
                 }
-                self.raw.normals.extend(
-                    normals
-                        .iter()
-                        .map(|&v| (place.normal * v).normalize_or_zero()),
-                );
+                Ok(Some(normals))
             }
             None => {
                 self.some_without_normals = true;
-                self.raw.normals.extend(std::iter::repeat_n(Vec3::ZERO, n));
+                Ok(None)
             }
         }
-        Ok(())
     }
 
     /// Appends the primitive's TEXCOORD_0, or zeros when it has none.
@@ -169,8 +292,9 @@ impl Merged {
         Ok(())
     }
 
-    /// The merged mesh with its notes; `instances` is how many the scene placed.
-    pub(super) fn into_raw(self, instances: usize) -> Raw {
+    /// The merged mesh with its notes, and the rig's instances and per-vertex data when
+    /// collected; `instances` is how many the scene placed.
+    pub(super) fn into_raw(self, instances: usize) -> (Raw, Option<(Vec<Instance>, AnimVertices)>) {
         let mut raw = self.raw;
         if self.some_without_normals {
             if self.any_normals {
@@ -198,10 +322,21 @@ impl Merged {
                 instances: self.placed,
             });
         }
+        if self.skinned_ignored > 0 {
+            raw.notes.push(LoadNote::SkinnedTransformIgnored {
+                instances: self.skinned_ignored,
+            });
+        }
+        let normalised = self.anim.as_ref().map_or(0, |a| a.normalised);
+        if normalised > 0 {
+            raw.notes.push(LoadNote::WeightsNormalised {
+                vertices: normalised,
+            });
+        }
         raw.found = format!(
             "{instances} mesh instance(s) in the scene, {skipped_total} point/line primitive(s)"
         );
-        raw
+        (raw, self.anim.map(|a| (self.instances, a)))
     }
 }
 
