@@ -112,7 +112,7 @@ pub enum LoadError {
         /// Where (mesh and primitive, skin, or animation and channel).
         at: String,
         /// What is wrong; [`crate::animation::AnimationError::kind`] names it.
-        error: crate::animation::AnimationError,
+        error: Box<crate::animation::AnimationError>,
     },
     /// The file parsed but holds no triangle (only points, lines, or nothing).
     /// Fix: export the model with its faces.

@@ -19,7 +19,7 @@ impl Ctx<'_> {
         LoadError::Animation {
             file: self.file.to_string(),
             at: at.into(),
-            error,
+            error: Box::new(error),
         }
     }
 }
