@@ -23,7 +23,9 @@ fn fields(n: [Vec3; 3], d0: Vec3, d1: Vec3, a: f32, b: f32) -> ([Vec3; 3], [Vec3
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 
-    /// Inside points are recovered.
+    /// Inside points are recovered: the planted point, or (where the direction condition
+    /// N ∥ H has a second root inside the triangle, as the planted fields allow) another
+    /// point where the interpolated fields are parallel.
     #[test]
     fn solve_recovers_inside_point(
         n0 in vec3(), n1 in vec3(), n2 in vec3(), d0 in vec3(), d1 in vec3(),
@@ -38,7 +40,13 @@ proptest! {
         prop_assume!(c1.cross(c2).length() > 0.05 * c1.length() * c2.length() && c1.length() > 0.05);
         for solve in [try_solve_barycentric, try_solve_barycentric_eq6] {
             let (sa, sb) = solve(n, h).expect("inside point must be found");
-            prop_assert!((sa - a).abs() < 1e-3 && (sb - b).abs() < 1e-3, "{sa} {sb} vs {a} {b}");
+            let at = |f: &[Vec3; 3]| (1.0 - sa - sb) * f[0] + sa * f[1] + sb * f[2];
+            let parallel = at(&n).normalize().cross(at(&h).normalize()).length();
+            let inside = sa >= -1e-4 && sb >= -1e-4 && sa + sb <= 1.0 + 1e-4;
+            prop_assert!(
+                ((sa - a).abs() < 1e-3 && (sb - b).abs() < 1e-3) || (inside && parallel < 1e-4),
+                "{sa} {sb} vs {a} {b} (N × H {parallel:e})"
+            );
         }
     }
 
