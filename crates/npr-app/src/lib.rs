@@ -16,6 +16,7 @@
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
 #[cfg(not(target_arch = "wasm32"))]
+pub mod animation;
 pub mod curvature;
 pub mod engine;
 mod error;

@@ -4,7 +4,9 @@
 //! npr render MODEL [--effect E] [--preset FILE] [--size WxH] [--out PATH]
 //!                  [--turntable N [--gif]] [--json PATH]
 //! npr view [MODEL] [--preset FILE] [--script FILE] [--screenshot PNG] [--exit-after-frames N]
+//!                  [--animation NAME|INDEX|none] [--time S] [--frames N] [--fps F] [--no-loop]
 //! npr curvature IN OUT.csv [--radius R | --radius-edges K] [--method M]
+//! npr pose MODEL [--animation NAME|INDEX|none] [--time S] --out POSED.obj|.ply
 //! ```
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -29,6 +31,8 @@ enum Command {
     View(npr_app::viewer::ViewArgs),
     /// Per-vertex principal curvatures of a model, as CSV.
     Curvature(npr_app::curvature::CurvatureArgs),
+    /// Write a glTF model posed at one moment of a clip, as OBJ or PLY.
+    Pose(npr_app::animation::PoseArgs),
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -48,6 +52,7 @@ fn main() -> ExitCode {
         }),
         Command::View(args) => npr_app::viewer::run(args),
         Command::Curvature(args) => npr_app::curvature::run(args),
+        Command::Pose(args) => npr_app::animation::pose(&args).map(|p| println!("{}", p.display())),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

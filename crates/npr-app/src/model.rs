@@ -25,6 +25,9 @@ pub struct Model {
     pub notes: Vec<String>,
     /// Its bounding sphere.
     pub framing: Framing,
+    /// Its skins, morph targets and clips (glTF), tied to the file's vertices; the mesh
+    /// above is the loaded one ([`crate::animation::Animated`] poses it).
+    pub rig: Option<npr_geometry::animation::Rig>,
 }
 
 impl Model {
@@ -41,6 +44,7 @@ impl Model {
             mesh,
             notes: Vec::new(),
             framing,
+            rig: None,
         }
     }
 
@@ -58,6 +62,7 @@ impl Model {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| path.display().to_string());
         let mut model = Self::from_mesh(&name, loaded.mesh);
+        model.rig = loaded.rig;
         model.path = Some(path.to_path_buf());
         model.notes = loaded.report.iter().map(ToString::to_string).collect();
         Ok(model)
@@ -85,6 +90,7 @@ impl Model {
         })?;
         let loaded = npr_geometry::io::load_bytes_named(bytes, format, name).map_err(load_error)?;
         let mut model = Self::from_mesh(name, loaded.mesh);
+        model.rig = loaded.rig;
         model.notes = loaded.report.iter().map(ToString::to_string).collect();
         Ok(model)
     }

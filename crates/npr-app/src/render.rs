@@ -47,6 +47,23 @@ pub struct RenderArgs {
     /// The pen's width in mm (the SVG's stroke-width).
     #[arg(long, default_value_t = 0.3)]
     pub pen_mm: f32,
+    /// The glTF clip to play: its name, its index, or `none` for the bind pose. Default:
+    /// the model's first clip.
+    #[arg(long, value_name = "NAME|INDEX|none")]
+    pub animation: Option<String>,
+    /// The moment shown (the first frame's), seconds into the clip.
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
+    /// Render N frames of the clip with the camera still (numbered PNGs, or a GIF with
+    /// --gif).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u32>,
+    /// Frames per second of the clip, for --frames and --turntable.
+    #[arg(long, default_value_t = 30.0)]
+    pub fps: f32,
+    /// Hold the clip's last pose past its end instead of looping.
+    #[arg(long)]
+    pub no_loop: bool,
 }
 
 /// Parses `WxH`.
@@ -98,8 +115,20 @@ pub fn resolve_preset(args: &RenderArgs) -> Result<Preset, AppError> {
     if args.turntable == Some(0) {
         return Err(AppError::Usage("--turntable needs at least 1 frame".into()));
     }
-    if args.gif && args.turntable.is_none() {
-        return Err(AppError::Usage("--gif needs --turntable N".into()));
+    if args.frames.is_some() && args.turntable.is_some() {
+        return Err(AppError::Usage(
+            "--frames and --turntable do not go together (with a clip, --turntable plays it \
+             during the turn)"
+                .into(),
+        ));
+    }
+    if args.frames == Some(0) {
+        return Err(AppError::Usage("--frames needs at least 1 frame".into()));
+    }
+    if args.gif && args.turntable.is_none() && args.frames.is_none() {
+        return Err(AppError::Usage(
+            "--gif needs --turntable N or --frames N".into(),
+        ));
     }
     if args.svg.is_some() {
         if !preset.effect.is_hatching() {
@@ -170,6 +199,45 @@ pub fn render_svgs(
     Ok(stats)
 }
 
+/// Renders `frames` frames of `animated`'s clip with `preset`, the camera still (or turning
+/// once over the frames with `turntable`), and hands each image to `sink`. Each frame's
+/// model is the posed mesh, so curvature, highlights, stroke directions and outlines are
+/// computed on the posed surface.
+///
+/// # Errors
+/// GPU or technique errors, or what `sink` returns.
+pub fn render_clip_frames(
+    ctx: &npr_gpu::GpuContext,
+    animated: &crate::animation::Animated,
+    preset: &Preset,
+    (frames, turntable): (u32, bool),
+    sink: &mut dyn FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    let size = (preset.output.width, preset.output.height);
+    let framing = animated.framing();
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
+    let bar = progress::bar(u64::from(frames), preset.effect.name());
+    let mut stats = Vec::new();
+    for i in 0..frames as usize {
+        if i > 0 {
+            renderer.set_model(&ctx.device, animated.frame(i))?;
+        }
+        let turn = if turntable {
+            360.0 * i as f32 / frames as f32
+        } else {
+            0.0
+        };
+        let view = View::new(preset, &framing, size, turn);
+        let s = renderer.render(&ctx.device, &ctx.queue, preset, &view)?;
+        let image = renderer.read(&ctx.device, &ctx.queue)?;
+        sink(i, image, &s)?;
+        stats.push(s);
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(stats)
+}
+
 /// Renders `frames` turntable frames of `model` with `preset` and hands each image to
 /// `sink` (frame index, image, stats).
 ///
@@ -213,40 +281,82 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
     let model = Model::load(&args.model)?;
     spin.finish_and_clear();
     let notes = model.notes.clone();
+    let clip = crate::animation::resolve_clip(
+        &model,
+        &crate::animation::ClipChoice::parse(args.animation.as_deref()),
+    )?;
+    let playback = crate::animation::Playback {
+        time: args.time,
+        fps: args.fps,
+        looped: !args.no_loop,
+    };
+    let animated = crate::animation::Animated::new(model, clip, playback)?;
+    let frames = args.turntable.or(args.frames).unwrap_or(1);
+    let moving = animated.plays() && frames > 1;
+    if moving && (preset.effect == Effect::Warp || args.svg.is_some()) {
+        return Err(AppError::Usage(format!(
+            "a playing clip is not drawn {} yet: pick one moment (--time) or the bind pose \
+             (--animation none)",
+            if args.svg.is_some() {
+                "as SVG frames"
+            } else {
+                "by the warp effect"
+            }
+        )));
+    }
     let ctx = npr_gpu::GpuContext::new()?;
-    let frames = args.turntable.unwrap_or(1);
+    let turntable = args.turntable.is_some();
+    let draw =
+        |sink: &mut dyn FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>| {
+            if moving {
+                render_clip_frames(&ctx, &animated, &preset, (frames, turntable), sink)
+            } else {
+                render_frames(&ctx, animated.frame(0), &preset, frames, sink)
+            }
+        };
+    let gif_delay_ms = if args.frames.is_some() {
+        (1000.0 / args.fps).round().clamp(10.0, 10_000.0) as u32
+    } else {
+        40
+    };
     let mut written = Vec::new();
     let stats = if let Some(svg) = &args.svg {
         let page = resolve_page(args)?;
         // Every SVG goes to a temporary name and is renamed only once all exist.
         let mut temps: Vec<(PathBuf, PathBuf)> = Vec::new();
-        let result = render_svgs(&ctx, model, &preset, (frames, &page), |i, text, _| {
-            let path = if args.turntable.is_some() {
-                output::frame_path(svg, i).with_extension("svg")
-            } else {
-                svg.clone()
-            };
-            let tmp = output::temp_path(&path);
-            std::fs::write(&tmp, text.as_bytes()).map_err(|e| AppError::io(&tmp, e))?;
-            temps.push((tmp, path));
-            Ok(())
-        });
+        let result = render_svgs(
+            &ctx,
+            animated.frame(0),
+            &preset,
+            (frames, &page),
+            |i, text, _| {
+                let path = if frames > 1 {
+                    output::frame_path(svg, i).with_extension("svg")
+                } else {
+                    svg.clone()
+                };
+                let tmp = output::temp_path(&path);
+                std::fs::write(&tmp, text.as_bytes()).map_err(|e| AppError::io(&tmp, e))?;
+                temps.push((tmp, path));
+                Ok(())
+            },
+        );
         let stats = commit_temps(result, &temps)?;
         written.extend(temps.into_iter().map(|(_, p)| p));
         stats
     } else if args.gif {
         let mut images = Vec::new();
-        let stats = render_frames(&ctx, model, &preset, frames, |_, img, _| {
+        let stats = draw(&mut |_, img, _| {
             images.push(img);
             Ok(())
         })?;
-        output::save_gif(&args.out, &images, 40)?;
+        output::save_gif(&args.out, &images, gif_delay_ms)?;
         written.push(args.out.clone());
         stats
-    } else if args.turntable.is_some() {
+    } else if frames > 1 {
         // Frames go to temporary names and are renamed only once all exist.
         let mut temps: Vec<(PathBuf, PathBuf)> = Vec::new();
-        let result = render_frames(&ctx, model, &preset, frames, |i, img, _| {
+        let result = draw(&mut |i, img, _| {
             let path = output::frame_path(&args.out, i);
             let tmp = output::temp_path(&path);
             output::save_png(&tmp, &img)?;
@@ -258,7 +368,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
         stats
     } else {
         let mut image = None;
-        let stats = render_frames(&ctx, model, &preset, 1, |_, img, _| {
+        let stats = draw(&mut |_, img, _| {
             image = Some(img);
             Ok(())
         })?;

@@ -18,6 +18,21 @@ pub struct Framing {
 }
 
 impl Framing {
+    /// The framing of an axis-aligned box `lo..hi` (its centre; the radius to its
+    /// corners), as for a mesh that moves within it.
+    pub fn of_bounds(lo: Vec3, hi: Vec3) -> Self {
+        if !lo.is_finite() || !hi.is_finite() {
+            return Self {
+                centre: Vec3::ZERO,
+                radius: 1.0,
+            };
+        }
+        let centre = ((lo.as_dvec3() + hi.as_dvec3()) * 0.5).as_vec3();
+        let radius = ((hi.as_dvec3() - lo.as_dvec3()).length() * 0.5) as f32;
+        let radius = if radius.is_normal() { radius } else { 1.0 };
+        Self { centre, radius }
+    }
+
     /// Frames `mesh`'s finite positions (a mesh with none gets the unit sphere).
     pub fn of(mesh: &Mesh) -> Self {
         let finite = || mesh.positions.iter().filter(|p| p.is_finite());

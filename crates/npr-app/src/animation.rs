@@ -1,0 +1,329 @@
+//! Playing a model's glTF clips: which clip `--animation` names, the moment each frame
+//! shows, the model posed at that moment (on the CPU: morphs, then linear blend skinning,
+//! `npr_geometry::animation`), and `npr pose`, which writes a posed mesh for other tools.
+//!
+//! Every effect then runs on the posed mesh as on any model: curvature, highlights,
+//! stroke directions and outlines are computed on the posed surface.
+
+use crate::AppError;
+use crate::model::Model;
+use crate::view::Framing;
+use npr_geometry::animation::{Clip, Rig};
+use std::path::PathBuf;
+
+/// Poses sampled for the framing of a clip (its bounds over the whole clip).
+const FRAMING_SAMPLES: usize = 32;
+
+/// What `--animation` asks for.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ClipChoice {
+    /// The default: the model's first clip, or its bind pose when it has none.
+    First,
+    /// `none`: the bind pose.
+    None,
+    /// A clip by its index in the file.
+    Index(usize),
+    /// A clip by its name.
+    Name(String),
+}
+
+impl ClipChoice {
+    /// `--animation`'s value: absent, `none`, an index or a name.
+    pub fn parse(value: Option<&str>) -> Self {
+        match value {
+            None => Self::First,
+            Some("none") => Self::None,
+            Some(v) => v
+                .parse::<usize>()
+                .map_or_else(|_| Self::Name(v.to_string()), Self::Index),
+        }
+    }
+}
+
+/// The moments of a clip the frames show: `--time`, `--fps` and `--no-loop`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Playback {
+    /// The moment of the first frame, seconds.
+    pub time: f32,
+    /// Frames per second.
+    pub fps: f32,
+    /// Whether the clip wraps past its end (else it holds its last pose).
+    pub looped: bool,
+}
+
+impl Default for Playback {
+    fn default() -> Self {
+        Self {
+            time: 0.0,
+            fps: 30.0,
+            looped: true,
+        }
+    }
+}
+
+impl Playback {
+    /// Checks the values.
+    ///
+    /// # Errors
+    /// [`AppError::Usage`] for a time that is not finite or a rate not above 0.
+    pub fn validate(&self) -> Result<(), AppError> {
+        if !self.time.is_finite() {
+            return Err(AppError::Usage(format!(
+                "--time {}: a time in seconds",
+                self.time
+            )));
+        }
+        if !(self.fps.is_finite() && self.fps > 0.0) {
+            return Err(AppError::Usage(format!(
+                "--fps {}: a rate above 0",
+                self.fps
+            )));
+        }
+        Ok(())
+    }
+
+    /// The clip time of frame `i`: `time + i / fps`, wrapped into the clip (a glTF clip
+    /// runs from 0 to its last key, [`Clip::duration`]) or held at its ends.
+    pub fn at(&self, clip: &Clip, i: usize) -> f32 {
+        let t = self.time + i as f32 / self.fps;
+        let duration = clip.duration();
+        if duration.is_nan() || duration <= 0.0 {
+            return 0.0;
+        }
+        if self.looped {
+            t.rem_euclid(duration)
+        } else {
+            t.clamp(0.0, duration)
+        }
+    }
+}
+
+/// The clip `choice` names in `model`: `None` for the bind pose (or a model without
+/// clips and no choice).
+///
+/// # Errors
+/// [`AppError::Usage`] with one line naming the model's clips when it has no such clip.
+pub fn resolve_clip(model: &Model, choice: &ClipChoice) -> Result<Option<usize>, AppError> {
+    let clips: &[Clip] = model.rig.as_ref().map_or(&[], Rig::clips);
+    let names = || {
+        if clips.is_empty() {
+            "it has no clips".to_string()
+        } else {
+            let list: Vec<String> = clips
+                .iter()
+                .enumerate()
+                .map(|(i, c)| c.name().map_or_else(|| i.to_string(), str::to_string))
+                .collect();
+            format!("its clips: {}", list.join(", "))
+        }
+    };
+    match choice {
+        ClipChoice::First => Ok((!clips.is_empty()).then_some(0)),
+        ClipChoice::None => Ok(None),
+        ClipChoice::Index(i) if *i < clips.len() => Ok(Some(*i)),
+        ClipChoice::Index(i) => Err(AppError::Usage(format!(
+            "{} has no clip {i}; {}",
+            model.name,
+            names()
+        ))),
+        ClipChoice::Name(n) => clips
+            .iter()
+            .position(|c| c.name() == Some(n.as_str()))
+            .map(Some)
+            .ok_or_else(|| {
+                AppError::Usage(format!("{} has no clip \"{n}\"; {}", model.name, names()))
+            }),
+    }
+}
+
+/// A model with its clip chosen: poses it frame by frame, framed over the whole clip so
+/// that the camera holds still while it plays.
+#[derive(Clone, Debug)]
+pub struct Animated {
+    model: Model,
+    clip: Option<usize>,
+    playback: Playback,
+    framing: Framing,
+}
+
+impl Animated {
+    /// `model` playing `clip` ([`resolve_clip`]) as `playback` says.
+    ///
+    /// # Errors
+    /// As [`Playback::validate`].
+    pub fn new(model: Model, clip: Option<usize>, playback: Playback) -> Result<Self, AppError> {
+        playback.validate()?;
+        let framing = match (model.rig.as_ref(), clip) {
+            (Some(rig), Some(c)) => {
+                let (lo, hi) = rig.clip_bounds(&rig.clips()[c], FRAMING_SAMPLES);
+                Framing::of_bounds(lo, hi)
+            }
+            (Some(rig), None) => Framing::of(&rig.pose_mesh(&rig.bind_pose())),
+            _ => model.framing,
+        };
+        Ok(Self {
+            model,
+            clip,
+            playback,
+            framing,
+        })
+    }
+
+    /// Whether a clip plays (frames differ).
+    pub fn plays(&self) -> bool {
+        self.clip.is_some()
+    }
+
+    /// The framing over the whole clip.
+    pub fn framing(&self) -> Framing {
+        self.framing
+    }
+
+    /// The clip time of frame `i` (0 without a clip).
+    pub fn time_of(&self, i: usize) -> f32 {
+        match (self.model.rig.as_ref(), self.clip) {
+            (Some(rig), Some(c)) => self.playback.at(&rig.clips()[c], i),
+            _ => 0.0,
+        }
+    }
+
+    /// The mesh of frame `i` as the file places it (no recentring): the clip's pose at
+    /// [`Animated::time_of`], the bind pose without a clip, the loaded mesh for a model
+    /// without a rig.
+    pub fn posed_mesh(&self, i: usize) -> npr_geometry::Mesh {
+        match (self.model.rig.as_ref(), self.clip) {
+            (Some(rig), Some(c)) => rig.pose_mesh(&rig.sample(&rig.clips()[c], self.time_of(i))),
+            (Some(rig), None) => rig.pose_mesh(&rig.bind_pose()),
+            _ => self.model.mesh.clone(),
+        }
+    }
+
+    /// Frame `i`'s model: the posed mesh, with the clip's framing.
+    pub fn frame(&self, i: usize) -> Model {
+        if self.model.rig.is_none() {
+            return self.model.clone();
+        }
+        let mut m = Model::from_mesh(&self.model.name, self.posed_mesh(i));
+        m.path.clone_from(&self.model.path);
+        m.notes.clone_from(&self.model.notes);
+        m.framing = self.framing;
+        m
+    }
+}
+
+/// Arguments of `npr pose`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PoseArgs {
+    /// The model: a glTF (.gltf/.glb) with skins, morph targets or animations (any
+    /// model without is written as loaded).
+    pub model: PathBuf,
+    /// The clip: its name, its index, or `none` for the bind pose. Default: the first.
+    #[arg(long, value_name = "NAME|INDEX|none")]
+    pub animation: Option<String>,
+    /// The moment, seconds into the clip (held at its ends).
+    #[arg(long, default_value_t = 0.0)]
+    pub time: f32,
+    /// The posed mesh: OBJ or PLY (binary), in the file's units and scene space.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Runs `npr pose`: writes the model posed at one moment.
+///
+/// # Errors
+/// A model that cannot be loaded, a clip it lacks, an output that is not `.obj` or
+/// `.ply`, or the write failing (nothing is written then).
+pub fn pose(args: &PoseArgs) -> Result<PathBuf, AppError> {
+    let ext = args
+        .out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let encode: fn(&npr_geometry::Mesh) -> Vec<u8> = match ext.as_deref() {
+        Some("obj") => |m| npr_geometry::io::write::obj(m).into_bytes(),
+        Some("ply") => |m| {
+            npr_geometry::io::write::ply(
+                m,
+                npr_geometry::io::write::PlyEncoding::BinaryLittleEndian,
+            )
+        },
+        _ => {
+            return Err(AppError::Usage(format!(
+                "--out {}: the posed mesh is written as .obj or .ply",
+                args.out.display()
+            )));
+        }
+    };
+    let model = Model::load(&args.model)?;
+    let clip = resolve_clip(&model, &ClipChoice::parse(args.animation.as_deref()))?;
+    let playback = Playback {
+        time: args.time,
+        looped: false,
+        ..Playback::default()
+    };
+    let animated = Animated::new(model, clip, playback)?;
+    crate::output::write_atomic(&args.out, &encode(&animated.posed_mesh(0)))?;
+    Ok(args.out.clone())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn choices_parse() {
+        assert_eq!(ClipChoice::parse(None), ClipChoice::First);
+        assert_eq!(ClipChoice::parse(Some("none")), ClipChoice::None);
+        assert_eq!(ClipChoice::parse(Some("2")), ClipChoice::Index(2));
+        assert_eq!(
+            ClipChoice::parse(Some("Walk")),
+            ClipChoice::Name("Walk".into())
+        );
+    }
+
+    #[test]
+    fn playback_wraps_or_holds() {
+        let sampler = npr_geometry::animation::Sampler::new(
+            npr_geometry::animation::Interpolation::Linear,
+            vec![1.0, 3.0],
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            3,
+        )
+        .unwrap();
+        let clip = Clip::new(
+            Some("c".into()),
+            vec![npr_geometry::animation::Channel {
+                node: 0,
+                property: npr_geometry::animation::Property::Translation,
+                sampler,
+            }],
+        );
+        let p = Playback {
+            time: 1.5,
+            fps: 2.0,
+            looped: true,
+        };
+        // The clip runs from 0 to its last key, 3 s: frames at 1.5, 2.0, 2.5, then 3.0 and
+        // 3.5 wrap to 0.0 and 0.5.
+        let times: Vec<f32> = (0..5).map(|i| p.at(&clip, i)).collect();
+        assert_eq!(times, vec![1.5, 2.0, 2.5, 0.0, 0.5]);
+        let held = Playback { looped: false, ..p };
+        assert_eq!(held.at(&clip, 4), 3.0);
+        assert_eq!(Playback { time: -1.0, ..held }.at(&clip, 0), 0.0);
+        assert!(
+            Playback {
+                fps: 0.0,
+                ..Playback::default()
+            }
+            .validate()
+            .is_err()
+        );
+        assert!(
+            Playback {
+                time: f32::NAN,
+                ..Playback::default()
+            }
+            .validate()
+            .is_err()
+        );
+    }
+}

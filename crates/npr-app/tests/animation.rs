@@ -1,0 +1,215 @@
+//! `npr render --animation/--time/--frames` and `npr pose` on the Fox (a skinned glTF
+//! triangle soup with three clips): the clip is found or refused with one line, the
+//! frames move, and the posed mesh written equals the library's CPU posing.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use common::{npr, out_dir, root};
+use npr_gpu::testing::context_or_skip;
+
+fn fox() -> String {
+    root()
+        .join("fixtures/meshes/Fox.glb")
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn files(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn unknown_clips_and_bad_requests_are_one_line_and_write_nothing() {
+    let dir = out_dir("anim-bad");
+    let out = dir.join("x.png");
+    let out = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--animation", "Jump"],
+            "Fox.glb has no clip \"Jump\"; its clips: Survey, Walk, Run",
+        ),
+        (
+            &["--animation", "3"],
+            "Fox.glb has no clip 3; its clips: Survey, Walk, Run",
+        ),
+        (
+            &["--frames", "4", "--turntable", "4"],
+            "--frames and --turntable do not go together",
+        ),
+        (&["--frames", "4", "--fps", "0"], "--fps 0: a rate above 0"),
+        (
+            &["--effect", "warp", "--frames", "4"],
+            "not drawn by the warp effect yet",
+        ),
+    ];
+    let model = fox();
+    for (extra, said) in cases {
+        let mut args = vec!["render", model.as_str(), "--out", out];
+        args.extend_from_slice(extra);
+        let o = npr(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        let errors: Vec<&str> = stderr
+            .lines()
+            .filter(|l| l.starts_with("npr: error:"))
+            .collect();
+        assert!(!o.status.success(), "{extra:?}: {stderr}");
+        assert_eq!(errors.len(), 1, "{extra:?}: {stderr}");
+        assert!(errors[0].contains(said), "{extra:?}: {stderr}");
+        assert!(files(&dir).is_empty(), "{extra:?} wrote {:?}", files(&dir));
+    }
+    // A model without clips: any clip named is refused, none is the model as loaded.
+    let bunny = root().join("fixtures/meshes/stanford-bunny.obj");
+    let obj = dir.join("x.obj");
+    let o = npr(&[
+        "pose",
+        bunny.to_str().unwrap(),
+        "--animation",
+        "Walk",
+        "--out",
+        obj.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success()
+            && stderr.contains("stanford-bunny.obj has no clip \"Walk\"; it has no clips"),
+        "{stderr}"
+    );
+    assert!(files(&dir).is_empty());
+}
+
+/// `npr pose` writes the library's CPU pose of the clip, in the file's units and scene
+/// space: the same positions as `Rig::pose_mesh` of `Rig::sample`, different from the bind
+/// pose, and the bind pose with `--animation none`.
+#[test]
+fn pose_writes_the_posed_mesh_in_the_files_space() {
+    let dir = out_dir("anim-pose");
+    let loaded = npr_geometry::io::load(fox()).unwrap();
+    let rig = loaded.rig.expect("the Fox is rigged");
+    let walk = rig.clip_named("Walk").unwrap();
+    let expected = rig.pose_mesh(&rig.sample(walk, 0.3));
+    let bind = rig.pose_mesh(&rig.bind_pose());
+    let radius = bind
+        .positions
+        .iter()
+        .map(|p| p.length())
+        .fold(0.0f32, f32::max);
+    for (choice, ext) in [("Walk", "obj"), ("1", "ply")] {
+        let path = dir.join(format!("fox.{ext}"));
+        let o = npr(&[
+            "pose",
+            &fox(),
+            "--animation",
+            choice,
+            "--time",
+            "0.3",
+            "--out",
+            path.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let back = npr_geometry::io::load(&path).unwrap().mesh;
+        assert_eq!(back.indices.len(), expected.indices.len());
+        // The written file is welded on reading: compare point sets through the triangles.
+        let tri = |m: &npr_geometry::Mesh, t: usize| m.positions[m.indices[t] as usize];
+        let worst = (0..expected.indices.len())
+            .map(|t| tri(&back, t).distance(tri(&expected, t)))
+            .fold(0.0f32, f32::max);
+        assert!(
+            worst <= 1e-5 * radius,
+            "{choice}: {worst} from the library's pose"
+        );
+        let moved = (0..bind.indices.len())
+            .map(|t| tri(&back, t).distance(tri(&bind, t)))
+            .fold(0.0f32, f32::max);
+        assert!(
+            moved > 0.01 * radius,
+            "{choice}: the pose does not move ({moved})"
+        );
+    }
+    let path = dir.join("bind.obj");
+    let o = npr(&[
+        "pose",
+        &fox(),
+        "--animation",
+        "none",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let back = npr_geometry::io::load(&path).unwrap().mesh;
+    let tri = |m: &npr_geometry::Mesh, t: usize| m.positions[m.indices[t] as usize];
+    let worst = (0..bind.indices.len())
+        .map(|t| tri(&back, t).distance(tri(&bind, t)))
+        .fold(0.0f32, f32::max);
+    assert!(worst <= 1e-5 * radius, "bind pose: {worst}");
+}
+
+/// `--frames N --fps F` writes N numbered frames of the clip, the camera still: frames
+/// half a clip apart differ (the Fox walks), and with looping the frame one whole clip
+/// after the first shows the first pose again.
+#[test]
+fn frames_play_the_clip_with_the_camera_still() {
+    if context_or_skip("frames_play_the_clip_with_the_camera_still").is_none() {
+        return;
+    }
+    let dir = out_dir("anim-frames");
+    let out = dir.join("walk.png");
+    let loaded = npr_geometry::io::load(fox()).unwrap();
+    let duration = loaded.rig.unwrap().clip_named("Walk").unwrap().duration();
+    // Five frames a quarter of the clip apart: frame 2 is half way, frame 4 one clip on.
+    let fps = 4.0 / duration;
+    let o = npr(&[
+        "render",
+        &fox(),
+        "--effect",
+        "phong",
+        "--size",
+        "160x120",
+        "--animation",
+        "Walk",
+        "--frames",
+        "5",
+        "--fps",
+        &fps.to_string(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        files(&dir),
+        [
+            "walk_0000.png",
+            "walk_0001.png",
+            "walk_0002.png",
+            "walk_0003.png",
+            "walk_0004.png"
+        ]
+    );
+    let img = |i: usize| {
+        image::open(dir.join(format!("walk_{i:04}.png")))
+            .unwrap()
+            .to_rgba8()
+    };
+    let differ = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| p.0.iter().zip(q.0).any(|(x, y)| x.abs_diff(y) > 8))
+            .count()
+    };
+    let (f0, f2, f4) = (img(0), img(2), img(4));
+    assert!(
+        differ(&f0, &f2) > 100,
+        "half a clip apart the Fox has moved"
+    );
+    // Frame 4 is at t = duration, which loops back to t = 0 (to within float rounding
+    // of t; the pose there is the first key's).
+    assert!(
+        differ(&f0, &f4) < differ(&f0, &f2) / 10,
+        "one clip apart: the same pose"
+    );
+}
