@@ -28,10 +28,11 @@ pub enum ClipChoice {
 }
 
 impl ClipChoice {
-    /// `--animation`'s value: absent, `none`, an index or a name.
+    /// `--animation`'s value: absent (or empty, as a preset's `clip = ""`), `none`, an
+    /// index or a name.
     pub fn parse(value: Option<&str>) -> Self {
         match value {
-            None => Self::First,
+            None | Some("") => Self::First,
             Some("none") => Self::None,
             Some(v) => v
                 .parse::<usize>()
@@ -47,6 +48,8 @@ pub struct Playback {
     pub time: f32,
     /// Frames per second.
     pub fps: f32,
+    /// Clip seconds per second of frames.
+    pub speed: f32,
     /// Whether the clip wraps past its end (else it holds its last pose).
     pub looped: bool,
 }
@@ -56,6 +59,7 @@ impl Default for Playback {
         Self {
             time: 0.0,
             fps: 30.0,
+            speed: 1.0,
             looped: true,
         }
     }
@@ -73,6 +77,12 @@ impl Playback {
                 self.time
             )));
         }
+        if !self.speed.is_finite() {
+            return Err(AppError::Usage(format!(
+                "animation speed {}: a finite number",
+                self.speed
+            )));
+        }
         if !(self.fps.is_finite() && self.fps > 0.0) {
             return Err(AppError::Usage(format!(
                 "--fps {}: a rate above 0",
@@ -82,10 +92,10 @@ impl Playback {
         Ok(())
     }
 
-    /// The clip time of frame `i`: `time + i / fps`, wrapped into the clip (a glTF clip
+    /// The clip time of frame `i`: `time + speed · i / fps`, wrapped into the clip (a glTF clip
     /// runs from 0 to its last key, [`Clip::duration`]) or held at its ends.
     pub fn at(&self, clip: &Clip, i: usize) -> f32 {
-        let t = self.time + i as f32 / self.fps;
+        let t = self.time + self.speed * i as f32 / self.fps;
         let duration = clip.duration();
         if duration.is_nan() || duration <= 0.0 {
             return 0.0;
@@ -299,7 +309,8 @@ mod tests {
         );
         let p = Playback {
             time: 1.5,
-            fps: 2.0,
+            fps: 4.0,
+            speed: 2.0,
             looped: true,
         };
         // The clip runs from 0 to its last key, 3 s: frames at 1.5, 2.0, 2.5, then 3.0 and

@@ -51,9 +51,10 @@ pub struct RenderArgs {
     /// the model's first clip.
     #[arg(long, value_name = "NAME|INDEX|none")]
     pub animation: Option<String>,
-    /// The moment shown (the first frame's), seconds into the clip.
-    #[arg(long, default_value_t = 0.0)]
-    pub time: f32,
+    /// The moment shown (the first frame's), seconds into the clip (overrides the
+    /// preset's `[animation] time`, default 0).
+    #[arg(long)]
+    pub time: Option<f32>,
     /// Render N frames of the clip with the camera still (numbered PNGs, or a GIF with
     /// --gif).
     #[arg(long, value_name = "N")]
@@ -281,14 +282,16 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
     let model = Model::load(&args.model)?;
     spin.finish_and_clear();
     let notes = model.notes.clone();
+    let a = &preset.animation;
     let clip = crate::animation::resolve_clip(
         &model,
-        &crate::animation::ClipChoice::parse(args.animation.as_deref()),
+        &crate::animation::ClipChoice::parse(Some(args.animation.as_deref().unwrap_or(&a.clip))),
     )?;
     let playback = crate::animation::Playback {
-        time: args.time,
+        time: args.time.unwrap_or(a.time),
         fps: args.fps,
-        looped: !args.no_loop,
+        speed: a.speed,
+        looped: a.looped && !args.no_loop,
     };
     let animated = crate::animation::Animated::new(model, clip, playback)?;
     let frames = args.turntable.or(args.frames).unwrap_or(1);

@@ -63,6 +63,24 @@ fn unknown_clips_and_bad_requests_are_one_line_and_write_nothing() {
         assert!(errors[0].contains(said), "{extra:?}: {stderr}");
         assert!(files(&dir).is_empty(), "{extra:?} wrote {:?}", files(&dir));
     }
+    // The preset's [animation] clip is used when the command line names none.
+    let preset = std::env::temp_dir().join(format!("npr-anim-{}.toml", std::process::id()));
+    std::fs::write(&preset, "[animation]\nclip = \"Trot\"\n").unwrap();
+    let o = npr(&[
+        "render",
+        &model,
+        "--preset",
+        preset.to_str().unwrap(),
+        "--out",
+        out,
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && stderr.contains("Fox.glb has no clip \"Trot\""),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_file(&preset);
+    assert!(files(&dir).is_empty());
     // A model without clips: any clip named is refused, none is the model as loaded.
     let bunny = root().join("fixtures/meshes/stanford-bunny.obj");
     let obj = dir.join("x.obj");

@@ -528,6 +528,33 @@ impl Default for OutputPreset {
     }
 }
 
+/// How a model's glTF clip plays (`npr render`, `npr view`; the command line's
+/// `--animation`, `--time` and `--no-loop` override these).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AnimationPreset {
+    /// The clip: its name, its index, `none` for the bind pose, or empty for the first.
+    pub clip: String,
+    /// The moment of the first frame, seconds into the clip.
+    pub time: f32,
+    /// Clip seconds per second of frames (1: as authored).
+    pub speed: f32,
+    /// Whether the clip wraps past its end (else it holds its last pose).
+    #[serde(rename = "loop")]
+    pub looped: bool,
+}
+
+impl Default for AnimationPreset {
+    fn default() -> Self {
+        Self {
+            clip: String::new(),
+            time: 0.0,
+            speed: 1.0,
+            looped: true,
+        }
+    }
+}
+
 /// Every parameter of every effect.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -552,6 +579,8 @@ pub struct Preset {
     pub outline: OutlinePreset,
     /// Output size.
     pub output: OutputPreset,
+    /// Playing a glTF clip.
+    pub animation: AnimationPreset,
 }
 
 impl Preset {
@@ -609,6 +638,7 @@ impl Preset {
             }
         };
         finite("turn_deg", &[self.turn_deg])?;
+        finite("animation", &[self.animation.time, self.animation.speed])?;
         let c = &self.camera;
         finite(
             "camera",
