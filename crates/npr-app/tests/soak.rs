@@ -140,6 +140,65 @@ fn soak_effect(ctx: &GpuContext, preset: &Preset, what: &str) -> String {
     check_flat(what, &warm, &end)
 }
 
+/// The Fox playing its Walk clip, posed and re-set every frame (what `npr render
+/// --frames` does): memory and GPU objects stay flat over [`SOAK`] frames, for the
+/// effects that recompute the most per pose.
+#[test]
+fn an_animated_model_stays_flat_over_300_frames() {
+    let Some(ctx) = context_or_skip("an_animated_model_stays_flat_over_300_frames") else {
+        return;
+    };
+    let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let fox = Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let rig = fox.rig.as_ref().expect("the Fox is rigged");
+    let walk = rig.clips().iter().position(|c| c.name() == Some("Walk"));
+    let animated =
+        npr_app::animation::Animated::new(fox, walk, npr_app::animation::Playback::default())
+            .unwrap();
+    let mut failures = Vec::new();
+    for effect in [Effect::Specular, Effect::HatchingPen] {
+        let preset = preset(effect, SpacePreset::Surface);
+        let mut readings = Vec::new();
+        let frames = (WARM_UP + SOAK) as u32;
+        npr_app::render::render_clip_frames(
+            ctx,
+            &animated,
+            &preset,
+            (frames, false),
+            &mut |i, _image, _stats| {
+                let done = i + 1;
+                if done >= WARM_UP && (done - WARM_UP).is_multiple_of(READ_EVERY) {
+                    readings.push(MemoryReading::take(&ctx.instance, &ctx.device));
+                }
+                Ok(())
+            },
+        )
+        .unwrap();
+        let what = format!("the Fox walking, {}", effect.name());
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            assert_eq!(
+                readings[0].gpu_objects,
+                readings[readings.len() - 1].gpu_objects,
+                "{what}: GPU objects after the warm-up and at the end"
+            );
+            check_flat(
+                &what,
+                &median(&readings[..READINGS]),
+                &median(&readings[readings.len() - READINGS..]),
+            )
+        }));
+        match result {
+            Ok(line) => println!("{line}"),
+            Err(e) => failures.push(
+                e.downcast_ref::<String>()
+                    .cloned()
+                    .unwrap_or_else(|| format!("{what}: panicked")),
+            ),
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 fn every_effect() -> Vec<(Preset, String)> {
     let mut out = Vec::new();
     for effect in Effect::ALL {
