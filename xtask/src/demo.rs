@@ -49,6 +49,8 @@ pub fn run() -> anyhow::Result<()> {
     }
     bar.set_message("the pen plotter's SVGs");
     written.extend(plotter_figures(&dir)?);
+    bar.set_message("animated models");
+    written.extend(animated_figures(&dir)?);
     bar.finish_and_clear();
     for p in &written {
         println!("demo: wrote {}", p.display());
@@ -104,6 +106,47 @@ fn plotter_figures(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
             img.save(&path)?;
             written.push(path);
         }
+    }
+    Ok(written)
+}
+
+/// The animated section: the Fox's Walk clip in each of
+/// [`crate::gallery::ANIMATED_EFFECTS`], 24 frames at 30 fps with the camera still, as
+/// `npr render --animation Walk --frames 24 --gif` writes it, and four of its frames side by
+/// side.
+fn animated_figures(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    use npr_app::animation::{Animated, ClipChoice, Playback, resolve_clip};
+    let ctx = npr_gpu::GpuContext::new()?;
+    let fox = npr_app::model::Model::load(&project_root().join("fixtures/meshes/Fox.glb"))?;
+    let clip = resolve_clip(&fox, &ClipChoice::Name("Walk".into()))?;
+    let animated = Animated::new(fox, clip, Playback::default())?;
+    let mut written = Vec::new();
+    for effect in crate::gallery::ANIMATED_EFFECTS {
+        let mut preset = npr_app::preset::Preset {
+            effect: npr_app::preset::Effect::from_name(effect)
+                .ok_or_else(|| anyhow::anyhow!("no effect {effect}"))?,
+            ..npr_app::preset::Preset::default()
+        };
+        preset.output.width = 400;
+        preset.output.height = 300;
+        let mut frames = Vec::new();
+        npr_app::render::render_clip_frames(
+            &ctx,
+            &animated,
+            &preset,
+            (24, false),
+            &mut |_, img, _| {
+                frames.push(img);
+                Ok(())
+            },
+        )?;
+        let gif = dir.join(format!("animated-fox-{effect}.gif"));
+        npr_app::output::save_gif(&gif, &frames, 33)?;
+        written.push(gif);
+        let strip: Vec<image::RgbaImage> = frames.iter().step_by(6).cloned().collect();
+        let png = dir.join(format!("animated-fox-{effect}-strip.png"));
+        npr_gpu::figures::row(&strip).save(&png)?;
+        written.push(png);
     }
     Ok(written)
 }

@@ -40,7 +40,11 @@ pub const HATCHING_SINGLES: [&str; 5] = ["knot", "sphere", "torus", "spot", "sta
 /// The models of the plotter section (`plotter-NAME.*`, fixtures' OBJ files).
 pub const PLOTTER_SUBJECTS: [&str; 2] = ["stanford-bunny", "spot"];
 
-/// A section of the page: the base shadings, one paper, or the pen plotter.
+/// The effects of the animated section (`animated-fox-EFFECT.gif`).
+pub const ANIMATED_EFFECTS: [&str; 2] = ["hatching-pen", "specular"];
+
+/// A section of the page: the base shadings, one paper, the pen plotter, or animated
+/// models.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Section {
     /// Base shadings shared by the papers (`npr-gpu`).
@@ -53,16 +57,19 @@ pub enum Section {
     Warp,
     /// The hatching as pen strokes for a plotter (`npr_hatching::pen`), ours.
     Plotter,
+    /// Skinned glTF playing its clips in the effects, ours.
+    Animated,
 }
 
 impl Section {
     /// Every section, in page order.
-    pub const ALL: [Section; 5] = [
+    pub const ALL: [Section; 6] = [
         Self::Base,
         Self::Specular,
         Self::Hatching,
         Self::Warp,
         Self::Plotter,
+        Self::Animated,
     ];
 
     fn title(self) -> &'static str {
@@ -72,12 +79,13 @@ impl Section {
             Self::Hatching => "Image-space hatching (npr-hatching)",
             Self::Warp => "Post-rendering 3D warping (npr-warp)",
             Self::Plotter => "Hatching for pen plotters (npr-hatching::pen)",
+            Self::Animated => "Animated models (glTF skins and clips)",
         }
     }
 
     fn paper(self) -> &'static str {
         match self {
-            Self::Base | Self::Plotter => "",
+            Self::Base | Self::Plotter | Self::Animated => "",
             Self::Specular => {
                 "Hwan-Jik Lee and Jung-Ju Choi, Stylized Specular Reflections Using \
                  Projective Textures based on Principal Curvature Analysis (Lee & Choi)"
@@ -95,7 +103,7 @@ impl Section {
     /// Short paper name for captions.
     fn short(self) -> &'static str {
         match self {
-            Self::Base | Self::Plotter => "",
+            Self::Base | Self::Plotter | Self::Animated => "",
             Self::Specular => "Lee & Choi",
             Self::Hatching => "Kim & Lee",
             Self::Warp => "Park & Ihm",
@@ -163,7 +171,29 @@ pub fn figures() -> Vec<Figure> {
     hatching_own_figures(&mut out);
     warp_figures(&mut out);
     plotter_figures(&mut out);
+    animated_figures(&mut out);
     out
+}
+
+/// Appends the animated section: the Fox walking in each of [`ANIMATED_EFFECTS`].
+fn animated_figures(out: &mut Vec<Figure>) {
+    for effect in ANIMATED_EFFECTS {
+        let mut f = fig(
+            Section::Animated,
+            format!("animated-fox-{effect}.gif"),
+            None,
+            format!(
+                "The Fox (a skinned glTF triangle soup, 24 joints) playing its Walk clip, \
+                 {effect}, 24 frames at 30 fps with the camera still (`npr render \
+                 fixtures/meshes/Fox.glb --effect {effect} --animation Walk --frames 24 \
+                 --gif`). Each frame is posed on the CPU (linear blend skinning) and its \
+                 curvature, highlights or stroke directions are computed on the posed \
+                 surface; below, every sixth frame."
+            ),
+        );
+        f.parts = vec![format!("animated-fox-{effect}-strip.png")];
+        out.push(f);
+    }
 }
 
 /// Appends the plotter section: each subject's SVG beside the raster hatching.
