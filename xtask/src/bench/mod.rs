@@ -1,5 +1,6 @@
 //! Benchmarks: `cargo xtask bench NAME [--mesh PATH]... [--json PATH]`.
 
+pub mod animation;
 pub mod curvature;
 pub mod hatching;
 pub mod hatching_coherence;
@@ -28,6 +29,7 @@ pub fn progress(len: u64, what: &str) -> indicatif::ProgressBar {
 
 /// The benchmarks by name.
 pub const NAMES: &[&str] = &[
+    "animation",
     "curvature",
     "specular",
     "specular-fidelity",
@@ -40,6 +42,7 @@ pub const NAMES: &[&str] = &[
 
 /// The benchmarks that take `--mesh`.
 const TAKE_MESHES: &[&str] = &[
+    "animation",
     "hatching-directions",
     "hatching-coherence",
     "specular",
@@ -57,6 +60,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
         );
     }
     match name {
+        "animation" => animation::run(meshes, json),
         "hatching-directions" => hatching_directions::run(meshes, json),
         "hatching-coherence" => hatching_coherence::run(meshes, json),
         "curvature" => curvature::run(json),

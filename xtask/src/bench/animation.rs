@@ -1,0 +1,188 @@
+//! `cargo xtask bench animation [--mesh PATH]... [--json PATH]`: what a moving model costs
+//! per frame on the path `npr render --animation ... --frames` takes (the CPU reference:
+//! every frame posed on the CPU and every per-mesh step recomputed on the posed surface).
+//!
+//! Per model, the mean over [`FRAMES`] frames of its first clip: `pose_ms` (sampling the
+//! clip and skinning, `Rig::sample` + `Rig::pose_mesh`), `curvature_ms`
+//! (`CurvatureField::for_mesh` of the pose), `directions_ms` (the hatching's default stroke
+//! field of the pose, curvature included) and, per effect, the frame as the app draws it
+//! (`animated_ms`: the posed model set and rendered; `rigid_ms`: the same model rendered
+//! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
+//! setup the specular frame reports. Default models: the Fox and the procedural rigs
+//! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`); `--mesh`
+//! adds rigged glTF files. CPU times are wall time on this machine's cores.
+
+use super::table::{Cell, Table, emit};
+use npr_app::animation::{Animated, Playback};
+use npr_app::engine::Renderer;
+use npr_app::model::Model;
+use npr_app::preset::{Effect, Preset};
+use npr_app::view::View;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Frames measured per model (a warm-up frame first).
+const FRAMES: usize = 30;
+/// The view size.
+const SIZE: (u32, u32) = (640, 480);
+/// The effects measured.
+const EFFECTS: [Effect; 3] = [Effect::Phong, Effect::Specular, Effect::HatchingPen];
+
+fn default_models() -> anyhow::Result<Vec<Model>> {
+    let rigged = |name: &str, r: npr_geometry::generate::Rigged| {
+        let mut m = Model::from_mesh(name, r.mesh);
+        m.rig = Some(r.rig);
+        m
+    };
+    Ok(vec![
+        Model::load(&crate::fixture_mesh("Fox.glb"))?,
+        rigged(
+            "bent tube (procedural)",
+            npr_geometry::generate::bent_tube(0.3, 2.0, std::f32::consts::FRAC_PI_2, 32, 48),
+        ),
+        rigged(
+            "stretched sphere (procedural)",
+            npr_geometry::generate::stretched_sphere(1.5, 0.7, 1.0, 16),
+        ),
+        rigged(
+            "twisted bar (procedural)",
+            npr_geometry::generate::twisted_bar(0.4, 3.0, 40),
+        ),
+    ])
+}
+
+/// Runs the bench on the default models and `meshes`.
+pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
+    let mut models = default_models()?;
+    for p in meshes {
+        let m = Model::load(p)?;
+        anyhow::ensure!(
+            m.rig.as_ref().is_some_and(|r| !r.clips().is_empty()),
+            "{}: no clip to play (bench animation needs a rigged or morphing glTF)",
+            p.display()
+        );
+        models.push(m);
+    }
+    let ctx = npr_gpu::GpuContext::new()?;
+    let mut cpu = Table::new(
+        "animation: CPU work per frame on the posed surface (means over 30 frames)",
+        &[
+            "model",
+            "vertices",
+            "pose_ms",
+            "curvature_ms",
+            "directions_ms",
+        ],
+    );
+    let mut gpu = Table::new(
+        &format!(
+            "animation: each effect's animated frame against its rigid frame, 640×480 (adapter {})",
+            ctx.adapter.get_info().name
+        ),
+        &[
+            "model",
+            "effect",
+            "rigid_ms",
+            "animated_ms",
+            "animated_vs_rigid",
+            "setup_us",
+        ],
+    );
+    let bar = super::progress(models.len() as u64, "animation");
+    for model in models {
+        let name = model.name.clone();
+        let animated = Animated::new(model, Some(0), Playback::default())?;
+        cpu.push(cpu_row(&name, &animated));
+        for effect in EFFECTS {
+            gpu.push(gpu_row(&ctx, &name, &animated, effect)?);
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    emit(&[cpu, gpu], json)
+}
+
+/// Mean milliseconds of `f` over the frames.
+fn mean_ms(mut f: impl FnMut(usize)) -> f64 {
+    f(0);
+    let started = Instant::now();
+    for i in 1..=FRAMES {
+        f(i);
+    }
+    started.elapsed().as_secs_f64() * 1e3 / FRAMES as f64
+}
+
+fn cpu_row(name: &str, animated: &Animated) -> Vec<Cell> {
+    let vertices = animated.posed_mesh(0).positions.len();
+    let pose_ms = mean_ms(|i| {
+        std::hint::black_box(animated.posed_mesh(i));
+    });
+    let poses: Vec<npr_geometry::Mesh> = (0..=FRAMES).map(|i| animated.posed_mesh(i)).collect();
+    let opts = npr_geometry::CurvatureOptions::default();
+    let curvature_ms = mean_ms(|i| {
+        std::hint::black_box(npr_geometry::CurvatureField::for_mesh(&poses[i], &opts));
+    });
+    let source = npr_hatching::DirectionSource::default();
+    let directions_ms = mean_ms(|i| {
+        std::hint::black_box(npr_hatching::figures::directions_from(&poses[i], &source));
+    });
+    vec![
+        name.into(),
+        vertices.into(),
+        Cell::Num(pose_ms, 2),
+        Cell::Num(curvature_ms, 2),
+        Cell::Num(directions_ms, 2),
+    ]
+}
+
+fn gpu_row(
+    ctx: &npr_gpu::GpuContext,
+    name: &str,
+    animated: &Animated,
+    effect: Effect,
+) -> anyhow::Result<Vec<Cell>> {
+    let mut preset = Preset {
+        effect,
+        ..Preset::default()
+    };
+    preset.output.width = SIZE.0;
+    preset.output.height = SIZE.1;
+    let framing = animated.framing();
+    let view = View::new(&preset, &framing, SIZE, 0.0);
+    let frames: Vec<Model> = (0..=FRAMES).map(|i| animated.frame(i)).collect();
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), SIZE)?;
+    let wait = || {
+        let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+    };
+    let mut result = Ok(());
+    let mut setup = 0.0;
+    let rigid_ms = mean_ms(|_| {
+        if let Err(e) = renderer.render(&ctx.device, &ctx.queue, &preset, &view) {
+            result = Err(e);
+        }
+        wait();
+    });
+    let animated_ms = mean_ms(|i| {
+        let step = renderer
+            .set_model(&ctx.device, frames[i].clone())
+            .and_then(|()| renderer.render(&ctx.device, &ctx.queue, &preset, &view));
+        match step {
+            Ok(s) => setup += s.setup_us,
+            Err(e) => result = Err(e),
+        }
+        wait();
+    });
+    result?;
+    Ok(vec![
+        name.into(),
+        effect.name().into(),
+        Cell::Num(rigid_ms, 2),
+        Cell::Num(animated_ms, 2),
+        Cell::Num(animated_ms / rigid_ms.max(1e-9), 2),
+        if effect == Effect::Specular {
+            Cell::Num(setup / (FRAMES + 1) as f64, 0)
+        } else {
+            Cell::Empty
+        },
+    ])
+}
