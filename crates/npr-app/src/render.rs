@@ -202,8 +202,9 @@ pub fn render_svgs(
 
 /// Renders `frames` frames of `animated`'s clip with `preset`, the camera still (or turning
 /// once over the frames with `turntable`), and hands each image to `sink`. Each frame's
-/// model is the posed mesh, so curvature, highlights, stroke directions and outlines are
-/// computed on the posed surface.
+/// model is the posed mesh ([`Renderer::set_pose`]), so curvature, highlights, stroke
+/// directions and outlines are computed on the posed surface, and the highlights keep
+/// their ids from frame to frame.
 ///
 /// # Errors
 /// GPU or technique errors, or what `sink` returns.
@@ -221,7 +222,7 @@ pub fn render_clip_frames(
     let mut stats = Vec::new();
     for i in 0..frames as usize {
         if i > 0 {
-            renderer.set_model(&ctx.device, animated.frame(i))?;
+            renderer.set_pose(&ctx.queue, animated.frame(i))?;
         }
         let turn = if turntable {
             360.0 * i as f32 / frames as f32

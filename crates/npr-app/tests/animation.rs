@@ -231,3 +231,92 @@ fn frames_play_the_clip_with_the_camera_still() {
         "one clip apart: the same pose"
     );
 }
+
+/// A pose set in place (`Renderer::set_pose`: vertices written into the uploaded buffers,
+/// surface data taken again) draws what a renderer built on that pose draws: the same
+/// image for the shadings and the screen-space hatching, and for the highlights the same
+/// centres (the reposed set keeps tracking, so only fades may differ).
+#[test]
+fn a_pose_set_in_place_draws_what_a_fresh_renderer_draws() {
+    let Some(ctx) = context_or_skip("a_pose_set_in_place_draws_what_a_fresh_renderer_draws") else {
+        return;
+    };
+    use npr_app::animation::{Animated, ClipChoice, Playback, resolve_clip};
+    use npr_app::engine::Renderer;
+    use npr_app::preset::{Effect, Preset, SpacePreset};
+    let fox = npr_app::model::Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let clip = resolve_clip(&fox, &ClipChoice::Name("Walk".into())).unwrap();
+    let animated = Animated::new(fox, clip, Playback::default()).unwrap();
+    let (a, b) = (animated.frame(0), animated.frame(10));
+    let size = (320, 240);
+    for effect in [
+        Effect::Phong,
+        Effect::Cel,
+        Effect::HatchingPen,
+        Effect::Specular,
+    ] {
+        let mut preset = Preset {
+            effect,
+            ..Preset::default()
+        };
+        preset.hatching.space = SpacePreset::Screen;
+        preset.output.width = size.0;
+        preset.output.height = size.1;
+        let view = npr_app::view::View::new(&preset, &animated.framing(), size, 0.0);
+        let mut fresh = Renderer::new(&ctx.device, &ctx.queue, b.clone(), size).unwrap();
+        fresh
+            .render(&ctx.device, &ctx.queue, &preset, &view)
+            .unwrap();
+        let want = fresh.read(&ctx.device, &ctx.queue).unwrap();
+        let mut moved = Renderer::new(&ctx.device, &ctx.queue, a.clone(), size).unwrap();
+        moved
+            .render(&ctx.device, &ctx.queue, &preset, &view)
+            .unwrap();
+        let before = moved.read(&ctx.device, &ctx.queue).unwrap();
+        moved.set_pose(&ctx.queue, b.clone()).unwrap();
+        moved
+            .render(&ctx.device, &ctx.queue, &preset, &view)
+            .unwrap();
+        let got = moved.read(&ctx.device, &ctx.queue).unwrap();
+        let differ = |x: &image::RgbaImage, y: &image::RgbaImage| {
+            x.pixels()
+                .zip(y.pixels())
+                .filter(|(p, q)| p.0.iter().zip(q.0).any(|(u, v)| u.abs_diff(v) > 2))
+                .count()
+        };
+        assert!(
+            differ(&before, &want) > 200,
+            "{effect:?}: the two poses look alike"
+        );
+        if effect == Effect::Specular {
+            let centres = |r: &Renderer| {
+                let mut c: Vec<[i64; 3]> = r
+                    .highlight_set()
+                    .unwrap()
+                    .highlights()
+                    .iter()
+                    .filter(|h| h.found)
+                    .map(|h| {
+                        h.centre
+                            .position_object
+                            .to_array()
+                            .map(|x| (x * 1e3).round() as i64)
+                    })
+                    .collect();
+                c.sort_unstable();
+                c
+            };
+            assert_eq!(centres(&moved), centres(&fresh), "highlight centres");
+        } else {
+            assert_eq!(
+                differ(&got, &want),
+                0,
+                "{effect:?}: set_pose against a fresh renderer"
+            );
+        }
+    }
+    // Another mesh is refused, and the renderer keeps drawing.
+    let bunny = npr_app::model::Model::bunny().unwrap();
+    let mut r = Renderer::new(&ctx.device, &ctx.queue, a, size).unwrap();
+    assert!(r.set_pose(&ctx.queue, bunny).is_err());
+}

@@ -119,7 +119,9 @@ impl GpuMesh {
             vertex_buffer: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("npr mesh vertices"),
                 contents: bytemuck::cast_slice(&vertices),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
+                usage: wgpu::BufferUsages::VERTEX
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST,
             }),
             index_buffer: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("npr mesh indices"),
@@ -131,6 +133,37 @@ impl GpuMesh {
             index_count: mesh.indices.len() as u32,
             vertex_count: n as u32,
         })
+    }
+
+    /// Writes `mesh`'s vertices into the uploaded buffer in place (a new pose of the same
+    /// mesh): everything bound to this mesh stays valid and draws the new positions,
+    /// normals and uvs. The triangles stay as uploaded.
+    ///
+    /// # Errors
+    /// [`GpuError::InvalidMesh`] when `mesh` has another vertex count or attribute arrays
+    /// of different lengths.
+    pub fn write_vertices(&self, queue: &wgpu::Queue, mesh: &Mesh) -> Result<(), GpuError> {
+        let n = mesh.positions.len();
+        if n != self.vertex_count as usize
+            || mesh.normals.len() != n
+            || (mesh.uvs.len() != n && !mesh.uvs.is_empty())
+        {
+            return Err(GpuError::InvalidMesh(format!(
+                "a pose of {n} positions, {} normals and {} uvs for a mesh of {} vertices",
+                mesh.normals.len(),
+                mesh.uvs.len(),
+                self.vertex_count
+            )));
+        }
+        let vertices: Vec<Vertex> = (0..n)
+            .map(|i| Vertex {
+                position: mesh.positions[i].to_array(),
+                normal: mesh.normals[i].to_array(),
+                uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
+            })
+            .collect();
+        queue.write_buffer(&self.vertex_buffer, 0, bytemuck::cast_slice(&vertices));
+        Ok(())
     }
 
     /// Binds the vertex buffer at slot 0 and the index buffer, and draws every triangle.

@@ -6,7 +6,8 @@
 //! clip and skinning, `Rig::sample` + `Rig::pose_mesh`), `curvature_ms`
 //! (`CurvatureField::for_mesh` of the pose), `directions_ms` (the hatching's default stroke
 //! field of the pose, curvature included) and, per effect, the frame as the app draws it
-//! (`animated_ms`: the posed model set and rendered; `rigid_ms`: the same model rendered
+//! (`animated_ms`: the posed model set (`Renderer::set_pose`) and rendered; `rigid_ms`: the
+//! same model rendered
 //! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
 //! setup the specular frame reports. Default models: the Fox and the procedural rigs
 //! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`); `--mesh`
@@ -164,7 +165,7 @@ fn gpu_row(
     });
     let animated_ms = mean_ms(|i| {
         let step = renderer
-            .set_model(&ctx.device, frames[i].clone())
+            .set_pose(&ctx.queue, frames[i].clone())
             .and_then(|()| renderer.render(&ctx.device, &ctx.queue, &preset, &view));
         match step {
             Ok(s) => setup += s.setup_us,

@@ -29,6 +29,8 @@ struct HatchState {
     frame: HatchFrame,
     object: HatchObject,
     pencil: bool,
+    /// The pose its object's stroke directions were computed on.
+    pose: u64,
 }
 
 /// The hatching effect (see the module docs).
@@ -36,9 +38,17 @@ struct HatchState {
 pub(crate) struct HatchingEffect {
     tams: HashMap<bool, TonalArtMap>,
     frame: Specialized<HatchKey, HatchState>,
+    /// Poses of the model so far ([`HatchingEffect::repose`]).
+    pose: u64,
 }
 
 impl HatchingEffect {
+    /// The model moved to a new pose (same triangles): the stroke directions are taken
+    /// again on the next frame; the frame and its maps stay.
+    pub(crate) fn repose(&mut self) {
+        self.pose += 1;
+    }
+
     /// Drops the frame (a new model); the generated maps stay.
     pub(crate) fn clear(&mut self) {
         self.frame.clear();
@@ -130,8 +140,14 @@ impl HatchingEffect {
                     frame,
                     object,
                     pencil,
+                    pose: self.pose,
                 })
             })?;
+        if state.pose != self.pose {
+            let dirs = fields.directions(&model.mesh, key.direction);
+            state.object = state.frame.create_object(device, mesh, dirs)?;
+            state.pose = self.pose;
+        }
         if state.pencil != pencil {
             state.frame.set_tam(device, queue, tam)?;
             state.pencil = pencil;

@@ -155,6 +155,34 @@ impl Renderer {
         Ok(())
     }
 
+    /// Moves the model to a new pose: `model` is the same mesh (same vertex count and
+    /// triangles) with moved vertices, a frame of a skinned or morphing clip. Its vertices
+    /// are written into the uploaded buffers in place, so the passes' pipelines and
+    /// objects stay; what depends on the surface is taken again on the posed mesh on the
+    /// next frame: the stroke directions, the curvature, and the highlight set, reposed so
+    /// that its highlights keep their ids, fades and the user's edits
+    /// (`npr_specular::HighlightSet::repose`). Another mesh is [`Renderer::set_model`].
+    ///
+    /// # Errors
+    /// [`AppError::Gpu`] when `model` is not a pose of the current mesh (then nothing
+    /// changes).
+    pub fn set_pose(&mut self, queue: &wgpu::Queue, model: Model) -> Result<(), AppError> {
+        if model.mesh.indices != self.model.mesh.indices {
+            return Err(AppError::Gpu(npr_gpu::GpuError::InvalidMesh(format!(
+                "a pose of {} triangles is not a pose of this mesh of {}",
+                model.mesh.triangle_count(),
+                self.model.mesh.triangle_count()
+            ))));
+        }
+        self.gpu_mesh.write_vertices(queue, &model.mesh)?;
+        self.model = model;
+        self.specular.repose();
+        self.hatching.repose();
+        self.warp.clear();
+        self.fields = SurfaceFields::default();
+        Ok(())
+    }
+
     /// Resizes the target (a zero side is refused with a typed error; the old target
     /// stays).
     ///

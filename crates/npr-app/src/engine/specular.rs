@@ -49,9 +49,17 @@ struct ShapePass {
 pub(crate) struct SpecularEffect {
     set: Specialized<SetKey, HighlightSet>,
     shape: Specialized<String, ShapePass>,
+    /// The model moved since the set was built or last reposed.
+    moved: bool,
 }
 
 impl SpecularEffect {
+    /// The model moved to a new pose (same triangles): the next frame reposes the set
+    /// ([`HighlightSet::repose`]), keeping its highlights' ids, fades and edits.
+    pub(crate) fn repose(&mut self) {
+        self.moved = true;
+    }
+
     /// The highlight set, once a specular frame has been prepared.
     pub(crate) fn set(&self) -> Option<&HighlightSet> {
         self.set.get()
@@ -89,16 +97,18 @@ impl SpecularEffect {
         let shape = self.shape.get_or_build(&sp.shape, |shape| {
             ShapePass::new(device, queue, mesh, shape)
         })?;
+        let options = CurvatureOptions {
+            radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
+            ..CurvatureOptions::default()
+        };
+        let mut built = false;
         let set = self.set.get_or_build(&SetKey::of(preset), |_| {
-            HighlightSet::with_abstraction(
-                &model.mesh,
-                &CurvatureOptions {
-                    radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
-                    ..CurvatureOptions::default()
-                },
-                sp.abstraction,
-            )
+            built = true;
+            HighlightSet::with_abstraction(&model.mesh, &options, sp.abstraction)
         })?;
+        if std::mem::take(&mut self.moved) && !built {
+            set.repose(&model.mesh, &options)?;
+        }
         let started = Instant::now();
         if set.highlights().is_empty() && sp.edits.iter().any(|e| e.anchor.is_some()) {
             // A fresh sequence: find the highlights once so that anchored edits can be
