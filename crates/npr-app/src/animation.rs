@@ -9,6 +9,7 @@ use crate::AppError;
 use crate::model::Model;
 use crate::view::Framing;
 use npr_geometry::animation::{Clip, Rig};
+#[cfg(not(target_arch = "wasm32"))]
 use std::path::PathBuf;
 
 /// Poses sampled for the framing of a clip (its bounds over the whole clip).
@@ -201,19 +202,62 @@ impl Animated {
     /// [`Animated::time_of`], the bind pose without a clip, the loaded mesh for a model
     /// without a rig.
     pub fn posed_mesh(&self, i: usize) -> npr_geometry::Mesh {
+        self.mesh_at(self.time_of(i))
+    }
+
+    /// The mesh at clip time `t` (wrapped or held as the playback says; see
+    /// [`Animated::posed_mesh`]).
+    pub fn mesh_at(&self, t: f32) -> npr_geometry::Mesh {
         match (self.model.rig.as_ref(), self.clip) {
-            (Some(rig), Some(c)) => rig.pose_mesh(&rig.sample(&rig.clips()[c], self.time_of(i))),
+            (Some(rig), Some(c)) => {
+                let clip = &rig.clips()[c];
+                let t = Playback {
+                    time: t,
+                    ..self.playback
+                }
+                .at(clip, 0);
+                rig.pose_mesh(&rig.sample(clip, t))
+            }
             (Some(rig), None) => rig.pose_mesh(&rig.bind_pose()),
             _ => self.model.mesh.clone(),
         }
     }
 
+    /// The names of the model's clips (an index where a clip has none).
+    pub fn clip_names(&self) -> Vec<String> {
+        self.model.rig.as_ref().map_or_else(Vec::new, |r| {
+            r.clips()
+                .iter()
+                .enumerate()
+                .map(|(i, c)| c.name().map_or_else(|| i.to_string(), str::to_string))
+                .collect()
+        })
+    }
+
+    /// The clip playing (its index), if any.
+    pub fn clip(&self) -> Option<usize> {
+        self.clip
+    }
+
+    /// The length of the clip playing, seconds (0 without one).
+    pub fn duration(&self) -> f32 {
+        match (self.model.rig.as_ref(), self.clip) {
+            (Some(rig), Some(c)) => rig.clips()[c].duration(),
+            _ => 0.0,
+        }
+    }
+
     /// Frame `i`'s model: the posed mesh, with the clip's framing.
     pub fn frame(&self, i: usize) -> Model {
+        self.model_at(self.time_of(i))
+    }
+
+    /// The model at clip time `t`: the posed mesh, with the clip's framing.
+    pub fn model_at(&self, t: f32) -> Model {
         if self.model.rig.is_none() {
             return self.model.clone();
         }
-        let mut m = Model::from_mesh(&self.model.name, self.posed_mesh(i));
+        let mut m = Model::from_mesh(&self.model.name, self.mesh_at(t));
         m.path.clone_from(&self.model.path);
         m.notes.clone_from(&self.model.notes);
         m.framing = self.framing;
@@ -222,6 +266,7 @@ impl Animated {
 }
 
 /// Arguments of `npr pose`.
+#[cfg(not(target_arch = "wasm32"))]
 #[derive(clap::Args, Debug, Clone)]
 pub struct PoseArgs {
     /// The model: a glTF (.gltf/.glb) with skins, morph targets or animations (any
@@ -238,11 +283,12 @@ pub struct PoseArgs {
     pub out: PathBuf,
 }
 
-/// Runs `npr pose`: writes the model posed at one moment.
+/// Runs `npr pose`: writes the model posed at one moment (native only: a command).
 ///
 /// # Errors
 /// A model that cannot be loaded, a clip it lacks, an output that is not `.obj` or
 /// `.ply`, or the write failing (nothing is written then).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn pose(args: &PoseArgs) -> Result<PathBuf, AppError> {
     let ext = args
         .out

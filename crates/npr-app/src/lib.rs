@@ -15,8 +15,8 @@
 //! are native only.
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
-#[cfg(not(target_arch = "wasm32"))]
 pub mod animation;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod curvature;
 pub mod engine;
 mod error;

@@ -646,3 +646,96 @@ fn a_dragged_highlight_keeps_its_area_in_the_window() {
         "the dragged highlight kept {after} of {before} px"
     );
 }
+
+/// `npr view` plays a glTF model's first clip: the clip time advances with the frames and
+/// the view moves, space pauses it (the time holds), and a highlight is picked and dragged
+/// on the moving model. An unknown clip in the preset leaves the bind pose and says why.
+#[test]
+fn the_window_plays_a_clip_and_picks_on_the_moving_model() {
+    let test = "the_window_plays_a_clip_and_picks_on_the_moving_model";
+    let Some(runner) = runner_for(test) else {
+        return;
+    };
+    let dir = out_dir("clip");
+    let p = |n: &str| dir.join(n).display().to_string();
+    let script = format!(
+        "@3 effect specular\n\
+         @8 report {r1}\n\
+         @9 screenshot {s1}\n\
+         @20 report {r2}\n\
+         @21 screenshot {s2}\n\
+         @22 key space\n\
+         @23 report {r3}\n\
+         @30 report {r4}\n\
+         @31 click-highlight\n\
+         @32 drag-selected 20 0\n\
+         @34 report {r5}\n\
+         @36 exit\n",
+        r1 = p("r1.json"),
+        r2 = p("r2.json"),
+        r3 = p("r3.json"),
+        r4 = p("r4.json"),
+        r5 = p("r5.json"),
+        s1 = p("s1.png"),
+        s2 = p("s2.png"),
+    );
+    std::fs::write(dir.join("script.txt"), script).unwrap();
+    let fox = root().join("fixtures/meshes/Fox.glb");
+    let run = |extra: &[&str]| {
+        let o = npr_under(&runner)
+            .args(["view", fox.to_str().unwrap(), "--size", "900x600"])
+            .args(extra)
+            .arg("--script")
+            .arg(dir.join("script.txt"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(
+            o.status.success() && !stderr.contains("panicked"),
+            "{stderr}"
+        );
+    };
+    run(&[]);
+    let read = |n: &str| read_json(&dir, n);
+    let time = |v: &serde_json::Value| v["clip_time"].as_f64().unwrap();
+    let (r1, r2, r3, r4, r5) = (
+        read("r1.json"),
+        read("r2.json"),
+        read("r3.json"),
+        read("r4.json"),
+        read("r5.json"),
+    );
+    assert_eq!(r1["clip"], 0, "the first clip plays: {r1}");
+    assert!(
+        (time(&r2) - time(&r1) - 12.0 / 30.0).abs() < 0.05,
+        "12 frames at 30 a second: {} -> {}",
+        time(&r1),
+        time(&r2)
+    );
+    assert_eq!(r3["clip_playing"], false);
+    assert_eq!(time(&r3), time(&r4), "paused, the time holds");
+    let (s1, s2) = (
+        image::open(dir.join("s1.png")).unwrap().to_rgba8(),
+        image::open(dir.join("s2.png")).unwrap().to_rgba8(),
+    );
+    assert!(
+        psnr(&s1, &s2) < 40.0,
+        "the Fox moved between the screenshots"
+    );
+    assert!(
+        !r5["selected"].is_null(),
+        "a highlight picked on the moving model: {r5}"
+    );
+
+    // An unknown clip: the bind pose, and one line saying why.
+    let preset = dir.join("jump.toml");
+    std::fs::write(&preset, "[animation]\nclip = \"Jump\"\n").unwrap();
+    run(&["--preset", preset.to_str().unwrap()]);
+    let r1 = read("r1.json");
+    assert!(r1["clip"].is_null(), "{r1}");
+    let note = r1["clip_note"].as_str().unwrap_or("");
+    assert!(
+        note.contains("Fox.glb has no clip \"Jump\"") && note.contains("bind pose"),
+        "{r1}"
+    );
+}

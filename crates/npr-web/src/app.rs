@@ -40,6 +40,8 @@ pub struct Viewer {
     actions: Vec<serde_json::Value>,
     /// A "save SVG" on its way: asked for, then read back over the next frames.
     svg: Option<SvgRequest>,
+    /// A glTF model's clip, posed each frame (space plays or pauses it).
+    timeline: npr_app::viewer::timeline::Timeline,
 }
 
 /// A "save SVG" ([`Viewer::save_svg`]): the file name and page asked for, and once the
@@ -90,6 +92,7 @@ impl Viewer {
         };
         surface.configure(&ctx.device, &config);
         let model = Model::bunny().map_err(js_error)?;
+        let timeline = npr_app::viewer::timeline::Timeline::new(&model);
         let renderer = Renderer::new(&ctx.device, &ctx.queue, model, size).map_err(js_error)?;
         let mut preset = Preset::default();
         preset.output.width = size.0;
@@ -110,6 +113,7 @@ impl Viewer {
             script_pos: 0,
             actions: Vec::new(),
             svg: None,
+            timeline,
         })
     }
 
@@ -134,6 +138,11 @@ impl Viewer {
         }
         let scripted = self.run_script();
         self.state.tick();
+        // A clip that cannot be posed shows its line once the frame is drawn.
+        let posed = self
+            .timeline
+            .update(&mut self.renderer, &self.ctx.queue, &self.state)
+            .map_err(js_error);
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);
         let drawn = self.warp.draw(
@@ -153,7 +162,7 @@ impl Viewer {
             _ => {
                 // The canvas changed under us: reconfigure and draw the next frame.
                 self.surface.configure(device, &self.config);
-                return scripted;
+                return scripted.and(posed);
             }
         };
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -171,7 +180,7 @@ impl Viewer {
         queue.submit(Some(encoder.finish()));
         queue.present(frame);
         // A script's failure shows once the frame is drawn (the model and view stay).
-        scripted
+        scripted.and(posed)
     }
 
     /// Traces the hatching of the view as pen strokes for a plotter, as `npr render --svg`
@@ -303,11 +312,13 @@ impl Viewer {
     /// A bad file leaves the current model.
     pub fn load_model(&mut self, name: &str, bytes: &[u8]) -> Result<(), JsValue> {
         let model = Model::from_bytes(name, bytes).map_err(js_error)?;
+        let timeline = npr_app::viewer::timeline::Timeline::new(&model);
         self.renderer
             .set_model(&self.ctx.device, model)
             .map_err(js_error)?;
         // A readback in flight traces against the model it was drawn from.
         self.svg = None;
+        self.timeline = timeline;
         self.state.selected = None;
         self.warp = WarpLive::default();
         Ok(())
@@ -389,6 +400,9 @@ impl Viewer {
         if let Some(map) = value.as_object_mut() {
             map.insert("frame_ms".into(), self.frame_ms.into());
             map.insert("selected".into(), self.state.selected.into());
+            map.insert("clip".into(), self.timeline.clip().into());
+            map.insert("clip_time".into(), self.state.clip_time.into());
+            map.insert("clip_note".into(), self.timeline.note().into());
         }
         value.to_string()
     }

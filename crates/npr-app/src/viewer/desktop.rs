@@ -97,6 +97,7 @@ pub fn run(args: ViewArgs) -> Result<(), AppError> {
         debug: ui::Debug::default(),
         debug_texture: None,
         warp: WarpLive::default(),
+        timeline: super::timeline::Timeline::default(),
     };
     event_loop
         .run_app(&mut app)
@@ -140,6 +141,7 @@ struct App {
     debug: ui::Debug,
     debug_texture: Option<egui::TextureHandle>,
     warp: WarpLive,
+    timeline: super::timeline::Timeline,
 }
 
 /// Writes `value` as pretty JSON, atomically.
@@ -232,6 +234,7 @@ impl App {
             Some(m) => m,
             None => Model::bunny()?,
         };
+        self.timeline = super::timeline::Timeline::new(&model);
         let renderer = Renderer::new(&ctx.device, &ctx.queue, model, (64, 64))?;
         let view_texture = egui_renderer.register_native_texture(
             &ctx.device,
@@ -265,8 +268,14 @@ impl App {
 
     fn load_model(&mut self, path: &std::path::Path) {
         let Some(gfx) = &mut self.gfx else { return };
-        match Model::load(path).and_then(|m| gfx.renderer.set_model(&gfx.ctx.device, m)) {
-            Ok(()) => {
+        let loaded = Model::load(path).and_then(|m| {
+            let timeline = super::timeline::Timeline::new(&m);
+            gfx.renderer.set_model(&gfx.ctx.device, m)?;
+            Ok(timeline)
+        });
+        match loaded {
+            Ok(timeline) => {
+                self.timeline = timeline;
                 self.state.selected = None;
                 self.status = Some(format!("opened {}", path.display()));
             }
@@ -408,6 +417,10 @@ impl App {
             "effect": self.state.preset.effect.name(),
             "model": gfx.renderer.model().name,
             "status": self.status,
+            "clip": self.timeline.clip(),
+            "clip_time": self.state.clip_time,
+            "clip_playing": self.state.clip_playing,
+            "clip_note": self.timeline.note(),
             "highlights": gfx.highlights.len(),
             "selected": self.state.selected_report(&view, gfx.view_size, &gfx.highlights),
             "stats": self.stats,
@@ -565,6 +578,7 @@ impl App {
                 &self.warp,
                 self.frame_ms,
                 gfx.renderer.model(),
+                &self.timeline,
                 self.status.as_deref(),
             );
             view_px = ui::central(
@@ -601,6 +615,12 @@ impl App {
 
         // The 3-D view.
         self.state.tick();
+        if let Err(e) = self
+            .timeline
+            .update(&mut gfx.renderer, &gfx.ctx.queue, &self.state)
+        {
+            self.status = Some(format!("error: {e}"));
+        }
         let view = self
             .state
             .view(&gfx.renderer.model().framing, gfx.view_size);

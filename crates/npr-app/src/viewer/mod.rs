@@ -5,7 +5,8 @@
 //! Mouse: left-drag orbits (or moves the picked highlight along e_max/e_min), Shift-drag
 //! turns the picked highlight about N, the wheel zooms (or scales the picked highlight),
 //! right-drag pans, Ctrl-drag moves the light. Keys: 1–7 effects, T turntable, R reset
-//! view, Escape deselects. Models can be dropped on the window.
+//! view, Escape deselects, space plays or pauses a glTF model's clip ([`timeline`]).
+//! Models can be dropped on the window.
 
 //!
 //! The window's state and input ([`state`]), the script format ([`script`]) and live
@@ -15,6 +16,7 @@
 pub mod live;
 pub mod script;
 pub mod state;
+pub mod timeline;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod desktop;

@@ -107,6 +107,8 @@ pub enum Key {
     Reset,
     /// Deselect (Escape).
     Deselect,
+    /// Play or pause the model's clip (space).
+    PlayPause,
 }
 
 impl Key {
@@ -116,6 +118,7 @@ impl Key {
             "t" | "T" => Self::Turntable,
             "r" | "R" => Self::Reset,
             "escape" | "esc" => Self::Deselect,
+            "space" | " " => Self::PlayPause,
             n => {
                 let i: usize = n.parse().ok()?;
                 Self::Effect(*Effect::ALL.get(i.checked_sub(1)?)?)
@@ -162,6 +165,11 @@ pub struct ViewerState {
     pub turntable_deg: f32,
     /// Degrees per frame of the turntable.
     pub turntable_speed_deg: f32,
+    /// Whether the model's clip plays (space).
+    pub clip_playing: bool,
+    /// The clip's time, seconds (advanced by the preset's `[animation] speed` / 30 a
+    /// frame while playing; the scrub bar sets it).
+    pub clip_time: f32,
     drag: Option<Drag>,
 }
 
@@ -283,6 +291,7 @@ impl CameraPredictor {
 impl ViewerState {
     /// A state editing `preset`.
     pub fn new(preset: Preset) -> Self {
+        let clip_time = preset.animation.time;
         Self {
             initial: preset.clone(),
             preset,
@@ -290,6 +299,8 @@ impl ViewerState {
             turntable: false,
             turntable_deg: 0.0,
             turntable_speed_deg: 1.0,
+            clip_playing: true,
+            clip_time,
             drag: None,
         }
     }
@@ -325,10 +336,17 @@ impl ViewerState {
         }
     }
 
-    /// Advances per-frame animation (the turntable).
+    /// Advances per-frame animation: the turntable, and the clip while it plays (at 30
+    /// frames a second of clip time, times `[animation] speed`).
     pub fn tick(&mut self) {
         if self.turntable {
             self.turntable_deg = (self.turntable_deg + self.turntable_speed_deg) % 360.0;
+        }
+        if self.clip_playing {
+            let t = self.clip_time + self.preset.animation.speed / 30.0;
+            if t.is_finite() {
+                self.clip_time = t;
+            }
         }
     }
 
@@ -346,6 +364,7 @@ impl ViewerState {
             Input::Key(key) => match key {
                 Key::Effect(e) => self.preset.effect = e,
                 Key::Turntable => self.turntable = !self.turntable,
+                Key::PlayPause => self.clip_playing = !self.clip_playing,
                 Key::Reset => {
                     self.preset.camera = self.initial.camera;
                     self.preset.light = self.initial.light;
