@@ -79,6 +79,17 @@ pub fn check_mesh_limits(
     Ok(())
 }
 
+/// `mesh`'s vertices as the vertex buffer holds them (uvs 0 where the mesh has none).
+fn vertices(mesh: &Mesh) -> Vec<Vertex> {
+    (0..mesh.positions.len())
+        .map(|i| Vertex {
+            position: mesh.positions[i].to_array(),
+            normal: mesh.normals[i].to_array(),
+            uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
+        })
+        .collect()
+}
+
 impl GpuMesh {
     /// Uploads `mesh`.
     ///
@@ -108,13 +119,7 @@ impl GpuMesh {
             )));
         }
         check_mesh_limits(n, mesh.indices.len(), &device.limits())?;
-        let vertices: Vec<Vertex> = (0..n)
-            .map(|i| Vertex {
-                position: mesh.positions[i].to_array(),
-                normal: mesh.normals[i].to_array(),
-                uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
-            })
-            .collect();
+        let vertices = vertices(mesh);
         Ok(Self {
             vertex_buffer: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("npr mesh vertices"),
@@ -155,13 +160,7 @@ impl GpuMesh {
                 self.vertex_count
             )));
         }
-        let vertices: Vec<Vertex> = (0..n)
-            .map(|i| Vertex {
-                position: mesh.positions[i].to_array(),
-                normal: mesh.normals[i].to_array(),
-                uv: mesh.uvs.get(i).map_or([0.0; 2], |uv| uv.to_array()),
-            })
-            .collect();
+        let vertices = vertices(mesh);
         queue.write_buffer(&self.vertex_buffer, 0, bytemuck::cast_slice(&vertices));
         Ok(())
     }
