@@ -247,6 +247,64 @@ impl Animated {
         }
     }
 
+    /// The stroke directions of `which` on the bind pose, per vertex of the rig's mesh
+    /// (computed once; see [`Animated::carried_directions`]).
+    pub fn rest_directions(&self, which: crate::preset::DirectionPreset) -> Vec<glam::Vec3> {
+        match self.model.rig.as_ref() {
+            Some(rig) => crate::engine::stroke_directions(&rig.pose_mesh(&rig.bind_pose()), which),
+            None => crate::engine::stroke_directions(&self.model.mesh, which),
+        }
+    }
+
+    /// `rest` ([`Animated::rest_directions`]) carried to clip time `t`, per vertex of
+    /// [`Animated::model_at`]`(t)`: each vertex's direction turned by its skinning
+    /// matrix at `t` over its matrix at the bind pose, then laid into the posed tangent
+    /// plane. Exact where a part moves rigidly; near a joint the blend of two matrices
+    /// is an approximation of the posed surface's own field.
+    pub fn carried_directions(&self, rest: &[glam::Vec3], t: f32) -> Vec<glam::Vec3> {
+        let Some(rig) = self.model.rig.as_ref() else {
+            return rest.to_vec();
+        };
+        let pose = match self.clip {
+            Some(c) => {
+                let clip = &rig.clips()[c];
+                rig.sample(
+                    clip,
+                    Playback {
+                        time: t,
+                        ..self.playback
+                    }
+                    .at(clip, 0),
+                )
+            }
+            None => rig.bind_pose(),
+        };
+        let (at_bind, at_t) = (
+            rig.vertex_transforms(&rig.bind_pose()),
+            rig.vertex_transforms(&pose),
+        );
+        let posed = rig.pose_mesh(&pose);
+        let carried: Vec<glam::Vec3> = rest
+            .iter()
+            .zip(at_bind.iter().zip(&at_t))
+            .zip(&posed.normals)
+            .map(|((&d, (b, m)), &n)| {
+                let d = m.transform_vector3(b.inverse().transform_vector3(d));
+                (d - n * n.dot(d)).normalize_or_zero()
+            })
+            .collect();
+        // In the vertex order the model gets (Model::from_mesh reorders by the triangles
+        // alone, the same for every pose).
+        let order = npr_geometry::locality::reorder_for_locality(&posed).vertex_to_output;
+        let mut out = vec![glam::Vec3::ZERO; carried.len()];
+        for (v, d) in carried.into_iter().enumerate() {
+            if let Some(slot) = order.get(v).and_then(|&o| out.get_mut(o as usize)) {
+                *slot = d;
+            }
+        }
+        out
+    }
+
     /// Frame `i`'s model: the posed mesh, with the clip's framing.
     pub fn frame(&self, i: usize) -> Model {
         self.model_at(self.time_of(i))

@@ -220,9 +220,19 @@ pub fn render_clip_frames(
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
     let bar = progress::bar(u64::from(frames), preset.effect.name());
     let mut stats = Vec::new();
+    let which = preset.hatching.direction;
+    let carried = (preset.effect.is_hatching()
+        && preset.animation.geometry == crate::preset::PoseGeometry::Carried)
+        .then(|| animated.rest_directions(which));
     for i in 0..frames as usize {
-        if i > 0 {
-            renderer.set_pose(&ctx.queue, animated.frame(i))?;
+        let model = animated.frame(i);
+        match &carried {
+            Some(rest) => {
+                let dirs = animated.carried_directions(rest, animated.time_of(i));
+                renderer.set_pose_with_directions(&ctx.queue, model, (which, dirs))?;
+            }
+            None if i > 0 => renderer.set_pose(&ctx.queue, model)?,
+            None => {}
         }
         let turn = if turntable {
             360.0 * i as f32 / frames as f32

@@ -320,3 +320,55 @@ fn a_pose_set_in_place_draws_what_a_fresh_renderer_draws() {
     let mut r = Renderer::new(&ctx.device, &ctx.queue, a, size).unwrap();
     assert!(r.set_pose(&ctx.queue, bunny).is_err());
 }
+
+/// Where every vertex is bound to one joint (the procedural bent tube: each ring to its
+/// own joint, weight 1), the rest pose's stroke field carried through the skinning is the
+/// field computed on the pose (median within 1°); on the Fox, whose joints blend, it
+/// stays close (median within 10°).
+#[test]
+fn carried_directions_match_the_recomputed_field_where_parts_move_rigidly() {
+    use npr_app::animation::{Animated, Playback};
+    use npr_app::preset::DirectionPreset;
+    let median_deviation = |animated: &Animated, t: f32| {
+        let which = DirectionPreset::default();
+        let rest = animated.rest_directions(which);
+        let carried = animated.carried_directions(&rest, t);
+        let model = animated.model_at(t);
+        let exact = npr_hatching::stroke_directions(
+            &model.mesh,
+            &npr_hatching::DirectionSource::default(),
+            npr_hatching::StrokeDirection::KappaMax,
+            &npr_geometry::CurvatureOptions::default(),
+            glam::Vec3::Y,
+        );
+        let mut dev: Vec<f64> = exact
+            .iter()
+            .zip(&carried)
+            .zip(&model.mesh.normals)
+            .filter_map(|((a, b), n)| npr_geometry::line_angle_deg(*a, *b, *n))
+            .collect();
+        assert!(
+            dev.len() > model.mesh.positions.len() / 2,
+            "directions defined"
+        );
+        dev.sort_by(f64::total_cmp);
+        dev[dev.len() / 2]
+    };
+    let tube = npr_geometry::generate::bent_tube(0.3, 2.0, std::f32::consts::FRAC_PI_2, 32, 48);
+    let mut model = npr_app::model::Model::from_mesh("tube", tube.mesh);
+    model.rig = Some(tube.rig);
+    let animated = Animated::new(model, Some(0), Playback::default()).unwrap();
+    let tube_dev = median_deviation(&animated, 1.0);
+    assert!(tube_dev <= 1.0, "bent tube: {tube_dev}°");
+    let fox = npr_app::model::Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let walk = fox
+        .rig
+        .as_ref()
+        .unwrap()
+        .clips()
+        .iter()
+        .position(|c| c.name() == Some("Walk"));
+    let animated = Animated::new(fox, walk, Playback::default()).unwrap();
+    let fox_dev = median_deviation(&animated, 0.3);
+    assert!(fox_dev <= 10.0, "Fox: {fox_dev}°");
+}

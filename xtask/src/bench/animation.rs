@@ -12,12 +12,15 @@
 //! setup the specular frame reports. Default models: the Fox and the procedural rigs
 //! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`); `--mesh`
 //! adds rigged glTF files. CPU times are wall time on this machine's cores.
+//! `carried_ms` is the rest pose's stroke field carried through the skinning
+//! (`Animated::carried_directions`), and `carried_dev_deg` the median angle between it
+//! and the field computed on each pose; the hatching's frame is measured both ways.
 
 use super::table::{Cell, Table, emit};
 use npr_app::animation::{Animated, Playback};
 use npr_app::engine::Renderer;
 use npr_app::model::Model;
-use npr_app::preset::{Effect, Preset};
+use npr_app::preset::{Effect, PoseGeometry, Preset};
 use npr_app::view::View;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -26,8 +29,13 @@ use std::time::Instant;
 const FRAMES: usize = 30;
 /// The view size.
 const SIZE: (u32, u32) = (640, 480);
-/// The effects measured.
-const EFFECTS: [Effect; 3] = [Effect::Phong, Effect::Specular, Effect::HatchingPen];
+/// The effects measured, with the hatching's two ways of following the pose.
+const EFFECTS: [(Effect, PoseGeometry); 4] = [
+    (Effect::Phong, PoseGeometry::Recompute),
+    (Effect::Specular, PoseGeometry::Recompute),
+    (Effect::HatchingPen, PoseGeometry::Recompute),
+    (Effect::HatchingPen, PoseGeometry::Carried),
+];
 
 fn default_models() -> anyhow::Result<Vec<Model>> {
     let rigged = |name: &str, r: npr_geometry::generate::Rigged| {
@@ -73,6 +81,8 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "pose_ms",
             "curvature_ms",
             "directions_ms",
+            "carried_ms",
+            "carried_dev_deg",
         ],
     );
     let mut gpu = Table::new(
@@ -94,8 +104,8 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         let name = model.name.clone();
         let animated = Animated::new(model, Some(0), Playback::default())?;
         cpu.push(cpu_row(&name, &animated));
-        for effect in EFFECTS {
-            gpu.push(gpu_row(&ctx, &name, &animated, effect)?);
+        for (effect, geometry) in EFFECTS {
+            gpu.push(gpu_row(&ctx, &name, &animated, (effect, geometry))?);
         }
         bar.inc(1);
     }
@@ -127,12 +137,34 @@ fn cpu_row(name: &str, animated: &Animated) -> Vec<Cell> {
     let directions_ms = mean_ms(|i| {
         std::hint::black_box(npr_hatching::figures::directions_from(&poses[i], &source));
     });
+    let which = npr_app::preset::DirectionPreset::default();
+    let rest = animated.rest_directions(which);
+    let carried_ms = mean_ms(|i| {
+        std::hint::black_box(animated.carried_directions(&rest, animated.time_of(i)));
+    });
+    // The carried field against the one computed on each pose: the median angle between
+    // the two lines (in the model's vertex order, with the model's normals).
+    let mut dev = Vec::new();
+    for i in (0..=FRAMES).step_by(5) {
+        let model = animated.frame(i);
+        let exact = npr_hatching::figures::directions_from(&model.mesh, &source);
+        let carried = animated.carried_directions(&rest, animated.time_of(i));
+        for ((a, b), n) in exact.iter().zip(&carried).zip(&model.mesh.normals) {
+            if let Some(d) = npr_geometry::line_angle_deg(*a, *b, *n) {
+                dev.push(d);
+            }
+        }
+    }
+    dev.sort_by(f64::total_cmp);
+    let median = dev.get(dev.len() / 2).copied().unwrap_or(f64::NAN);
     vec![
         name.into(),
         vertices.into(),
         Cell::Num(pose_ms, 2),
         Cell::Num(curvature_ms, 2),
         Cell::Num(directions_ms, 2),
+        Cell::Num(carried_ms, 2),
+        Cell::Num(median, 1),
     ]
 }
 
@@ -140,12 +172,15 @@ fn gpu_row(
     ctx: &npr_gpu::GpuContext,
     name: &str,
     animated: &Animated,
-    effect: Effect,
+    (effect, geometry): (Effect, PoseGeometry),
 ) -> anyhow::Result<Vec<Cell>> {
     let mut preset = Preset {
         effect,
         ..Preset::default()
     };
+    preset.animation.geometry = geometry;
+    let which = preset.hatching.direction;
+    let rest = (geometry == PoseGeometry::Carried).then(|| animated.rest_directions(which));
     preset.output.width = SIZE.0;
     preset.output.height = SIZE.1;
     let framing = animated.framing();
@@ -164,9 +199,15 @@ fn gpu_row(
         wait();
     });
     let animated_ms = mean_ms(|i| {
-        let step = renderer
-            .set_pose(&ctx.queue, frames[i].clone())
-            .and_then(|()| renderer.render(&ctx.device, &ctx.queue, &preset, &view));
+        let model = frames[i].clone();
+        let posed = match &rest {
+            Some(r) => {
+                let dirs = animated.carried_directions(r, animated.time_of(i));
+                renderer.set_pose_with_directions(&ctx.queue, model, (which, dirs))
+            }
+            None => renderer.set_pose(&ctx.queue, model),
+        };
+        let step = posed.and_then(|()| renderer.render(&ctx.device, &ctx.queue, &preset, &view));
         match step {
             Ok(s) => setup += s.setup_us,
             Err(e) => result = Err(e),
@@ -174,9 +215,13 @@ fn gpu_row(
         wait();
     });
     result?;
+    let label = match geometry {
+        PoseGeometry::Carried if effect.is_hatching() => format!("{} (carried)", effect.name()),
+        _ => effect.name().to_string(),
+    };
     Ok(vec![
         name.into(),
-        effect.name().into(),
+        label.into(),
         Cell::Num(rigid_ms, 2),
         Cell::Num(animated_ms, 2),
         Cell::Num(animated_ms / rigid_ms.max(1e-9), 2),

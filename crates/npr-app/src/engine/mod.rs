@@ -23,6 +23,7 @@ pub use inputs::{
     global_controls, object_uniforms, resolve_edit_ids, shading_model,
 };
 #[cfg(not(target_arch = "wasm32"))]
+pub(crate) use surface::stroke_directions;
 pub use warp::render_warp_frames;
 pub use warp::{MIN_PROXY_TRIANGLES, warp_view};
 
@@ -180,6 +181,31 @@ impl Renderer {
         self.hatching.repose();
         self.warp.clear();
         self.fields = SurfaceFields::default();
+        Ok(())
+    }
+
+    /// [`Renderer::set_pose`] with the stroke directions of `which` for the pose given
+    /// rather than computed on it (carried through the skinning from the rest pose,
+    /// `crate::animation::Animated::carried_directions`), one per vertex of `model`.
+    ///
+    /// # Errors
+    /// As [`Renderer::set_pose`], or [`AppError::Usage`] for a direction count that is
+    /// not the vertex count.
+    pub fn set_pose_with_directions(
+        &mut self,
+        queue: &wgpu::Queue,
+        model: Model,
+        (which, directions): (DirectionPreset, Vec<Vec3>),
+    ) -> Result<(), AppError> {
+        if directions.len() != model.mesh.positions.len() {
+            return Err(AppError::Usage(format!(
+                "{} stroke directions for a pose of {} vertices",
+                directions.len(),
+                model.mesh.positions.len()
+            )));
+        }
+        self.set_pose(queue, model)?;
+        self.fields.seed_directions(which, directions);
         Ok(())
     }
 

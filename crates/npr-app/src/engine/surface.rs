@@ -21,6 +21,11 @@ impl SurfaceFields {
             .or_insert_with(|| stroke_directions(mesh, which))
     }
 
+    /// Sets the directions of `which` (computed elsewhere: carried through a skinning).
+    pub(crate) fn seed_directions(&mut self, which: DirectionPreset, directions: Vec<Vec3>) {
+        self.directions.insert(which, directions);
+    }
+
     /// The directions of `which`, if computed already.
     pub(crate) fn cached_directions(&self, which: DirectionPreset) -> Option<&[Vec3]> {
         self.directions.get(&which).map(Vec::as_slice)
@@ -56,7 +61,7 @@ fn mean_curvature(mesh: &Mesh, radius: f32) -> Vec<f32> {
 }
 
 /// The stroke directions of a direction preset.
-fn stroke_directions(mesh: &Mesh, which: DirectionPreset) -> Vec<Vec3> {
+pub(crate) fn stroke_directions(mesh: &Mesh, which: DirectionPreset) -> Vec<Vec3> {
     use npr_hatching::{DirectionSource, StrokeDirection};
     let (source, dir) = match which {
         DirectionPreset::Smooth => (DirectionSource::default(), StrokeDirection::KappaMax),

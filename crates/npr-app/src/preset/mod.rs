@@ -542,6 +542,20 @@ pub struct AnimationPreset {
     /// Whether the clip wraps past its end (else it holds its last pose).
     #[serde(rename = "loop")]
     pub looped: bool,
+    /// How the stroke directions follow the moving surface.
+    pub geometry: PoseGeometry,
+}
+
+/// How a posed frame gets its stroke directions ([`AnimationPreset::geometry`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PoseGeometry {
+    /// Computed again on every pose (exact, the smooth field's solve each frame).
+    Recompute,
+    /// Computed once on the rest pose and carried through the skinning: exact where a
+    /// part moves rigidly, an approximation near joints; a fraction of the cost.
+    #[default]
+    Carried,
 }
 
 impl Default for AnimationPreset {
@@ -551,6 +565,7 @@ impl Default for AnimationPreset {
             time: 0.0,
             speed: 1.0,
             looped: true,
+            geometry: PoseGeometry::default(),
         }
     }
 }

@@ -21,6 +21,9 @@ pub struct Timeline {
     built_for: Option<(String, bool)>,
     /// The clip time last posed.
     posed_at: Option<f32>,
+    /// The rest pose's stroke directions, for the direction preset they are of (the
+    /// carried geometry, [`crate::preset::PoseGeometry::Carried`]).
+    rest: Option<(crate::preset::DirectionPreset, Vec<glam::Vec3>)>,
     note: Option<String>,
 }
 
@@ -93,6 +96,7 @@ impl Timeline {
             self.note = note;
             self.built_for = Some(wanted);
             self.posed_at = None;
+            self.rest = None;
         }
         let Some(animated) = &self.animated else {
             return Ok(());
@@ -103,7 +107,19 @@ impl Timeline {
             0.0
         };
         if self.posed_at != Some(t) {
-            renderer.set_pose(queue, animated.model_at(t))?;
+            let which = state.preset.hatching.direction;
+            let carry = state.preset.effect.is_hatching()
+                && a.geometry == crate::preset::PoseGeometry::Carried;
+            if carry {
+                if self.rest.as_ref().is_none_or(|(w, _)| *w != which) {
+                    self.rest = Some((which, animated.rest_directions(which)));
+                }
+                let rest = self.rest.as_ref().map_or(&[][..], |(_, r)| r.as_slice());
+                let dirs = animated.carried_directions(rest, t);
+                renderer.set_pose_with_directions(queue, animated.model_at(t), (which, dirs))?;
+            } else {
+                renderer.set_pose(queue, animated.model_at(t))?;
+            }
             self.posed_at = Some(t);
         }
         Ok(())

@@ -165,20 +165,13 @@ impl Rig {
     /// the loaded mesh; render vertices that shared a position when loaded share it here.
     pub fn pose_mesh(&self, pose: &Pose) -> Mesh {
         let mut mesh = self.base.clone();
-        for v in 0..mesh.positions.len() {
+        let transforms = self.vertex_transforms(pose);
+        for (v, &m) in transforms.iter().enumerate() {
             let inst = self.vertex_instance.get(v).map_or(0, |&i| i as usize);
             let w = pose.morph_weights(inst);
             let (dp, dn) = self.morph_deltas(v);
             let p = morph(mesh.positions[v], w, dp);
             let n = morph(mesh.normals[v], w, dn);
-            let inf = self.influences(v);
-            let m = match self.instances.get(inst) {
-                Some(i) if !inf.is_empty() => {
-                    blend(inf, pose.joint_matrices(i.skin.unwrap_or(usize::MAX)))
-                }
-                Some(i) => pose.node_global(i.node).unwrap_or(Mat4::IDENTITY),
-                None => Mat4::IDENTITY,
-            };
             mesh.positions[v] = m.transform_point3(p);
             mesh.normals[v] = transform_normal(m, n);
         }
@@ -192,6 +185,26 @@ impl Rig {
             mesh.recompute_normals();
         }
         mesh
+    }
+
+    /// Per render vertex, the matrix that places it in `pose` after its morphs: linear
+    /// blend skinning `Σ wᵢ Jᵢ` for a skinned vertex, its node's global matrix for the
+    /// others ([`Rig::pose_mesh`]). A tangent direction of the unposed surface carried by
+    /// it follows the surface where the vertex moves rigidly.
+    pub fn vertex_transforms(&self, pose: &Pose) -> Vec<Mat4> {
+        (0..self.base.positions.len())
+            .map(|v| {
+                let inst = self.vertex_instance.get(v).map_or(0, |&i| i as usize);
+                let inf = self.influences(v);
+                match self.instances.get(inst) {
+                    Some(i) if !inf.is_empty() => {
+                        blend(inf, pose.joint_matrices(i.skin.unwrap_or(usize::MAX)))
+                    }
+                    Some(i) => pose.node_global(i.node).unwrap_or(Mat4::IDENTITY),
+                    None => Mat4::IDENTITY,
+                }
+            })
+            .collect()
     }
 
     /// The axis-aligned bounds `(min, max)` of the posed mesh over `clip`, sampled at
