@@ -22,8 +22,8 @@ pub use inputs::{
     anchor_reach, apply_controls, builtin_shape, clear_color, full_render_antialiasing,
     global_controls, object_uniforms, resolve_edit_ids, shading_model,
 };
-#[cfg(not(target_arch = "wasm32"))]
 pub(crate) use surface::stroke_directions;
+#[cfg(not(target_arch = "wasm32"))]
 pub use warp::render_warp_frames;
 pub use warp::{MIN_PROXY_TRIANGLES, warp_view};
 
