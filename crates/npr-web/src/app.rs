@@ -319,9 +319,40 @@ impl Viewer {
         // A readback in flight traces against the model it was drawn from.
         self.svg = None;
         self.timeline = timeline;
+        self.state.clip_time = self.state.preset.animation.time;
         self.state.selected = None;
         self.warp = WarpLive::default();
         Ok(())
+    }
+
+    /// The model's clips as a JSON array of names (empty for a model without clips).
+    pub fn clip_names(&self) -> String {
+        serde_json::Value::from(self.timeline.clip_names()).to_string()
+    }
+
+    /// Plays clip `name` (a name, an index, `none` for the bind pose, or empty for the
+    /// first): the preset's `[animation] clip`. A clip the model lacks leaves the bind
+    /// pose drawn; `stats_json`'s `clip_note` says why.
+    pub fn set_clip(&mut self, name: &str) {
+        self.state.preset.animation.clip = name.to_string();
+    }
+
+    /// Moves the clip to `seconds` (the scrub bar).
+    pub fn set_clip_time(&mut self, seconds: f32) {
+        if seconds.is_finite() {
+            self.state.clip_time = seconds;
+        }
+    }
+
+    /// The length of the clip playing, seconds (0 without one).
+    pub fn clip_duration(&self) -> f32 {
+        self.timeline.duration()
+    }
+
+    /// Plays or pauses the clip; returns whether it now plays.
+    pub fn toggle_clip(&mut self) -> bool {
+        self.state.clip_playing = !self.state.clip_playing;
+        self.state.clip_playing
     }
 
     /// The model's name.

@@ -188,6 +188,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
     check_shaders(driver, session)?;
     check_bad_drop(driver, session, site, site_port, &ctx, &model)?;
     svg::check(driver, session, (site, site_port), &ctx, &model)?;
+    check_clip(driver, session, site, site_port)?;
     Ok(rows)
 }
 
@@ -326,6 +327,68 @@ fn check_bad_drop(
     println!(
         "xtask: a broken drop says `{said}` and the bunny stays (FLIP {:.4})",
         row.flip_mean
+    );
+    Ok(())
+}
+
+/// The page plays a glTF clip: the Fox, loaded as a dropped file would be, lists its
+/// clips and plays the first, its clip time advancing from frame to frame and the canvas
+/// changing; pausing holds the time.
+fn check_clip(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow::Result<()> {
+    std::fs::copy(crate::fixture_mesh("Fox.glb"), site.join("Fox.glb"))?;
+    let url = format!("http://127.0.0.1:{site_port}/index.html?preset=check-phong.toml");
+    driver.load(session, &url)?;
+    let names = driver.script_async(
+        session,
+        "const done = arguments[arguments.length - 1];
+         fetch('Fox.glb').then((r) => r.arrayBuffer()).then((b) => {
+           try { window.nprViewer.load_model('Fox.glb', new Uint8Array(b)); window.nprShowClips(); }
+           catch (e) { done('error: ' + e); return; }
+           setTimeout(() => done(window.nprViewer.clip_names()), 500);
+         });",
+    )?;
+    let names = names.as_str().unwrap_or("");
+    if !names.contains("Walk") {
+        bail!("the page lists the Fox's clips as {names}");
+    }
+    let stats = |driver: &Driver| -> anyhow::Result<Value> {
+        let s = driver.script(session, "return window.nprViewer.stats_json()")?;
+        Ok(serde_json::from_str(s.as_str().unwrap_or("{}"))?)
+    };
+    let first = stats(driver)?;
+    let before = driver.canvas(session)?;
+    std::thread::sleep(Duration::from_secs(3));
+    let later = stats(driver)?;
+    let after = driver.canvas(session)?;
+    let t = |v: &Value| v["clip_time"].as_f64().unwrap_or(f64::NAN);
+    if first["clip"] != 0 || t(&later).partial_cmp(&t(&first)) != Some(std::cmp::Ordering::Greater)
+    {
+        bail!("the page does not play the Fox's first clip: {first} then {later}");
+    }
+    let moved = before
+        .pixels()
+        .zip(after.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 16))
+        .count();
+    if moved < 100 {
+        bail!("the Fox does not move on the page ({moved} pixels changed in 3 s)");
+    }
+    driver.script(session, "return window.nprViewer.toggle_clip()")?;
+    let paused = stats(driver)?;
+    std::thread::sleep(Duration::from_secs(1));
+    let still = stats(driver)?;
+    if t(&paused) != t(&still) {
+        bail!(
+            "paused, the clip time still moves: {} then {}",
+            t(&paused),
+            t(&still)
+        );
+    }
+    println!(
+        "xtask: the page plays the Fox's clips {names}: clip time {:.2} -> {:.2} s, {moved} pixels moved; paused at {:.2} s",
+        t(&first),
+        t(&later),
+        t(&still)
     );
     Ok(())
 }

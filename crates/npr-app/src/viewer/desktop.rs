@@ -276,6 +276,7 @@ impl App {
         match loaded {
             Ok(timeline) => {
                 self.timeline = timeline;
+                self.state.clip_time = self.state.preset.animation.time;
                 self.state.selected = None;
                 self.status = Some(format!("opened {}", path.display()));
             }
