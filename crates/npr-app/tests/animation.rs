@@ -372,3 +372,62 @@ fn carried_directions_match_the_recomputed_field_where_parts_move_rigidly() {
     let fox_dev = median_deviation(&animated, 0.3);
     assert!(fox_dev <= 10.0, "Fox: {fox_dev}°");
 }
+
+/// On the walking Fox, a highlight's projector frame never turns by more than 45° from
+/// one frame to the next while it keeps its id (where its principal curvatures differ by
+/// at least 10 %: at an umbilic the frame is undefined), and highlights keep their ids
+/// across poses.
+#[test]
+fn projector_frames_do_not_flip_on_the_moving_model() {
+    let Some(ctx) = context_or_skip("projector_frames_do_not_flip_on_the_moving_model") else {
+        return;
+    };
+    use npr_app::animation::{Animated, ClipChoice, Playback, resolve_clip};
+    use npr_app::engine::Renderer;
+    use npr_app::preset::{Effect, Preset};
+    use std::collections::HashMap;
+    let fox = npr_app::model::Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let clip = resolve_clip(&fox, &ClipChoice::Name("Walk".into())).unwrap();
+    let animated = Animated::new(fox, clip, Playback::default()).unwrap();
+    let size = (320, 240);
+    let mut preset = Preset {
+        effect: Effect::Specular,
+        ..Preset::default()
+    };
+    preset.output.width = size.0;
+    preset.output.height = size.1;
+    let view = npr_app::view::View::new(&preset, &animated.framing(), size, 0.0);
+    let mut r = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size).unwrap();
+    let mut last: HashMap<u64, (glam::Vec3, glam::Vec3)> = HashMap::new();
+    let (mut pairs, mut worst) = (0usize, 0.0f64);
+    for i in 0..45 {
+        if i > 0 {
+            r.set_pose(&ctx.queue, animated.frame(i)).unwrap();
+        }
+        r.render(&ctx.device, &ctx.queue, &preset, &view).unwrap();
+        let mut now = HashMap::new();
+        for h in r.highlight_set().unwrap().highlights() {
+            let (kmax, kmin) = (h.centre.kappa_max, h.centre.kappa_min);
+            if !h.found || (kmax - kmin).abs() < 0.1 * kmax.abs().max(kmin.abs()) {
+                continue;
+            }
+            let (u, n) = (h.projector.axis_u, h.projector.normal);
+            if let Some(&(u0, n0)) = last.get(&h.id) {
+                let angle = npr_geometry::line_angle_deg(u0, u, n0 + n).unwrap_or(0.0);
+                worst = worst.max(angle);
+                pairs += 1;
+            }
+            now.insert(h.id, (u, n));
+        }
+        last = now;
+    }
+    eprintln!("{pairs} frame pairs of a kept highlight; worst turn {worst:.1}°");
+    assert!(
+        pairs >= 20,
+        "highlights keep their ids across poses ({pairs} pairs)"
+    );
+    assert!(
+        worst <= 45.0,
+        "a projector frame turned by {worst:.1}° between two frames"
+    );
+}
