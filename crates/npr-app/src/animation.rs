@@ -155,6 +155,19 @@ pub struct Animated {
     clip: Option<usize>,
     playback: Playback,
     framing: Framing,
+    /// For a rigged model: where each of the rig's vertices goes in the model's vertex
+    /// order, and the model's triangles ([`Model::from_mesh`]'s reordering, which depends
+    /// on the triangles alone, so it is computed once for every pose); and each vertex's
+    /// bind-pose matrix, inverted, for [`Animated::carried_directions`].
+    layout: Option<Layout>,
+}
+
+#[derive(Clone, Debug)]
+struct Layout {
+    vertex_to_output: Vec<u32>,
+    vertices: usize,
+    indices: Vec<u32>,
+    bind_inverse: Vec<glam::Mat4>,
 }
 
 impl Animated {
@@ -172,11 +185,26 @@ impl Animated {
             (Some(rig), None) => Framing::of(&rig.pose_mesh(&rig.bind_pose())),
             _ => model.framing,
         };
+        let layout = model.rig.as_ref().map(|rig| {
+            let bind = rig.bind_pose();
+            let reordered = npr_geometry::locality::reorder_for_locality(&rig.pose_mesh(&bind));
+            Layout {
+                vertex_to_output: reordered.vertex_to_output,
+                vertices: reordered.mesh.positions.len(),
+                indices: reordered.mesh.indices,
+                bind_inverse: rig
+                    .vertex_transforms(&bind)
+                    .iter()
+                    .map(glam::Mat4::inverse)
+                    .collect(),
+            }
+        });
         Ok(Self {
             model,
             clip,
             playback,
             framing,
+            layout,
         })
     }
 
@@ -257,12 +285,18 @@ impl Animated {
     }
 
     /// `rest` ([`Animated::rest_directions`]) carried to clip time `t`, per vertex of
-    /// [`Animated::model_at`]`(t)`: each vertex's direction turned by its skinning
-    /// matrix at `t` over its matrix at the bind pose, then laid into the posed tangent
-    /// plane. Exact where a part moves rigidly; near a joint the blend of two matrices
-    /// is an approximation of the posed surface's own field.
-    pub fn carried_directions(&self, rest: &[glam::Vec3], t: f32) -> Vec<glam::Vec3> {
-        let Some(rig) = self.model.rig.as_ref() else {
+    /// `posed` (that is [`Animated::model_at`]`(t)`, whose normals it uses): each vertex's
+    /// direction turned by its skinning matrix at `t` over its matrix at the bind pose,
+    /// then laid into the posed tangent plane. Exact where a part moves rigidly; near a
+    /// joint the blend of two matrices is an approximation of the posed surface's own
+    /// field.
+    pub fn carried_directions(
+        &self,
+        rest: &[glam::Vec3],
+        t: f32,
+        posed: &Model,
+    ) -> Vec<glam::Vec3> {
+        let (Some(rig), Some(layout)) = (self.model.rig.as_ref(), self.layout.as_ref()) else {
             return rest.to_vec();
         };
         let pose = match self.clip {
@@ -279,27 +313,19 @@ impl Animated {
             }
             None => rig.bind_pose(),
         };
-        let (at_bind, at_t) = (
-            rig.vertex_transforms(&rig.bind_pose()),
-            rig.vertex_transforms(&pose),
-        );
-        let posed = rig.pose_mesh(&pose);
-        let carried: Vec<glam::Vec3> = rest
+        let mut out = vec![glam::Vec3::ZERO; posed.mesh.positions.len()];
+        for (v, ((&d, b), m)) in rest
             .iter()
-            .zip(at_bind.iter().zip(&at_t))
-            .zip(&posed.normals)
-            .map(|((&d, (b, m)), &n)| {
-                let d = m.transform_vector3(b.inverse().transform_vector3(d));
-                (d - n * n.dot(d)).normalize_or_zero()
-            })
-            .collect();
-        // In the vertex order the model gets (Model::from_mesh reorders by the triangles
-        // alone, the same for every pose).
-        let order = npr_geometry::locality::reorder_for_locality(&posed).vertex_to_output;
-        let mut out = vec![glam::Vec3::ZERO; carried.len()];
-        for (v, d) in carried.into_iter().enumerate() {
-            if let Some(slot) = order.get(v).and_then(|&o| out.get_mut(o as usize)) {
-                *slot = d;
+            .zip(&layout.bind_inverse)
+            .zip(rig.vertex_transforms(&pose))
+            .enumerate()
+        {
+            let Some(o) = layout.vertex_to_output.get(v).map(|&o| o as usize) else {
+                continue;
+            };
+            if let (Some(slot), Some(&n)) = (out.get_mut(o), posed.mesh.normals.get(o)) {
+                let d = m.transform_vector3(b.transform_vector3(d));
+                *slot = (d - n * n.dot(d)).normalize_or_zero();
             }
         }
         out
@@ -312,10 +338,32 @@ impl Animated {
 
     /// The model at clip time `t`: the posed mesh, with the clip's framing.
     pub fn model_at(&self, t: f32) -> Model {
-        if self.model.rig.is_none() {
+        let Some(layout) = &self.layout else {
             return self.model.clone();
+        };
+        // The pose in the model's vertex order (as Model::from_mesh would reorder it).
+        let posed = self.mesh_at(t);
+        let mut mesh = npr_geometry::Mesh {
+            positions: vec![glam::Vec3::ZERO; layout.vertices],
+            normals: vec![glam::Vec3::ZERO; layout.vertices],
+            uvs: if posed.uvs.is_empty() {
+                Vec::new()
+            } else {
+                vec![glam::Vec2::ZERO; layout.vertices]
+            },
+            indices: layout.indices.clone(),
+        };
+        for (v, &o) in layout.vertex_to_output.iter().enumerate() {
+            let o = o as usize;
+            if o < layout.vertices {
+                mesh.positions[o] = posed.positions[v];
+                mesh.normals[o] = posed.normals[v];
+                if let (Some(dst), Some(&uv)) = (mesh.uvs.get_mut(o), posed.uvs.get(v)) {
+                    *dst = uv;
+                }
+            }
         }
-        let mut m = Model::from_mesh(&self.model.name, self.mesh_at(t));
+        let mut m = Model::in_order(&self.model.name, mesh);
         m.path.clone_from(&self.model.path);
         m.notes.clone_from(&self.model.notes);
         m.framing = self.framing;

@@ -36,7 +36,15 @@ impl Model {
     /// vertices no triangle uses dropped; the highlight setup's face walks and the GPU's
     /// vertex cache both run faster on it).
     pub fn from_mesh(name: &str, mesh: Mesh) -> Self {
-        let mesh = npr_geometry::locality::reorder_for_locality(&mesh).mesh;
+        Self::in_order(
+            name,
+            npr_geometry::locality::reorder_for_locality(&mesh).mesh,
+        )
+    }
+
+    /// A model of `mesh` as it is, already in the order [`Model::from_mesh`] gives (a
+    /// new pose of a rigged model, reordered once for all its poses).
+    pub(crate) fn in_order(name: &str, mesh: Mesh) -> Self {
         let framing = Framing::of(&mesh);
         Self {
             name: name.to_string(),

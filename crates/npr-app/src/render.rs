@@ -228,7 +228,7 @@ pub fn render_clip_frames(
         let model = animated.frame(i);
         match &carried {
             Some(rest) => {
-                let dirs = animated.carried_directions(rest, animated.time_of(i));
+                let dirs = animated.carried_directions(rest, animated.time_of(i), &model);
                 renderer.set_pose_with_directions(&ctx.queue, model, (which, dirs))?;
             }
             None if i > 0 => renderer.set_pose(&ctx.queue, model)?,

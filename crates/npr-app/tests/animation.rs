@@ -332,8 +332,8 @@ fn carried_directions_match_the_recomputed_field_where_parts_move_rigidly() {
     let median_deviation = |animated: &Animated, t: f32| {
         let which = DirectionPreset::default();
         let rest = animated.rest_directions(which);
-        let carried = animated.carried_directions(&rest, t);
         let model = animated.model_at(t);
+        let carried = animated.carried_directions(&rest, t, &model);
         let exact = npr_hatching::stroke_directions(
             &model.mesh,
             &npr_hatching::DirectionSource::default(),

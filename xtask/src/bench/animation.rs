@@ -139,16 +139,17 @@ fn cpu_row(name: &str, animated: &Animated) -> Vec<Cell> {
     });
     let which = npr_app::preset::DirectionPreset::default();
     let rest = animated.rest_directions(which);
+    let posed: Vec<Model> = (0..=FRAMES).map(|i| animated.frame(i)).collect();
     let carried_ms = mean_ms(|i| {
-        std::hint::black_box(animated.carried_directions(&rest, animated.time_of(i)));
+        std::hint::black_box(animated.carried_directions(&rest, animated.time_of(i), &posed[i]));
     });
     // The carried field against the one computed on each pose: the median angle between
     // the two lines (in the model's vertex order, with the model's normals).
     let mut dev = Vec::new();
     for i in (0..=FRAMES).step_by(5) {
-        let model = animated.frame(i);
+        let model = &posed[i];
         let exact = npr_hatching::figures::directions_from(&model.mesh, &source);
-        let carried = animated.carried_directions(&rest, animated.time_of(i));
+        let carried = animated.carried_directions(&rest, animated.time_of(i), model);
         for ((a, b), n) in exact.iter().zip(&carried).zip(&model.mesh.normals) {
             if let Some(d) = npr_geometry::line_angle_deg(*a, *b, *n) {
                 dev.push(d);
@@ -202,7 +203,7 @@ fn gpu_row(
         let model = frames[i].clone();
         let posed = match &rest {
             Some(r) => {
-                let dirs = animated.carried_directions(r, animated.time_of(i));
+                let dirs = animated.carried_directions(r, animated.time_of(i), &model);
                 renderer.set_pose_with_directions(&ctx.queue, model, (which, dirs))
             }
             None => renderer.set_pose(&ctx.queue, model),

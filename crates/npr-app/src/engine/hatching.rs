@@ -69,6 +69,22 @@ impl HatchingEffect {
         }
     }
 
+    /// Which pixels the last hatched frame covers, read back (submits and waits); `None`
+    /// before a hatched frame.
+    ///
+    /// # Errors
+    /// [`AppError::Hatching`] when readback fails.
+    pub(crate) fn read_mask(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<Vec<bool>>, AppError> {
+        match self.frame.get() {
+            Some(h) => Ok(Some(h.frame.gbuffer.read_surface_mask(device, queue)?)),
+            None => Ok(None),
+        }
+    }
+
     /// Starts reading back the last hatched frame's G-buffer for the pen plotter (tone
     /// and θ, which pixels the object covers, the depth buffer); `None` before a hatched
     /// frame.

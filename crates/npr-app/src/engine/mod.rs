@@ -268,10 +268,7 @@ impl Renderer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Option<Vec<bool>>, AppError> {
-        match self.start_pen_readback(device, queue)? {
-            Some(r) => Ok(Some(r.wait(device)?.mask)),
-            None => Ok(None),
-        }
+        self.hatching.read_mask(device, queue)
     }
 
     /// The last hatched frame traced for a pen plotter (see `npr_hatching::pen`): its

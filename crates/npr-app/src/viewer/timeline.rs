@@ -115,8 +115,9 @@ impl Timeline {
                     self.rest = Some((which, animated.rest_directions(which)));
                 }
                 let rest = self.rest.as_ref().map_or(&[][..], |(_, r)| r.as_slice());
-                let dirs = animated.carried_directions(rest, t);
-                renderer.set_pose_with_directions(queue, animated.model_at(t), (which, dirs))?;
+                let model = animated.model_at(t);
+                let dirs = animated.carried_directions(rest, t, &model);
+                renderer.set_pose_with_directions(queue, model, (which, dirs))?;
             } else {
                 renderer.set_pose(queue, animated.model_at(t))?;
             }
