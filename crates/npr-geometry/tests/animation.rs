@@ -823,3 +823,30 @@ fn posed_rigs_have_the_analytic_curvature() {
         ))
     });
 }
+
+/// The sway rig on any mesh: the rest pose is the mesh, the lower third does not move,
+/// the top turns by the clip's 15° about the middle joint, and posing stays finite.
+#[test]
+fn a_swaying_rig_holds_its_base_and_leans_its_top() {
+    let mesh = generate::icosphere(3, 1.0);
+    let m = generate::swaying(mesh.clone());
+    let clip = &m.rig.clips()[0];
+    let rest = m.rig.pose_mesh(&m.rig.sample(clip, 0.0));
+    for (p, q) in rest.positions.iter().zip(&mesh.positions) {
+        assert!((*p - *q).length() < 1e-6, "rest {q} → {p}");
+    }
+    let leaned = m.rig.pose_mesh(&m.rig.sample(clip, 0.5));
+    leaned.validate().unwrap();
+    let turn = glam::Quat::from_rotation_z(15f32.to_radians());
+    let (mut base, mut top) = (0, 0);
+    for (p, q) in leaned.positions.iter().zip(&mesh.positions) {
+        if q.y < -1.0 / 3.0 - 1e-4 {
+            assert!((*p - *q).length() < 1e-6, "base {q} → {p}");
+            base += 1;
+        } else if q.y > 1.0 / 3.0 + 1e-4 {
+            assert!((*p - turn * *q).length() < 1e-5, "top {q} → {p}");
+            top += 1;
+        }
+    }
+    assert!(base > 10 && top > 10, "{base} base and {top} top vertices");
+}

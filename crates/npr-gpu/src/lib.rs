@@ -17,6 +17,8 @@
 //!   attachments and passes, and [`PipelineBuilder`].
 //! - [`outline`]: silhouette and crease lines from a normal + depth prepass, over any
 //!   style.
+//! - [`posing`]: a rig's morph targets and skinning as a compute pass that writes the
+//!   posed mesh into its own vertex buffer, drawn by every pass.
 //!
 //! Every pass takes `&wgpu::Device`, `&wgpu::Queue` and target views from the caller, so
 //! it can be recorded into someone else's renderer; [`GpuContext`] is a convenience.
@@ -35,6 +37,7 @@ pub mod layout;
 mod mesh;
 pub mod outline;
 pub mod pass;
+pub mod posing;
 pub mod projective;
 mod readback;
 pub mod render;
@@ -52,6 +55,7 @@ pub use context::GpuContext;
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use pass::{FrameId, Pass, PassError, Prepared};
+pub use posing::{PoseInput, PosedObject, PosingPass};
 pub use readback::{TextureReadback, padded_bytes_per_row, readback_rgba, readback_texture};
 pub use render::{PipelineBuilder, TargetFormats};
 pub use shading::{

@@ -124,9 +124,11 @@ impl GpuMesh {
             vertex_buffer: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("npr mesh vertices"),
                 contents: bytemuck::cast_slice(&vertices),
+                // STORAGE: the posing pass writes a pose here; COPY_SRC: read it back.
                 usage: wgpu::BufferUsages::VERTEX
                     | wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_DST,
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
             }),
             index_buffer: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("npr mesh indices"),

@@ -19,6 +19,9 @@ pub const FULLSCREEN: &str = include_str!("../shaders/fullscreen.wgsl");
 pub const BASE_SHADING: &str = include_str!("../shaders/base_shading.wgsl");
 /// Outlines (silhouettes, creases) from a normal + depth prepass; shared by every style.
 pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
+/// Posing: morph targets and linear blend skinning into the mesh's vertex buffer, and
+/// the posed area-weighted normals (compute).
+pub const POSING: &str = include_str!("../shaders/posing.wgsl");
 
 /// One WGSL file: its name, its text, and the shared snippets composed before it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,6 +80,12 @@ pub const OUTLINE_FILE: ShaderFile = ShaderFile {
     source: OUTLINE,
     prelude: &[COMMON, FULLSCREEN],
 };
+/// `posing.wgsl` (compute; no shared snippet).
+pub const POSING_FILE: ShaderFile = ShaderFile {
+    name: "posing.wgsl",
+    source: POSING,
+    prelude: &[],
+};
 
 /// Every shader file of this crate. A test checks that it names every `.wgsl` file in the
 /// crate's `shaders/` directory and that each composed shader validates.
@@ -85,4 +94,5 @@ pub const ALL: &[ShaderFile] = &[
     FULLSCREEN_FILE,
     BASE_SHADING_FILE,
     OUTLINE_FILE,
+    POSING_FILE,
 ];

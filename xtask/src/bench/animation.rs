@@ -10,11 +10,18 @@
 //! same model rendered
 //! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
 //! setup the specular frame reports. Default models: the Fox and the procedural rigs
-//! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`); `--mesh`
+//! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`) and, as a
+//! scale row reported only, the bunny on `generate::swaying`'s two-joint rig; `--mesh`
 //! adds rigged glTF files. CPU times are wall time on this machine's cores.
 //! `carried_ms` is the rest pose's stroke field carried through the skinning
 //! (`Animated::carried_directions`), and `carried_dev_deg` the median angle between it
 //! and the field computed on each pose; the hatching's frame is measured both ways.
+//!
+//! The posing table sets one pose into the uploaded mesh both ways, the clip sampled
+//! beforehand: `cpu_pose_ms` poses on the CPU (`Rig::pose_mesh`) and uploads the vertices
+//! (`GpuMesh::write_vertices`); `gpu_pose_ms` records `npr_gpu::PosingPass` (morphs,
+//! skinning and, for a file without normals, the posed normals) into the vertex buffer.
+//! Both wait for the GPU; `gpu_vs_cpu` is their ratio in the same run.
 
 use super::table::{Cell, Table, emit};
 use npr_app::animation::{Animated, Playback};
@@ -56,6 +63,13 @@ fn default_models() -> anyhow::Result<Vec<Model>> {
         rigged(
             "twisted bar (procedural)",
             npr_geometry::generate::twisted_bar(0.4, 3.0, 40),
+        ),
+        // The scale row, reported only: a 35k-vertex scan on a two-joint sway.
+        rigged(
+            "bunny (sway rig, scale)",
+            npr_geometry::generate::swaying(
+                Model::load(&crate::fixture_mesh("stanford-bunny.obj"))?.mesh,
+            ),
         ),
     ])
 }
@@ -99,18 +113,35 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "setup_us",
         ],
     );
+    let mut posing = Table::new(
+        &format!(
+            "animation: one pose set into the uploaded mesh, CPU reference vs GPU compute (adapter {})",
+            ctx.adapter.get_info().name
+        ),
+        &[
+            "model",
+            "vertices",
+            "cpu_pose_ms",
+            "gpu_pose_ms",
+            "gpu_vs_cpu",
+        ],
+    );
     let bar = super::progress(models.len() as u64, "animation");
     for model in models {
         let name = model.name.clone();
+        let rig = model.rig.clone();
         let animated = Animated::new(model, Some(0), Playback::default())?;
         cpu.push(cpu_row(&name, &animated));
+        if let Some(rig) = &rig {
+            posing.push(posing_row(&ctx, &name, rig, &animated)?);
+        }
         for (effect, geometry) in EFFECTS {
             gpu.push(gpu_row(&ctx, &name, &animated, (effect, geometry))?);
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    emit(&[cpu, gpu], json)
+    emit(&[cpu, posing, gpu], json)
 }
 
 /// Mean milliseconds of `f` over the frames.
@@ -231,5 +262,58 @@ fn gpu_row(
         } else {
             Cell::Empty
         },
+    ])
+}
+
+fn posing_row(
+    ctx: &npr_gpu::GpuContext,
+    name: &str,
+    rig: &npr_geometry::animation::Rig,
+    animated: &Animated,
+) -> anyhow::Result<Vec<Cell>> {
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let clip = &rig.clips()[0];
+    let poses: Vec<_> = (0..=FRAMES)
+        .map(|i| rig.sample(clip, animated.time_of(i)))
+        .collect();
+    let bind = rig.pose_mesh(&rig.bind_pose());
+    let mesh = npr_gpu::GpuMesh::upload(d, &bind)?;
+    let wait = || {
+        let _ = d.poll(wgpu::PollType::wait_indefinitely());
+    };
+    let mut result: anyhow::Result<()> = Ok(());
+    let cpu_ms = mean_ms(|i| {
+        if let Err(e) = mesh.write_vertices(q, &rig.pose_mesh(&poses[i])) {
+            result = Err(e.into());
+        }
+        q.submit([]);
+        wait();
+    });
+    let pass = npr_gpu::PosingPass::new(d);
+    let mut object = pass.create_object(d, &mesh, rig, None)?;
+    let mut frame = npr_gpu::FrameId::default();
+    let gpu_ms = mean_ms(|i| {
+        frame = frame.next();
+        let input = npr_gpu::PoseInput {
+            frame,
+            pose: &poses[i],
+        };
+        let mut encoder = d.create_command_encoder(&Default::default());
+        let step = pass
+            .prepare(q, &mut object, &input)
+            .and_then(|p| pass.record(&mut encoder, &object, &p));
+        if let Err(e) = step {
+            result = Err(e.into());
+        }
+        q.submit([encoder.finish()]);
+        wait();
+    });
+    result?;
+    Ok(vec![
+        name.into(),
+        bind.positions.len().into(),
+        Cell::Num(cpu_ms, 3),
+        Cell::Num(gpu_ms, 3),
+        Cell::Num(gpu_ms / cpu_ms.max(1e-9), 2),
     ])
 }

@@ -287,6 +287,13 @@ impl Rig {
         )
     }
 
+    /// The first render vertex at render vertex `v`'s loaded position (`v` itself for
+    /// the first): [`Rig::pose_mesh`] gives every render vertex its representative's
+    /// posed position, so seam duplicates stay welded in every pose.
+    pub fn weld_representative(&self, v: usize) -> usize {
+        self.weld_rep.get(v).map_or(v, |&r| r as usize)
+    }
+
     /// The unposed, unmorphed mesh: bind-space positions of skinned vertices,
     /// node-local positions of the others; the loaded mesh's uvs and triangles.
     pub fn base_mesh(&self) -> &Mesh {

@@ -28,7 +28,7 @@ mod tests;
 
 pub use cad::{Bracket, box_with_hole, cad_parts, filleted_bracket, stepped_shaft};
 pub use knot::{TorusKnot, benchmark_knot, paper_knot, torus_knot};
-pub use rigged::{Rigged, bent_tube, stretched_sphere, twisted_bar};
+pub use rigged::{Rigged, bent_tube, stretched_sphere, swaying, twisted_bar};
 pub use surfaces::{
     cylinder, ellipsoid, geodesic_sphere, icosphere, plane, torus, torus_jittered,
     torus_segments_for, uv_sphere,

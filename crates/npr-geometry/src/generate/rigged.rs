@@ -211,3 +211,62 @@ pub fn twisted_bar(width: f32, length: f32, rings: usize) -> Rigged {
     let rig = Rig::skinned(&mesh, nodes, skin, &influences, vec![clip]);
     Rigged { mesh, rig }
 }
+
+/// Any mesh given a two-joint rig, for measuring what posing costs at a mesh's own
+/// size: a base joint at its lowest point and a top joint at its highest (along y),
+/// weights blending smoothly with height, and a clip `"sway"` (2 s, LINEAR) that leans
+/// the top joint 15° to each side about z and back. No closed-form target.
+pub fn swaying(mesh: Mesh) -> Rigged {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let (lo, hi) = if lo.x <= hi.x {
+        (lo, hi)
+    } else {
+        (Vec3::ZERO, Vec3::Y)
+    };
+    let height = (hi.y - lo.y).max(f32::MIN_POSITIVE);
+    let base = Vec3::new(0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z));
+    let middle = base + Vec3::new(0.0, 0.5 * height, 0.0);
+    let nodes = vec![
+        node("mesh", None, Vec3::ZERO),
+        node("base", None, base),
+        node("top", Some(1), middle - base),
+    ];
+    let skin = Skin {
+        name: Some("sway".into()),
+        joints: vec![1, 2],
+        inverse_bind: vec![
+            Mat4::from_translation(-base),
+            Mat4::from_translation(-middle),
+        ],
+    };
+    let q = |deg: f32| Quat::from_rotation_z(deg.to_radians()).to_array().to_vec();
+    let clip = Clip::new(
+        Some("sway".into()),
+        channel(
+            2,
+            Property::Rotation,
+            &[0.0, 0.5, 1.5, 2.0],
+            &[q(0.0), q(15.0), q(-15.0), q(0.0)],
+        )
+        .into_iter()
+        .collect(),
+    );
+    let influences: Vec<Vec<(u16, f32)>> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            // Smoothstep across the middle third of the height.
+            let s = ((p.y - lo.y) / height * 3.0 - 1.0).clamp(0.0, 1.0);
+            let w1 = s * s * (3.0 - 2.0 * s);
+            [(0u16, 1.0 - w1), (1u16, w1)]
+                .into_iter()
+                .filter(|x| x.1 > 0.0)
+                .collect()
+        })
+        .collect();
+    let rig = Rig::skinned(&mesh, nodes, skin, &influences, vec![clip]);
+    Rigged { mesh, rig }
+}

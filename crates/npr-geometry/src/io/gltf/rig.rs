@@ -234,42 +234,7 @@ pub(super) fn skin_influences(
                 },
             ));
         };
-        let type_name = |a: &gltf::Accessor<'_>| {
-            format!(
-                "{:?} {:?}{}",
-                a.dimensions(),
-                a.data_type(),
-                if a.normalized() { " normalized" } else { "" }
-            )
-        };
-        if !(matches!(j_acc.data_type(), DataType::U8 | DataType::U16)
-            && !j_acc.normalized()
-            && j_acc.dimensions() == Dimensions::Vec4)
-        {
-            return Err(c.anim(
-                at,
-                AnimationError::AttributeType {
-                    attribute: format!("JOINTS_{set}"),
-                    allowed: "VEC4 of unsigned byte or unsigned short",
-                    found: type_name(&j_acc),
-                },
-            ));
-        }
-        let w_ok = match w_acc.data_type() {
-            DataType::F32 => true,
-            DataType::U8 | DataType::U16 => w_acc.normalized(),
-            _ => false,
-        };
-        if !(w_ok && w_acc.dimensions() == Dimensions::Vec4) {
-            return Err(c.anim(
-                at,
-                AnimationError::AttributeType {
-                    attribute: format!("WEIGHTS_{set}"),
-                    allowed: "VEC4 of float, or normalised unsigned byte or short",
-                    found: type_name(&w_acc),
-                },
-            ));
-        }
+        check_skin_types(&j_acc, &w_acc, set, at, c)?;
         let (j, _) = read_accessor(&j_acc, buffers, c)?;
         let (w, _) = read_accessor(&w_acc, buffers, c)?;
         if j.len() != 4 * n || w.len() != 4 * n {
@@ -311,6 +276,65 @@ pub(super) fn skin_influences(
             }
         }
     }
+    let normalised = normalise_weights(&mut out, at, c)?;
+    Ok((out, normalised))
+}
+
+/// `JOINTS_n` must be a VEC4 of unsigned bytes or shorts; `WEIGHTS_n` a VEC4 of floats or
+/// of normalised unsigned bytes or shorts (glTF 2.0, "Skinned Mesh Attributes").
+fn check_skin_types(
+    j_acc: &gltf::Accessor<'_>,
+    w_acc: &gltf::Accessor<'_>,
+    set: u32,
+    at: &str,
+    c: &Ctx<'_>,
+) -> Result<(), LoadError> {
+    let type_name = |a: &gltf::Accessor<'_>| {
+        format!(
+            "{:?} {:?}{}",
+            a.dimensions(),
+            a.data_type(),
+            if a.normalized() { " normalized" } else { "" }
+        )
+    };
+    if !(matches!(j_acc.data_type(), DataType::U8 | DataType::U16)
+        && !j_acc.normalized()
+        && j_acc.dimensions() == Dimensions::Vec4)
+    {
+        return Err(c.anim(
+            at,
+            AnimationError::AttributeType {
+                attribute: format!("JOINTS_{set}"),
+                allowed: "VEC4 of unsigned byte or unsigned short",
+                found: type_name(j_acc),
+            },
+        ));
+    }
+    let w_ok = match w_acc.data_type() {
+        DataType::F32 => true,
+        DataType::U8 | DataType::U16 => w_acc.normalized(),
+        _ => false,
+    };
+    if !(w_ok && w_acc.dimensions() == Dimensions::Vec4) {
+        return Err(c.anim(
+            at,
+            AnimationError::AttributeType {
+                attribute: format!("WEIGHTS_{set}"),
+                allowed: "VEC4 of float, or normalised unsigned byte or short",
+                found: type_name(w_acc),
+            },
+        ));
+    }
+    Ok(())
+}
+
+/// Scales each vertex's weights to sum to 1; returns how many were off by more than
+/// quantisation.
+fn normalise_weights(
+    out: &mut [Vec<(u16, f32)>],
+    at: &str,
+    c: &Ctx<'_>,
+) -> Result<usize, LoadError> {
     let mut normalised = 0;
     for (v, inf) in out.iter_mut().enumerate() {
         let sum: f64 = inf.iter().map(|&(_, w)| f64::from(w)).sum();
@@ -331,7 +355,7 @@ pub(super) fn skin_influences(
             *w = (f64::from(*w) / sum) as f32;
         }
     }
-    Ok((out, normalised))
+    Ok(normalised)
 }
 
 /// Every node of the document: name, parent, rest transform; and an order with parents
