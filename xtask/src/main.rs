@@ -40,6 +40,10 @@ enum Command {
         /// meshes (`hatching-directions`, `specular`, `specular-fidelity`).
         #[arg(long)]
         mesh: Vec<PathBuf>,
+        /// A clip (name or index) that the `--mesh` models play, beside their rigid turn
+        /// (`specular-fidelity`, `hatching-coherence`).
+        #[arg(long, value_name = "NAME|INDEX")]
+        animation: Option<String>,
     },
     /// Regenerate fixtures/ from the code that defines them.
     Fixtures,
@@ -78,7 +82,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Test => test::run(),
         Command::Demo => demo::run(),
-        Command::Bench { name, json, mesh } => bench::run(&name, &mesh, json.as_deref()),
+        Command::Bench {
+            name,
+            json,
+            mesh,
+            animation,
+        } => bench::run(&name, &mesh, json.as_deref(), animation.as_deref()),
         Command::Fixtures => fixtures::run(),
         Command::Doctor => {
             println!("adapter: {}", gpu_setup::ensure_adapter()?);

@@ -431,3 +431,63 @@ fn projector_frames_do_not_flip_on_the_moving_model() {
         "a projector frame turned by {worst:.1}° between two frames"
     );
 }
+
+/// Highlights on a moving body pop and jump no more than on the same body's rigid turn:
+/// the Fox walking and the procedural bent tube bending, 90 frames of the clip at 30 fps
+/// against 90 one-degree steps of its rest pose turning, under the same light and eye
+/// (`npr_specular::fidelity::{pose_coherence, turntable_coherence}`, the measures of
+/// `bench specular-fidelity`'s turning table).
+#[test]
+fn highlights_pop_no_more_on_the_clip_than_on_the_turntable() {
+    use npr_app::animation::{Animated, Playback};
+    use npr_geometry::{CurvatureOptions, LightEye};
+    use npr_specular::HighlightSet;
+    use npr_specular::fidelity::{pose_coherence, turntable_coherence};
+    const FRAMES: usize = 90;
+    let mut tube = {
+        let r = npr_geometry::generate::bent_tube(0.3, 2.0, 1.5, 24, 32);
+        npr_app::model::Model::from_mesh("bent tube", r.mesh)
+    };
+    tube.rig = Some(npr_geometry::generate::bent_tube(0.3, 2.0, 1.5, 24, 32).rig);
+    let fox = npr_app::model::Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let options = CurvatureOptions::default();
+    for (model, clip) in [(fox, 1), (tube, 0)] {
+        let name = model.name.clone();
+        let rig = model.rig.clone().unwrap();
+        let rest = rig.pose_mesh(&rig.bind_pose());
+        let animated = Animated::new(model, Some(clip), Playback::default()).unwrap();
+        let (camera, world) = npr_gpu::figures::framing_camera(&rest, 4.0 / 3.0);
+        let le = LightEye::Positions {
+            light: glam::Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
+            eye: camera.eye,
+        };
+        let mut set = HighlightSet::new(&rest, &options).unwrap();
+        let turn = turntable_coherence(&mut set, le, world, FRAMES, 1.0);
+        let poses = (0..FRAMES).map(|i| animated.posed_mesh(i));
+        let clip = pose_coherence(&mut set, le, world, poses, &options).unwrap();
+        eprintln!(
+            "{name}: turn pops {}+{} area {:.3}; clip pops {}+{} area {:.3}",
+            turn.pops_in,
+            turn.pops_out,
+            turn.area_change_max,
+            clip.pops_in,
+            clip.pops_out,
+            clip.area_change_max
+        );
+        assert_eq!(clip.frames, FRAMES);
+        assert!(
+            clip.pops_in <= turn.pops_in && clip.pops_out <= turn.pops_out,
+            "{name}: the clip pops {}+{} against the turn's {}+{}",
+            clip.pops_in,
+            clip.pops_out,
+            turn.pops_in,
+            turn.pops_out
+        );
+        assert!(
+            clip.area_change_max <= turn.area_change_max + 1e-3,
+            "{name}: a footprint's area jumps {:.3} on the clip, {:.3} on the turn",
+            clip.area_change_max,
+            turn.area_change_max
+        );
+    }
+}

@@ -22,7 +22,8 @@ struct Scene {
 
 // Surface anchoring (coherent hatching, beyond the paper's §5 shower-door limit): two
 // reference views per object, re-taken in turn; a surface point's anchor is where it was
-// on the screen at that reference view. Written by `ScenePasses::record_gbuffer` (buffer
+// on the screen at that reference view, at the pose the mesh had then (a snapshot of its
+// vertices, `@location(4)` and `(5)` of `vs_scene`). Written by `ScenePasses::record_gbuffer` (buffer
 // copies of the frame's and the object's matrices at the reference frame).
 struct Anchor {
     clip_from_world: array<mat4x4<f32>, 2>,
@@ -169,16 +170,24 @@ fn screen_line(world: vec3<f32>, clip: vec4<f32>, dir_object: vec3<f32>) -> vec2
 }
 
 @vertex
-fn vs_scene(v: VertexIn, @location(3) dir: vec3<f32>) -> SceneOut {
+fn vs_scene(
+    v: VertexIn,
+    @location(3) dir: vec3<f32>,
+    // The vertex where it was when each anchor was taken (the same as `v.position` on a
+    // rigid mesh; a deforming mesh's earlier pose).
+    @location(4) anchor_position0: vec3<f32>,
+    @location(5) anchor_position1: vec3<f32>,
+) -> SceneOut {
     var out: SceneOut;
     let world = object.world_from_object * vec4<f32>(v.position, 1.0);
     out.world = world.xyz;
     out.clip = frame.clip_from_world * world;
     out.normal = normalize(object.normal_from_object * v.normal);
     out.line = screen_line(world.xyz, out.clip, dir);
-    let p = vec4<f32>(v.position, 1.0);
-    out.ref0 = anchor.clip_from_world[0] * (anchor.world_from_object[0] * p);
-    out.ref1 = anchor.clip_from_world[1] * (anchor.world_from_object[1] * p);
+    let p0 = vec4<f32>(anchor_position0, 1.0);
+    let p1 = vec4<f32>(anchor_position1, 1.0);
+    out.ref0 = anchor.clip_from_world[0] * (anchor.world_from_object[0] * p0);
+    out.ref1 = anchor.clip_from_world[1] * (anchor.world_from_object[1] * p1);
     out.light = vec2<f32>(scene.vsm.w, scene.light_pos.w);
     return out;
 }

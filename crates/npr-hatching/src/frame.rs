@@ -126,6 +126,22 @@ impl HatchFrame {
         self.scene.create_object(device, mesh, directions)
     }
 
+    /// A new pose's stroke directions for `object`, its anchors kept
+    /// ([`crate::ScenePasses::write_directions`]): write the pose's vertices into the mesh
+    /// (`GpuMesh::write_vertices` or `npr_gpu::PosingPass`) and its directions here, and
+    /// the strokes move with the deforming surface.
+    ///
+    /// # Errors
+    /// [`HatchError::LengthMismatch`] for a count that is not the vertex count.
+    pub fn write_directions(
+        &self,
+        queue: &wgpu::Queue,
+        object: &HatchObject,
+        directions: &[Vec3],
+    ) -> Result<(), HatchError> {
+        self.scene.write_directions(queue, object, directions)
+    }
+
     /// Writes one frame: each object's uniforms and anchors, and the hatching
     /// parameters.
     ///

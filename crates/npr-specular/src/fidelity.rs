@@ -33,6 +33,7 @@ use crate::snapshot::{HighlightScene, Renderer};
 use crate::{HighlightBoundary, HighlightControls, HighlightSet, SpecularError};
 use glam::{Mat3, Mat4, Vec3};
 use npr_geometry::LightEye;
+use npr_geometry::{CurvatureOptions, Mesh};
 use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, ShadingModel};
 
 /// Blobs of the `N·H ≥ σ` mask at most this many pixels are not counted.
@@ -517,6 +518,49 @@ impl Coherence {
         self.previous = now;
         self.frames += 1;
     }
+}
+
+/// The set tracked over a rigid turn about y under a fixed light and eye: `frames`
+/// updates, update `k` at `k × step_deg` degrees applied before `world_from_normalized`.
+/// The set starts a new sequence first ([`HighlightSet::reset`]).
+pub fn turntable_coherence(
+    set: &mut HighlightSet,
+    light_eye: LightEye,
+    world_from_normalized: Mat4,
+    frames: usize,
+    step_deg: f32,
+) -> Coherence {
+    set.reset();
+    let mut c = Coherence::new(set.fade_frames);
+    for k in 0..frames {
+        let turn = Mat4::from_rotation_y((k as f32 * step_deg).to_radians());
+        set.update(light_eye, turn * world_from_normalized);
+        c.step(set);
+    }
+    c
+}
+
+/// The set tracked over the poses of a moving mesh (a clip's frames, same triangles):
+/// per pose one [`HighlightSet::repose`] and one update, light, eye and object transform
+/// still. The set starts a new sequence first.
+///
+/// # Errors
+/// As [`HighlightSet::repose`], for a pose it cannot be built on.
+pub fn pose_coherence(
+    set: &mut HighlightSet,
+    light_eye: LightEye,
+    world_from_object: Mat4,
+    poses: impl IntoIterator<Item = Mesh>,
+    options: &CurvatureOptions,
+) -> Result<Coherence, SpecularError> {
+    set.reset();
+    let mut c = Coherence::new(set.fade_frames);
+    for pose in poses {
+        set.repose(&pose, options)?;
+        set.update(light_eye, world_from_object);
+        c.step(set);
+    }
+    Ok(c)
 }
 
 /// Connected (4-neighbour) components of `mask` (row-major, `width` wide) with more than

@@ -50,14 +50,31 @@ const TAKE_MESHES: &[&str] = &[
     "plotter",
 ];
 
+/// The benchmarks that take `--animation CLIP` (played on their `--mesh` models).
+const TAKE_ANIMATION: &[&str] = &["specular-fidelity", "hatching-coherence"];
+
 /// Runs benchmark `name` (on `meshes`, added to or instead of its defaults, where it
 /// takes them).
-pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
+pub fn run(
+    name: &str,
+    meshes: &[PathBuf],
+    json: Option<&Path>,
+    animation: Option<&str>,
+) -> anyhow::Result<()> {
     if !meshes.is_empty() && !TAKE_MESHES.contains(&name) {
         anyhow::bail!(
             "benchmark `{name}` has fixed meshes; --mesh applies to: {}",
             TAKE_MESHES.join(", ")
         );
+    }
+    if animation.is_some() && !TAKE_ANIMATION.contains(&name) {
+        anyhow::bail!(
+            "benchmark `{name}` plays no clip; --animation applies to: {}",
+            TAKE_ANIMATION.join(", ")
+        );
+    }
+    if animation.is_some() && meshes.is_empty() {
+        anyhow::bail!("--animation plays a clip of a --mesh: name a rigged glTF with --mesh");
     }
     match name {
         "animation" => animation::run(meshes, json),
@@ -65,7 +82,7 @@ pub fn run(name: &str, meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Resul
         "hatching-coherence" => hatching_coherence::run(meshes, json),
         "curvature" => curvature::run(json),
         "specular" => specular::run(meshes, json),
-        "specular-fidelity" => specular_fidelity::run(json, meshes),
+        "specular-fidelity" => specular_fidelity::run(json, meshes, animation),
         "hatching" => hatching::run(json),
         "warp" => warp::run(json),
         "plotter" => plotter::run(meshes, json),

@@ -3,16 +3,19 @@
 //! its footprint is the region `N·H ≥ σ`). For each mesh, over 12 views × 2 lights at
 //! 640×480, the GPU renders the `N·H ≥ σ` mask and the projected-highlight mask
 //! (`npr_specular::fidelity`), for the paper's sizing and ours
-//! (`HighlightSizing::{Paper, Region}`). Then the 360° turn of the bunny in 1° steps:
-//! highlights that pop in or out without their fade, and the largest change of a
-//! footprint's area between consecutive frames.
+//! (`HighlightSizing::{Paper, Region}`). Then the 360° turn of the bunny and of each
+//! `--mesh` in 1° steps: highlights that pop in or out without their fade, and the
+//! largest change of a footprint's area between consecutive frames. With
+//! `--animation CLIP`, each `--mesh` that has the clip also plays it (361 frames at
+//! 30 fps, camera still, the highlight set reposed every frame), beside its own turn.
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
 use npr_specular::fidelity::{
-    Coherence, FidelityRig, FidelityScore, standard_views, surface_at_scale, unit_sphere_transform,
+    FidelityRig, FidelityScore, pose_coherence, standard_views, surface_at_scale,
+    turntable_coherence, unit_sphere_transform,
 };
 use npr_specular::{HighlightBoundary, HighlightSet, HighlightSizing};
 use std::path::{Path, PathBuf};
@@ -56,7 +59,7 @@ fn ellipsoid(mut mesh: Mesh) -> Mesh {
 }
 
 /// Runs the benchmark on the default meshes and `extra` ones.
-pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
+pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<()> {
     let ctx = GpuContext::new()?;
     let adapter = ctx.adapter_summary();
     let mut meshes = default_meshes()?;
@@ -157,17 +160,67 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf]) -> anyhow::Result<()> {
             ]);
         }
     }
-    emit(&[table, turning()?], json)
+    emit(&[table, turning(extra, animation)?], json)
 }
 
-/// The bunny turning 360° in 1° steps under a fixed light and eye, for both sizings.
-fn turning() -> anyhow::Result<Table> {
-    let mesh = load(&crate::fixture_mesh("stanford-bunny.obj"))?;
-    let (camera, world_from_normalized) = npr_gpu::figures::framing_camera(&mesh, 4.0 / 3.0);
+/// A mesh for the turning table: its name, the mesh at rest and, with `--animation`,
+/// its clip's frames.
+struct Turning {
+    name: String,
+    mesh: Mesh,
+    clip: Option<(String, Vec<Mesh>)>,
+}
+
+/// Frames of each sequence of the turning table: the turn's 361 one-degree steps, and as
+/// many frames of a clip at 30 fps.
+const TURN_FRAMES: usize = 361;
+
+fn turning_meshes(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Vec<Turning>> {
+    let mut out = vec![Turning {
+        name: "stanford-bunny".into(),
+        mesh: load(&crate::fixture_mesh("stanford-bunny.obj"))?,
+        clip: None,
+    }];
+    for path in extra {
+        let model = npr_app::model::Model::load(path)?;
+        let clip = match animation {
+            Some(name) => {
+                let choice = npr_app::animation::ClipChoice::parse(Some(name));
+                let index = npr_app::animation::resolve_clip(&model, &choice)?;
+                let animated = npr_app::animation::Animated::new(
+                    model.clone(),
+                    index,
+                    npr_app::animation::Playback::default(),
+                )?;
+                index.map(|_| {
+                    let frames = (0..TURN_FRAMES).map(|i| animated.posed_mesh(i)).collect();
+                    (name.to_string(), frames)
+                })
+            }
+            None => None,
+        };
+        let mesh = match &model.rig {
+            Some(rig) => rig.pose_mesh(&rig.bind_pose()),
+            None => model.mesh.clone(),
+        };
+        out.push(Turning {
+            name: model.name.clone(),
+            mesh,
+            clip,
+        });
+    }
+    Ok(out)
+}
+
+/// Each mesh turning 360° in 1° steps under a fixed light and eye, for both sizings; with
+/// `--animation CLIP`, the same meshes playing the clip (361 frames at 30 fps, camera and
+/// object still) beside their turn, in the same run.
+fn turning(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Table> {
     let mut table = Table::new(
-        "specular-fidelity: the bunny turning 360° in 1° steps (fade rule, footprint area)",
+        "specular-fidelity: turning 360° in 1° steps, and a clip's frames (fade rule, footprint area)",
         &[
             "mesh",
+            "motion",
             "sizing",
             "max_area_change",
             "frames",
@@ -176,34 +229,50 @@ fn turning() -> anyhow::Result<Table> {
             "area_change_max",
         ],
     );
-    let le = LightEye::Positions {
-        light: Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
-        eye: camera.eye,
-    };
-    let mut set = HighlightSet::new(&mesh, &CurvatureOptions::default())?;
-    for (sizing, limit) in [
-        (HighlightSizing::Paper, 0.25),
-        (HighlightSizing::Region, 0.25),
-        (HighlightSizing::Region, 0.0),
-    ] {
-        set.sizing = sizing;
-        set.max_area_change = limit;
-        set.reset();
-        let mut c = Coherence::new(set.fade_frames);
-        for deg in 0..=360 {
-            let m = Mat4::from_rotation_y((deg as f32).to_radians()) * world_from_normalized;
-            set.update(le, m);
-            c.step(&set);
+    let options = CurvatureOptions::default();
+    for t in turning_meshes(extra, animation)? {
+        let (camera, world_from_normalized) = npr_gpu::figures::framing_camera(&t.mesh, 4.0 / 3.0);
+        let le = LightEye::Positions {
+            light: Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
+            eye: camera.eye,
+        };
+        let mut set = HighlightSet::new(&t.mesh, &options)?;
+        for (sizing, limit) in [
+            (HighlightSizing::Paper, 0.25),
+            (HighlightSizing::Region, 0.25),
+            (HighlightSizing::Region, 0.0),
+        ] {
+            set.sizing = sizing;
+            set.max_area_change = limit;
+            let mut runs = vec![(
+                "turntable".to_string(),
+                turntable_coherence(&mut set, le, world_from_normalized, TURN_FRAMES, 1.0),
+            )];
+            if let Some((clip, frames)) = &t.clip {
+                let c = pose_coherence(
+                    &mut set,
+                    le,
+                    world_from_normalized,
+                    frames.iter().cloned(),
+                    &options,
+                )?;
+                runs.push((format!("clip {clip}"), c));
+                // Back to the rest pose for the next sizing's turn.
+                set.repose(&t.mesh, &options)?;
+            }
+            for (motion, c) in runs {
+                table.push(vec![
+                    t.name.as_str().into(),
+                    motion.into(),
+                    format!("{sizing:?}").to_lowercase().into(),
+                    Cell::Num(f64::from(limit), 2),
+                    c.frames.into(),
+                    c.pops_in.into(),
+                    c.pops_out.into(),
+                    Cell::Num(f64::from(c.area_change_max), 3),
+                ]);
+            }
         }
-        table.push(vec![
-            "stanford-bunny".into(),
-            format!("{sizing:?}").to_lowercase().into(),
-            Cell::Num(f64::from(limit), 2),
-            c.frames.into(),
-            c.pops_in.into(),
-            c.pops_out.into(),
-            Cell::Num(f64::from(c.area_change_max), 3),
-        ]);
     }
     Ok(table)
 }

@@ -160,8 +160,10 @@ impl HatchingEffect {
                 })
             })?;
         if state.pose != self.pose {
+            // A new pose of the same mesh: new directions, the anchors kept, so the
+            // strokes follow the moving surface.
             let dirs = fields.directions(&model.mesh, key.direction);
-            state.object = state.frame.create_object(device, mesh, dirs)?;
+            state.frame.write_directions(queue, &state.object, dirs)?;
             state.pose = self.pose;
         }
         if state.pencil != pencil {

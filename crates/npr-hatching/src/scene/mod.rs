@@ -16,7 +16,10 @@
 //! the pass's own shadow map and the caller's [`GBuffer`]) and [`ScenePasses::draw`]
 //! (the baseline, into the caller's render pass).
 
+mod anchor;
 mod light;
+
+use anchor::{clean_direction, copy_snapshots};
 
 pub use light::{MOMENTS_FORMAT, ShadowLight, VsmSettings};
 
@@ -120,6 +123,13 @@ struct SceneSlot {
     object_group: wgpu::BindGroup,
     /// The clock each anchor of this slot's reference views was taken at.
     anchored: [Option<u64>; 2],
+    /// The mesh's vertices as they were when each anchor was taken (`@location(4)` and
+    /// `(5)`): a posed mesh's surface point is anchored where it was then, not where it
+    /// is now, so strokes move with a deforming surface.
+    snapshots: [wgpu::Buffer; 2],
+    /// The anchors this slot's last prepare re-took, whose snapshots the next record
+    /// copies from the mesh.
+    copy_due: [bool; 2],
 }
 
 /// One object of a hatched scene: the caller's mesh (shared, not copied), its per-vertex
@@ -190,6 +200,12 @@ fn texture_group(
 
 /// The vertex layout of the stroke directions (`@location(3)`, one `vec3<f32>` per vertex).
 const DIRECTION_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Float32x3];
+/// The positions of the two anchors' vertex snapshots (`@location(4)`, `(5)`), read from
+/// buffers laid out as the mesh's [`Vertex`] (position first).
+const ANCHOR_POSITION_ATTRIBUTES: [[wgpu::VertexAttribute; 1]; 2] = [
+    wgpu::vertex_attr_array![4 => Float32x3],
+    wgpu::vertex_attr_array![5 => Float32x3],
+];
 
 impl ScenePasses {
     /// Builds the passes: the G-buffer pass writes [`GBUFFER_FORMAT`], the Phong pass
@@ -299,20 +315,11 @@ impl ScenePasses {
                 actual: directions.len(),
             });
         }
-        let clean: Vec<[f32; 3]> = directions
-            .iter()
-            .map(|d| {
-                if d.is_finite() {
-                    d.to_array()
-                } else {
-                    [0.0; 3]
-                }
-            })
-            .collect();
+        let clean: Vec<[f32; 3]> = directions.iter().map(|d| clean_direction(*d)).collect();
         let directions = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("npr hatching directions"),
             contents: bytemuck::cast_slice(&clean),
-            usage: wgpu::BufferUsages::VERTEX,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
         });
         Ok(HatchObject {
             mesh: mesh.clone(),
@@ -321,7 +328,7 @@ impl ScenePasses {
         })
     }
 
-    fn create_slot(&self) -> SceneSlot {
+    fn create_slot(&self, vertex_bytes: u64) -> SceneSlot {
         let device = &self.device;
         let uniform = |label, size| render::uniform_buffer(device, label, size);
         let frame = uniform("npr hatching frame", std::mem::size_of::<FrameUniforms>());
@@ -364,25 +371,16 @@ impl ScenePasses {
             object,
             anchor,
             anchored: [None; 2],
+            snapshots: [0, 1].map(|_| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("npr hatching anchor vertices"),
+                    size: vertex_bytes,
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            }),
+            copy_due: [false; 2],
         }
-    }
-
-    /// The anchor slot re-taken most recently at clock `c`, the clock it was taken at, and
-    /// its weight (the other slot, taken one period earlier, gets 1 − weight).
-    fn anchor_phase(&self, c: u64) -> (usize, u64, f32) {
-        let n = u64::from(self.settings.anchor_period.max(1));
-        let slot = ((c / n) % 2) as usize;
-        let taken = c - c % n;
-        (slot, taken, (c % n) as f32 / n as f32)
-    }
-
-    /// The weight of anchor 1 that [`ScenePasses::record_gbuffer`] writes on every
-    /// surface pixel of a frame prepared at `clock`: 0 or 1 outside the anchors'
-    /// cross-fade, where the hatching pass reads one anchor only
-    /// ([`crate::HatchInput::anchor_weight`]).
-    pub fn anchor_weight(&self, clock: u64) -> f32 {
-        let (slot, _, w) = self.anchor_phase(clock);
-        if slot == 1 { w } else { 1.0 - w }
     }
 
     /// Writes one object's camera, light, viewport, transform and material into a fresh
@@ -398,9 +396,10 @@ impl ScenePasses {
         object: &mut HatchObject,
         input: &SceneInput<'_>,
     ) -> Result<Prepared, HatchError> {
+        let vertex_bytes = object.mesh.vertex_buffer.size();
         let (prepared, slot) = object
             .slots
-            .next(self.id, input.frame, || self.create_slot())?;
+            .next(self.id, input.frame, || self.create_slot(vertex_bytes))?;
         let c = input.clock;
         let coherence = CoherenceUniforms {
             weights: [self.anchor_weight(c), 0.0, 0.0, 0.0],
@@ -411,42 +410,9 @@ impl ScenePasses {
         let scene = scene_uniforms(input.light, &self.settings.vsm, input.viewport);
         queue.write_buffer(&slot.scene, 0, bytemuck::bytes_of(&scene));
         queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(input.object));
+        slot.copy_due = [false; 2];
         self.retake_anchors(queue, slot, c, &view, input.object);
         Ok(prepared)
-    }
-
-    /// Writes the reference views the slot's anchors need at clock `c` and do not hold.
-    fn retake_anchors(
-        &self,
-        queue: &wgpu::Queue,
-        slot: &mut SceneSlot,
-        c: u64,
-        view: &FrameUniforms,
-        object: &ObjectUniforms,
-    ) {
-        let (current, taken, _) = self.anchor_phase(c);
-        let n = u64::from(self.settings.anchor_period.max(1));
-        // The other anchor was taken one period earlier (none before the first period:
-        // it is then taken now, once).
-        let other_taken = taken.checked_sub(n);
-        for (s, want) in [(current, Some(taken)), (1 - current, other_taken)] {
-            let have = slot.anchored[s];
-            let stale = match want {
-                Some(t) => have != Some(t),
-                None => have.is_none(),
-            };
-            if !stale {
-                continue;
-            }
-            let o = s as u64 * MAT4_BYTES;
-            let clip = std::mem::offset_of!(AnchorUniforms, clip_from_world) as u64;
-            let world = std::mem::offset_of!(AnchorUniforms, world_from_object) as u64;
-            let clip_from_world = bytemuck::bytes_of(&view.clip_from_world);
-            queue.write_buffer(&slot.anchor, clip + o, clip_from_world);
-            let world_from_object = bytemuck::bytes_of(&object.world_from_object);
-            queue.write_buffer(&slot.anchor, world + o, world_from_object);
-            slot.anchored[s] = Some(want.unwrap_or(c));
-        }
     }
 
     /// Records the variance shadow map: the moments of light depth of every prepared
@@ -460,6 +426,7 @@ impl ScenePasses {
         objects: &[(&HatchObject, &Prepared)],
     ) -> Result<(), HatchError> {
         let slots = self.slots(objects)?;
+        copy_snapshots(encoder, objects, &slots);
         let vsm = &self.settings.vsm;
         if !vsm.enabled {
             return Ok(());
@@ -522,6 +489,8 @@ impl ScenePasses {
         pass.set_bind_group(1, &slot.object_group, &[]);
         pass.set_bind_group(2, &self.moments_group, &[]);
         pass.set_vertex_buffer(1, object.directions.slice(..));
+        pass.set_vertex_buffer(2, slot.snapshots[0].slice(..));
+        pass.set_vertex_buffer(3, slot.snapshots[1].slice(..));
         object.mesh.draw(pass);
     }
 
@@ -538,6 +507,7 @@ impl ScenePasses {
         objects: &[(&HatchObject, &Prepared)],
     ) -> Result<(), HatchError> {
         let slots = self.slots(objects)?;
+        copy_snapshots(encoder, objects, &slots);
         let mut pass = render::begin_pass(
             encoder,
             "npr hatching g-buffer",
@@ -658,7 +628,17 @@ impl Pipelines {
                 .targets(targets)
                 .build(device)
         };
-        let scene_buffers = [Some(Vertex::layout()), Some(direction_layout)];
+        let anchor_layout = |attributes| wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes,
+        };
+        let scene_buffers = [
+            Some(Vertex::layout()),
+            Some(direction_layout),
+            Some(anchor_layout(&ANCHOR_POSITION_ATTRIBUTES[0])),
+            Some(anchor_layout(&ANCHOR_POSITION_ATTRIBUTES[1])),
+        ];
         // The shadow pass draws both faces so thin or open meshes still cast shadows.
         let shadow_pipeline = mesh_pipeline(
             "npr vsm shadow",
