@@ -432,7 +432,8 @@ fn projector_frames_do_not_flip_on_the_moving_model() {
     );
 }
 
-/// Highlights on a moving body pop and jump no more than on the same body's rigid turn:
+/// Highlights on a moving body pop no more than on the same body's rigid turn, and their
+/// footprints' area changes stay within the set's per-frame limit:
 /// the Fox walking and the procedural bent tube bending, 90 frames of the clip at 30 fps
 /// against 90 one-degree steps of its rest pose turning, under the same light and eye
 /// (`npr_specular::fidelity::{pose_coherence, turntable_coherence}`, the measures of
@@ -483,9 +484,13 @@ fn highlights_pop_no_more_on_the_clip_than_on_the_turntable() {
             turn.pops_in,
             turn.pops_out
         );
+        // A walk at 30 fps moves far more per frame than a 1° turn, so its footprints
+        // reach the set's per-frame area limit where the turn may stay below it; the
+        // limit must hold on the moving body as on the turn.
+        let cap = set.max_area_change;
         assert!(
-            clip.area_change_max <= turn.area_change_max + 1e-3,
-            "{name}: a footprint's area jumps {:.3} on the clip, {:.3} on the turn",
+            clip.area_change_max <= turn.area_change_max.max(cap) + 1e-3,
+            "{name}: a footprint's area jumps {:.3} on the clip, {:.3} on the turn, limit {cap}",
             clip.area_change_max,
             turn.area_change_max
         );

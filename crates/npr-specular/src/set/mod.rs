@@ -213,6 +213,9 @@ pub struct HighlightSet {
     grower: RegionGrower,
     radius_bound: f32,
     next_id: u64,
+    /// Whether an update has run since the set was made or reset: from then on a new
+    /// highlight fades in, even after a frame that showed none.
+    tracking: bool,
     stats: UpdateStats,
 }
 
@@ -337,6 +340,7 @@ impl HighlightSet {
         next.max_area_change = self.max_area_change;
         next.highlights = std::mem::take(&mut self.highlights);
         next.next_id = self.next_id;
+        next.tracking = self.tracking;
         next.search.interpolation = self.search.interpolation;
         *self = next;
         Ok(())
@@ -389,6 +393,7 @@ impl HighlightSet {
             grower,
             radius_bound,
             next_id: 0,
+            tracking: false,
             stats: UpdateStats::default(),
         }
     }
@@ -454,6 +459,7 @@ impl HighlightSet {
     pub fn reset(&mut self) {
         self.highlights.clear();
         self.receiver_faces.clear();
+        self.tracking = false;
     }
 
     /// Per-frame update (§3): the N = H search, matching with the previous frame, fades,
@@ -491,6 +497,7 @@ impl HighlightSet {
             region_faces: self.grower.counts(),
         };
         self.highlights = kept;
+        self.tracking = true;
         &self.highlights
     }
 
@@ -627,7 +634,9 @@ impl HighlightSet {
         } else {
             1.0 / self.fade_frames as f32
         };
-        let first_frame = previous.is_empty();
+        // Only the first update of a sequence shows its highlights at once; after a frame
+        // without any, new ones still fade in.
+        let first_frame = !self.tracking;
         let mut regions = regions.into_iter().enumerate();
         let min_area = self.min_region_area * (self.radius_bound * scale).powi(2);
         let mut merged = 0;
