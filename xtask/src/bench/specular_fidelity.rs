@@ -10,7 +10,7 @@
 //! 30 fps, camera still, the highlight set reposed every frame), beside its own turn.
 
 use super::table::{Cell, Table, emit};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
 use npr_specular::fidelity::{
