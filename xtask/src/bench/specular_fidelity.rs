@@ -90,6 +90,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
             "overlap_share",
             "cut_boundary_share",
             "edit_completeness",
+            "default",
             "adapter",
         ],
     );
@@ -156,6 +157,8 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
                 Cell::Num(s.overlap_share, 3),
                 Cell::Num(s.cut_boundary_share, 3),
                 Cell::Num(s.edit_completeness, 3),
+                // The settings `npr` and `HighlightSet::new` use.
+                Cell::Bool(scale == 1 && sizing == HighlightSizing::default()),
                 adapter.as_str().into(),
             ]);
         }

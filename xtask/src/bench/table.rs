@@ -13,6 +13,8 @@ pub enum Cell {
     Int(i64),
     /// A measured value, printed with `digits` decimals.
     Num(f64, usize),
+    /// A yes/no mark (JSON `true` / `false`; printed `yes` or blank).
+    Bool(bool),
     /// No value (written as JSON `null`).
     Empty,
 }
@@ -24,6 +26,7 @@ impl Cell {
             Cell::Int(i) => i.to_string(),
             Cell::Num(v, d) if v.is_finite() => format!("{v:.d$}", d = *d),
             Cell::Num(..) | Cell::Empty => "-".to_string(),
+            Cell::Bool(b) => if *b { "yes" } else { "" }.to_string(),
         }
     }
 
@@ -33,6 +36,7 @@ impl Cell {
             Cell::Int(i) => i.to_string(),
             Cell::Num(v, _) if v.is_finite() => format!("{v}"),
             Cell::Num(..) | Cell::Empty => "null".to_string(),
+            Cell::Bool(b) => b.to_string(),
         }
     }
 }
