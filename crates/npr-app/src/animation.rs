@@ -147,6 +147,17 @@ pub fn resolve_clip(model: &Model, choice: &ClipChoice) -> Result<Option<usize>,
     }
 }
 
+/// One pose of a rigged model as the GPU poses it ([`Animated::gpu_pose_at`]).
+#[derive(Clone, Debug)]
+pub struct GpuPose<'a> {
+    /// The rig.
+    pub rig: &'a npr_geometry::animation::Rig,
+    /// Its pose at the frame's time.
+    pub pose: npr_geometry::animation::Pose,
+    /// Where rig vertex `v` sits in the model's (and the uploaded mesh's) vertex order.
+    pub order: &'a [u32],
+}
+
 /// A model with its clip chosen: poses it frame by frame, framed over the whole clip so
 /// that the camera holds still while it plays.
 #[derive(Clone, Debug)]
@@ -249,6 +260,30 @@ impl Animated {
             (Some(rig), None) => rig.pose_mesh(&rig.bind_pose()),
             _ => self.model.mesh.clone(),
         }
+    }
+
+    /// What [`crate::engine::Renderer::set_pose_on_gpu`] needs to pose frame time `t` on
+    /// the GPU: the rig, its pose at `t` and where each rig vertex sits in the model's
+    /// vertex order. `None` for a model without a rig.
+    pub fn gpu_pose_at(&self, t: f32) -> Option<GpuPose<'_>> {
+        let (rig, layout) = (self.model.rig.as_ref()?, self.layout.as_ref()?);
+        let pose = match self.clip {
+            Some(c) => {
+                let clip = &rig.clips()[c];
+                let t = Playback {
+                    time: t,
+                    ..self.playback
+                }
+                .at(clip, 0);
+                rig.sample(clip, t)
+            }
+            None => rig.bind_pose(),
+        };
+        Some(GpuPose {
+            rig,
+            pose,
+            order: &layout.vertex_to_output,
+        })
     }
 
     /// The names of the model's clips (an index where a clip has none).
@@ -368,6 +403,37 @@ impl Animated {
         m.notes.clone_from(&self.model.notes);
         m.framing = self.framing;
         m
+    }
+}
+
+/// Sets clip time `t`'s pose of `animated` into `renderer` as `preset.animation` says:
+/// the vertices posed on the CPU and uploaded, or posed on the GPU
+/// ([`crate::preset::Posing`]); the stroke directions carried from `rest` (the rest
+/// pose's field of the preset's direction, [`Animated::rest_directions`]) when given,
+/// else taken again on the pose.
+///
+/// # Errors
+/// As [`crate::engine::Renderer::set_pose`] and
+/// [`crate::engine::Renderer::set_pose_on_gpu`].
+pub fn set_pose_at(
+    renderer: &mut crate::engine::Renderer,
+    (device, queue): (&wgpu::Device, &wgpu::Queue),
+    animated: &Animated,
+    t: f32,
+    preset: &crate::preset::Preset,
+    rest: Option<&[glam::Vec3]>,
+) -> Result<(), AppError> {
+    let model = animated.model_at(t);
+    let which = preset.hatching.direction;
+    let directions = rest.map(|r| (which, animated.carried_directions(r, t, &model)));
+    let gpu = match preset.animation.posing {
+        crate::preset::Posing::Gpu => animated.gpu_pose_at(t),
+        crate::preset::Posing::Cpu => None,
+    };
+    match (gpu, directions) {
+        (Some(g), directions) => renderer.set_pose_on_gpu(device, queue, model, &g, directions),
+        (None, Some(d)) => renderer.set_pose_with_directions(queue, model, d),
+        (None, None) => renderer.set_pose(queue, model),
     }
 }
 

@@ -225,14 +225,15 @@ pub fn render_clip_frames(
         && preset.animation.geometry == crate::preset::PoseGeometry::Carried)
         .then(|| animated.rest_directions(which));
     for i in 0..frames as usize {
-        let model = animated.frame(i);
-        match &carried {
-            Some(rest) => {
-                let dirs = animated.carried_directions(rest, animated.time_of(i), &model);
-                renderer.set_pose_with_directions(&ctx.queue, model, (which, dirs))?;
-            }
-            None if i > 0 => renderer.set_pose(&ctx.queue, model)?,
-            None => {}
+        if i > 0 || carried.is_some() || preset.animation.posing == crate::preset::Posing::Gpu {
+            crate::animation::set_pose_at(
+                &mut renderer,
+                (&ctx.device, &ctx.queue),
+                animated,
+                animated.time_of(i),
+                preset,
+                carried.as_deref(),
+            )?;
         }
         let turn = if turntable {
             360.0 * i as f32 / frames as f32

@@ -496,3 +496,62 @@ fn highlights_pop_no_more_on_the_clip_than_on_the_turntable() {
         );
     }
 }
+
+/// `[animation] posing = "gpu"`: the frames drawn from the vertices the GPU posed match
+/// those drawn from the CPU pose (the Fox walking, four frames, in the shadings, the
+/// hatching and the highlights), and a pose differs from the first.
+#[test]
+fn gpu_posing_draws_what_cpu_posing_draws() {
+    let Some(ctx) = context_or_skip("gpu_posing_draws_what_cpu_posing_draws") else {
+        return;
+    };
+    use npr_app::animation::{Animated, ClipChoice, Playback, resolve_clip};
+    use npr_app::preset::{Effect, Posing, Preset};
+    let fox = npr_app::model::Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let clip = resolve_clip(&fox, &ClipChoice::Name("Walk".into())).unwrap();
+    let animated = Animated::new(fox, clip, Playback::default()).unwrap();
+    for effect in [Effect::Phong, Effect::HatchingPen, Effect::Specular] {
+        let mut frames = Vec::new();
+        for posing in [Posing::Cpu, Posing::Gpu] {
+            let mut preset = Preset {
+                effect,
+                ..Preset::default()
+            };
+            preset.animation.posing = posing;
+            preset.output.width = 240;
+            preset.output.height = 180;
+            let mut images = Vec::new();
+            npr_app::render::render_clip_frames(
+                ctx,
+                &animated,
+                &preset,
+                (4, false),
+                &mut |_, image, _| {
+                    images.push(image);
+                    Ok(())
+                },
+            )
+            .unwrap();
+            frames.push(images);
+        }
+        let differing = |x: &image::RgbaImage, y: &image::RgbaImage| {
+            x.pixels()
+                .zip(y.pixels())
+                .filter(|(p, q)| p.0.iter().zip(q.0).any(|(u, v)| u.abs_diff(v) > 8))
+                .count()
+        };
+        let total = (240 * 180) as f64;
+        for (i, (cpu, gpu)) in frames[0].iter().zip(&frames[1]).enumerate() {
+            let share = differing(cpu, gpu) as f64 / total;
+            assert!(
+                share <= 0.002,
+                "{effect:?} frame {i}: {:.3} % of pixels differ between CPU and GPU posing",
+                100.0 * share
+            );
+        }
+        assert!(
+            differing(&frames[1][0], &frames[1][3]) > 100,
+            "{effect:?}: the GPU-posed frames do not move"
+        );
+    }
+}

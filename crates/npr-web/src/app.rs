@@ -141,7 +141,11 @@ impl Viewer {
         // A clip that cannot be posed shows its line once the frame is drawn.
         let posed = self
             .timeline
-            .update(&mut self.renderer, &self.ctx.queue, &self.state)
+            .update(
+                &mut self.renderer,
+                (&self.ctx.device, &self.ctx.queue),
+                &self.state,
+            )
             .map_err(js_error);
         let size = self.renderer.size();
         let view = self.state.view(&self.renderer.model().framing, size);

@@ -79,6 +79,8 @@ pub struct Renderer {
     warp: WarpEffect,
     fields: SurfaceFields,
     frame_index: usize,
+    /// The posing pass and the rig's object, once a pose was set on the GPU.
+    posing: Option<(npr_gpu::PosingPass, npr_gpu::PosedObject, FrameId)>,
 }
 
 impl std::fmt::Debug for Renderer {
@@ -115,6 +117,7 @@ impl Renderer {
             warp: WarpEffect::default(),
             fields: SurfaceFields::default(),
             frame_index: 0,
+            posing: None,
         })
     }
 
@@ -153,6 +156,7 @@ impl Renderer {
         self.warp.clear();
         self.fields = SurfaceFields::default();
         self.frame_index = 0;
+        self.posing = None;
         Ok(())
     }
 
@@ -168,6 +172,56 @@ impl Renderer {
     /// [`AppError::Gpu`] when `model` is not a pose of the current mesh (then nothing
     /// changes).
     pub fn set_pose(&mut self, queue: &wgpu::Queue, model: Model) -> Result<(), AppError> {
+        self.check_pose(&model)?;
+        self.gpu_mesh.write_vertices(queue, &model.mesh)?;
+        self.took_pose(model);
+        Ok(())
+    }
+
+    /// [`Renderer::set_pose`] with the vertices the passes draw posed on the GPU
+    /// (`npr_gpu::PosingPass`, recorded and submitted here) from `gpu`, the same pose as
+    /// `model` ([`crate::animation::Animated::gpu_pose_at`]); `model` still gives the
+    /// surface's geometry. `directions`, when given, are the pose's stroke directions of
+    /// that preset ([`Renderer::set_pose_with_directions`]).
+    ///
+    /// # Errors
+    /// As [`Renderer::set_pose`]; [`AppError::Gpu`] when the rig does not fit the mesh.
+    pub fn set_pose_on_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        model: Model,
+        gpu: &crate::animation::GpuPose<'_>,
+        directions: Option<(DirectionPreset, Vec<Vec3>)>,
+    ) -> Result<(), AppError> {
+        self.check_pose(&model)?;
+        if let Some((_, d)) = &directions {
+            check_directions(d, &model)?;
+        }
+        if self.posing.is_none() {
+            let pass = npr_gpu::PosingPass::new(device);
+            let object = pass.create_object(device, &self.gpu_mesh, gpu.rig, Some(gpu.order))?;
+            self.posing = Some((pass, object, FrameId::default()));
+        }
+        if let Some((pass, object, frame)) = self.posing.as_mut() {
+            *frame = frame.next();
+            let input = npr_gpu::PoseInput {
+                frame: *frame,
+                pose: &gpu.pose,
+            };
+            let prepared = pass.prepare(queue, object, &input)?;
+            let mut encoder = device.create_command_encoder(&Default::default());
+            pass.record(&mut encoder, object, &prepared)?;
+            queue.submit([encoder.finish()]);
+        }
+        self.took_pose(model);
+        if let Some((which, d)) = directions {
+            self.fields.seed_directions(which, d);
+        }
+        Ok(())
+    }
+
+    fn check_pose(&self, model: &Model) -> Result<(), AppError> {
         if model.mesh.indices != self.model.mesh.indices {
             return Err(AppError::Gpu(npr_gpu::GpuError::InvalidMesh(format!(
                 "a pose of {} triangles is not a pose of this mesh of {}",
@@ -175,13 +229,16 @@ impl Renderer {
                 self.model.mesh.triangle_count()
             ))));
         }
-        self.gpu_mesh.write_vertices(queue, &model.mesh)?;
+        Ok(())
+    }
+
+    /// What follows a new pose, however its vertices were written.
+    fn took_pose(&mut self, model: Model) {
         self.model = model;
         self.specular.repose();
         self.hatching.repose();
         self.warp.clear();
         self.fields = SurfaceFields::default();
-        Ok(())
     }
 
     /// [`Renderer::set_pose`] with the stroke directions of `which` for the pose given
@@ -197,13 +254,7 @@ impl Renderer {
         model: Model,
         (which, directions): (DirectionPreset, Vec<Vec3>),
     ) -> Result<(), AppError> {
-        if directions.len() != model.mesh.positions.len() {
-            return Err(AppError::Usage(format!(
-                "{} stroke directions for a pose of {} vertices",
-                directions.len(),
-                model.mesh.positions.len()
-            )));
-        }
+        check_directions(&directions, &model)?;
         self.set_pose(queue, model)?;
         self.fields.seed_directions(which, directions);
         Ok(())
@@ -491,4 +542,16 @@ impl Renderer {
     ) -> Result<image::RgbaImage, AppError> {
         Ok(npr_gpu::readback_rgba(device, queue, &self.target.color)?)
     }
+}
+
+/// [`AppError::Usage`] unless there is one stroke direction per vertex of `model`.
+fn check_directions(directions: &[Vec3], model: &Model) -> Result<(), AppError> {
+    if directions.len() != model.mesh.positions.len() {
+        return Err(AppError::Usage(format!(
+            "{} stroke directions for a pose of {} vertices",
+            directions.len(),
+            model.mesh.positions.len()
+        )));
+    }
+    Ok(())
 }

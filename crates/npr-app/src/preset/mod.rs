@@ -544,6 +544,22 @@ pub struct AnimationPreset {
     pub looped: bool,
     /// How the stroke directions follow the moving surface.
     pub geometry: PoseGeometry,
+    /// Where the vertices the passes draw are posed.
+    pub posing: Posing,
+}
+
+/// Where a posed frame's vertices are computed ([`AnimationPreset::posing`]). The
+/// surface's geometry (curvature, highlights, directions) is taken on the CPU pose either
+/// way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Posing {
+    /// Posed on the CPU and uploaded (the faster on a software adapter, where a compute
+    /// pass is CPU work too: `cargo xtask bench animation`'s posing table).
+    #[default]
+    Cpu,
+    /// Posed by a compute pass into the vertex buffer (`npr_gpu::PosingPass`).
+    Gpu,
 }
 
 /// How a posed frame gets its stroke directions ([`AnimationPreset::geometry`]).
@@ -566,6 +582,7 @@ impl Default for AnimationPreset {
             speed: 1.0,
             looped: true,
             geometry: PoseGeometry::default(),
+            posing: Posing::default(),
         }
     }
 }

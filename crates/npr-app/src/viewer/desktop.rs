@@ -616,10 +616,11 @@ impl App {
 
         // The 3-D view.
         self.state.tick();
-        if let Err(e) = self
-            .timeline
-            .update(&mut gfx.renderer, &gfx.ctx.queue, &self.state)
-        {
+        if let Err(e) = self.timeline.update(
+            &mut gfx.renderer,
+            (&gfx.ctx.device, &gfx.ctx.queue),
+            &self.state,
+        ) {
             self.status = Some(format!("error: {e}"));
         }
         let view = self

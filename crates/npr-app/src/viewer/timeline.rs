@@ -74,7 +74,7 @@ impl Timeline {
     pub fn update(
         &mut self,
         renderer: &mut Renderer,
-        queue: &wgpu::Queue,
+        gpu: (&wgpu::Device, &wgpu::Queue),
         state: &ViewerState,
     ) -> Result<(), AppError> {
         let Some(source) = &self.source else {
@@ -110,17 +110,13 @@ impl Timeline {
             let which = state.preset.hatching.direction;
             let carry = state.preset.effect.is_hatching()
                 && a.geometry == crate::preset::PoseGeometry::Carried;
-            if carry {
-                if self.rest.as_ref().is_none_or(|(w, _)| *w != which) {
-                    self.rest = Some((which, animated.rest_directions(which)));
-                }
-                let rest = self.rest.as_ref().map_or(&[][..], |(_, r)| r.as_slice());
-                let model = animated.model_at(t);
-                let dirs = animated.carried_directions(rest, t, &model);
-                renderer.set_pose_with_directions(queue, model, (which, dirs))?;
-            } else {
-                renderer.set_pose(queue, animated.model_at(t))?;
+            if carry && self.rest.as_ref().is_none_or(|(w, _)| *w != which) {
+                self.rest = Some((which, animated.rest_directions(which)));
             }
+            let rest = carry
+                .then(|| self.rest.as_ref().map(|(_, r)| r.as_slice()))
+                .flatten();
+            crate::animation::set_pose_at(renderer, gpu, animated, t, &state.preset, rest)?;
             self.posed_at = Some(t);
         }
         Ok(())
