@@ -96,14 +96,35 @@ pub fn light() -> ShadowLight {
     }
 }
 
+/// What moves in a sequence: the object turning under a dollying camera (rigid), or a
+/// clip's poses with camera and object still.
+#[derive(Clone, Copy)]
+enum Motion<'a> {
+    /// [`pose`]: 1° per frame and the 2× dolly.
+    Turntable,
+    /// Frame `t` is `poses[t]` (posed mesh, its stroke directions), written into the
+    /// uploaded mesh before it is drawn.
+    Clip(&'a [(Mesh, Vec<Vec3>)]),
+}
+
 /// Renders frame `t` of the sequence with `rig`: the hatched image.
 fn render(
     ctx: &GpuContext,
     rig: &mut Rig,
-    cpu_mesh: &Mesh,
+    (cpu_mesh, gpu_mesh): (&Mesh, &GpuMesh),
+    motion: Motion<'_>,
     t: usize,
 ) -> anyhow::Result<image::RgbaImage> {
-    let (camera, world_from_object) = pose(cpu_mesh, t);
+    let (camera, world_from_object) = match motion {
+        Motion::Turntable => pose(cpu_mesh, t),
+        Motion::Clip(poses) => {
+            let (posed, directions) = &poses[t.min(poses.len() - 1)];
+            gpu_mesh.write_vertices(&ctx.queue, posed)?;
+            rig.frame
+                .write_directions(&ctx.queue, &rig.object, directions)?;
+            framing_camera(cpu_mesh, WIDTH as f32 / HEIGHT as f32)
+        }
+    };
     Ok(rig.render(ctx, &camera, &light(), world_from_object)?)
 }
 
@@ -181,7 +202,13 @@ fn tile_of(img: &[f32], (tx, ty): (usize, usize)) -> Vec<f32> {
 }
 
 /// Measures one mesh in every mode.
-fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<Vec<Measured>> {
+fn measure(
+    ctx: &GpuContext,
+    tam: &TonalArtMap,
+    mesh: &Mesh,
+    motion: Motion<'_>,
+) -> anyhow::Result<Vec<Measured>> {
+    let sequence = motion;
     let gpu_mesh = GpuMesh::upload(&ctx.device, mesh)?;
     let directions = directions(mesh);
     // Reprojection rig: anchors re-taken every frame.
@@ -196,7 +223,7 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
     let mut prev_pos = Vec::with_capacity(FRAMES);
     let mut masks = Vec::with_capacity(FRAMES);
     for t in 0..FRAMES {
-        render(ctx, &mut motion, mesh, t)?;
+        render(ctx, &mut motion, (mesh, &gpu_mesh), sequence, t)?;
         let (p, m) = previous_positions(ctx, &motion.frame.gbuffer, t as u64)?;
         prev_pos.push(p);
         masks.push(m);
@@ -208,7 +235,13 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
         let mut inks = Vec::with_capacity(FRAMES);
         let (mut first, mut last) = ((0.0, 0.0), (0.0, 0.0));
         for t in 0..FRAMES {
-            inks.push(ink_image(&render(ctx, &mut r, mesh, t)?));
+            inks.push(ink_image(&render(
+                ctx,
+                &mut r,
+                (mesh, &gpu_mesh),
+                sequence,
+                t,
+            )?));
             if t == 0 {
                 first = density_at_constant_tone(ctx, &r, tam)?;
             }
@@ -253,8 +286,15 @@ fn measure(ctx: &GpuContext, tam: &TonalArtMap, mesh: &Mesh) -> anyhow::Result<V
         out.push(Measured {
             mode,
             sliding: median(errors.iter().copied()) / median(surface.iter().copied()).max(1e-9),
-            density_change: ratio(last.0, first.0),
-            coverage_change: ratio(last.1, first.1),
+            // A still camera over a clip has no dolly to measure.
+            density_change: match sequence {
+                Motion::Turntable => ratio(last.0, first.0),
+                Motion::Clip(_) => f64::NAN,
+            },
+            coverage_change: match sequence {
+                Motion::Turntable => ratio(last.1, first.1),
+                Motion::Clip(_) => f64::NAN,
+            },
             flicker: flicker.iter().sum::<f64>() / flicker.len().max(1) as f64,
             tiles: errors.len(),
         });
@@ -275,15 +315,59 @@ fn default_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
     Ok(out)
 }
 
+/// `path`'s model at rest and, with `clip`, [`FRAMES`] frames of that clip at 30 fps,
+/// each with its stroke directions computed on the pose.
+fn load_case(path: &Path, clip: Option<&str>) -> anyhow::Result<(String, Mesh, Option<Poses>)> {
+    let model = npr_app::model::Model::load(path)?;
+    let name = path.display().to_string();
+    let Some(clip) = clip else {
+        return Ok((name, npr_geometry::io::load(path)?.mesh, None));
+    };
+    let choice = npr_app::animation::ClipChoice::parse(Some(clip));
+    let index = npr_app::animation::resolve_clip(&model, &choice)?;
+    let rest = match &model.rig {
+        Some(rig) => rig.pose_mesh(&rig.bind_pose()),
+        None => model.mesh.clone(),
+    };
+    let poses = match index {
+        Some(_) => {
+            let animated = npr_app::animation::Animated::new(
+                model,
+                index,
+                npr_app::animation::Playback::default(),
+            )?;
+            let frames = (0..FRAMES)
+                .map(|i| {
+                    let m = animated.posed_mesh(i);
+                    let d = directions(&m);
+                    (m, d)
+                })
+                .collect();
+            Some((clip.to_string(), frames))
+        }
+        None => None,
+    };
+    Ok((name, rest, poses))
+}
+
+/// A clip's name and its frames (posed mesh, stroke directions).
+type Poses = (String, Vec<(Mesh, Vec<Vec3>)>);
+
 /// Runs the benchmark on `meshes` (OBJ paths), or the knot, Spot, the bunny and the CAD
-/// parts.
-pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
-    let cases = if meshes.is_empty() {
+/// parts. With `animation`, each mesh that has the clip also plays it (camera still,
+/// [`FRAMES`] frames at 30 fps), beside its rigid turn: `flicker_vs_rigid` is the clip's
+/// flicker over the turn's, same mode, same run (targets: sliding ≤ 0.25 in surface
+/// mode, flicker ≤ 1.5× the rigid turn's).
+pub fn run(meshes: &[PathBuf], json: Option<&Path>, animation: Option<&str>) -> anyhow::Result<()> {
+    let cases: Vec<(String, Mesh, Option<Poses>)> = if meshes.is_empty() {
         default_meshes()?
+            .into_iter()
+            .map(|(n, m)| (n, m, None))
+            .collect()
     } else {
         meshes
             .iter()
-            .map(|p| Ok((p.display().to_string(), npr_geometry::io::load(p)?.mesh)))
+            .map(|p| load_case(p, animation))
             .collect::<anyhow::Result<_>>()?
     };
     let ctx = GpuContext::new()?;
@@ -291,41 +375,114 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     let mut table = Table::new(
         &format!(
             "hatching coherence: {WIDTH}×{HEIGHT}, turning 1°/frame, 2× dolly over {FRAMES} \
-             frames; adapter {}",
+             frames (or a clip's frames, camera still); adapter {}",
             ctx.adapter_summary()
         ),
         &[
             "mesh",
+            "motion",
             "mode",
             "sliding",
             "density_change",
             "coverage_change",
             "flicker",
             "flicker_vs_screen",
+            "flicker_vs_rigid",
             "tiles",
         ],
     );
     let bar = super::progress(cases.len() as u64, "hatching-coherence");
-    for (name, mesh) in &cases {
-        let rows = measure(&ctx, &tam, mesh)?;
-        let screen_flicker = rows
-            .iter()
-            .find(|r| r.mode == "screen")
-            .map_or(f64::NAN, |r| r.flicker);
-        for r in rows {
-            table.push(vec![
-                Cell::from(name.as_str()),
-                Cell::from(r.mode),
-                Cell::Num(r.sliding, 3),
-                Cell::Num(r.density_change, 3),
-                Cell::Num(r.coverage_change, 3),
-                Cell::Num(r.flicker, 4),
-                Cell::Num(r.flicker / screen_flicker, 2),
-                Cell::from(r.tiles),
-            ]);
+    for (name, mesh, poses) in &cases {
+        let rigid = measure(&ctx, &tam, mesh, Motion::Turntable)?;
+        let mut runs = vec![("turntable".to_string(), rigid)];
+        if let Some((clip, frames)) = poses {
+            runs.push((
+                format!("clip {clip}"),
+                measure(&ctx, &tam, mesh, Motion::Clip(frames))?,
+            ));
+        }
+        let rigid_flicker = |mode: &str| {
+            runs[0]
+                .1
+                .iter()
+                .find(|r| r.mode == mode)
+                .map_or(f64::NAN, |r| r.flicker)
+        };
+        for (motion, rows) in &runs {
+            let screen_flicker = rows
+                .iter()
+                .find(|r| r.mode == "screen")
+                .map_or(f64::NAN, |r| r.flicker);
+            for r in rows {
+                table.push(vec![
+                    Cell::from(name.as_str()),
+                    Cell::from(motion.as_str()),
+                    Cell::from(r.mode),
+                    Cell::Num(r.sliding, 3),
+                    Cell::Num(r.density_change, 3),
+                    Cell::Num(r.coverage_change, 3),
+                    Cell::Num(r.flicker, 4),
+                    Cell::Num(r.flicker / screen_flicker, 2),
+                    Cell::Num(r.flicker / rigid_flicker(r.mode), 2),
+                    Cell::from(r.tiles),
+                ]);
+            }
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
     emit(&[table], json)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Strokes move with a moving body: on the Fox walking and on the procedural bent tube
+    /// bending ([`FRAMES`] frames at 30 fps, camera still), the surface mode's sliding is
+    /// at most 0.25 and its flicker at most 1.5× that of the same mesh's rigid turn in the
+    /// same run.
+    #[test]
+    fn strokes_follow_a_moving_body() {
+        let Some(ctx) = npr_gpu::testing::context_or_skip("strokes_follow_a_moving_body") else {
+            return;
+        };
+        let tam = TonalArtMap::generate(&TamParams::pen()).unwrap();
+        let fox = load_case(&crate::fixture_mesh("Fox.glb"), Some("Walk")).unwrap();
+        let tube = {
+            let r = npr_geometry::generate::bent_tube(0.3, 2.0, 1.5, 24, 32);
+            let clip = &r.rig.clips()[0];
+            let frames = (0..FRAMES)
+                .map(|i| {
+                    let m = r.rig.pose_mesh(&r.rig.sample(clip, i as f32 / 30.0));
+                    let d = directions(&m);
+                    (m, d)
+                })
+                .collect();
+            (
+                "bent tube".to_string(),
+                r.mesh,
+                Some(("bend".to_string(), frames)),
+            )
+        };
+        for (name, mesh, poses) in [fox, tube] {
+            let (_, frames) = poses.expect("the clip plays");
+            let surface =
+                |rows: Vec<Measured>| rows.into_iter().find(|r| r.mode == "surface").unwrap();
+            let rigid = surface(measure(ctx, &tam, &mesh, Motion::Turntable).unwrap());
+            let clip = surface(measure(ctx, &tam, &mesh, Motion::Clip(&frames)).unwrap());
+            eprintln!(
+                "{name}: clip sliding {:.3} over {} tiles, flicker {:.4} against the turn's {:.4}",
+                clip.sliding, clip.tiles, clip.flicker, rigid.flicker
+            );
+            assert!(clip.tiles >= 20, "{name}: {} tiles measured", clip.tiles);
+            assert!(clip.sliding <= 0.25, "{name}: sliding {:.3}", clip.sliding);
+            assert!(
+                clip.flicker <= 1.5 * rigid.flicker,
+                "{name}: flicker {:.4} on the clip, {:.4} on the turn",
+                clip.flicker,
+                rigid.flicker
+            );
+        }
+    }
 }

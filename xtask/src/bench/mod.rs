@@ -79,7 +79,7 @@ pub fn run(
     match name {
         "animation" => animation::run(meshes, json),
         "hatching-directions" => hatching_directions::run(meshes, json),
-        "hatching-coherence" => hatching_coherence::run(meshes, json),
+        "hatching-coherence" => hatching_coherence::run(meshes, json, animation),
         "curvature" => curvature::run(json),
         "specular" => specular::run(meshes, json),
         "specular-fidelity" => specular_fidelity::run(json, meshes, animation),
