@@ -562,6 +562,16 @@ impl SphereRig {
         camera: &Camera,
         turn_rad: f32,
     ) -> image::RgbaImage {
+        self.render_at(ctx, camera, Mat4::from_rotation_y(turn_rad))
+    }
+
+    /// The next displayed frame with the sphere at `world_from_object`.
+    fn render_at(
+        &mut self,
+        ctx: &npr_gpu::GpuContext,
+        camera: &Camera,
+        world_from_object: Mat4,
+    ) -> image::RgbaImage {
         let clock = self.clock;
         self.clock += 1;
         let light = sphere_light();
@@ -572,7 +582,7 @@ impl SphereRig {
             light: &light,
             params: &self.params,
         };
-        let u = sphere_uniforms(Mat4::from_rotation_y(turn_rad));
+        let u = sphere_uniforms(world_from_object);
         self.frame
             .render_hatched(
                 &ctx.device,
@@ -603,27 +613,7 @@ impl SphereRig {
         self.frame
             .write_directions(&ctx.queue, &self.object, &dirs)
             .unwrap();
-        let clock = self.clock;
-        self.clock += 1;
-        let light = sphere_light();
-        let view = HatchView {
-            frame: FrameId(clock),
-            clock,
-            camera,
-            light: &light,
-            params: &self.params,
-        };
-        let u = sphere_uniforms(Mat4::IDENTITY);
-        let img = self
-            .frame
-            .render_hatched(
-                &ctx.device,
-                &ctx.queue,
-                &view,
-                &mut [(&mut self.object, &u)],
-            )
-            .unwrap();
-        npr_hatching::coherence::ink_image(&img)
+        npr_hatching::coherence::ink_image(&self.render_at(ctx, camera, Mat4::IDENTITY))
     }
 
     fn render(&mut self, ctx: &npr_gpu::GpuContext, camera: &Camera, turn_rad: f32) -> Vec<f32> {

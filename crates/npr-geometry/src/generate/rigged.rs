@@ -197,17 +197,7 @@ pub fn twisted_bar(width: f32, length: f32, rings: usize) -> Rigged {
         .into_iter()
         .collect(),
     );
-    let influences: Vec<Vec<(u16, f32)>> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let w1 = ((p.y + half) / length).clamp(0.0, 1.0);
-            [(0u16, 1.0 - w1), (1u16, w1)]
-                .into_iter()
-                .filter(|x| x.1 > 0.0)
-                .collect()
-        })
-        .collect();
+    let influences = two_joints(&mesh, |p| ((p.y + half) / length).clamp(0.0, 1.0));
     let rig = Rig::skinned(&mesh, nodes, skin, &influences, vec![clip]);
     Rigged { mesh, rig }
 }
@@ -254,19 +244,26 @@ pub fn swaying(mesh: Mesh) -> Rigged {
         .into_iter()
         .collect(),
     );
-    let influences: Vec<Vec<(u16, f32)>> = mesh
-        .positions
+    let influences = two_joints(&mesh, |p| {
+        // Smoothstep across the middle third of the height.
+        let s = ((p.y - lo.y) / height * 3.0 - 1.0).clamp(0.0, 1.0);
+        s * s * (3.0 - 2.0 * s)
+    });
+    let rig = Rig::skinned(&mesh, nodes, skin, &influences, vec![clip]);
+    Rigged { mesh, rig }
+}
+
+/// Per vertex of `mesh`, joints 0 and 1 weighted `1 − w` and `w` (`w = top(p)`), zero
+/// weights left out.
+fn two_joints(mesh: &Mesh, top: impl Fn(Vec3) -> f32) -> Vec<Vec<(u16, f32)>> {
+    mesh.positions
         .iter()
-        .map(|p| {
-            // Smoothstep across the middle third of the height.
-            let s = ((p.y - lo.y) / height * 3.0 - 1.0).clamp(0.0, 1.0);
-            let w1 = s * s * (3.0 - 2.0 * s);
+        .map(|&p| {
+            let w1 = top(p);
             [(0u16, 1.0 - w1), (1u16, w1)]
                 .into_iter()
                 .filter(|x| x.1 > 0.0)
                 .collect()
         })
-        .collect();
-    let rig = Rig::skinned(&mesh, nodes, skin, &influences, vec![clip]);
-    Rigged { mesh, rig }
+        .collect()
 }
