@@ -94,6 +94,74 @@ impl Mesh {
             .map(|&w| normals.get(w as usize).copied().unwrap_or(Vec3::Z))
             .collect();
     }
+
+    /// This mesh with its render vertices split along its crease lines, each side
+    /// with its own smooth normal ("auto-smooth"): a file without normals shares one
+    /// vertex, and so one normal and one stroke direction, between the faces on either
+    /// side of a sharp edge. The crease lines are [`crate::Topology::crease_edges`] of the
+    /// welded mesh: edges bending by more than `crease_angle_deg` in lines at least
+    /// `min_line_share · √(total area)` long (the stroke field's own cut,
+    /// [`crate::StrokeFieldOptions::crease_angle_deg`] and
+    /// [`crate::StrokeFieldOptions::min_crease_length`]), so a scan's isolated sharp
+    /// edges stay smooth.
+    ///
+    /// Normals are the area-weighted normals of [`Mesh::recompute_normals`] over each
+    /// fan of faces between creases: a vertex away from every crease line gets exactly the
+    /// normal `recompute_normals` gives it. The first `vertex_count()` vertices are this
+    /// mesh's (the copy on the side of each one's first face, uvs kept); the other sides'
+    /// copies follow. Returns `None` when there is no crease line (the mesh stays as it
+    /// is), else the split mesh and, per vertex of it, the vertex of `self` it copies.
+    pub fn split_at_creases(
+        &self,
+        crease_angle_deg: f32,
+        min_line_share: f32,
+    ) -> Option<(Mesh, Vec<u32>)> {
+        let welded = crate::weld(self);
+        let topo = crate::Topology::new(&welded);
+        let size = topo
+            .face_areas
+            .iter()
+            .map(|&a| f64::from(a))
+            .filter(|a| a.is_finite())
+            .sum::<f64>()
+            .sqrt();
+        let split =
+            topo.split_creases_longer_than(crease_angle_deg, min_line_share.max(0.0) * size as f32);
+        if split.topology.vertex_count() == topo.vertex_count() {
+            return None;
+        }
+        let normals = welded_area_normals(&split.topology.positions, &split.topology.triangles);
+        let n = self.vertex_count();
+        // Per render vertex, the split vertex of its first face corner; other sides'
+        // (render vertex, split vertex) pairs get new copies.
+        let mut first = vec![u32::MAX; n];
+        let mut extra: std::collections::HashMap<(u32, u32), u32> =
+            std::collections::HashMap::new();
+        let mut out = self.clone();
+        let mut source: Vec<u32> = (0..n as u32).collect();
+        for (c, index) in out.indices.iter_mut().enumerate() {
+            let r = *index;
+            let Some(&s) = split.topology.triangles.get(c / 3).map(|t| &t[c % 3]) else {
+                continue;
+            };
+            if (r as usize) >= n || (s as usize) >= normals.len() {
+                continue;
+            }
+            if first[r as usize] == u32::MAX {
+                first[r as usize] = s;
+                out.normals[r as usize] = normals[s as usize];
+            } else if first[r as usize] != s {
+                *index = *extra.entry((r, s)).or_insert_with(|| {
+                    source.push(r);
+                    out.positions.push(self.positions[r as usize]);
+                    out.normals.push(normals[s as usize]);
+                    out.uvs.push(self.uvs[r as usize]);
+                    (source.len() - 1) as u32
+                });
+            }
+        }
+        Some((out, source))
+    }
 }
 
 /// Area-weighted vertex normals (sum of unnormalised face cross products, normalised);

@@ -235,5 +235,53 @@ fn scans_keep_their_field() {
             (new.aniso_dev_deg - old.aniso_dev_deg).abs() <= 0.05,
             "{name}"
         );
+        // No crease line and no flat region: the hard-edge rules leave the field as it is.
+        assert_eq!(
+            directions(&mesh, &DirectionSource::default()),
+            directions(
+                &mesh,
+                &DirectionSource::Smooth(StrokeFieldOptions::curvature_only())
+            ),
+            "{name}"
+        );
+    }
+}
+
+/// The two real CAD triangulations of `fixtures/meshes`, loaded as a user's file is (no
+/// normals: split along their crease lines).
+fn cad_fixture(name: &str) -> Mesh {
+    let path = format!(
+        "{}/../../fixtures/meshes/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    match npr_geometry::io::load(path) {
+        Ok(loaded) => loaded.mesh,
+        Err(e) => panic!("{name}: {e}"),
+    }
+}
+
+#[test]
+fn noisy_cad_meshes_get_straight_strokes_on_their_flat_faces() {
+    // The wing nut (remeshed, gently curved faces) and the hammer (a scan): the
+    // bench's flat-region measure (normals within 5° of the region's mean, regions of
+    // ≥ 1 % of the area) and the targets of `bench hatching-directions`.
+    for name in ["wingnut.obj", "hammer.obj"] {
+        let mesh = cad_fixture(name);
+        let topo = Topology::new(&weld(&mesh));
+        let crease = StrokeFieldOptions::default().crease_angle_deg;
+        let measure = |source: &DirectionSource| {
+            RenderFieldStats::measure(&mesh, &topo, &directions(&mesh, source), 30.0, crease)
+        };
+        let ours = measure(&DirectionSource::default());
+        let plain = measure(&DirectionSource::Smooth(
+            StrokeFieldOptions::curvature_only(),
+        ));
+        eprintln!("{name}: {ours:?}\n  curvature-only: {plain:?}");
+        assert!(ours.planar_area_share > 0.3, "{name}: {ours:?}");
+        let spread = ours.planar_spread_deg.unwrap();
+        assert!(spread <= 3.0, "{name}: flat-face spread {spread}°");
+        assert!(ours.jump_smooth_edge_share <= 0.02, "{name}: {ours:?}");
+        // The smooth field alone turns across these faces.
+        assert!(plain.planar_spread_deg.unwrap() > 3.0, "{name}: {plain:?}");
     }
 }

@@ -119,6 +119,13 @@ pub enum LoadNote {
         /// Why (absent, partly absent, zero or non-finite).
         reason: &'static str,
     },
+    /// The file has no normals and sharp edges: vertices on its crease lines were
+    /// split, one copy per side, each side with its own smooth normal
+    /// ([`Mesh::split_at_creases`]).
+    CreasesSplit {
+        /// How many vertices were added.
+        vertices: usize,
+    },
     /// Degenerate triangles (a repeated vertex, or zero area) were kept as they are:
     /// topology and curvature ignore them, rendering draws nothing for them.
     DegenerateKept {
@@ -162,6 +169,11 @@ impl fmt::Display for LoadNote {
             Self::NormalsRecomputed { reason } => {
                 write!(f, "normals recomputed (area-weighted): {reason}")
             }
+            Self::CreasesSplit { vertices } => write!(
+                f,
+                "{vertices} vertices added along crease lines (edges bending over {}°): each side keeps its own normal",
+                crate::StrokeFieldOptions::default().crease_angle_deg
+            ),
             Self::DegenerateKept { count } => write!(
                 f,
                 "{count} degenerate triangle(s) (repeated vertex or zero area) kept"
@@ -259,8 +271,37 @@ fn load_source(
     let (mut loaded, kept) = finish_mapped(raw, file)?;
     if let Some(parts) = rig {
         loaded.rig = Some(parts.into_rig(&kept, &loaded));
+    } else {
+        split_creases_without_normals(&mut loaded);
     }
     Ok(loaded)
+}
+
+/// A file without usable normals: its render vertices split along the crease lines
+/// ([`Mesh::split_at_creases`] at the stroke field's crease angle and line length), so
+/// the sides of a hard edge get their own normals and stroke directions, as a modeller's
+/// "auto smooth" shows them. A file's own normals are kept as they are. Rigged models
+/// are left whole: [`crate::animation::Rig::pose_mesh`] recomputes smooth normals per
+/// pose over the welded mesh, so split normals would hold in the bind pose only.
+fn split_creases_without_normals(loaded: &mut Loaded) {
+    let recomputed = loaded
+        .report
+        .iter()
+        .any(|n| matches!(n, LoadNote::NormalsRecomputed { .. }));
+    if !recomputed {
+        return;
+    }
+    let options = crate::StrokeFieldOptions::default();
+    if let Some((mesh, _)) = loaded
+        .mesh
+        .split_at_creases(options.crease_angle_deg, options.min_crease_length)
+    {
+        let added = mesh.vertex_count() - loaded.mesh.vertex_count();
+        loaded.mesh = mesh;
+        loaded
+            .report
+            .push(LoadNote::CreasesSplit { vertices: added });
+    }
 }
 
 /// What a format parser produces; [`finish`] validates and cleans it.

@@ -95,11 +95,13 @@ pub struct StrokeFieldOptions {
     /// whose rim is shorter than this (diameter under about 6 % of the part's size) is
     /// smoothed into its face. 0 cuts every crease edge.
     pub min_crease_length: f32,
-    /// Planar patches: faces connected across non-crease edges whose normals
-    /// are within this many degrees of their seed face's normal form a patch
-    /// ([`planar_patches`]); a patch that is flat against the mesh's scale (see
-    /// [`StrokeFieldOptions::planar_max_curvature`]) gets one constant direction. Default
-    /// 1°; 0 turns the planar rule off.
+    /// Planar patches: faces connected across non-crease edges whose normals stay
+    /// within a tolerance of their region's mean normal form a region; the tolerance is
+    /// three times the mesh's normal noise, at least this many degrees (at most 8°). A
+    /// region flat against the mesh's scale (see
+    /// [`StrokeFieldOptions::planar_max_curvature`]) gets one constant direction; a second
+    /// pass at 4° or more over the other faces adds the faces bounded by their edges
+    /// (gently curved faces of a remeshed part). Default 1°; 0 turns the planar rule off.
     pub planar_tolerance_deg: f32,
     /// A patch is flat when the median `(|κ_max| + |κ_min|) · √(total area)` over its
     /// face corners is at most this (dimensionless, so scale-invariant). Default 0.25: a

@@ -39,7 +39,7 @@ pub struct PlanarPatches {
 /// (most patches of a curved mesh are single faces). On a [`Topology::split_creases`]
 /// result no patch crosses a crease.
 pub fn planar_patches(topo: &Topology, tolerance_deg: f32) -> PlanarPatches {
-    grow(topo, tolerance_deg, Reference::Seed)
+    grow(topo, tolerance_deg, Reference::Seed, &[])
 }
 
 /// Grows planar regions as [`planar_patches`] does, but a face joins when its normal is
@@ -48,7 +48,7 @@ pub fn planar_patches(topo: &Topology, tolerance_deg: f32) -> PlanarPatches {
 /// This is the fixed measure of flat regions the benchmarks judge the stroke field by
 /// ([`super::RenderFieldStats`], 5°).
 pub fn planar_regions(topo: &Topology, tolerance_deg: f32) -> PlanarPatches {
-    grow(topo, tolerance_deg, Reference::Mean)
+    grow(topo, tolerance_deg, Reference::Mean, &[])
 }
 
 /// What a face's normal is compared with when a patch grows.
@@ -58,56 +58,127 @@ enum Reference {
     Mean,
 }
 
-fn grow(topo: &Topology, tolerance_deg: f32, reference: Reference) -> PlanarPatches {
+/// Grows the regions over the faces not `taken` (an empty slice: none is), which stay
+/// [`NONE`].
+fn grow(
+    topo: &Topology,
+    tolerance_deg: f32,
+    reference: Reference,
+    taken: &[bool],
+) -> PlanarPatches {
     let nf = topo.face_count();
-    let cos_tol = tolerance_deg.max(0.0).to_radians().cos();
     let mut out = PlanarPatches {
         face_patch: vec![NONE; nf],
         ..PlanarPatches::default()
     };
+    // Taken faces are marked so no region grows into them, and unmarked at the end.
+    const TAKEN: u32 = NONE - 1;
+    for (f, _) in taken.iter().enumerate().filter(|(_, t)| **t) {
+        if let Some(slot) = out.face_patch.get_mut(f) {
+            *slot = TAKEN;
+        }
+    }
     let mut queue = std::collections::VecDeque::new();
     for seed in 0..nf {
         if out.face_patch[seed] != NONE || topo.is_degenerate(seed) {
             continue;
         }
         let id = out.normal.len() as u32;
-        let n0 = topo.face_normals[seed];
-        let (mut sum, mut area) = (DVec3::ZERO, 0.0f64);
-        out.face_patch[seed] = id;
-        queue.push_back(seed);
-        while let Some(f) = queue.pop_front() {
-            let a = f64::from(topo.face_areas[f]);
-            sum += topo.face_normals[f].as_dvec3() * a;
-            area += a;
-            let against = match reference {
-                Reference::Seed => n0,
-                Reference::Mean => sum.try_normalize().map_or(n0, |m| m.as_vec3()),
-            };
-            for &e in &topo.face_edges[f] {
-                if e == crate::topology::NO_EDGE {
-                    continue;
-                }
-                let faces = topo.edge_faces(e as usize);
-                if faces.len() != 2 {
-                    continue;
-                }
-                for &g in faces {
-                    let g = g as usize;
-                    if out.face_patch[g] == NONE
-                        && !topo.is_degenerate(g)
-                        && topo.face_normals[g].dot(against) >= cos_tol
-                    {
-                        out.face_patch[g] = id;
-                        queue.push_back(g);
-                    }
+        let (normal, area) = grow_from(
+            topo,
+            seed,
+            tolerance_deg,
+            reference,
+            (&mut out.face_patch, id),
+            &mut queue,
+        );
+        out.normal.push(normal);
+        out.area.push(area);
+    }
+    for p in &mut out.face_patch {
+        if *p == TAKEN {
+            *p = NONE;
+        }
+    }
+    out
+}
+
+/// Grows one region from `seed` over the faces whose `label` is [`NONE`], labelling them
+/// `id` (breadth first, across edges with exactly two faces, normals within
+/// `tolerance_deg` of the seed's or the region's mean normal so far); returns the
+/// region's area-weighted unit normal and its area.
+fn grow_from(
+    topo: &Topology,
+    seed: usize,
+    tolerance_deg: f32,
+    reference: Reference,
+    (label, id): (&mut [u32], u32),
+    queue: &mut std::collections::VecDeque<usize>,
+) -> (Vec3, f64) {
+    let cos_tol = tolerance_deg.max(0.0).to_radians().cos();
+    let n0 = topo.face_normals[seed];
+    let (mut sum, mut area) = (DVec3::ZERO, 0.0f64);
+    label[seed] = id;
+    queue.clear();
+    queue.push_back(seed);
+    while let Some(f) = queue.pop_front() {
+        let a = f64::from(topo.face_areas[f]);
+        sum += topo.face_normals[f].as_dvec3() * a;
+        area += a;
+        let against = match reference {
+            Reference::Seed => n0,
+            Reference::Mean => sum.try_normalize().map_or(n0, |m| m.as_vec3()),
+        };
+        for &e in &topo.face_edges[f] {
+            if e == crate::topology::NO_EDGE {
+                continue;
+            }
+            let faces = topo.edge_faces(e as usize);
+            if faces.len() != 2 {
+                continue;
+            }
+            for &g in faces {
+                let g = g as usize;
+                if label[g] == NONE
+                    && !topo.is_degenerate(g)
+                    && topo.face_normals[g].dot(against) >= cos_tol
+                {
+                    label[g] = id;
+                    queue.push_back(g);
                 }
             }
         }
-        out.normal
-            .push(sum.try_normalize().unwrap_or(n0.as_dvec3()).as_vec3());
-        out.area.push(area);
     }
-    out
+    (sum.try_normalize().unwrap_or(n0.as_dvec3()).as_vec3(), area)
+}
+
+/// How much a region grown from `seed` at `tolerance_deg` grows when the tolerance is
+/// doubled: the area at twice the tolerance over `area`, growing over the faces not
+/// `taken` (one flag per face). A face of a part is bounded by an
+/// edge, sharp or rounded, where the normal turns fast, so its region hardly changes; a
+/// near-flat spot of a gently curved surface grows with the tolerance.
+fn growth_at_double_tolerance(
+    topo: &Topology,
+    (seed, taken): (usize, &[bool]),
+    tolerance_deg: f32,
+    area: f64,
+) -> f64 {
+    let mut label: Vec<u32> = taken.iter().map(|&t| if t { 0 } else { NONE }).collect();
+    label.resize(topo.face_count(), NONE);
+    let mut queue = std::collections::VecDeque::new();
+    let (_, wider) = grow_from(
+        topo,
+        seed,
+        2.0 * tolerance_deg,
+        Reference::Mean,
+        (&mut label, 0),
+        &mut queue,
+    );
+    if area > 0.0 {
+        wider / area
+    } else {
+        f64::INFINITY
+    }
 }
 
 /// The normal noise of `topo`'s triangulation, in degrees: the lower quartile over the
@@ -147,13 +218,14 @@ pub(super) fn normal_noise_deg(topo: &Topology) -> f32 {
 
 /// How compact a region is in its plane: its area over `4π √(λ1 λ2)`, `λ` the eigenvalues
 /// of its vertices' covariance in the plane. 1 for a disc or an ellipse, about 0.95 for a
-/// rectangle, `w / R` for a ring of width `w` and radius `R`.
-fn compactness(topo: &Topology, faces: &[usize], normal: Vec3, area: f64) -> f64 {
+/// rectangle, `w / R` for a ring of width `w` and radius `R`. Also its width, `√(12 λ2)`
+/// for the smaller eigenvalue (a rectangle's shorter side).
+fn shape(topo: &Topology, faces: &[usize], normal: Vec3, area: f64) -> (f64, f64) {
     let mut verts: Vec<u32> = faces.iter().flat_map(|&f| topo.triangles[f]).collect();
     verts.sort_unstable();
     verts.dedup();
     let Some(n) = normal.as_dvec3().try_normalize() else {
-        return 0.0;
+        return (0.0, 0.0);
     };
     let (e1, e2) = super::basis(n);
     let pts: Vec<(f64, f64)> = verts
@@ -174,14 +246,17 @@ fn compactness(topo: &Topology, faces: &[usize], normal: Vec3, area: f64) -> f64
         sww += (w - mw) * (w - mw) / k;
     }
     let det = (suu * sww - suw * suw).max(0.0);
+    let half_trace = 0.5 * (suu + sww);
+    let smaller = (half_trace - (half_trace * half_trace - det).max(0.0).sqrt()).max(0.0);
+    let width = (12.0 * smaller).sqrt();
     if det > 0.0 {
-        area / (4.0 * std::f64::consts::PI * det.sqrt())
+        (area / (4.0 * std::f64::consts::PI * det.sqrt()), width)
     } else {
-        0.0
+        (0.0, width)
     }
 }
 
-/// The least compactness ([`compactness`]) of a flat region: a thin ring or frame grown
+/// The least compactness ([`shape`]) of a flat region: a thin ring or frame grown
 /// within the tolerance around a curved part (the top of a torus) is not a face.
 const MIN_COMPACTNESS: f64 = 0.5;
 
@@ -211,6 +286,23 @@ fn median_vertex_curvature(
     let mid = k.len() / 2;
     Some(*k.select_nth_unstable_by(mid, f64::total_cmp).1)
 }
+
+/// The least tolerance (degrees) of [`flat_patches`]' second pass, which finds the faces
+/// that are bounded rather than flat against the mesh's scale: a remeshed part's gently
+/// curved face (the wing nut's, normals over about 5°) grows whole at 4°, in fragments at
+/// the first pass's noise-fitted tolerance.
+const BOUNDED_TOLERANCE_DEG: f32 = 4.0;
+
+/// The least width ([`shape`]) of a bounded region, in mean edge lengths: a strip one or
+/// two facets wide is a facet of a coarsely tessellated cylinder or fillet, bounded only
+/// by the tessellation.
+const MIN_WIDTH_EDGES: f64 = 4.0;
+
+/// The most a bounded face's region may grow when the tolerance is doubled
+/// ([`growth_at_double_tolerance`]). A region of a smooth surface grown within a normal
+/// tolerance grows about twice (around a parabolic point) to four times (an elliptic one)
+/// when the tolerance doubles; a face whose extent its edges set, about 1.
+const MAX_GROWTH: f64 = 1.5;
 
 /// The fewest faces of a flat region: a quadric is not fitted to less.
 const MIN_FACES: usize = 6;
@@ -271,20 +363,32 @@ fn region_curvature(topo: &Topology, faces: &[usize], normal: Vec3) -> Option<(f
     Some((0.5 * t + disc, 0.5 * t - disc))
 }
 
-/// The planar regions of `topo` that are flat against the mesh's scale. Regions grow
-/// while face normals stay within a tolerance of the region's mean normal
-/// ([`planar_regions`]); the tolerance is fitted to the mesh's own noise: three times
-/// [`normal_noise_deg`], at least [`StrokeFieldOptions::planar_tolerance_deg`] and at most
-/// 8°. A region is flat when the curvature of a quadric fitted to the whole region,
-/// `max(|κ1|, |κ2|) · √total_area`, is at most [`StrokeFieldOptions::planar_max_curvature`]
-/// (so a scan's noisy flat face, whose per-vertex curvature is all noise, still counts,
-/// and a gently curved region grown within the tolerance does not), and the region is
-/// compact ([`MIN_COMPACTNESS`]), its vertices' median curvature is what the mesh's noise
-/// alone gives or what the scale test above allows ([`NOISE_CURVATURE_FACTOR`]; a
-/// region straddling an inflection fits a flat quadric, its vertices do not), and it is
-/// not small ([`MIN_FACES`], [`MIN_AREA_SHARE`]). The
-/// quadric is fitted over the region and the faces across its edges. Renumbered: only
-/// those regions remain, `face_patch` is [`NONE`] elsewhere.
+/// The planar regions of `topo` that are flat, found in two passes. Regions grow while
+/// face normals stay within a tolerance of the region's mean normal ([`planar_regions`]).
+///
+/// First pass: the tolerance is fitted to the mesh's own noise, three times
+/// [`normal_noise_deg`], at least [`StrokeFieldOptions::planar_tolerance_deg`] and at
+/// most 8°. A region that is compact ([`MIN_COMPACTNESS`]) and not small ([`MIN_FACES`],
+/// [`MIN_AREA_SHARE`]) is flat when it is flat against the mesh's scale: the curvature of a
+/// quadric fitted to the region and the faces across its edges, `max(|κ1|, |κ2|) ·
+/// √total_area`, is at most [`StrokeFieldOptions::planar_max_curvature`] (so a scan's
+/// noisy flat face, whose per-vertex curvature is all noise, still counts), and its
+/// vertices' median curvature is what the mesh's noise alone gives or what that scale
+/// test allows ([`NOISE_CURVATURE_FACTOR`]; a region straddling an inflection fits a flat
+/// quadric, its vertices do not).
+///
+/// Second pass, over the faces the first left: regions grown at the same tolerance, at
+/// least [`BOUNDED_TOLERANCE_DEG`], that are compact, not small, at least
+/// [`MIN_WIDTH_EDGES`] wide and bounded: their edges, not the tolerance, set their extent,
+/// so they grow by at most [`MAX_GROWTH`] when the tolerance is doubled
+/// ([`growth_at_double_tolerance`]). A part's face that a remesher or a scan has left
+/// gently curved (normals over a few degrees, more than the quadric test allows) is such
+/// a region; a near-flat spot of a smooth organic surface is not.
+///
+/// This is the flat proxy of Variational Shape Approximation (Cohen-Steiner, Alliez and
+/// Desbrun 2004: a region represented by its mean normal, the `L^{2,1}` metric), with
+/// the proxies grown once at a noise-fitted tolerance instead of iterated.
+/// Renumbered: only the flat regions remain, `face_patch` is [`NONE`] elsewhere.
 pub(super) fn flat_patches(
     topo: &Topology,
     curvature: &CurvatureField,
@@ -336,7 +440,7 @@ pub(super) fn flat_patches(
         }
         let flat = region_curvature(topo, faces, all.normal[p]).is_some_and(|(k1, k2)| {
             k1.abs().max(k2.abs()) * scale <= f64::from(options.planar_max_curvature)
-        }) && compactness(topo, faces, all.normal[p], all.area[p]) >= MIN_COMPACTNESS
+        }) && shape(topo, faces, all.normal[p], all.area[p]).0 >= MIN_COMPACTNESS
             && median_vertex_curvature(topo, curvature, faces).is_some_and(|k| k <= vertex_limit);
         if flat {
             keep[p] = out.normal.len() as u32;
@@ -349,7 +453,52 @@ pub(super) fn flat_patches(
             out.face_patch[f] = keep[p as usize];
         }
     }
+    add_bounded_patches(
+        topo,
+        &mut out,
+        tolerance.max(BOUNDED_TOLERANCE_DEG),
+        total_area,
+    );
     out
+}
+
+/// The second pass of [`flat_patches`]: over the faces no flat patch holds, regions grown
+/// at `tolerance_deg` that are compact, not small, wide and bounded
+/// ([`growth_at_double_tolerance`] at most [`MAX_GROWTH`]) are added to `flat`.
+fn add_bounded_patches(
+    topo: &Topology,
+    flat: &mut PlanarPatches,
+    tolerance_deg: f32,
+    total_area: f64,
+) {
+    let taken: Vec<bool> = flat.face_patch.iter().map(|&p| p != NONE).collect();
+    let regions = grow(topo, tolerance_deg, Reference::Mean, &taken);
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); regions.normal.len()];
+    for (f, &p) in regions.face_patch.iter().enumerate() {
+        if p != NONE {
+            members[p as usize].push(f);
+        }
+    }
+    let min_width = MIN_WIDTH_EDGES * f64::from(topo.mean_edge_length);
+    for (p, faces) in members.iter().enumerate() {
+        let (normal, area) = (regions.normal[p], regions.area[p]);
+        if faces.len() < MIN_FACES || area < MIN_AREA_SHARE * total_area {
+            continue;
+        }
+        let (compact, width) = shape(topo, faces, normal, area);
+        if compact < MIN_COMPACTNESS || !(width >= min_width) {
+            continue;
+        }
+        // The seed is the region's first face (regions grow in face order).
+        if growth_at_double_tolerance(topo, (faces[0], &taken), tolerance_deg, area) <= MAX_GROWTH {
+            let id = flat.normal.len() as u32;
+            for &f in faces {
+                flat.face_patch[f] = id;
+            }
+            flat.normal.push(normal);
+            flat.area.push(area);
+        }
+    }
 }
 
 /// The flat patch each vertex takes its direction from: that of its largest face in a
