@@ -29,9 +29,9 @@
 mod camera;
 pub mod color;
 mod context;
-pub mod curvature;
 #[cfg(any(test, feature = "test-support"))]
 pub mod cpu_twin;
+pub mod curvature;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
 pub mod figures;

@@ -210,7 +210,7 @@ fn rig_data(rig: &Rig, order: &[u32]) -> RigData {
         offsets: Vec::new(),
         faces: Vec::new(),
     };
-    for v in 0..n {
+    for (v, &out) in order.iter().enumerate().take(n) {
         let p = base_mesh.positions.get(v).copied().unwrap_or_default();
         let nrm = base_mesh.normals.get(v).copied().unwrap_or(glam::Vec3::Z);
         data.base.push([p.x, p.y, p.z, 1.0]);
@@ -250,7 +250,7 @@ fn rig_data(rig: &Rig, order: &[u32]) -> RigData {
         data.info
             .push([first_influence, influence_count, first_morph, morph_count]);
         let rep = rig.weld_representative(v).min(n - 1) as u32;
-        data.info.push([first_weight as u32, rep, order[v], 0]);
+        data.info.push([first_weight as u32, rep, out, 0]);
     }
     if rig.recomputes_normals() {
         let mut per_rep: Vec<Vec<[u32; 4]>> = vec![Vec::new(); n];

@@ -64,6 +64,8 @@ struct Errors {
     validity: usize,
     /// Vertices where the direction was compared.
     directions_checked: usize,
+    /// Vertices compared.
+    vertices: usize,
     /// The robust largest |κ| and the true largest.
     scale: (f32, f32),
 }
@@ -92,6 +94,7 @@ fn errors(cpu: &CurvatureField, gpu: &CurvatureField) -> Errors {
         .unwrap_or(0.0);
     let mut e = Errors {
         scale: (robust, mags.last().copied().unwrap_or(0.0)),
+        vertices: cpu.len(),
         ..Errors::default()
     };
     let scale = robust.max(f32::MIN_POSITIVE);
@@ -110,8 +113,11 @@ fn errors(cpu: &CurvatureField, gpu: &CurvatureField) -> Errors {
         e.kappa = e.kappa.max(dk / scale);
         let (kx, kn) = (cpu.kappa_max[v], cpu.kappa_min[v]);
         if (kx - kn).abs() > 0.1 * kx.abs().max(kn.abs()) {
-            let a = angle(cpu.dir_kappa_max[v], gpu.dir_kappa_max[v], true)
-                .max(angle(cpu.dir_kappa_min[v], gpu.dir_kappa_min[v], true));
+            let a = angle(cpu.dir_kappa_max[v], gpu.dir_kappa_max[v], true).max(angle(
+                cpu.dir_kappa_min[v],
+                gpu.dir_kappa_min[v],
+                true,
+            ));
             e.direction = e.direction.max(a);
             e.directions_checked += 1;
         }
@@ -121,9 +127,16 @@ fn errors(cpu: &CurvatureField, gpu: &CurvatureField) -> Errors {
 
 fn check(name: &str, e: &Errors) {
     eprintln!(
-        "{name}: |Δκ| ≤ {:.2e} of the robust largest |κ| {:.4} (largest {:.4}), normal ≤ {:.4}°, \
-         directions ≤ {:.4}° at {} vertices, {} validity differences",
-        e.kappa, e.scale.0, e.scale.1, e.normal, e.direction, e.directions_checked, e.validity
+        "{name}: |Δκ| ≤ {:.2e} of the robust largest |κ| {:.4} (largest {:.4}), normal ≤ {:.1e}°, \
+         directions ≤ {:.1e}° at {} of {} vertices, {} validity differences",
+        e.kappa,
+        e.scale.0,
+        e.scale.1,
+        e.normal,
+        e.direction,
+        e.directions_checked,
+        e.vertices,
+        e.validity
     );
     assert!(e.scale.0 > 0.0, "{name}: no curvature to compare");
     assert_eq!(e.validity, 0, "{name}: validity differs");
@@ -152,9 +165,7 @@ fn measure(
     frame: FrameId,
 ) -> CurvatureField {
     let (d, q) = (&ctx.device, &ctx.queue);
-    let prepared = pass
-        .prepare(q, object, &CurvatureInput { frame })
-        .unwrap();
+    let prepared = pass.prepare(q, object, &CurvatureInput { frame }).unwrap();
     let mut encoder = d.create_command_encoder(&Default::default());
     pass.record(&mut encoder, object, &prepared).unwrap();
     let read = copy_out(d, &mut encoder, object);

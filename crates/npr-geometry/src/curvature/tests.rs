@@ -116,8 +116,7 @@ fn axes_of(acc: [f32; 6], area: f32, n: Vec3) -> PrincipalAxes {
 
 /// Per face: (centroid, bounding radius), `T_f` and area, in f64 from the definition.
 fn reference_faces(topo: &Topology) -> Vec<([f32; 4], [f32; 6], f32)> {
-    topo
-        .triangles
+    topo.triangles
         .iter()
         .enumerate()
         .map(|(f, t)| {
@@ -213,8 +212,10 @@ fn ball_lists_reproduce_the_corrected_form() {
     let mut mesh = generate::torus_jittered(2.0, 0.7, 90, 40, 0.3, 5);
     mesh = generate::displace_along_normals(&mesh, 0.01, 9);
     let mut w = weld(&mesh);
-    w.indices.retain(|t| t.iter().all(|&i| !(200..260).contains(&i)));
-    w.indices.extend_from_slice(&[[0, 1500, 3000], [10, 2000, 3500]]);
+    w.indices
+        .retain(|t| t.iter().all(|&i| !(200..260).contains(&i)));
+    w.indices
+        .extend_from_slice(&[[0, 1500, 3000], [10, 2000, 3500]]);
     let topo = Topology::new(&w);
     let opts = CurvatureOptions::default();
     let got = CurvatureField::compute_at_scale(&topo, &opts);
@@ -253,5 +254,9 @@ fn ball_lists_reproduce_the_corrected_form() {
         assert!(close(got.kappa_min[v], f.kmin), "vertex {v}");
     }
     assert!(outside > 0, "the lists hold the ring around each ball too");
-    assert!(CurvatureField::corrected_balls(&topo, f32::NAN).faces.is_empty());
+    assert!(
+        CurvatureField::corrected_balls(&topo, f32::NAN)
+            .faces
+            .is_empty()
+    );
 }
