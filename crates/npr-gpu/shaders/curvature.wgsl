@@ -34,14 +34,14 @@
 // (dir_kappa_min, valid ? 1 : 0).
 @group(0) @binding(12) var<storage, read_write> v_out: array<vec4<f32>>;
 
-struct Params {
+struct CurvatureParams {
     // Ball radius r (world units).
     radius: f32,
     vertex_count: u32,
     face_count: u32,
     _pad: u32,
 }
-@group(0) @binding(13) var<uniform> params: Params;
+@group(0) @binding(13) var<uniform> params: CurvatureParams;
 
 const WORKGROUP: u32 = 64u;
 const NONE: u32 = 0xffffffffu;

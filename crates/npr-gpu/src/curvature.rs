@@ -237,13 +237,14 @@ fn lists(topo: &Topology, rep: &[u32], radius: f32) -> Lists {
     }
 }
 
+/// `CurvatureParams` of `curvature.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
     radius: f32,
     vertex_count: u32,
     face_count: u32,
-    pad: u32,
+    _pad: u32,
 }
 
 impl CurvaturePass {
@@ -345,7 +346,7 @@ impl CurvaturePass {
             radius: radius_world,
             vertex_count: nv as u32,
             face_count: nf as u32,
-            pad: 0,
+            _pad: 0,
         };
         let params = buffer(
             device,
@@ -479,5 +480,35 @@ impl CurvatureObject {
             field.valid.push(c[11] == 1.0);
         }
         field
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_layout_matches_wgsl() {
+        crate::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            Params,
+            "CurvatureParams",
+            [radius, vertex_count, face_count, _pad]
+        );
+    }
+
+    #[test]
+    fn dispatch_folds_past_the_per_dimension_limit() {
+        assert_eq!(dispatch_size(0, 65_535), (1, 1));
+        assert_eq!(dispatch_size(64 * 65_535, 65_535), (65_535, 1));
+        let (x, y) = dispatch_size(64 * 65_536, 65_535);
+        assert!(x <= 65_535 && y == 2 && u64::from(x) * u64::from(y) * 64 >= 64 * 65_536);
+    }
+
+    #[test]
+    fn representatives_are_first_render_vertices() {
+        assert_eq!(representatives(&[0, 1, 0, 2, 1], 3), vec![0, 1, 3]);
+        // An out-of-range entry (a bad weld) is ignored, not a panic.
+        assert_eq!(representatives(&[0, u32::MAX], 1), vec![0]);
     }
 }
