@@ -78,6 +78,7 @@ pub struct CurvatureInput {
 pub struct CurvatureObject {
     welded: usize,
     faces: usize,
+    ball_entries: usize,
     radius_world: f32,
     render_to_welded: Vec<u32>,
     output: wgpu::Buffer,
@@ -379,6 +380,7 @@ impl CurvaturePass {
         Ok(CurvatureObject {
             welded: nv,
             faces: nf,
+            ball_entries: data.lists.len(),
             radius_world,
             render_to_welded: welded.render_to_welded,
             output,
@@ -443,6 +445,12 @@ impl CurvatureObject {
     /// Number of welded vertices (entries of the output).
     pub fn welded_vertex_count(&self) -> usize {
         self.welded
+    }
+
+    /// Entries of the per-vertex face lists (each vertex's own faces, then its ball's):
+    /// the largest buffer of the object, 4 bytes each.
+    pub fn ball_entries(&self) -> usize {
+        self.ball_entries
     }
 
     /// For each render vertex of the mesh, its welded vertex (its entry of the output).
