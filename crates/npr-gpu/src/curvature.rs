@@ -154,6 +154,20 @@ fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
     (x as u32, y as u32)
 }
 
+/// [`GpuError::MeshTooLarge`] for the first buffer (name, bytes) over the storage
+/// binding limit.
+fn check_bindings(buffers: &[(&'static str, u64)], limit: u64) -> Result<(), GpuError> {
+    match buffers.iter().find(|(_, bytes)| *bytes > limit) {
+        Some(&(buffer, size)) => Err(GpuError::MeshTooLarge {
+            buffer,
+            size,
+            limit_name: "max_storage_buffer_binding_size",
+            limit,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The fixed data of one mesh as the shader reads it (see `curvature.wgsl`).
 struct Lists {
     /// Per face: corners, then the third vertex across each edge (render vertices).
@@ -307,26 +321,19 @@ impl CurvaturePass {
         let radius_world = radius.world(&topo);
         let nv = topo.vertex_count();
         let nf = topo.face_count();
-        let limit = device.limits().max_storage_buffer_binding_size;
-        // The lists are the big one: check what it will need before building it.
+        // The ball lists are the big one (about 100 faces a vertex at the default radius).
         let rep = representatives(&welded.render_to_welded, nv);
         let data = lists(&topo, &rep, radius_world);
-        for (buffer, bytes) in [
-            ("curvature ball list", data.lists.len() as u64 * 4),
-            ("curvature face", data.faces.len() as u64 * 16),
-            ("curvature face record", nf as u64 * 64),
-            ("curvature vertex range", data.ranges.len() as u64 * 16),
-            ("curvature output", (nv * OUTPUT_FLOATS * 4) as u64),
-        ] {
-            if bytes > limit {
-                return Err(GpuError::MeshTooLarge {
-                    buffer,
-                    size: bytes,
-                    limit_name: "max_storage_buffer_binding_size",
-                    limit,
-                });
-            }
-        }
+        check_bindings(
+            &[
+                ("curvature ball list", data.lists.len() as u64 * 4),
+                ("curvature face", data.faces.len() as u64 * 16),
+                ("curvature face record", nf as u64 * 64),
+                ("curvature vertex range", data.ranges.len() as u64 * 16),
+                ("curvature output", (nv * OUTPUT_FLOATS * 4) as u64),
+            ],
+            device.limits().max_storage_buffer_binding_size,
+        )?;
         let storage = wgpu::BufferUsages::STORAGE;
         let faces = buffer(device, "npr curvature faces", &data.faces, storage);
         let ranges = buffer(device, "npr curvature ranges", &data.ranges, storage);
@@ -511,6 +518,21 @@ mod tests {
         assert_eq!(dispatch_size(64 * 65_535, 65_535), (65_535, 1));
         let (x, y) = dispatch_size(64 * 65_536, 65_535);
         assert!(x <= 65_535 && y == 2 && u64::from(x) * u64::from(y) * 64 >= 64 * 65_536);
+    }
+
+    #[test]
+    fn a_list_over_the_binding_limit_is_a_typed_error() {
+        let limit = 128 << 20;
+        assert!(check_bindings(&[("a", limit), ("b", 16)], limit).is_ok());
+        let e = check_bindings(&[("a", 16), ("curvature ball list", limit + 4)], limit);
+        assert!(matches!(
+            e,
+            Err(GpuError::MeshTooLarge {
+                buffer: "curvature ball list",
+                limit_name: "max_storage_buffer_binding_size",
+                ..
+            })
+        ));
     }
 
     #[test]
