@@ -19,6 +19,9 @@
 //!   style.
 //! - [`posing`]: a rig's morph targets and skinning as a compute pass that writes the
 //!   posed mesh into its own vertex buffer, drawn by every pass.
+//! - [`curvature`]: the per-vertex curvature tensor, principal curvatures and directions
+//!   as compute passes over the mesh's own vertex buffer (a posed mesh is measured
+//!   without a copy).
 //!
 //! Every pass takes `&wgpu::Device`, `&wgpu::Queue` and target views from the caller, so
 //! it can be recorded into someone else's renderer; [`GpuContext`] is a convenience.
@@ -28,6 +31,7 @@ pub mod color;
 mod context;
 #[cfg(any(test, feature = "test-support"))]
 pub mod cpu_twin;
+pub mod curvature;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
 pub mod figures;
@@ -52,6 +56,7 @@ mod uniforms;
 
 pub use camera::{Camera, Light};
 pub use context::GpuContext;
+pub use curvature::{CurvatureInput, CurvatureObject, CurvaturePass};
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use pass::{FrameId, Pass, PassError, Prepared};

@@ -22,6 +22,9 @@ pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
 /// Posing: morph targets and linear blend skinning into the mesh's vertex buffer, and
 /// the posed area-weighted normals (compute).
 pub const POSING: &str = include_str!("../shaders/posing.wgsl");
+/// Curvature: the per-vertex tensor of Lee & Choi Eq. (1) (corrected form), principal
+/// curvatures and directions (compute).
+pub const CURVATURE: &str = include_str!("../shaders/curvature.wgsl");
 
 /// One WGSL file: its name, its text, and the shared snippets composed before it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,6 +90,13 @@ pub const POSING_FILE: ShaderFile = ShaderFile {
     prelude: &[],
 };
 
+/// `curvature.wgsl` (compute; no shared snippet).
+pub const CURVATURE_FILE: ShaderFile = ShaderFile {
+    name: "curvature.wgsl",
+    source: CURVATURE,
+    prelude: &[],
+};
+
 /// Every shader file of this crate. A test checks that it names every `.wgsl` file in the
 /// crate's `shaders/` directory and that each composed shader validates.
 pub const ALL: &[ShaderFile] = &[
@@ -95,4 +105,5 @@ pub const ALL: &[ShaderFile] = &[
     BASE_SHADING_FILE,
     OUTLINE_FILE,
     POSING_FILE,
+    CURVATURE_FILE,
 ];

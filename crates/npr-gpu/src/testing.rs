@@ -558,8 +558,15 @@ mod tests {
     #[test]
     fn every_bound_struct_has_a_layout_test() {
         // Frame, Object: uniforms::tests::layouts_match_wgsl; OutlineCamera, OutlineParams:
-        // outline::tests::uniform_layouts_match_wgsl.
-        let covered = ["Frame", "Object", "OutlineCamera", "OutlineParams"];
+        // outline::tests::uniform_layouts_match_wgsl; CurvatureParams:
+        // curvature::tests::params_layout_matches_wgsl.
+        let covered = [
+            "Frame",
+            "Object",
+            "OutlineCamera",
+            "OutlineParams",
+            "CurvatureParams",
+        ];
         let uniforms = wgsl_layout::check_coverage(crate::shaders::ALL, &covered).unwrap();
         assert!(uniforms >= 4, "{uniforms} uniform blocks");
     }

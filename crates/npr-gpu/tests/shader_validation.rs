@@ -19,7 +19,14 @@ fn every_shader_file_is_embedded_and_validates() {
 /// it has one.
 #[test]
 fn every_bound_struct_has_a_layout_test() {
-    let covered = ["Frame", "Object", "OutlineCamera", "OutlineParams"];
+    // CurvatureParams: npr_gpu::curvature's params_layout_matches_wgsl.
+    let covered = [
+        "Frame",
+        "Object",
+        "OutlineCamera",
+        "OutlineParams",
+        "CurvatureParams",
+    ];
     let uniforms =
         check_coverage(npr_gpu::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));
     assert!(uniforms >= 4, "{uniforms} uniform blocks");

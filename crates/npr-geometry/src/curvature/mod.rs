@@ -24,6 +24,7 @@ use glam::Vec3;
 use crate::topology::Topology;
 use crate::{Mesh, weld};
 
+mod ball;
 mod compute;
 mod eigen;
 mod scale;
@@ -31,6 +32,7 @@ mod tensor;
 #[cfg(test)]
 mod tests;
 
+pub use ball::BallFaces;
 pub use scale::MAX_SCALE_STEPS;
 /// Which form of Eq. (1) to evaluate.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

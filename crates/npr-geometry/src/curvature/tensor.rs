@@ -284,6 +284,52 @@ pub(super) fn corrected_axes(
     tangent_axes(&m, mesh_n.as_dvec3()).unwrap_or_else(|| invalid(mesh_n))
 }
 
+/// Every face the corrected form's walk ([`corrected_axes`]) pops at vertex `v`, in the
+/// order it pops them, appended to `out`: the same stack, the same pass-on test, no sums.
+/// The faces with their centroid in the ball are among them (those carry weight); the
+/// others are the ring around the ball that the walk looked at and let go.
+pub(super) fn corrected_walk(
+    topo: &Topology,
+    p: &Packed,
+    v: usize,
+    r: f32,
+    s: &mut Scratch,
+    out: &mut Vec<u32>,
+) {
+    let stamp = next_stamp(s, p.faces.len(), 0);
+    let Scratch {
+        face_mark, stack, ..
+    } = s;
+    stack.clear();
+    let pv = topo.positions[v];
+    let r2 = r * r;
+    for &f in topo.vertex_faces(v) {
+        face_mark[f as usize] = stamp;
+        stack.push(f);
+    }
+    while let Some(f) = stack.pop() {
+        out.push(f);
+        let f = f as usize;
+        let rec = &p.faces[f];
+        let [cx, cy, cz, rad] = rec.sphere;
+        let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
+        let d2 = dx * dx + dy * dy + dz * dz;
+        if !(d2 < r2) {
+            let reach = r + rad;
+            if !(rad > 0.5 * r && d2 < reach * reach) {
+                continue;
+            }
+        }
+        for &g in topo.face_neighbours(f) {
+            let m = &mut face_mark[g as usize];
+            if *m != stamp {
+                *m = stamp;
+                stack.push(g);
+            }
+        }
+    }
+}
+
 /// The paper's and the clipped-edge forms of Eq. (1) at vertex `v` (the corrected form,
 /// the default, has its own loop: [`corrected_axes`]; `compute` never sends it here, and
 /// a `Corrected` that did arrive is treated as the clipped form).

@@ -67,8 +67,56 @@ fn closed_form_2x2_matches_nalgebra() {
 /// accumulation order, so the results should agree to the bit.
 fn corrected_reference(topo: &Topology, r: f32) -> Vec<PrincipalAxes> {
     use std::collections::HashSet;
-    let tf: Vec<([f32; 4], [f32; 6], f32)> = topo
-        .triangles
+    let tf = reference_faces(topo);
+    (0..topo.vertex_count())
+        .map(|v| {
+            let pv = topo.positions[v];
+            let n = topo.vertex_normals[v];
+            if topo.is_isolated(v) {
+                return invalid(n);
+            }
+            let (mut acc, mut area) = ([0f32; 6], 0f32);
+            let mut seen: HashSet<u32> = topo.vertex_faces(v).iter().copied().collect();
+            let mut stack = topo.vertex_faces(v).to_vec();
+            while let Some(f) = stack.pop() {
+                let ([cx, cy, cz, rad], t, a) = tf[f as usize];
+                let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
+                let d2 = dx * dx + dy * dy + dz * dz;
+                if d2 < r * r {
+                    let q = 1.0 - d2 * (1.0 / (r * r));
+                    let w = q * q;
+                    for (x, y) in acc.iter_mut().zip(t) {
+                        *x += w * y;
+                    }
+                    area += w * a;
+                } else if !(rad > 0.5 * r && d2 < (r + rad) * (r + rad)) {
+                    continue;
+                }
+                for &g in topo.face_neighbours(f as usize) {
+                    if seen.insert(g) {
+                        stack.push(g);
+                    }
+                }
+            }
+            axes_of(acc, area, n)
+        })
+        .collect()
+}
+
+/// The corrected form's eigen-analysis of a summed `Σ w T_f` and `Σ w A_f`.
+fn axes_of(acc: [f32; 6], area: f32, n: Vec3) -> PrincipalAxes {
+    let area = f64::from(area);
+    if !(area > 0.0) {
+        return invalid(n);
+    }
+    let t = acc.map(|x| f64::from(x) / area);
+    let m = Matrix3::new(t[0], t[1], t[2], t[1], t[3], t[4], t[2], t[4], t[5]);
+    tangent_axes(&m, n.as_dvec3()).unwrap_or_else(|| invalid(n))
+}
+
+/// Per face: (centroid, bounding radius), `T_f` and area, in f64 from the definition.
+fn reference_faces(topo: &Topology) -> Vec<([f32; 4], [f32; 6], f32)> {
+    topo.triangles
         .iter()
         .enumerate()
         .map(|(f, t)| {
@@ -108,45 +156,6 @@ fn corrected_reference(topo: &Topology, r: f32) -> Vec<PrincipalAxes> {
                 m.map(|x| x as f32),
                 area as f32,
             )
-        })
-        .collect();
-    (0..topo.vertex_count())
-        .map(|v| {
-            let pv = topo.positions[v];
-            let n = topo.vertex_normals[v];
-            if topo.is_isolated(v) {
-                return invalid(n);
-            }
-            let (mut acc, mut area) = ([0f32; 6], 0f32);
-            let mut seen: HashSet<u32> = topo.vertex_faces(v).iter().copied().collect();
-            let mut stack = topo.vertex_faces(v).to_vec();
-            while let Some(f) = stack.pop() {
-                let ([cx, cy, cz, rad], t, a) = tf[f as usize];
-                let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
-                let d2 = dx * dx + dy * dy + dz * dz;
-                if d2 < r * r {
-                    let q = 1.0 - d2 * (1.0 / (r * r));
-                    let w = q * q;
-                    for (x, y) in acc.iter_mut().zip(t) {
-                        *x += w * y;
-                    }
-                    area += w * a;
-                } else if !(rad > 0.5 * r && d2 < (r + rad) * (r + rad)) {
-                    continue;
-                }
-                for &g in topo.face_neighbours(f as usize) {
-                    if seen.insert(g) {
-                        stack.push(g);
-                    }
-                }
-            }
-            let area = f64::from(area);
-            if !(area > 0.0) {
-                return invalid(n);
-            }
-            let t = acc.map(|x| f64::from(x) / area);
-            let m = Matrix3::new(t[0], t[1], t[2], t[1], t[3], t[4], t[2], t[4], t[5]);
-            tangent_axes(&m, n.as_dvec3()).unwrap_or_else(|| invalid(n))
         })
         .collect()
 }
@@ -192,4 +201,62 @@ fn corrected_matches_plain_reference() {
         }
         assert!(valid > want.len() * 9 / 10, "{name}: {valid} valid");
     }
+}
+
+/// The ball lists ([`CurvatureField::corrected_balls`]), summed with the corrected form's
+/// weights in list order, give the corrected form's field on the same irregular meshes as
+/// [`corrected_matches_plain_reference`]: they hold every face the walk weighs, in its order.
+#[test]
+fn ball_lists_reproduce_the_corrected_form() {
+    use crate::generate;
+    let mut mesh = generate::torus_jittered(2.0, 0.7, 90, 40, 0.3, 5);
+    mesh = generate::displace_along_normals(&mesh, 0.01, 9);
+    let mut w = weld(&mesh);
+    w.indices
+        .retain(|t| t.iter().all(|&i| !(200..260).contains(&i)));
+    w.indices
+        .extend_from_slice(&[[0, 1500, 3000], [10, 2000, 3500]]);
+    let topo = Topology::new(&w);
+    let opts = CurvatureOptions::default();
+    let got = CurvatureField::compute_at_scale(&topo, &opts);
+    let r = got.radius_world;
+    assert_eq!(opts.radius.world(&topo), r);
+    let balls = CurvatureField::corrected_balls(&topo, r);
+    assert_eq!(balls.offsets.len(), topo.vertex_count() + 1);
+    let tf = reference_faces(&topo);
+    let mut outside = 0;
+    for v in 0..topo.vertex_count() {
+        let pv = topo.positions[v];
+        let list = balls.of(v);
+        for f in topo.vertex_faces(v) {
+            assert!(list.contains(f), "vertex {v}: own face {f} not listed");
+        }
+        let (mut acc, mut area) = ([0f32; 6], 0f32);
+        for &f in list {
+            let ([cx, cy, cz, _], t, a) = tf[f as usize];
+            let (dx, dy, dz) = (cx - pv.x, cy - pv.y, cz - pv.z);
+            let d2 = dx * dx + dy * dy + dz * dz;
+            if d2 < r * r {
+                let q = 1.0 - d2 * (1.0 / (r * r));
+                let w = q * q;
+                for (x, y) in acc.iter_mut().zip(t) {
+                    *x += w * y;
+                }
+                area += w * a;
+            } else {
+                outside += 1;
+            }
+        }
+        let f = axes_of(acc, area, topo.vertex_normals[v]);
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-6 * a.abs().max(b.abs());
+        assert_eq!(got.valid[v], f.valid, "vertex {v}");
+        assert!(close(got.kappa_max[v], f.kmax), "vertex {v}");
+        assert!(close(got.kappa_min[v], f.kmin), "vertex {v}");
+    }
+    assert!(outside > 0, "the lists hold the ring around each ball too");
+    assert!(
+        CurvatureField::corrected_balls(&topo, f32::NAN)
+            .faces
+            .is_empty()
+    );
 }
