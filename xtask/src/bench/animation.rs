@@ -21,7 +21,10 @@
 //! beforehand: `cpu_pose_ms` poses on the CPU (`Rig::pose_mesh`) and uploads the vertices
 //! (`GpuMesh::write_vertices`); `gpu_pose_ms` records `npr_gpu::PosingPass` (morphs,
 //! skinning and, for a file without normals, the posed normals) into the vertex buffer.
-//! Both wait for the GPU; `gpu_vs_cpu` is their ratio in the same run.
+//! Both wait for the GPU; `gpu_vs_cpu` is their ratio in the same run. The
+//! `_curvature` columns add the pose's curvature tensor (the corrected form):
+//! `CurvatureField::for_mesh` on the CPU pose, `npr_gpu::CurvaturePass` recorded after the
+//! posing in the same submission.
 
 use super::table::{Cell, Table, emit};
 use npr_app::animation::{Animated, Playback};
@@ -124,6 +127,9 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "cpu_pose_ms",
             "gpu_pose_ms",
             "gpu_vs_cpu",
+            "cpu_pose_curvature_ms",
+            "gpu_pose_curvature_ms",
+            "gpu_vs_cpu_with_curvature",
         ],
     );
     let bar = super::progress(models.len() as u64, "animation");
@@ -308,6 +314,37 @@ fn posing_row(
         q.submit([encoder.finish()]);
         wait();
     });
+    // The pose and its curvature tensor (the corrected form, default radius) both ways:
+    // CurvatureField::for_mesh on the CPU pose, CurvaturePass on the GPU pose in the same
+    // submission as the posing.
+    let opts = npr_geometry::CurvatureOptions::default();
+    let cpu_curvature_ms = mean_ms(|i| {
+        let posed = rig.pose_mesh(&poses[i]);
+        std::hint::black_box(npr_geometry::CurvatureField::for_mesh(&posed, &opts));
+    });
+    let curvature = npr_gpu::CurvaturePass::new(d);
+    let mut field =
+        curvature.create_object(d, &mesh, &bind, npr_geometry::CurvatureRadius::default())?;
+    let gpu_curvature_ms = mean_ms(|i| {
+        frame = frame.next();
+        let input = npr_gpu::PoseInput {
+            frame,
+            pose: &poses[i],
+        };
+        let mut encoder = d.create_command_encoder(&Default::default());
+        let step = pass
+            .prepare(q, &mut object, &input)
+            .and_then(|p| pass.record(&mut encoder, &object, &p))
+            .and_then(|()| {
+                let c = curvature.prepare(q, &mut field, &npr_gpu::CurvatureInput { frame })?;
+                curvature.record(&mut encoder, &field, &c)
+            });
+        if let Err(e) = step {
+            result = Err(e.into());
+        }
+        q.submit([encoder.finish()]);
+        wait();
+    });
     result?;
     Ok(vec![
         name.into(),
@@ -315,5 +352,8 @@ fn posing_row(
         Cell::Num(cpu_ms, 3),
         Cell::Num(gpu_ms, 3),
         Cell::Num(gpu_ms / cpu_ms.max(1e-9), 2),
+        Cell::Num(cpu_curvature_ms, 3),
+        Cell::Num(gpu_curvature_ms, 3),
+        Cell::Num(gpu_curvature_ms / cpu_curvature_ms.max(1e-9), 2),
     ])
 }
