@@ -37,13 +37,15 @@
 //! copy scaled by a power of two, are measured as they are (the scaling is exact, so only
 //! the `f32` range differs).
 
+use crate::compute::{
+    buffer_init as buffer, check_bindings, dispatch_size, group_entry as entry,
+    layout_entry as compute_entry, pipeline, storage_layout_entry as storage_entry,
+};
 use crate::pass::{FrameId, PassId, Prepared, Slots};
 use crate::{GpuError, GpuMesh};
 use glam::Vec3;
 use npr_geometry::{CurvatureField, CurvatureMethod, CurvatureRadius, EdgeKind, Mesh, Topology};
-use wgpu::util::DeviceExt;
 
-const WORKGROUP: u32 = 64;
 /// `NONE` of `curvature.wgsl`: a face corner whose edge has no dihedral angle.
 const NONE: u32 = u32::MAX;
 /// `f32`s per welded vertex in [`CurvatureObject::output`].
@@ -85,87 +87,6 @@ pub struct CurvatureObject {
     faces_group: wgpu::BindGroup,
     vertices_group: wgpu::BindGroup,
     slots: Slots<()>,
-}
-
-fn compute_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    compute_entry(binding, wgpu::BufferBindingType::Storage { read_only })
-}
-
-fn pipeline(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::BindGroupLayout,
-    entry: &str,
-) -> wgpu::ComputePipeline {
-    let layout = crate::render::pipeline_layout(device, entry, &[layout]);
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: Some(&layout),
-        module,
-        entry_point: Some(entry),
-        compilation_options: wgpu::PipelineCompilationOptions::default(),
-        cache: None,
-    })
-}
-
-/// A buffer of `data`, at least one element long (a binding may not be empty).
-fn buffer<T: bytemuck::Pod + Default>(
-    device: &wgpu::Device,
-    label: &str,
-    data: &[T],
-    usage: wgpu::BufferUsages,
-) -> wgpu::Buffer {
-    let one = [T::default()];
-    let contents: &[T] = if data.is_empty() { &one } else { data };
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::cast_slice(contents),
-        usage,
-    })
-}
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
-
-/// Workgroup counts covering `n` invocations within the per-dimension limit (the shader
-/// folds `y` back into one index).
-fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
-    let groups = n.div_ceil(WORKGROUP as usize).max(1) as u64;
-    let max = u64::from(max_per_dimension.max(1));
-    let y = groups.div_ceil(max);
-    let x = groups.div_ceil(y);
-    (x as u32, y as u32)
-}
-
-/// [`GpuError::MeshTooLarge`] for the first buffer (name, bytes) over the storage
-/// binding limit.
-fn check_bindings(buffers: &[(&'static str, u64)], limit: u64) -> Result<(), GpuError> {
-    match buffers.iter().find(|(_, bytes)| *bytes > limit) {
-        Some(&(buffer, size)) => Err(GpuError::MeshTooLarge {
-            buffer,
-            size,
-            limit_name: "max_storage_buffer_binding_size",
-            limit,
-        }),
-        None => Ok(()),
-    }
 }
 
 /// The fixed data of one mesh as the shader reads it (see `curvature.wgsl`).
@@ -510,29 +431,6 @@ mod tests {
             "CurvatureParams",
             [radius, vertex_count, face_count, _pad]
         );
-    }
-
-    #[test]
-    fn dispatch_folds_past_the_per_dimension_limit() {
-        assert_eq!(dispatch_size(0, 65_535), (1, 1));
-        assert_eq!(dispatch_size(64 * 65_535, 65_535), (65_535, 1));
-        let (x, y) = dispatch_size(64 * 65_536, 65_535);
-        assert!(x <= 65_535 && y == 2 && u64::from(x) * u64::from(y) * 64 >= 64 * 65_536);
-    }
-
-    #[test]
-    fn a_list_over_the_binding_limit_is_a_typed_error() {
-        let limit = 128 << 20;
-        assert!(check_bindings(&[("a", limit), ("b", 16)], limit).is_ok());
-        let e = check_bindings(&[("a", 16), ("curvature ball list", limit + 4)], limit);
-        assert!(matches!(
-            e,
-            Err(GpuError::MeshTooLarge {
-                buffer: "curvature ball list",
-                limit_name: "max_storage_buffer_binding_size",
-                ..
-            })
-        ));
     }
 
     #[test]

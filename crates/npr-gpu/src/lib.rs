@@ -28,6 +28,7 @@
 
 mod camera;
 pub mod color;
+mod compute;
 mod context;
 #[cfg(any(test, feature = "test-support"))]
 pub mod cpu_twin;

@@ -16,13 +16,14 @@
 //! The CPU reference is [`npr_geometry::animation::Rig::pose_mesh`]; the WGSL is
 //! `shaders/posing.wgsl` (`cs_pose`, `cs_normals`), whose functions name their Rust twins.
 
+use crate::compute::{
+    check_bindings, dispatch_size, group_entry as entry, pipeline,
+    storage_layout_entry as compute_entry,
+};
 use crate::pass::{FrameId, PassId, Prepared, Slots};
 use crate::{GpuError, GpuMesh};
 use glam::Mat4;
 use npr_geometry::animation::{Pose, Rig};
-use wgpu::util::DeviceExt;
-
-const WORKGROUP: u32 = 64;
 
 /// The compute pipelines of posing: one per device, shared by every posed object.
 #[derive(Debug)]
@@ -80,68 +81,6 @@ struct PoseSlot {
     group: wgpu::BindGroup,
 }
 
-fn compute_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn pipeline(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    layout: &wgpu::BindGroupLayout,
-    entry: &str,
-) -> wgpu::ComputePipeline {
-    let layout = crate::render::pipeline_layout(device, entry, &[layout]);
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
-        layout: Some(&layout),
-        module,
-        entry_point: Some(entry),
-        compilation_options: wgpu::PipelineCompilationOptions::default(),
-        cache: None,
-    })
-}
-
-/// A storage buffer of `data`, at least one element long (a binding may not be empty).
-fn storage<T: bytemuck::Pod + Default>(
-    device: &wgpu::Device,
-    label: &str,
-    data: &[T],
-) -> wgpu::Buffer {
-    let one = [T::default()];
-    let contents: &[T] = if data.is_empty() { &one } else { data };
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytemuck::cast_slice(contents),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-    })
-}
-
-fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
-
-/// Workgroup counts covering `n` invocations within the per-dimension limit (the shader
-/// folds `y` back into one index).
-fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
-    let groups = n.div_ceil(WORKGROUP as usize).max(1) as u64;
-    let max = u64::from(max_per_dimension.max(1));
-    let y = groups.div_ceil(max);
-    let x = groups.div_ceil(y);
-    (x as u32, y as u32)
-}
-
 /// The rig's constant data as the shader reads it (see `posing.wgsl`).
 struct RigData {
     base: Vec<[f32; 4]>,
@@ -156,6 +95,20 @@ struct RigData {
     /// output vertices, one entry per corner in the welded vertex.
     offsets: Vec<u32>,
     faces: Vec<[u32; 4]>,
+}
+
+/// A storage buffer of `data` (at least one element).
+fn storage<T: bytemuck::Pod + Default>(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[T],
+) -> wgpu::Buffer {
+    crate::compute::buffer_init(
+        device,
+        label,
+        data,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+    )
 }
 
 fn rig_data(rig: &Rig, order: &[u32]) -> RigData {
@@ -338,23 +291,16 @@ impl PosingPass {
             }
         };
         let data = rig_data(rig, order);
-        let limit = device.limits().max_storage_buffer_binding_size;
-        for (buffer, bytes) in [
-            ("posing morph", data.morphs.len() * 16),
-            ("posing influence", data.influences.len() * 8),
-            ("posing normal face", data.faces.len() * 16),
-            ("posing bind vertex", data.base.len() * 16),
-            ("posing palette", data.palette_len * 64),
-        ] {
-            if bytes as u64 > limit {
-                return Err(GpuError::MeshTooLarge {
-                    buffer,
-                    size: bytes as u64,
-                    limit_name: "max_storage_buffer_binding_size",
-                    limit,
-                });
-            }
-        }
+        check_bindings(
+            &[
+                ("posing morph", data.morphs.len() as u64 * 16),
+                ("posing influence", data.influences.len() as u64 * 8),
+                ("posing normal face", data.faces.len() as u64 * 16),
+                ("posing bind vertex", data.base.len() as u64 * 16),
+                ("posing palette", data.palette_len as u64 * 64),
+            ],
+            device.limits().max_storage_buffer_binding_size,
+        )?;
         let info = storage(device, "npr posing info", &data.info);
         let normals = rig.recomputes_normals().then(|| {
             let offsets = storage(device, "npr posing face offsets", &data.offsets);

@@ -606,3 +606,36 @@ mod tests {
         assert!(skip_line(1, "t").starts_with("npr: 1 GPU test skipped"));
     }
 }
+
+/// A readback copy of `buffer`, recorded into `encoder` (read it after the submit with
+/// [`read_mapped`]): how the compute tests read a pass's output.
+pub fn copy_for_readback(
+    device: &wgpu::Device,
+    encoder: &mut wgpu::CommandEncoder,
+    buffer: &wgpu::Buffer,
+) -> wgpu::Buffer {
+    let size = buffer.size();
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("npr test readback"),
+        size,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    encoder.copy_buffer_to_buffer(buffer, 0, &read, 0, size);
+    read
+}
+
+/// The bytes of a [`copy_for_readback`] buffer, once its submission is done (waits).
+///
+/// # Panics
+/// When mapping fails (a test helper).
+#[allow(clippy::expect_used)]
+pub fn read_mapped(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Vec<u8> {
+    buffer
+        .slice(..)
+        .map_async(wgpu::MapMode::Read, |r| r.expect("map"));
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .expect("poll");
+    buffer.get_mapped_range(..).expect("mapped range").to_vec()
+}

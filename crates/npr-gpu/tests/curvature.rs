@@ -25,13 +25,7 @@ fn fixture(name: &str) -> npr_geometry::io::Loaded {
 }
 
 fn read_buffer(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Vec<u8> {
-    let slice = buffer.slice(..);
-    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll");
-    let data = buffer.get_mapped_range(..).expect("mapped range");
-    data.to_vec()
+    testing::read_mapped(device, buffer)
 }
 
 /// The output copied into a readback buffer recorded into `encoder`.
@@ -40,15 +34,7 @@ fn copy_out(
     encoder: &mut wgpu::CommandEncoder,
     object: &CurvatureObject,
 ) -> wgpu::Buffer {
-    let size = object.output().size();
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("curvature test readback"),
-        size,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    encoder.copy_buffer_to_buffer(object.output(), 0, &read, 0, size);
-    read
+    testing::copy_for_readback(device, encoder, object.output())
 }
 
 /// The worst errors of `gpu` against `cpu`.

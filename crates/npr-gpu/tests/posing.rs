@@ -64,30 +64,18 @@ fn reorder(mesh: &Mesh, order: &[u32]) -> Mesh {
     out
 }
 
-/// The vertex buffer's positions and normals, copied into `encoder`'s readback buffer.
+/// The vertex buffer, copied into a readback buffer recorded into `encoder`.
 fn copy_out(
     device: &wgpu::Device,
     encoder: &mut wgpu::CommandEncoder,
     mesh: &GpuMesh,
 ) -> wgpu::Buffer {
-    let size = mesh.vertex_buffer.size();
-    let read = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("posing test readback"),
-        size,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    encoder.copy_buffer_to_buffer(&mesh.vertex_buffer, 0, &read, 0, size);
-    read
+    testing::copy_for_readback(device, encoder, &mesh.vertex_buffer)
 }
 
+/// Positions and normals of a [`copy_out`] buffer.
 fn read_vertices(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Vec<(Vec3, Vec3)> {
-    let slice = buffer.slice(..);
-    slice.map_async(wgpu::MapMode::Read, |r| r.expect("map"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll");
-    let data = buffer.get_mapped_range(..).expect("mapped range");
+    let data = testing::read_mapped(device, buffer);
     let floats: &[f32] = bytemuck::cast_slice(&data);
     floats
         .chunks_exact(8)

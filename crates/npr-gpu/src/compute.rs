@@ -1,0 +1,124 @@
+//! What the compute passes of this crate share (`PosingPass`, `CurvaturePass`): their
+//! layout entries, pipelines, buffers and dispatch sizes.
+
+use crate::GpuError;
+use wgpu::util::DeviceExt;
+
+/// Invocations per workgroup of every compute entry point (`@workgroup_size(64)`).
+pub(crate) const WORKGROUP: u32 = 64;
+
+/// A buffer binding of type `ty` at `binding`, visible to the compute stage.
+pub(crate) fn layout_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A storage buffer at `binding`, compute stage.
+pub(crate) fn storage_layout_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    layout_entry(binding, wgpu::BufferBindingType::Storage { read_only })
+}
+
+/// The compute pipeline of `entry` in `module`, over one bind group of `layout`.
+pub(crate) fn pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    let layout = crate::render::pipeline_layout(device, entry, &[layout]);
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(&layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: wgpu::PipelineCompilationOptions::default(),
+        cache: None,
+    })
+}
+
+/// A buffer of `data`, at least one element long (a binding may not be empty).
+pub(crate) fn buffer_init<T: bytemuck::Pod + Default>(
+    device: &wgpu::Device,
+    label: &str,
+    data: &[T],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
+    let one = [T::default()];
+    let contents: &[T] = if data.is_empty() { &one } else { data };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(contents),
+        usage,
+    })
+}
+
+/// `buffer` whole at `binding`.
+pub(crate) fn group_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+/// Workgroup counts covering `n` invocations within the per-dimension limit (the shaders
+/// fold `y` back into one index).
+pub(crate) fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
+    let groups = n.div_ceil(WORKGROUP as usize).max(1) as u64;
+    let max = u64::from(max_per_dimension.max(1));
+    let y = groups.div_ceil(max);
+    let x = groups.div_ceil(y);
+    (x as u32, y as u32)
+}
+
+/// [`GpuError::MeshTooLarge`] for the first buffer (name, bytes) over the storage
+/// binding limit.
+pub(crate) fn check_bindings(buffers: &[(&'static str, u64)], limit: u64) -> Result<(), GpuError> {
+    match buffers.iter().find(|(_, bytes)| *bytes > limit) {
+        Some(&(buffer, size)) => Err(GpuError::MeshTooLarge {
+            buffer,
+            size,
+            limit_name: "max_storage_buffer_binding_size",
+            limit,
+        }),
+        None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dispatch_folds_past_the_per_dimension_limit() {
+        assert_eq!(dispatch_size(0, 65_535), (1, 1));
+        assert_eq!(dispatch_size(64 * 65_535, 65_535), (65_535, 1));
+        let (x, y) = dispatch_size(64 * 65_536, 65_535);
+        assert!(x <= 65_535 && y == 2 && u64::from(x) * u64::from(y) * 64 >= 64 * 65_536);
+    }
+
+    #[test]
+    fn a_list_over_the_binding_limit_is_a_typed_error() {
+        let limit = 128 << 20;
+        assert!(check_bindings(&[("a", limit), ("b", 16)], limit).is_ok());
+        let e = check_bindings(&[("a", 16), ("curvature ball list", limit + 4)], limit);
+        assert!(matches!(
+            e,
+            Err(GpuError::MeshTooLarge {
+                buffer: "curvature ball list",
+                limit_name: "max_storage_buffer_binding_size",
+                ..
+            })
+        ));
+    }
+}
