@@ -247,27 +247,17 @@ impl Animated {
     /// The mesh at clip time `t` (wrapped or held as the playback says; see
     /// [`Animated::posed_mesh`]).
     pub fn mesh_at(&self, t: f32) -> npr_geometry::Mesh {
-        match (self.model.rig.as_ref(), self.clip) {
-            (Some(rig), Some(c)) => {
-                let clip = &rig.clips()[c];
-                let t = Playback {
-                    time: t,
-                    ..self.playback
-                }
-                .at(clip, 0);
-                rig.pose_mesh(&rig.sample(clip, t))
-            }
-            (Some(rig), None) => rig.pose_mesh(&rig.bind_pose()),
+        match (self.model.rig.as_ref(), self.pose_at(t)) {
+            (Some(rig), Some(pose)) => rig.pose_mesh(&pose),
             _ => self.model.mesh.clone(),
         }
     }
 
-    /// What [`crate::engine::Renderer::set_pose_on_gpu`] needs to pose frame time `t` on
-    /// the GPU: the rig, its pose at `t` and where each rig vertex sits in the model's
-    /// vertex order. `None` for a model without a rig.
-    pub fn gpu_pose_at(&self, t: f32) -> Option<GpuPose<'_>> {
-        let (rig, layout) = (self.model.rig.as_ref()?, self.layout.as_ref()?);
-        let pose = match self.clip {
+    /// The rig's pose at clip time `t` (wrapped or held as the playback says), the bind
+    /// pose without a clip; `None` for a model without a rig.
+    pub fn pose_at(&self, t: f32) -> Option<npr_geometry::animation::Pose> {
+        let rig = self.model.rig.as_ref()?;
+        Some(match self.clip {
             Some(c) => {
                 let clip = &rig.clips()[c];
                 let t = Playback {
@@ -278,7 +268,15 @@ impl Animated {
                 rig.sample(clip, t)
             }
             None => rig.bind_pose(),
-        };
+        })
+    }
+
+    /// What [`crate::engine::Renderer::set_pose_on_gpu`] needs to pose frame time `t` on
+    /// the GPU: the rig, its pose at `t` and where each rig vertex sits in the model's
+    /// vertex order. `None` for a model without a rig.
+    pub fn gpu_pose_at(&self, t: f32) -> Option<GpuPose<'_>> {
+        let (rig, layout) = (self.model.rig.as_ref()?, self.layout.as_ref()?);
+        let pose = self.pose_at(t)?;
         Some(GpuPose {
             rig,
             pose,
@@ -331,22 +329,12 @@ impl Animated {
         t: f32,
         posed: &Model,
     ) -> Vec<glam::Vec3> {
-        let (Some(rig), Some(layout)) = (self.model.rig.as_ref(), self.layout.as_ref()) else {
+        let (Some(rig), Some(layout), Some(pose)) = (
+            self.model.rig.as_ref(),
+            self.layout.as_ref(),
+            self.pose_at(t),
+        ) else {
             return rest.to_vec();
-        };
-        let pose = match self.clip {
-            Some(c) => {
-                let clip = &rig.clips()[c];
-                rig.sample(
-                    clip,
-                    Playback {
-                        time: t,
-                        ..self.playback
-                    }
-                    .at(clip, 0),
-                )
-            }
-            None => rig.bind_pose(),
         };
         let mut out = vec![glam::Vec3::ZERO; posed.mesh.positions.len()];
         for (v, ((&d, b), m)) in rest

@@ -118,15 +118,9 @@ impl Mesh {
     ) -> Option<(Mesh, Vec<u32>)> {
         let welded = crate::weld(self);
         let topo = crate::Topology::new(&welded);
-        let size = topo
-            .face_areas
-            .iter()
-            .map(|&a| f64::from(a))
-            .filter(|a| a.is_finite())
-            .sum::<f64>()
-            .sqrt();
+        let size = topo.area_scale();
         let split =
-            topo.split_creases_longer_than(crease_angle_deg, min_line_share.max(0.0) * size as f32);
+            topo.split_creases_longer_than(crease_angle_deg, min_line_share.max(0.0) * size);
         if split.topology.vertex_count() == topo.vertex_count() {
             return None;
         }

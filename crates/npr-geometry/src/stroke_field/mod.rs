@@ -209,16 +209,10 @@ impl StrokeField {
     ) -> MeshStrokeField {
         let welded = weld(mesh);
         let topo = Topology::new(&welded);
-        let size = topo
-            .face_areas
-            .iter()
-            .map(|&a| f64::from(a))
-            .filter(|a| a.is_finite())
-            .sum::<f64>()
-            .sqrt();
+        let size = topo.area_scale();
         let split = topo.split_creases_longer_than(
             options.crease_angle_deg,
-            options.min_crease_length.max(0.0) * size as f32,
+            options.min_crease_length.max(0.0) * size,
         );
         let curvature = CurvatureField::compute(&split.topology, curvature_options);
         let field = Self::compute(&split.topology, &curvature, options);

@@ -94,6 +94,17 @@ impl Topology {
         self.positions.len()
     }
 
+    /// The square root of the total (finite) face area: a length that scales with the
+    /// mesh, for tolerances given as a share of its size.
+    pub fn area_scale(&self) -> f32 {
+        self.face_areas
+            .iter()
+            .map(|&a| f64::from(a))
+            .filter(|a| a.is_finite())
+            .sum::<f64>()
+            .sqrt() as f32
+    }
+
     /// Number of triangles.
     pub fn face_count(&self) -> usize {
         self.triangles.len()
