@@ -308,22 +308,26 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
     let animated = crate::animation::Animated::new(model, clip, playback)?;
     let frames = args.turntable.or(args.frames).unwrap_or(1);
     let moving = animated.plays() && frames > 1;
-    if moving && (preset.effect == Effect::Warp || args.svg.is_some()) {
-        return Err(AppError::Usage(format!(
-            "a playing clip is not drawn {} yet: pick one moment (--time) or the bind pose \
-             (--animation none)",
-            if args.svg.is_some() {
-                "as SVG frames"
-            } else {
-                "by the warp effect"
-            }
-        )));
+    if moving && args.svg.is_some() {
+        return Err(AppError::Usage(
+            "a playing clip is not drawn as SVG frames yet: pick one moment (--time) or the \
+             bind pose (--animation none)"
+                .to_string(),
+        ));
     }
     let ctx = npr_gpu::GpuContext::new()?;
     let turntable = args.turntable.is_some();
     let draw =
         |sink: &mut dyn FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>| {
-            if moving {
+            if moving && preset.effect == Effect::Warp {
+                crate::engine::render_clip_warp_frames(
+                    &ctx,
+                    &animated,
+                    &preset,
+                    (frames, turntable),
+                    sink,
+                )
+            } else if moving {
                 render_clip_frames(&ctx, &animated, &preset, (frames, turntable), sink)
             } else {
                 render_frames(&ctx, animated.frame(0), &preset, frames, sink)

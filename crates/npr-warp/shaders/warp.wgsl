@@ -55,21 +55,29 @@ struct WarpOut {
 };
 
 // §3.3.1: the proxy at its current pose, with each reference camera's texture matrix
-// applied to the same object-space point. `instance_index` is the normal bin (§3.3.2).
+// applied to the same surface point as it stood when that reference was rendered: for a
+// rigid proxy the current vertex (`position0 == position1 == position`), for a deforming
+// one (ours) the vertex of the proxy's snapshot at reference i's pose, so a reference's
+// texels stay on the surface point they show while the body moves. `instance_index` is
+// the normal bin (§3.3.2).
 @vertex
 fn vs_warp(
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(3) position0: vec3<f32>,
+    @location(4) normal0: vec3<f32>,
+    @location(5) position1: vec3<f32>,
+    @location(6) normal1: vec3<f32>,
     @builtin(instance_index) bin: u32,
 ) -> WarpOut {
     let p = vec4<f32>(position, 1.0);
     var out: WarpOut;
     out.clip = object.clip_from_object * p;
-    out.tex0 = object.tex_from_object0 * p;
-    out.tex1 = object.tex_from_object1 * p;
+    out.tex0 = object.tex_from_object0 * vec4<f32>(position0, 1.0);
+    out.tex1 = object.tex_from_object1 * vec4<f32>(position1, 1.0);
     out.weight0 = bin_weights[bin].x;
-    let cos0 = dot(normal, normalize(object.eye0_object.xyz - position));
-    let cos1 = dot(normal, normalize(object.eye1_object.xyz - position));
+    let cos0 = dot(normal0, normalize(object.eye0_object.xyz - position0));
+    let cos1 = dot(normal1, normalize(object.eye1_object.xyz - position1));
     let slack = object.params.w;
     let texel = vec2<f32>(out.tex0.w * object.eye0_object.w, out.tex1.w * object.eye1_object.w);
     let grazing = max(vec2<f32>(cos0, cos1), vec2<f32>(0.05));

@@ -54,6 +54,11 @@ pub enum WarpError {
         /// The pass's samples per pixel.
         expected: u32,
     },
+    /// A pose that is not a pose of the proxy's mesh or object (another vertex count, a
+    /// non-finite position). Fix: pose the mesh the proxy was simplified from, keeping its
+    /// vertices and triangles.
+    #[error("not a pose of this proxy: {0}")]
+    PoseMismatch(String),
     /// The GPU layer failed (target size, mesh upload, readback). Fix: see the wrapped
     /// [`npr_gpu::GpuError`].
     #[error(transparent)]

@@ -73,6 +73,7 @@
 #![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bins;
+pub mod deform;
 pub mod departures;
 mod error;
 pub mod metrics;

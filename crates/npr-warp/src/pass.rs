@@ -14,7 +14,7 @@ use crate::{Proxy, WarpError};
 use glam::{Mat4, Vec4};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use npr_gpu::render::{self, PipelineBuilder};
-use npr_gpu::{GpuMesh, TargetFormats, Vertex, projective};
+use npr_gpu::{GpuMesh, TargetFormats, projective};
 use wgpu::util::DeviceExt;
 
 /// The `WarpObject` uniform block of `warp.wgsl` (272 bytes).
@@ -185,6 +185,8 @@ pub struct ReferencePair {
     /// `clip_from_world` of reference 0 and 1.
     pub clip_from_world: [Mat4; 2],
     size: [u32; 2],
+    /// The references' proxy snapshots of a deforming object ([`crate::deform`]).
+    proxy_poses: [Option<wgpu::Buffer>; 2],
 }
 
 /// One prepare's GPU state: the object's uniforms, bin weights, the pair it warps from
@@ -195,6 +197,7 @@ struct WarpSlot {
     weights: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     pair_group: Option<wgpu::BindGroup>,
+    proxy_poses: [Option<wgpu::Buffer>; 2],
     plan: BinPlan,
     mode: WarpMode,
 }
@@ -209,6 +212,10 @@ pub struct WarpObject {
     pub mesh: GpuMesh,
     edges: Option<(wgpu::Buffer, u32)>,
     slots: Slots<WarpSlot>,
+    /// The inflation it was created with (object units), kept for [`WarpObject::repose`].
+    pub(crate) inflation: f32,
+    /// Posed by [`WarpObject::repose`] at least once.
+    pub(crate) deforming: bool,
 }
 
 impl WarpObject {
@@ -329,7 +336,7 @@ impl WarpPass {
             entries: &[uniform_entry(0), storage_entry(1)],
         });
         let layout = render::pipeline_layout(device, "npr-warp", &[&ref_layout, &object_layout]);
-        let buffers = [Some(Vertex::layout())];
+        let buffers = crate::deform::vertex_layouts();
         let pipeline = |fs: &str,
                         topology: wgpu::PrimitiveTopology,
                         blend: Option<wgpu::BlendState>| {
@@ -450,6 +457,10 @@ impl WarpPass {
             poses: [references[0].pose, references[1].pose],
             clip_from_world: [references[0].clip_from_world, references[1].clip_from_world],
             size: [references[0].width, references[0].height],
+            proxy_poses: [
+                references[0].proxy_pose.clone(),
+                references[1].proxy_pose.clone(),
+            ],
         }
     }
 
@@ -484,6 +495,8 @@ impl WarpPass {
             mesh: gpu,
             edges,
             slots: Slots::new(self.id),
+            inflation: inflate_object,
+            deforming: false,
         })
     }
 
@@ -518,6 +531,7 @@ impl WarpPass {
             weights,
             bind_group,
             pair_group: None,
+            proxy_poses: [None, None],
             plan: BinPlan::default(),
             mode: WarpMode::DepthTested,
         }
@@ -564,6 +578,7 @@ impl WarpPass {
         slot.plan = plan;
         slot.mode = input.mode;
         slot.pair_group = Some(pair.bind_group.clone());
+        slot.proxy_poses = pair.proxy_poses.clone();
         Ok(prepared)
     }
 
@@ -588,7 +603,7 @@ impl WarpPass {
         let (plan, mode) = (&slot.plan, slot.mode);
         pass.set_bind_group(0, pair_group, &[]);
         pass.set_bind_group(1, &slot.bind_group, &[]);
-        pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
+        crate::deform::bind_vertices(pass, object, &slot.proxy_poses);
         pass.set_index_buffer(
             object.mesh.index_buffer.slice(..),
             wgpu::IndexFormat::Uint32,
@@ -640,7 +655,7 @@ impl WarpPass {
         pass.set_pipeline(&self.wire);
         pass.set_bind_group(0, pair_group, &[]);
         pass.set_bind_group(1, &slot.bind_group, &[]);
-        pass.set_vertex_buffer(0, object.mesh.vertex_buffer.slice(..));
+        crate::deform::bind_vertices(pass, object, &slot.proxy_poses);
         pass.set_index_buffer(edges.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..*count, 0, 0..1);
         Ok(())

@@ -28,6 +28,10 @@ pub struct Proxy {
     pub error_relative: f32,
     /// The same error in object units (`error_relative × meshopt::simplify_scale`).
     pub error_object: f32,
+    /// For each proxy vertex, the render vertex of the full mesh it stands on (the first
+    /// of its welded group). The simplifier only collapses edges onto existing vertices,
+    /// so a posed full mesh poses the proxy exactly: see [`Proxy::posed`].
+    pub source_vertices: Vec<u32>,
 }
 
 impl Proxy {
@@ -60,24 +64,25 @@ impl Proxy {
             return Err(WarpError::SimplifiedAway { triangles, ratio });
         }
         let scale = simplify_scale(&positions);
+        // The first render vertex of each welded vertex (render order is first-use order).
+        let mut first_render = vec![u32::MAX; positions.len()];
+        for (r, &w) in welded.render_to_welded.iter().enumerate().rev() {
+            first_render[w as usize] = r as u32;
+        }
         // Compact: keep referenced vertices only, in first-use order.
         let mut remap = vec![u32::MAX; positions.len()];
         let mut out = Mesh::default();
+        let mut source_vertices = Vec::new();
         for &i in &simplified {
             let slot = &mut remap[i as usize];
             if *slot == u32::MAX {
                 *slot = out.positions.len() as u32;
                 out.positions.push(welded.positions[i as usize]);
+                source_vertices.push(first_render[i as usize]);
             }
             out.indices.push(*slot);
         }
-        out.normals = npr_geometry::mesh::welded_area_normals(
-            &out.positions,
-            &out.indices
-                .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]])
-                .collect::<Vec<_>>(),
-        );
+        with_area_normals(&mut out);
         out.uvs = vec![glam::Vec2::ZERO; out.positions.len()];
         Ok(Self {
             mesh: out,
@@ -85,6 +90,42 @@ impl Proxy {
             source_triangles: mesh.triangle_count(),
             error_relative,
             error_object: error_relative * scale,
+            source_vertices,
+        })
+    }
+
+    /// The proxy posed as `source`, a pose of the full mesh it was simplified from (the
+    /// same render vertices, moved by skinning or morphing): each proxy vertex takes its
+    /// [`Proxy::source_vertices`] position, and the normals are recomputed on the posed
+    /// faces. The proxy's skin is the full mesh's, restricted to the vertices it kept, so
+    /// it moves with the same joints and morph weights (beyond the paper, whose §3.3.1
+    /// proxy is rigid). The simplifier's error is kept: it was measured at the rest pose.
+    ///
+    /// # Errors
+    /// [`WarpError::PoseMismatch`] when `source` has fewer vertices than the proxy's
+    /// source map needs, or a non-finite position where the proxy reads it.
+    pub fn posed(&self, source: &Mesh) -> Result<Self, WarpError> {
+        let mut mesh = self.mesh.clone();
+        for (p, &v) in mesh.positions.iter_mut().zip(&self.source_vertices) {
+            match source.positions.get(v as usize) {
+                Some(q) if q.is_finite() => *p = *q,
+                Some(q) => {
+                    return Err(WarpError::PoseMismatch(format!(
+                        "source vertex {v} is at {q}, not a finite position"
+                    )));
+                }
+                None => {
+                    return Err(WarpError::PoseMismatch(format!(
+                        "a pose of {} vertices for a proxy of a mesh with more than {v}",
+                        source.positions.len()
+                    )));
+                }
+            }
+        }
+        with_area_normals(&mut mesh);
+        Ok(Self {
+            mesh,
+            ..self.clone()
         })
     }
 
@@ -125,6 +166,12 @@ impl Proxy {
         }
         m
     }
+}
+
+/// Sets `mesh.normals` to its smooth area-weighted vertex normals.
+fn with_area_normals(mesh: &mut Mesh) {
+    let triangles: Vec<[u32; 3]> = mesh.triangles().collect();
+    mesh.normals = npr_geometry::mesh::welded_area_normals(&mesh.positions, &triangles);
 }
 
 /// meshoptimizer's attribute-free simplifier to `target_indices` with no error bound: the

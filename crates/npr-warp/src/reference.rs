@@ -235,6 +235,9 @@ pub struct ReferenceFrame {
     formats: TargetFormats,
     /// Multisampled: the textures drawn into, the depth resolve and its source binding.
     msaa: Option<ReferenceMsaa>,
+    /// The proxy's vertices at this reference's pose, for a deforming object
+    /// ([`crate::deform`]).
+    pub(crate) proxy_pose: Option<wgpu::Buffer>,
 }
 
 /// The multisampled side of a [`ReferenceFrame`].
@@ -322,6 +325,7 @@ impl ReferenceFrame {
             clip_from_world: camera.clip_from_world(),
             formats,
             msaa,
+            proxy_pose: None,
         })
     }
 

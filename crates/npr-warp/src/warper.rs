@@ -128,11 +128,27 @@ impl Warper {
         let slot = (self.recorded % 2) as usize;
         let draw = ReferenceDraw::whole(frame, pose, slot);
         self.refs[slot].record(device, queue, encoder, base, &draw, self.clear)?;
+        if self.object.deforms() {
+            self.refs[slot].keep_proxy_pose(device, encoder, &self.object);
+        }
         self.recorded += 1;
         let [older, newer] = self.ordered();
         // With one reference recorded, it pairs with itself.
         self.pair = Some(self.pass.bind_pair(device, [older, newer]));
         Ok(())
+    }
+
+    /// Poses the proxy for a deforming model (ours): `posed` is [`Proxy::posed`] of the
+    /// proxy this warper was built for, at the pose the full mesh is drawn at now. A
+    /// reference recorded after it keeps the proxy's vertices at its pose
+    /// ([`crate::deform`]), and warps draw the proxy at the newest pose set. Submit the
+    /// encoder of a reference before setting the next pose: the pose is written with
+    /// `queue.write_buffer`, which runs ahead of the next submission's commands.
+    ///
+    /// # Errors
+    /// As [`WarpObject::repose`]; the proxy keeps its last pose then.
+    pub fn set_proxy_pose(&mut self, queue: &wgpu::Queue, posed: &Proxy) -> Result<(), WarpError> {
+        self.object.repose(queue, posed)
     }
 
     /// The references in time order, older first (both the same before a second one).

@@ -11,6 +11,7 @@ pub mod specular_fidelity;
 pub mod table;
 pub mod vpype;
 pub mod warp;
+pub mod warp_clip;
 
 use std::path::{Path, PathBuf};
 
@@ -48,10 +49,11 @@ const TAKE_MESHES: &[&str] = &[
     "specular",
     "specular-fidelity",
     "plotter",
+    "warp",
 ];
 
 /// The benchmarks that take `--animation CLIP` (played on their `--mesh` models).
-const TAKE_ANIMATION: &[&str] = &["specular-fidelity", "hatching-coherence"];
+const TAKE_ANIMATION: &[&str] = &["specular-fidelity", "hatching-coherence", "warp"];
 
 /// Runs benchmark `name` (on `meshes`, added to or instead of its defaults, where it
 /// takes them).
@@ -73,7 +75,7 @@ pub fn run(
             TAKE_ANIMATION.join(", ")
         );
     }
-    if animation.is_some() && meshes.is_empty() {
+    if animation.is_some() && meshes.is_empty() && name != "warp" {
         anyhow::bail!("--animation plays a clip of a --mesh: name a rigged glTF with --mesh");
     }
     match name {
@@ -84,7 +86,7 @@ pub fn run(
         "specular" => specular::run(meshes, json),
         "specular-fidelity" => specular_fidelity::run(json, meshes, animation),
         "hatching" => hatching::run(json),
-        "warp" => warp::run(json),
+        "warp" => warp::run(json, meshes, animation),
         "plotter" => plotter::run(meshes, json),
         _ => anyhow::bail!("unknown benchmark `{name}`; known: {}", NAMES.join(", ")),
     }

@@ -40,7 +40,7 @@ use npr_warp::{
     Antialiasing, Departure, Departures, Proxy, ReferenceFrame, SceneView, Turntable, WarpMode,
     WarpSchedule, WarpSequence, compare, metrics::flip_mean,
 };
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 const SIZE: u32 = 512;
@@ -444,7 +444,10 @@ struct MeshRun<'a> {
 }
 
 /// Runs the benchmark and prints (and optionally writes) its tables.
-pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
+///
+/// `models` (default: the Fox fixture) play `clip` (default: each one's first) in the
+/// moving-model table ([`super::warp_clip`]); Tables 1-3 keep their meshes.
+pub fn run(json: Option<&Path>, models: &[PathBuf], clip: Option<&str>) -> anyhow::Result<()> {
     let started = Instant::now();
     let ctx = GpuContext::new()?;
     let adapter = ctx.adapter.get_info().name;
@@ -520,8 +523,20 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
          Dragon 8.14x, Buddha 8.39x.",
         started.elapsed().as_secs_f64()
     );
+    let moving = if only.as_ref().is_none_or(|o| o == "moving") {
+        let models = if models.is_empty() {
+            super::warp_clip::default_models()
+        } else {
+            models.to_vec()
+        };
+        Some(super::warp_clip::run(&ctx, &models, clip)?)
+    } else {
+        None
+    };
     let t = tables;
-    emit(&[t.t1, t.ablation, t.bins, t.t3, t.spread, t.proxy], json)
+    let mut all = vec![t.t1, t.ablation, t.bins, t.t3, t.spread, t.proxy];
+    all.extend(moving);
+    emit(&all, json)
 }
 
 /// Builds the proxy of `bm` at `ratio` and records the build in the proxy table.

@@ -23,9 +23,9 @@ pub use inputs::{
     global_controls, object_uniforms, resolve_edit_ids, shading_model,
 };
 pub(crate) use surface::stroke_directions;
-#[cfg(not(target_arch = "wasm32"))]
-pub use warp::render_warp_frames;
 pub use warp::{MIN_PROXY_TRIANGLES, warp_view};
+#[cfg(not(target_arch = "wasm32"))]
+pub use warp::{render_clip_warp_frames, render_warp_frames};
 
 use crate::AppError;
 use crate::model::Model;
@@ -237,7 +237,7 @@ impl Renderer {
         self.model = model;
         self.specular.repose();
         self.hatching.repose();
-        self.warp.clear();
+        self.warp.repose();
         self.fields = SurfaceFields::default();
     }
 

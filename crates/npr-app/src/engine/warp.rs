@@ -48,6 +48,10 @@ pub(crate) struct WarpState {
     warper: npr_warp::Warper,
     base: npr_warp::PhongBase,
     proxy_triangles: usize,
+    /// The proxy as simplified (its source map poses it with the model).
+    proxy: npr_warp::Proxy,
+    /// The [`WarpEffect::poses`] count its proxy is posed at (`None`: as simplified).
+    posed_at: Option<u64>,
 }
 
 /// The warping state (see the module docs).
@@ -56,6 +60,8 @@ pub(crate) struct WarpEffect {
     state: Specialized<WarpKey, WarpState>,
     /// The multisampled full render.
     full_msaa: Specialized<FullMsaaKey, FullMsaa>,
+    /// Poses the renderer has taken ([`WarpEffect::repose`]); 0 for a rigid model.
+    poses: u64,
 }
 
 /// What the multisampled full render is built for: its base shading (formats with the
@@ -78,6 +84,13 @@ impl WarpEffect {
     pub(crate) fn clear(&mut self) {
         self.state.clear();
         self.full_msaa.clear();
+        self.poses = 0;
+    }
+
+    /// The model took a new pose: the proxy follows it before the next reference or warp,
+    /// and the references keep the poses they were rendered at.
+    pub(crate) fn repose(&mut self) {
+        self.poses += 1;
     }
 
     /// The multisampled full render for `preset` at `size`, built or kept.
@@ -116,9 +129,18 @@ impl WarpEffect {
         view: &View,
         size: (u32, u32),
     ) -> Result<&mut WarpState, AppError> {
-        self.state.get_or_build(&WarpKey::of(preset, size), |key| {
+        let poses = self.poses;
+        let state = self.state.get_or_build(&WarpKey::of(preset, size), |key| {
             WarpState::new((device, queue), (model, mesh), preset, view, key)
-        })
+        })?;
+        // A model that has moved: the proxy takes the model's current pose (ours; the
+        // paper's proxy is rigid).
+        if poses > 0 && state.posed_at != Some(poses) {
+            let posed = state.proxy.posed(&model.mesh)?;
+            state.warper.set_proxy_pose(queue, &posed)?;
+            state.posed_at = Some(poses);
+        }
+        Ok(state)
     }
 }
 
@@ -166,6 +188,8 @@ impl WarpState {
             warper,
             base,
             proxy_triangles: proxy.mesh.triangle_count(),
+            proxy,
+            posed_at: None,
         })
     }
 }
@@ -299,30 +323,102 @@ pub fn render_warp_frames(
     model: Model,
     preset: &Preset,
     frames: u32,
-    mut sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+    sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
 ) -> Result<Vec<FrameStats>, AppError> {
     let size = (preset.output.width, preset.output.height);
     let framing = model.framing;
-    let k = preset.warp.k.max(1) as usize;
-    let view_at = |i: usize| {
-        View::new(
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let frames_of = WarpFrames {
+        framing,
+        frames,
+        turntable: true,
+    };
+    warp_frames(ctx, renderer, preset, frames_of, |_, _| Ok(()), sink)
+}
+
+/// [`render_warp_frames`] of a model playing its clip (`frames` frames at the playback's
+/// rate; with `turntable`, during one camera turn, else with the camera still). The full
+/// mesh is posed at each reference's moment before the reference is rendered and at each
+/// frame's before it is warped; the proxy follows the same pose (ours, see
+/// `npr_warp::deform`).
+///
+/// # Errors
+/// As [`render_warp_frames`].
+#[cfg(not(target_arch = "wasm32"))]
+pub fn render_clip_warp_frames(
+    ctx: &npr_gpu::GpuContext,
+    animated: &crate::animation::Animated,
+    preset: &Preset,
+    (frames, turntable): (u32, bool),
+    sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    let size = (preset.output.width, preset.output.height);
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
+    let frames_of = WarpFrames {
+        framing: animated.framing(),
+        frames,
+        turntable,
+    };
+    let pose = |renderer: &mut Renderer, i: usize| {
+        crate::animation::set_pose_at(
+            renderer,
+            (&ctx.device, &ctx.queue),
+            animated,
+            animated.time_of(i),
             preset,
-            &framing,
-            size,
-            360.0 * i as f32 / frames.max(1) as f32,
+            None,
         )
     };
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    warp_frames(ctx, renderer, preset, frames_of, pose, sink)
+}
+
+/// The path of a warped sequence: its framing, frame count and whether the camera turns.
+#[cfg(not(target_arch = "wasm32"))]
+struct WarpFrames {
+    framing: crate::view::Framing,
+    frames: u32,
+    turntable: bool,
+}
+
+/// The loop of [`render_warp_frames`], with `pose` setting the model's pose of frame `i`
+/// (nothing for a rigid model) before each reference, full render and warp.
+#[cfg(not(target_arch = "wasm32"))]
+fn warp_frames(
+    ctx: &npr_gpu::GpuContext,
+    mut renderer: Renderer,
+    preset: &Preset,
+    path: WarpFrames,
+    mut pose: impl FnMut(&mut Renderer, usize) -> Result<(), AppError>,
+    mut sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
+) -> Result<Vec<FrameStats>, AppError> {
+    let size = (preset.output.width, preset.output.height);
+    let WarpFrames {
+        framing,
+        frames,
+        turntable,
+    } = path;
+    let k = preset.warp.k.max(1) as usize;
+    let view_at = |i: usize| {
+        let turn = if turntable {
+            360.0 * i as f32 / frames.max(1) as f32
+        } else {
+            0.0
+        };
+        View::new(preset, &framing, size, turn)
+    };
     let bar = crate::progress::bar(u64::from(frames), "warp");
     let mut stats = Vec::new();
     for i in 0..frames as usize {
         let view = view_at(i);
         if i % k == 0 {
             if i == 0 {
+                pose(&mut renderer, 0)?;
                 renderer.warp_reference(&ctx.device, &ctx.queue, preset, &view)?;
             }
+            pose(&mut renderer, i + k)?;
             renderer.warp_reference(&ctx.device, &ctx.queue, preset, &view_at(i + k))?;
         }
+        pose(&mut renderer, i)?;
         let full_stats = renderer.render(&ctx.device, &ctx.queue, preset, &view)?;
         let full = renderer.read(&ctx.device, &ctx.queue)?;
         if i % k == 0 {
