@@ -204,7 +204,8 @@ pub fn render_svgs(
 /// once over the frames with `turntable`), and hands each image to `sink`. Each frame's
 /// model is the posed mesh ([`Renderer::set_pose`]), so curvature, highlights, stroke
 /// directions and outlines are computed on the posed surface, and the highlights keep
-/// their ids from frame to frame.
+/// their ids from frame to frame. The warp effect warps the frames between references
+/// posed at their own moments ([`crate::engine::render_clip_warp_frames`]).
 ///
 /// # Errors
 /// GPU or technique errors, or what `sink` returns.
@@ -215,6 +216,15 @@ pub fn render_clip_frames(
     (frames, turntable): (u32, bool),
     sink: &mut dyn FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
 ) -> Result<Vec<FrameStats>, AppError> {
+    if preset.effect == Effect::Warp {
+        return crate::engine::render_clip_warp_frames(
+            ctx,
+            animated,
+            preset,
+            (frames, turntable),
+            sink,
+        );
+    }
     let size = (preset.output.width, preset.output.height);
     let framing = animated.framing();
     let mut renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
@@ -319,15 +329,7 @@ pub fn run(args: &RenderArgs) -> Result<RenderSummary, AppError> {
     let turntable = args.turntable.is_some();
     let draw =
         |sink: &mut dyn FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>| {
-            if moving && preset.effect == Effect::Warp {
-                crate::engine::render_clip_warp_frames(
-                    &ctx,
-                    &animated,
-                    &preset,
-                    (frames, turntable),
-                    sink,
-                )
-            } else if moving {
+            if moving {
                 render_clip_frames(&ctx, &animated, &preset, (frames, turntable), sink)
             } else {
                 render_frames(&ctx, animated.frame(0), &preset, frames, sink)

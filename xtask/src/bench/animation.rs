@@ -15,7 +15,9 @@
 //! adds rigged glTF files. CPU times are wall time on this machine's cores.
 //! `carried_ms` is the rest pose's stroke field carried through the skinning
 //! (`Animated::carried_directions`), and `carried_dev_deg` the median angle between it
-//! and the field computed on each pose; the hatching's frame is measured both ways.
+//! and the field computed on each pose; the hatching's frame is measured both ways. The
+//! warp's frame is a warped frame between two references (recorded once): animated, the
+//! proxy is posed with the model and re-binned before it is drawn.
 //!
 //! The posing table sets one pose into the uploaded mesh both ways, the clip sampled
 //! beforehand: `cpu_pose_ms` poses on the CPU (`Rig::pose_mesh`) and uploads the vertices
@@ -40,11 +42,12 @@ const FRAMES: usize = 30;
 /// The view size.
 const SIZE: (u32, u32) = (640, 480);
 /// The effects measured, with the hatching's two ways of following the pose.
-const EFFECTS: [(Effect, PoseGeometry); 4] = [
+const EFFECTS: [(Effect, PoseGeometry); 5] = [
     (Effect::Phong, PoseGeometry::Recompute),
     (Effect::Specular, PoseGeometry::Recompute),
     (Effect::HatchingPen, PoseGeometry::Recompute),
     (Effect::HatchingPen, PoseGeometry::Carried),
+    (Effect::Warp, PoseGeometry::Recompute),
 ];
 
 fn default_models() -> anyhow::Result<Vec<Model>> {
@@ -228,10 +231,23 @@ fn gpu_row(
     let wait = || {
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     };
+    // The warp's frame is a warped one, between two references recorded here (at the
+    // first pose; the animated frames pose the proxy with the model before warping).
+    if effect == Effect::Warp {
+        renderer.warp_reference(&ctx.device, &ctx.queue, &preset, &view)?;
+        renderer.warp_reference(&ctx.device, &ctx.queue, &preset, &view)?;
+    }
+    let draw = |renderer: &mut Renderer| {
+        if effect == Effect::Warp {
+            renderer.warp_frame(&ctx.device, &ctx.queue, &preset, &view, Some(0.5))
+        } else {
+            renderer.render(&ctx.device, &ctx.queue, &preset, &view)
+        }
+    };
     let mut result = Ok(());
     let mut setup = 0.0;
     let rigid_ms = mean_ms(|_| {
-        if let Err(e) = renderer.render(&ctx.device, &ctx.queue, &preset, &view) {
+        if let Err(e) = draw(&mut renderer) {
             result = Err(e);
         }
         wait();
@@ -245,7 +261,7 @@ fn gpu_row(
             }
             None => renderer.set_pose(&ctx.queue, model),
         };
-        let step = posed.and_then(|()| renderer.render(&ctx.device, &ctx.queue, &preset, &view));
+        let step = posed.and_then(|()| draw(&mut renderer));
         match step {
             Ok(s) => setup += s.setup_us,
             Err(e) => result = Err(e),

@@ -39,7 +39,7 @@ pub const HATCHING_SINGLES: [&str; 5] = ["knot", "sphere", "torus", "spot", "sta
 pub const PLOTTER_SUBJECTS: [&str; 2] = ["stanford-bunny", "spot"];
 
 /// The effects of the animated section (`animated-fox-EFFECT.gif`).
-pub const ANIMATED_EFFECTS: [&str; 2] = ["hatching-pen", "specular"];
+pub const ANIMATED_EFFECTS: [&str; 3] = ["hatching-pen", "specular", "warp"];
 
 /// A section of the page: the base shadings, one paper, the pen plotter, or animated
 /// models.
@@ -186,7 +186,9 @@ fn animated_figures(out: &mut Vec<Figure>) {
                  fixtures/meshes/Fox.glb --effect {effect} --animation Walk --frames 24 \
                  --gif`). Each frame is posed on the CPU (linear blend skinning) and its \
                  curvature, highlights or stroke directions are computed on the posed \
-                 surface; below, every sixth frame."
+                 surface; the warp poses its proxy with the Fox and projects each \
+                 reference through the proxy's pose at the reference's moment. Below, every \
+                 sixth frame."
             ),
         );
         f.parts = vec![format!("animated-fox-{effect}-strip.png")];
