@@ -37,9 +37,13 @@
 struct CurvatureParams {
     // Ball radius r (world units).
     radius: f32,
+    // Welded vertices of this dispatch of `cs_vertices` (one chunk of the mesh's), or of
+    // the whole mesh for `cs_faces`.
     vertex_count: u32,
     face_count: u32,
-    _pad: u32,
+    // The chunk's first welded vertex: `v_ranges` and `v_lists` hold the chunk's own
+    // vertices, so one chunk's lists fit a storage binding (a 1.1M-face mesh's do not).
+    first_vertex: u32,
 }
 @group(0) @binding(13) var<uniform> params: CurvatureParams;
 
@@ -215,11 +219,12 @@ fn tangent_axes(v: u32, t0: vec4<f32>, t1: vec2<f32>, n: vec3<f32>) {
 // centroid is inside (Rust twin: `npr_geometry::curvature::tensor::corrected_axes`).
 @compute @workgroup_size(64)
 fn cs_vertices(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let v = invocation(gid, groups);
-    if v >= params.vertex_count {
+    let local = invocation(gid, groups);
+    if local >= params.vertex_count {
         return;
     }
-    let range = v_ranges[v];
+    let v = params.first_vertex + local;
+    let range = v_ranges[local];
     var nsum = vec3<f32>(0.0);
     for (var k = range.x; k < range.y; k++) {
         let f = v_lists[k];

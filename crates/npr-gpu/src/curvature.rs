@@ -60,6 +60,8 @@ pub struct CurvaturePass {
     vertices_pipeline: wgpu::ComputePipeline,
     faces_layout: wgpu::BindGroupLayout,
     vertices_layout: wgpu::BindGroupLayout,
+    /// A list binding limit below the device's, to split small meshes in tests.
+    max_list_binding: Option<u64>,
 }
 
 /// What one measurement needs: the frame it is for (the positions are the mesh's vertex
@@ -85,7 +87,8 @@ pub struct CurvatureObject {
     render_to_welded: Vec<u32>,
     output: wgpu::Buffer,
     faces_group: wgpu::BindGroup,
-    vertices_group: wgpu::BindGroup,
+    /// One bind group and vertex count per chunk of welded vertices (see [`chunks`]).
+    vertex_chunks: Vec<(wgpu::BindGroup, usize)>,
     slots: Slots<()>,
 }
 
@@ -180,7 +183,34 @@ struct Params {
     radius: f32,
     vertex_count: u32,
     face_count: u32,
-    _pad: u32,
+    first_vertex: u32,
+}
+
+/// Splits the welded vertices into runs whose face lists (each vertex's own faces, then
+/// its ball's: `ranges[v].x .. ranges[v].z` of one list) and ranges (16 bytes a vertex)
+/// each fit `limit` bytes, so a mesh whose lists exceed one storage binding is measured
+/// in several dispatches.
+///
+/// # Errors
+/// [`GpuError::MeshTooLarge`] when one vertex's lists alone exceed `limit`.
+fn chunks(ranges: &[[u32; 4]], limit: u64) -> Result<Vec<std::ops::Range<usize>>, GpuError> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for (v, r) in ranges.iter().enumerate() {
+        let own = u64::from(r[2] - r[0]) * 4;
+        check_bindings(&[("curvature ball list", own)], limit)?;
+        let first = u64::from(ranges[start][0]);
+        let lists = (u64::from(r[2]) - first) * 4;
+        let count = (v + 1 - start) as u64 * 16;
+        if lists > limit || count > limit {
+            out.push(start..v);
+            start = v;
+        }
+    }
+    if start < ranges.len() || out.is_empty() {
+        out.push(start..ranges.len());
+    }
+    Ok(out)
 }
 
 impl CurvaturePass {
@@ -207,6 +237,7 @@ impl CurvaturePass {
             vertices_pipeline: pipeline(device, &module, &vertices_layout, "cs_vertices"),
             faces_layout,
             vertices_layout,
+            max_list_binding: None,
         }
     }
 
@@ -218,7 +249,11 @@ impl CurvaturePass {
     /// # Errors
     /// [`GpuError::InvalidMesh`] when `gpu` and `mesh` differ in vertex or index count;
     /// [`GpuError::MeshTooLarge`] when a buffer would exceed the device's storage binding
-    /// limit (the ball lists grow with the vertex count times the faces in a ball).
+    /// limit. The per-vertex face lists (about 100 faces a vertex at the default radius,
+    /// 235 MB on a 1.1M-face mesh) are split into chunks of vertices that each fit one
+    /// binding, measured in one dispatch each ([`CurvatureObject::chunk_count`]); the
+    /// per-face records and the output are not split (64 and 48 bytes per face and
+    /// vertex: 2M faces fit the default 128 MiB).
     pub fn create_object(
         &self,
         device: &wgpu::Device,
@@ -245,20 +280,21 @@ impl CurvaturePass {
         // The ball lists are the big one (about 100 faces a vertex at the default radius).
         let rep = representatives(&welded.render_to_welded, nv);
         let data = lists(&topo, &rep, radius_world);
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let runs = chunks(
+            &data.ranges,
+            self.max_list_binding.unwrap_or(limit).min(limit),
+        )?;
         check_bindings(
             &[
-                ("curvature ball list", data.lists.len() as u64 * 4),
                 ("curvature face", data.faces.len() as u64 * 16),
                 ("curvature face record", nf as u64 * 64),
-                ("curvature vertex range", data.ranges.len() as u64 * 16),
                 ("curvature output", (nv * OUTPUT_FLOATS * 4) as u64),
             ],
-            device.limits().max_storage_buffer_binding_size,
+            limit,
         )?;
         let storage = wgpu::BufferUsages::STORAGE;
         let faces = buffer(device, "npr curvature faces", &data.faces, storage);
-        let ranges = buffer(device, "npr curvature ranges", &data.ranges, storage);
-        let balls = buffer(device, "npr curvature balls", &data.lists, storage);
         let records = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr curvature face records"),
             size: (nf.max(1) * 64) as u64,
@@ -271,18 +307,21 @@ impl CurvaturePass {
             usage: storage | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let params = Params {
-            radius: radius_world,
-            vertex_count: nv as u32,
-            face_count: nf as u32,
-            _pad: 0,
+        let params = |vertex_count: usize, first_vertex: usize| {
+            let params = Params {
+                radius: radius_world,
+                vertex_count: vertex_count as u32,
+                face_count: nf as u32,
+                first_vertex: first_vertex as u32,
+            };
+            buffer(
+                device,
+                "npr curvature params",
+                &[params],
+                wgpu::BufferUsages::UNIFORM,
+            )
         };
-        let params = buffer(
-            device,
-            "npr curvature params",
-            &[params],
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let faces_params = params(nv, 0);
         let faces_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr curvature faces"),
             layout: &self.faces_layout,
@@ -290,21 +329,42 @@ impl CurvaturePass {
                 entry(0, &gpu.vertex_buffer),
                 entry(1, &faces),
                 entry(2, &records),
-                entry(13, &params),
+                entry(13, &faces_params),
             ],
         });
-        let vertices_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr curvature vertices"),
-            layout: &self.vertices_layout,
-            entries: &[
-                entry(8, &gpu.vertex_buffer),
-                entry(9, &ranges),
-                entry(10, &records),
-                entry(11, &balls),
-                entry(12, &output),
-                entry(13, &params),
-            ],
-        });
+        let vertex_chunks = runs
+            .into_iter()
+            .map(|run| {
+                // The chunk's own ranges, rebased on its own slice of the lists.
+                let first = data.ranges.get(run.start).map_or(0, |r| r[0]);
+                let end = run
+                    .end
+                    .checked_sub(1)
+                    .and_then(|l| data.ranges.get(l))
+                    .map_or(first, |r| r[2]);
+                let local: Vec<[u32; 4]> = data.ranges[run.clone()]
+                    .iter()
+                    .map(|r| [r[0] - first, r[1] - first, r[2] - first, r[3]])
+                    .collect();
+                let slice = &data.lists[first as usize..end as usize];
+                let ranges = buffer(device, "npr curvature ranges", &local, storage);
+                let balls = buffer(device, "npr curvature balls", slice, storage);
+                let params = params(run.len(), run.start);
+                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("npr curvature vertices"),
+                    layout: &self.vertices_layout,
+                    entries: &[
+                        entry(8, &gpu.vertex_buffer),
+                        entry(9, &ranges),
+                        entry(10, &records),
+                        entry(11, &balls),
+                        entry(12, &output),
+                        entry(13, &params),
+                    ],
+                });
+                (group, run.len())
+            })
+            .collect();
         Ok(CurvatureObject {
             welded: nv,
             faces: nf,
@@ -313,7 +373,7 @@ impl CurvaturePass {
             render_to_welded: welded.render_to_welded,
             output,
             faces_group,
-            vertices_group,
+            vertex_chunks,
             slots: Slots::new(self.id),
         })
     }
@@ -356,10 +416,12 @@ impl CurvaturePass {
         pass.set_pipeline(&self.faces_pipeline);
         pass.set_bind_group(0, &object.faces_group, &[]);
         pass.dispatch_workgroups(x, y, 1);
-        let (x, y) = dispatch_size(object.welded, max);
         pass.set_pipeline(&self.vertices_pipeline);
-        pass.set_bind_group(0, &object.vertices_group, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        for (group, count) in &object.vertex_chunks {
+            let (x, y) = dispatch_size(*count, max);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
         Ok(())
     }
 }
@@ -373,6 +435,12 @@ impl CurvatureObject {
     /// Number of welded vertices (entries of the output).
     pub fn welded_vertex_count(&self) -> usize {
         self.welded
+    }
+
+    /// Dispatches of the per-vertex pass: the welded vertices split so that each chunk's
+    /// face lists fit one storage binding (1 for a mesh whose lists fit whole).
+    pub fn chunk_count(&self) -> usize {
+        self.vertex_chunks.len()
     }
 
     /// Entries of the per-vertex face lists (each vertex's own faces, then its ball's):
@@ -429,8 +497,83 @@ mod tests {
             crate::shaders::ALL,
             Params,
             "CurvatureParams",
-            [radius, vertex_count, face_count, _pad]
+            [radius, vertex_count, face_count, first_vertex]
         );
+    }
+
+    /// The ranges of vertices with `sizes[v]` list entries each.
+    fn ranges_of(sizes: &[u32]) -> Vec<[u32; 4]> {
+        let mut at = 0;
+        sizes
+            .iter()
+            .map(|&n| {
+                let r = [at, at + 1, at + n, 0];
+                at += n;
+                r
+            })
+            .collect()
+    }
+
+    #[test]
+    fn vertices_split_where_their_lists_would_exceed_a_binding() {
+        // 10 entries (40 bytes) a vertex, 100 bytes a binding: two vertices a chunk.
+        let ranges = ranges_of(&[10; 5]);
+        let runs = chunks(&ranges, 100).unwrap();
+        assert_eq!(runs, vec![0..2, 2..4, 4..5]);
+        assert_eq!(chunks(&ranges, 1 << 20).unwrap(), vec![0..5]);
+        // One vertex whose lists alone exceed the binding: a typed error.
+        assert!(matches!(
+            chunks(&ranges_of(&[10, 40]), 100),
+            Err(GpuError::MeshTooLarge { .. })
+        ));
+        assert_eq!(chunks(&[], 100).unwrap(), vec![0..0]);
+    }
+
+    #[test]
+    fn a_mesh_measured_in_chunks_equals_it_measured_whole() {
+        let Some(ctx) =
+            crate::testing::context_or_skip("a_mesh_measured_in_chunks_equals_it_measured_whole")
+        else {
+            return;
+        };
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        let mesh = npr_geometry::generate::torus(1.0, 0.35, 48, 24);
+        let gpu = GpuMesh::upload(device, &mesh).unwrap();
+        let measure = |pass: &CurvaturePass| {
+            let mut object = pass
+                .create_object(device, &gpu, &mesh, CurvatureRadius::default())
+                .unwrap();
+            let prepared = pass
+                .prepare(queue, &mut object, &CurvatureInput { frame: FrameId(1) })
+                .unwrap();
+            let mut encoder = device.create_command_encoder(&Default::default());
+            pass.record(&mut encoder, &object, &prepared).unwrap();
+            let read = crate::testing::copy_for_readback(device, &mut encoder, object.output());
+            queue.submit([encoder.finish()]);
+            (
+                object.chunk_count(),
+                object.ball_entries(),
+                crate::testing::read_mapped(device, &read),
+            )
+        };
+        let whole = CurvaturePass::new(device);
+        let (one, entries, expected) = measure(&whole);
+        assert_eq!(one, 1);
+        // A binding a seventh of the lists: at least seven chunks.
+        let mut split = CurvaturePass::new(device);
+        split.max_list_binding = Some(entries as u64 * 4 / 7);
+        let (many, _, got) = measure(&split);
+        assert!(many >= 7, "{many} chunks");
+        assert_eq!(got, expected, "chunked output differs from the whole");
+        let field = whole.create_object(device, &gpu, &mesh, CurvatureRadius::default());
+        let valid = field
+            .unwrap()
+            .decode(&got)
+            .valid
+            .iter()
+            .filter(|v| **v)
+            .count();
+        assert!(valid > mesh.positions.len() / 2, "{valid} valid vertices");
     }
 
     #[test]

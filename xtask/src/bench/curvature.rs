@@ -1,7 +1,8 @@
 //! `cargo xtask bench curvature`: speed and accuracy of the curvature field
 //! on analytic meshes, irregular and noisy variants, and the real meshes in
 //! `fixtures/meshes`; a method comparison (paper / clipped / corrected) on the 10k
-//! torus; and the per-frame N = H highlight-centre search.
+//! torus; the per-frame N = H highlight-centre search; and the same field measured on
+//! the GPU (`npr_gpu::CurvaturePass`, [`super::curvature_gpu`]) beside the CPU's.
 //!
 //! Errors are relative to the mesh's largest true |k| (percent); the direction error is
 //! the angle between the computed and true k_max directions (degrees), left out at
@@ -143,13 +144,20 @@ pub fn run(json: Option<&Path>) -> anyhow::Result<()> {
         rayon_threads()
     );
     let cases = cases()?;
-    let bar = super::progress(cases.len() as u64 + 9 + 3, "curvature");
+    let bar = super::progress(2 * cases.len() as u64 + 9 + 3, "curvature");
     let main = field_table(&cases, &bar);
     let methods = method_table(&bar);
     let search = search_table(&bar)?;
+    let ctx = npr_gpu::GpuContext::new()?;
+    let mut gpu = super::curvature_gpu::table();
+    for case in &cases {
+        bar.set_message(format!("GPU: {}", case.name));
+        gpu.push(super::curvature_gpu::row(&ctx, &case.name, &case.mesh)?);
+        bar.inc(1);
+    }
     bar.finish_and_clear();
 
-    emit(&[main, methods, search], json)
+    emit(&[main, methods, search, gpu], json)
 }
 
 /// The main table's meshes: analytic, jittered and noisy, the fixtures, the 1.1M knot.

@@ -2,6 +2,7 @@
 
 pub mod animation;
 pub mod curvature;
+pub mod curvature_gpu;
 pub mod hatching;
 pub mod hatching_coherence;
 pub mod hatching_directions;
