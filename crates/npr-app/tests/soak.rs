@@ -140,12 +140,16 @@ fn soak_effect(ctx: &GpuContext, preset: &Preset, what: &str) -> String {
     check_flat(what, &warm, &end)
 }
 
+/// Frames of the animated soak after its warm-up.
+const ANIMATED_SOAK: usize = 600;
+
 /// The Fox playing its Walk clip, posed and re-set every frame (what `npr render
-/// --frames` does): memory and GPU objects stay flat over [`SOAK`] frames, for the
-/// effects that recompute the most per pose.
+/// --frames` does): memory and GPU objects stay flat over [`ANIMATED_SOAK`] frames, for the
+/// effects that recompute the most per pose, and for the warp, whose proxy is posed and
+/// whose references keep the proxy's pose of their moment.
 #[test]
-fn an_animated_model_stays_flat_over_300_frames() {
-    let Some(ctx) = context_or_skip("an_animated_model_stays_flat_over_300_frames") else {
+fn an_animated_model_stays_flat_over_600_frames() {
+    let Some(ctx) = context_or_skip("an_animated_model_stays_flat_over_600_frames") else {
         return;
     };
     let _alone = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
@@ -156,10 +160,10 @@ fn an_animated_model_stays_flat_over_300_frames() {
         npr_app::animation::Animated::new(fox, walk, npr_app::animation::Playback::default())
             .unwrap();
     let mut failures = Vec::new();
-    for effect in [Effect::Specular, Effect::HatchingPen] {
+    for effect in [Effect::Specular, Effect::HatchingPen, Effect::Warp] {
         let preset = preset(effect, SpacePreset::Surface);
         let mut readings = Vec::new();
-        let frames = (WARM_UP + SOAK) as u32;
+        let frames = (WARM_UP + ANIMATED_SOAK) as u32;
         npr_app::render::render_clip_frames(
             ctx,
             &animated,
