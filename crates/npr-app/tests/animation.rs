@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{npr, out_dir, root};
+use common::{gif_frames, npr, out_dir, root};
 use npr_gpu::testing::context_or_skip;
 
 fn fox() -> String {
@@ -588,12 +588,7 @@ fn the_warp_plays_the_clip() {
         json.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    use image::AnimationDecoder as _;
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(&gif).unwrap(),
-    ))
-    .unwrap();
-    let frames = decoder.into_frames().collect_frames().unwrap();
+    let frames = gif_frames(&gif);
     assert_eq!(frames.len(), 24);
     assert_ne!(
         frames[0].buffer().as_raw(),

@@ -4,7 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
-use common::{npr, out_dir, root};
+use common::{gif_frames, npr, out_dir, root};
 
 use npr_app::engine::{self, Renderer};
 use npr_app::model::Model;
@@ -271,12 +271,7 @@ fn a_turntable_gif_has_its_frames_and_json_its_rows() {
         json.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    use image::AnimationDecoder as _;
-    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
-        std::fs::File::open(&gif).unwrap(),
-    ))
-    .unwrap();
-    let frames = decoder.into_frames().collect_frames().unwrap();
+    let frames = gif_frames(&gif);
     assert_eq!(frames.len(), 6);
     // The model turns: consecutive frames differ.
     assert_ne!(frames[0].buffer().as_raw(), frames[1].buffer().as_raw());

@@ -13,8 +13,8 @@ use npr_gpu::{
     testing::context_or_skip,
 };
 use npr_warp::{
-    Departures, FullRenderer, ObjectView, PhongBase, Proxy, ReferenceDraw, ReferenceFrame,
-    WarpError, WarpObject, WarpPass, WarpSettings, compare,
+    Departures, ObjectView, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, WarpError, WarpObject,
+    WarpPass, WarpSettings, compare,
 };
 
 mod common;
@@ -95,22 +95,8 @@ impl Scene {
     }
 
     fn full_image(&self) -> image::RgbaImage {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut renderer = FullRenderer::new(d, q, TargetFormats::default());
-        let input = npr_warp::FullInput {
-            frame: npr_gpu::FrameId(0),
-            camera: &self.view.camera,
-            world_from_objects: &[self.view.world_from_object],
-            light: &light(),
-            material: &material(),
-        };
-        renderer.prepare(q, &self.full, &input).unwrap();
-        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
-        let mut encoder = d.create_command_encoder(&Default::default());
-        let (c, z) = (&target.color_view, &target.depth_view);
-        renderer.record(&mut encoder, c, z, CLEAR).unwrap();
-        q.submit(Some(encoder.finish()));
-        readback_rgba(d, q, &target.color).unwrap()
+        let objects = [self.view.world_from_object];
+        common::full_render(self.ctx, &self.full, &self.view.camera, &objects)
     }
 
     fn warp_image(&mut self, refs: [&ReferenceFrame; 2], s: f32) -> image::RgbaImage {

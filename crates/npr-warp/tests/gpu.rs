@@ -10,9 +10,9 @@ use npr_gpu::{
     TargetFormats, readback_rgba, testing::context_or_skip,
 };
 use npr_warp::{
-    Departures, FullRenderer, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, SceneView,
-    SequenceFrame, Turntable, WarpMode, WarpObject, WarpPass, WarpSchedule, WarpSequence,
-    WarpSettings, Warper, compare, metrics::read_rgba,
+    Departures, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, SceneView, SequenceFrame,
+    Turntable, WarpMode, WarpObject, WarpPass, WarpSchedule, WarpSequence, WarpSettings, Warper,
+    compare, metrics::read_rgba,
 };
 
 mod common;
@@ -90,22 +90,7 @@ impl Rig {
     }
 
     fn full_image(&self, scene: &SceneView) -> image::RgbaImage {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
-        let mut renderer = FullRenderer::new(d, q, TargetFormats::default());
-        let input = npr_warp::FullInput {
-            frame: npr_gpu::FrameId(0),
-            camera: &scene.camera,
-            world_from_objects: &scene.objects,
-            light: &light(),
-            material: &material(),
-        };
-        renderer.prepare(q, &self.full, &input).unwrap();
-        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
-        let mut encoder = d.create_command_encoder(&Default::default());
-        let (c, z) = (&target.color_view, &target.depth_view);
-        renderer.record(&mut encoder, c, z, CLEAR).unwrap();
-        q.submit(Some(encoder.finish()));
-        readback_rgba(d, q, &target.color).unwrap()
+        common::full_render(self.ctx, &self.full, &scene.camera, &scene.objects)
     }
 
     fn warp_image(

@@ -1,5 +1,5 @@
 //! What the app's test binaries share: the workspace root, a fresh output folder per
-//! test, and the `npr` binary.
+//! test, the `npr` binary, and the frames of a GIF it wrote.
 // Each test binary uses its own share of these.
 #![allow(dead_code, clippy::unwrap_used)]
 
@@ -25,4 +25,14 @@ pub fn npr(args: &[&str]) -> std::process::Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+/// The frames of the GIF at `path`.
+pub fn gif_frames(path: &Path) -> Vec<image::Frame> {
+    use image::AnimationDecoder as _;
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(
+        std::fs::File::open(path).unwrap(),
+    ))
+    .unwrap();
+    decoder.into_frames().collect_frames().unwrap()
 }
