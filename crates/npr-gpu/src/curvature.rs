@@ -145,7 +145,9 @@ fn across(topo: &Topology, f: usize) -> [u32; 3] {
     out
 }
 
-fn lists(topo: &Topology, rep: &[u32], radius: f32) -> Lists {
+/// # Errors
+/// [`GpuError::MeshTooLarge`] when the lists have more entries than a `u32` counts.
+fn lists(topo: &Topology, rep: &[u32], radius: f32) -> Result<Lists, GpuError> {
     let nv = topo.vertex_count();
     let to_render = |w: u32| rep.get(w as usize).copied().unwrap_or(0);
     let mut faces = Vec::with_capacity(2 * topo.face_count());
@@ -169,11 +171,19 @@ fn lists(topo: &Topology, rep: &[u32], radius: f32) -> Lists {
         lists.extend_from_slice(balls.of(v));
         ranges.push([own, first, lists.len() as u32, to_render(v as u32)]);
     }
-    Lists {
+    if u32::try_from(lists.len()).is_err() {
+        return Err(GpuError::MeshTooLarge {
+            buffer: "curvature ball list",
+            size: lists.len() as u64 * 4,
+            limit_name: "u32 list offsets",
+            limit: u64::from(u32::MAX) * 4,
+        });
+    }
+    Ok(Lists {
         faces,
         ranges,
         lists,
-    }
+    })
 }
 
 /// `CurvatureParams` of `curvature.wgsl`.
@@ -250,7 +260,7 @@ impl CurvaturePass {
     /// [`GpuError::InvalidMesh`] when `gpu` and `mesh` differ in vertex or index count;
     /// [`GpuError::MeshTooLarge`] when a buffer would exceed the device's storage binding
     /// limit. The per-vertex face lists (about 100 faces a vertex at the default radius,
-    /// 235 MB on a 1.1M-face mesh) are split into chunks of vertices that each fit one
+    /// over 128 MiB on a 1.1M-face mesh) are split into chunks of vertices that each fit one
     /// binding, measured in one dispatch each ([`CurvatureObject::chunk_count`]); the
     /// per-face records and the output are not split (64 and 48 bytes per face and
     /// vertex: 2M faces fit the default 128 MiB).
@@ -279,7 +289,7 @@ impl CurvaturePass {
         let nf = topo.face_count();
         // The ball lists are the big one (about 100 faces a vertex at the default radius).
         let rep = representatives(&welded.render_to_welded, nv);
-        let data = lists(&topo, &rep, radius_world);
+        let data = lists(&topo, &rep, radius_world)?;
         let limit = device.limits().max_storage_buffer_binding_size;
         let runs = chunks(
             &data.ranges,
@@ -335,33 +345,13 @@ impl CurvaturePass {
         let vertex_chunks = runs
             .into_iter()
             .map(|run| {
-                // The chunk's own ranges, rebased on its own slice of the lists.
-                let first = data.ranges.get(run.start).map_or(0, |r| r[0]);
-                let end = run
-                    .end
-                    .checked_sub(1)
-                    .and_then(|l| data.ranges.get(l))
-                    .map_or(first, |r| r[2]);
-                let local: Vec<[u32; 4]> = data.ranges[run.clone()]
-                    .iter()
-                    .map(|r| [r[0] - first, r[1] - first, r[2] - first, r[3]])
-                    .collect();
-                let slice = &data.lists[first as usize..end as usize];
-                let ranges = buffer(device, "npr curvature ranges", &local, storage);
-                let balls = buffer(device, "npr curvature balls", slice, storage);
                 let params = params(run.len(), run.start);
-                let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("npr curvature vertices"),
-                    layout: &self.vertices_layout,
-                    entries: &[
-                        entry(8, &gpu.vertex_buffer),
-                        entry(9, &ranges),
-                        entry(10, &records),
-                        entry(11, &balls),
-                        entry(12, &output),
-                        entry(13, &params),
-                    ],
-                });
+                let group = self.chunk_group(
+                    device,
+                    &data,
+                    &run,
+                    [&gpu.vertex_buffer, &records, &output, &params],
+                );
                 (group, run.len())
             })
             .collect();
@@ -375,6 +365,44 @@ impl CurvaturePass {
             faces_group,
             vertex_chunks,
             slots: Slots::new(self.id),
+        })
+    }
+
+    /// The per-vertex bind group of the welded vertices `run`: their ranges rebased on
+    /// their own slice of the lists, with the mesh's `vertices`, the face `records`, the
+    /// `output` and the chunk's `params`.
+    fn chunk_group(
+        &self,
+        device: &wgpu::Device,
+        data: &Lists,
+        run: &std::ops::Range<usize>,
+        [vertices, records, output, params]: [&wgpu::Buffer; 4],
+    ) -> wgpu::BindGroup {
+        let storage = wgpu::BufferUsages::STORAGE;
+        let first = data.ranges.get(run.start).map_or(0, |r| r[0]);
+        let end = run
+            .end
+            .checked_sub(1)
+            .and_then(|l| data.ranges.get(l))
+            .map_or(first, |r| r[2]);
+        let local: Vec<[u32; 4]> = data.ranges[run.clone()]
+            .iter()
+            .map(|r| [r[0] - first, r[1] - first, r[2] - first, r[3]])
+            .collect();
+        let slice = &data.lists[first as usize..end as usize];
+        let ranges = buffer(device, "npr curvature ranges", &local, storage);
+        let balls = buffer(device, "npr curvature balls", slice, storage);
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr curvature vertices"),
+            layout: &self.vertices_layout,
+            entries: &[
+                entry(8, vertices),
+                entry(9, &ranges),
+                entry(10, records),
+                entry(11, &balls),
+                entry(12, output),
+                entry(13, params),
+            ],
         })
     }
 

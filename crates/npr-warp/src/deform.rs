@@ -11,6 +11,37 @@ use crate::pass::WarpObject;
 use crate::reference::ReferenceFrame;
 use crate::{Proxy, WarpError};
 
+/// A reference's copy of one object's proxy vertices ([`ReferenceFrame::keep_proxy_pose`]).
+#[derive(Clone, Debug)]
+pub(crate) struct Snapshot {
+    buffer: wgpu::Buffer,
+    /// The [`WarpObject`] it is of (a pair may be drawn with several objects).
+    object: u64,
+}
+
+static NEXT_OBJECT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
+/// A new [`WarpObject`] identity.
+pub(crate) fn fresh_object_id() -> u64 {
+    NEXT_OBJECT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
+/// `Ok` when a slot prepared at `poses` reposes of `object` may still be drawn: its plan's
+/// bin ranges are of the object's current index order.
+///
+/// # Errors
+/// [`WarpError::PoseMismatch`] when the object was reposed since (prepare again).
+pub(crate) fn check_pose(object: &WarpObject, poses: u64) -> Result<(), WarpError> {
+    if poses == object.poses {
+        Ok(())
+    } else {
+        Err(WarpError::PoseMismatch(format!(
+            "prepared at the proxy's pose {poses}, drawn at its pose {}: prepare again",
+            object.poses
+        )))
+    }
+}
+
 /// The vertex attributes of reference 0's proxy snapshot (`vs_warp`'s locations 3 and 4:
 /// position and normal, laid out as [`npr_gpu::Vertex`]).
 const SNAPSHOT0: [wgpu::VertexAttribute; 2] =
@@ -39,13 +70,13 @@ pub(crate) fn vertex_layouts() -> [Option<wgpu::VertexBufferLayout<'static>>; 3]
 pub(crate) fn bind_vertices(
     pass: &mut wgpu::RenderPass<'_>,
     object: &WarpObject,
-    snapshots: &[Option<wgpu::Buffer>; 2],
+    snapshots: &[Option<Snapshot>; 2],
 ) {
     let current = &object.mesh.vertex_buffer;
     pass.set_vertex_buffer(0, current.slice(..));
     for (i, s) in snapshots.iter().enumerate() {
         let buffer = match s {
-            Some(b) if b.size() == current.size() => b,
+            Some(s) if s.object == object.id && s.buffer.size() == current.size() => &s.buffer,
             _ => current,
         };
         pass.set_vertex_buffer(1 + i as u32, buffer.slice(..));
@@ -86,21 +117,23 @@ impl WarpObject {
             bytemuck::cast_slice(&bins.indices),
         );
         self.bins = bins;
-        self.deforming = true;
+        self.poses += 1;
         Ok(())
     }
 
     /// `true` once [`WarpObject::repose`] has posed it.
     pub fn deforms(&self) -> bool {
-        self.deforming
+        self.poses > 0
     }
 }
 
 impl ReferenceFrame {
     /// Records into `encoder` a copy of `object`'s current proxy vertices as this
-    /// reference's snapshot, which warps bound with this reference project it through
-    /// (see the module docs). Call when recording the reference, with the object posed at
-    /// the reference's pose; a rigid object needs none.
+    /// reference's snapshot, which warps of `object` bound with this reference project it
+    /// through (see the module docs; other objects drawn with the same pair use their
+    /// current vertices). Call after [`ReferenceFrame::record`], with the object posed at
+    /// the reference's pose; a rigid object needs none. Recording the reference again
+    /// drops the snapshot until this is called again.
     pub fn keep_proxy_pose(
         &mut self,
         device: &wgpu::Device,
@@ -111,22 +144,33 @@ impl ReferenceFrame {
         let fits = self
             .proxy_pose
             .as_ref()
-            .is_some_and(|b| b.size() == source.size());
+            .is_some_and(|s| s.buffer.size() == source.size());
         if !fits {
-            self.proxy_pose = Some(device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("npr-warp reference proxy pose"),
-                size: source.size(),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
+            self.proxy_pose = Some(Snapshot {
+                buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("npr-warp reference proxy pose"),
+                    size: source.size(),
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }),
+                object: object.id,
+            });
         }
-        if let Some(snapshot) = &self.proxy_pose {
-            encoder.copy_buffer_to_buffer(source, 0, snapshot, 0, source.size());
+        if let Some(snapshot) = &mut self.proxy_pose {
+            snapshot.object = object.id;
+            encoder.copy_buffer_to_buffer(source, 0, &snapshot.buffer, 0, source.size());
+            self.proxy_pose_valid = true;
         }
     }
 
     /// Drops the proxy snapshot (the reference then projects through the current proxy).
     pub fn forget_proxy_pose(&mut self) {
-        self.proxy_pose = None;
+        self.proxy_pose_valid = false;
+    }
+
+    /// The snapshot a pair bound now carries: the last one kept, if taken since the last
+    /// record.
+    pub(crate) fn snapshot(&self) -> Option<Snapshot> {
+        self.proxy_pose.clone().filter(|_| self.proxy_pose_valid)
     }
 }

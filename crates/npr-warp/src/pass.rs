@@ -186,7 +186,7 @@ pub struct ReferencePair {
     pub clip_from_world: [Mat4; 2],
     size: [u32; 2],
     /// The references' proxy snapshots of a deforming object ([`crate::deform`]).
-    proxy_poses: [Option<wgpu::Buffer>; 2],
+    proxy_poses: [Option<crate::deform::Snapshot>; 2],
 }
 
 /// One prepare's GPU state: the object's uniforms, bin weights, the pair it warps from
@@ -197,7 +197,10 @@ struct WarpSlot {
     weights: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     pair_group: Option<wgpu::BindGroup>,
-    proxy_poses: [Option<wgpu::Buffer>; 2],
+    proxy_poses: [Option<crate::deform::Snapshot>; 2],
+    /// The object's [`WarpObject::repose`] count when prepared (the plan's bin ranges are
+    /// of that index order).
+    poses: u64,
     plan: BinPlan,
     mode: WarpMode,
 }
@@ -214,8 +217,10 @@ pub struct WarpObject {
     slots: Slots<WarpSlot>,
     /// The inflation it was created with (object units), kept for [`WarpObject::repose`].
     pub(crate) inflation: f32,
-    /// Posed by [`WarpObject::repose`] at least once.
-    pub(crate) deforming: bool,
+    /// Poses written by [`WarpObject::repose`] (0: as created).
+    pub(crate) poses: u64,
+    /// This object's identity, which its references' proxy snapshots carry.
+    pub(crate) id: u64,
 }
 
 impl WarpObject {
@@ -457,10 +462,7 @@ impl WarpPass {
             poses: [references[0].pose, references[1].pose],
             clip_from_world: [references[0].clip_from_world, references[1].clip_from_world],
             size: [references[0].width, references[0].height],
-            proxy_poses: [
-                references[0].proxy_pose.clone(),
-                references[1].proxy_pose.clone(),
-            ],
+            proxy_poses: [references[0].snapshot(), references[1].snapshot()],
         }
     }
 
@@ -496,7 +498,8 @@ impl WarpPass {
             edges,
             slots: Slots::new(self.id),
             inflation: inflate_object,
-            deforming: false,
+            poses: 0,
+            id: crate::deform::fresh_object_id(),
         })
     }
 
@@ -532,6 +535,7 @@ impl WarpPass {
             bind_group,
             pair_group: None,
             proxy_poses: [None, None],
+            poses: 0,
             plan: BinPlan::default(),
             mode: WarpMode::DepthTested,
         }
@@ -579,6 +583,7 @@ impl WarpPass {
         slot.mode = input.mode;
         slot.pair_group = Some(pair.bind_group.clone());
         slot.proxy_poses = pair.proxy_poses.clone();
+        slot.poses = object.poses;
         Ok(prepared)
     }
 
@@ -597,6 +602,7 @@ impl WarpPass {
         prepared: &Prepared,
     ) -> Result<(), WarpError> {
         let slot = object.slots.get(self.id, prepared)?;
+        crate::deform::check_pose(object, slot.poses)?;
         let Some(pair_group) = &slot.pair_group else {
             return Ok(());
         };
@@ -649,6 +655,7 @@ impl WarpPass {
         prepared: &Prepared,
     ) -> Result<(), WarpError> {
         let slot = object.slots.get(self.id, prepared)?;
+        crate::deform::check_pose(object, slot.poses)?;
         let (Some((edges, count)), Some(pair_group)) = (&object.edges, &slot.pair_group) else {
             return Ok(());
         };

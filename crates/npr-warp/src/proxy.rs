@@ -99,12 +99,20 @@ impl Proxy {
     /// [`Proxy::source_vertices`] position, and the normals are recomputed on the posed
     /// faces. The proxy's skin is the full mesh's, restricted to the vertices it kept, so
     /// it moves with the same joints and morph weights (beyond the paper, whose §3.3.1
-    /// proxy is rigid). The simplifier's error is kept: it was measured at the rest pose.
+    /// proxy is rigid). The simplifier's error is kept: it was measured on the mesh the
+    /// proxy was simplified from.
     ///
     /// # Errors
     /// [`WarpError::PoseMismatch`] when `source` has fewer vertices than the proxy's
     /// source map needs, or a non-finite position where the proxy reads it.
     pub fn posed(&self, source: &Mesh) -> Result<Self, WarpError> {
+        if self.source_vertices.len() != self.mesh.positions.len() {
+            return Err(WarpError::PoseMismatch(format!(
+                "a source map of {} vertices for a proxy of {}",
+                self.source_vertices.len(),
+                self.mesh.positions.len()
+            )));
+        }
         let mut mesh = self.mesh.clone();
         for (p, &v) in mesh.positions.iter_mut().zip(&self.source_vertices) {
             match source.positions.get(v as usize) {
@@ -125,7 +133,11 @@ impl Proxy {
         with_area_normals(&mut mesh);
         Ok(Self {
             mesh,
-            ..self.clone()
+            ratio_requested: self.ratio_requested,
+            source_triangles: self.source_triangles,
+            error_relative: self.error_relative,
+            error_object: self.error_object,
+            source_vertices: self.source_vertices.clone(),
         })
     }
 

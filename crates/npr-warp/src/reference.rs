@@ -236,8 +236,10 @@ pub struct ReferenceFrame {
     /// Multisampled: the textures drawn into, the depth resolve and its source binding.
     msaa: Option<ReferenceMsaa>,
     /// The proxy's vertices at this reference's pose, for a deforming object
-    /// ([`crate::deform`]).
-    pub(crate) proxy_pose: Option<wgpu::Buffer>,
+    /// ([`crate::deform`]), with the object they are of; kept for reuse, valid only when
+    /// taken since the last record.
+    pub(crate) proxy_pose: Option<crate::deform::Snapshot>,
+    pub(crate) proxy_pose_valid: bool,
 }
 
 /// The multisampled side of a [`ReferenceFrame`].
@@ -326,6 +328,7 @@ impl ReferenceFrame {
             formats,
             msaa,
             proxy_pose: None,
+            proxy_pose_valid: false,
         })
     }
 
@@ -436,6 +439,8 @@ impl ReferenceFrame {
         if slice == 0 {
             self.pose = *pose;
             self.clip_from_world = pose.camera.clip_from_world();
+            // A new recording: the last one's proxy snapshot is not of it.
+            self.proxy_pose_valid = false;
         }
         let draw = ReferenceDraw {
             frame,

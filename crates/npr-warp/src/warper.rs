@@ -128,9 +128,9 @@ impl Warper {
         let slot = (self.recorded % 2) as usize;
         let draw = ReferenceDraw::whole(frame, pose, slot);
         self.refs[slot].record(device, queue, encoder, base, &draw, self.clear)?;
-        if self.object.deforms() {
-            self.refs[slot].keep_proxy_pose(device, encoder, &self.object);
-        }
+        // Always (one small copy): a rigid proxy's snapshot is its current vertices, and a
+        // reference recorded before the model first moves keeps the pose it shows.
+        self.refs[slot].keep_proxy_pose(device, encoder, &self.object);
         self.recorded += 1;
         let [older, newer] = self.ordered();
         // With one reference recorded, it pairs with itself.
@@ -142,8 +142,9 @@ impl Warper {
     /// proxy this warper was built for, at the pose the full mesh is drawn at now. A
     /// reference recorded after it keeps the proxy's vertices at its pose
     /// ([`crate::deform`]), and warps draw the proxy at the newest pose set. Submit the
-    /// encoder of a reference before setting the next pose: the pose is written with
-    /// `queue.write_buffer`, which runs ahead of the next submission's commands.
+    /// encoder of a reference, and draw the warps prepared for a pose, before setting the
+    /// next pose: the pose is written with `queue.write_buffer`, which runs ahead of the
+    /// next submission's commands (a warp prepared before it is refused at `draw`).
     ///
     /// # Errors
     /// As [`WarpObject::repose`]; the proxy keeps its last pose then.

@@ -194,6 +194,30 @@ fn a_bending_tube_warps_with_its_references_on_the_moving_surface() {
         ours.psnr_db,
         rigid.psnr_db
     );
+    // A warp prepared before the proxy took a new pose is refused at draw (its plan's bin
+    // ranges are of the old index order), not drawn wrong.
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let pair = scene.pass.bind_pair(d, [&r0, &r1]);
+    let input = npr_warp::WarpInput {
+        frame: npr_gpu::FrameId(1),
+        pair: &pair,
+        now: &scene.view,
+        s: 0.5,
+        settings: &scene.settings,
+        mode: Departures::OURS.mode(),
+    };
+    let prepared = scene.pass.prepare(q, &mut scene.object, &input).unwrap();
+    scene.pose(t1);
+    let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+    let mut encoder = d.create_command_encoder(&Default::default());
+    {
+        let mut rpass = target.begin_clear_pass(&mut encoder, CLEAR);
+        assert!(matches!(
+            scene.pass.draw(&mut rpass, &scene.object, &prepared),
+            Err(WarpError::PoseMismatch(_))
+        ));
+    }
+    q.submit(Some(encoder.finish()));
     // A proxy of another mesh is not a pose of this object: refused, the object kept.
     let other = Proxy::simplify(&npr_geometry::generate::icosphere(2, 1.0), 1.0).unwrap();
     assert!(matches!(

@@ -12,16 +12,12 @@
 
 use super::table::{Cell, Table};
 use glam::Vec3;
+use npr_geometry::stats::{median, quantile};
 use npr_geometry::{CurvatureField, CurvatureOptions, CurvatureRadius, Mesh, Topology};
 use std::time::Instant;
 
 /// Timed repetitions per mesh (the median is reported).
 const RUNS: usize = 5;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied().unwrap_or(f64::NAN)
-}
 
 /// Largest relative κ error and the 99th-percentile direction error of `gpu` against `cpu`.
 fn agreement(cpu: &CurvatureField, gpu: &CurvatureField) -> (f64, f64) {
@@ -54,12 +50,11 @@ fn agreement(cpu: &CurvatureField, gpu: &CurvatureField) -> (f64, f64) {
             angles.push(f64::from(cos.acos().to_degrees()));
         }
     }
-    angles.sort_by(f64::total_cmp);
-    let p99 = angles
-        .get((angles.len() as f64 * 0.99) as usize)
-        .or(angles.last())
-        .copied()
-        .unwrap_or(0.0);
+    let p99 = if angles.is_empty() {
+        0.0
+    } else {
+        quantile(angles, 0.99)
+    };
     (f64::from(worst / scale), p99)
 }
 
@@ -112,7 +107,11 @@ pub fn row(ctx: &npr_gpu::GpuContext, name: &str, mesh: &Mesh) -> anyhow::Result
         d.poll(wgpu::PollType::wait_indefinitely())?;
         gpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
     }
-    let bytes = read_back(ctx, object.output())?;
+    // The bench's one readback, after the timing.
+    let mut encoder = d.create_command_encoder(&Default::default());
+    let read = npr_gpu::testing::copy_for_readback(d, &mut encoder, object.output());
+    q.submit([encoder.finish()]);
+    let bytes = npr_gpu::testing::read_mapped(d, &read);
     let (kappa_err, dir_err) = agreement(&cpu, &object.decode(&bytes));
     let (cpu_ms, gpu_ms) = (median(cpu_ms), median(gpu_ms));
     let vertices = object.welded_vertex_count();
@@ -128,28 +127,4 @@ pub fn row(ctx: &npr_gpu::GpuContext, name: &str, mesh: &Mesh) -> anyhow::Result
         Cell::Num(dir_err, 3),
         Cell::Text(ctx.adapter.get_info().name),
     ])
-}
-
-/// The bytes of `buffer`, copied out and mapped (the bench's one readback, after timing).
-fn read_back(ctx: &npr_gpu::GpuContext, buffer: &wgpu::Buffer) -> anyhow::Result<Vec<u8>> {
-    let (d, q) = (&ctx.device, &ctx.queue);
-    let read = d.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("bench curvature readback"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut encoder = d.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &read, 0, buffer.size());
-    q.submit([encoder.finish()]);
-    let slice = read.slice(..);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    d.poll(wgpu::PollType::wait_indefinitely())?;
-    rx.recv()??;
-    let bytes = slice.get_mapped_range()?.to_vec();
-    read.unmap();
-    Ok(bytes)
 }

@@ -13,6 +13,7 @@ pub mod table;
 pub mod vpype;
 pub mod warp;
 pub mod warp_clip;
+pub mod warp_tables;
 
 use std::path::{Path, PathBuf};
 

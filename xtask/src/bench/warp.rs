@@ -24,12 +24,13 @@
 //! single-sample.
 //!
 //! Knobs for experiments (not for the reported numbers): `NPR_WARP_BENCH_ONLY=<part of a
-//! mesh name>`, `NPR_WARP_BENCH_AA=none|msaa4|msaa4-blend` (one antialiasing only),
+//! mesh name>` (`moving`: the moving-model table's only), `NPR_WARP_BENCH_AA=none|msaa4|msaa4-blend` (one antialiasing only),
 //! `NPR_WARP_BENCH_QUICK=1` (middle ratio, k = 10 and 20, ablation only),
 //! `NPR_WARP_BENCH_RATIO`, `NPR_WARP_BENCH_DUMP=<dir>` (full, warped and difference images
 //! of every measured frame).
 
 use super::table::{Cell, Table, emit};
+use super::warp_tables::Tables;
 use glam::Vec3;
 use npr_geometry::stats::median;
 use npr_gpu::{GpuContext, TargetFormats};
@@ -265,120 +266,6 @@ fn ablation_rows() -> Vec<(String, &'static str, Departures)> {
     rows
 }
 
-/// The benchmark's tables, filled as the meshes run.
-struct Tables {
-    /// Tables 1–2: full render vs warped, per mesh, ratio, k, mode and antialiasing.
-    t1: Table,
-    /// Each departure alone, added to the paper's path and removed from ours.
-    ablation: Table,
-    /// The effect of the bin count N.
-    bins: Table,
-    /// Table 3: objects sharing one reference pair.
-    t3: Table,
-    /// Spreading the next reference over the frames between.
-    spread: Table,
-    /// The proxy builds.
-    proxy: Table,
-}
-
-impl Tables {
-    /// The empty tables, with their titles and columns.
-    fn new() -> Self {
-        Self {
-            t1: Table::new(
-                "Tables 1-2: full render vs warped (reference cost amortized), per mesh, ratio, k and mode (paper's path, ours)",
-                &[
-                    "mesh",
-                    "triangles",
-                    "ratio_pct",
-                    "proxy_triangles",
-                    "proxy_error_rel",
-                    "k",
-                    "mode",
-                    "antialiasing",
-                    "full_ms",
-                    "ref_ms",
-                    "warp_ms",
-                    "amortized_ms",
-                    "speedup_x",
-                    "fill_ms",
-                    "ceiling_x",
-                    "speedup_of_ceiling",
-                    "psnr_mean_db",
-                    "psnr_worst_db",
-                    "ssim_mean",
-                    "flip_mean",
-                    "flip_worst",
-                    "adapter",
-                ],
-            ),
-            ablation: Table::new(
-                "Departures from the paper one at a time: added to the paper's path, removed from ours (k = 20, middle ratio)",
-                &[
-                    "mesh",
-                    "variant",
-                    "departure",
-                    "warp_ms",
-                    "psnr_mean_db",
-                    "psnr_worst_db",
-                    "ssim_mean",
-                    "delta_db",
-                    "adapter",
-                ],
-            ),
-            bins: Table::new(
-                "Effect of the bin count N (§3.3.2), ours, k = 10, middle ratio",
-                &[
-                    "mesh",
-                    "bins_per_axis",
-                    "warp_ms",
-                    "triangles_drawn",
-                    "blended_bins",
-                    "psnr_mean_db",
-                    "adapter",
-                ],
-            ),
-            t3: Table::new(
-                "Table 3: objects sharing one reference pair, ours, k = 10, middle ratio",
-                &[
-                    "mesh",
-                    "objects",
-                    "full_ms",
-                    "full_ms_per_object",
-                    "warp_ms",
-                    "amortized_ms",
-                    "amortized_ms_per_object",
-                    "speedup_x",
-                    "psnr_mean_db",
-                    "adapter",
-                ],
-            ),
-            spread: Table::new(
-                "Spreading the next reference over the k frames (§3.4), ours, k = 10, middle ratio",
-                &[
-                    "mesh",
-                    "spread",
-                    "frames",
-                    "frame_ms_mean",
-                    "frame_ms_worst",
-                    "adapter",
-                ],
-            ),
-            proxy: Table::new(
-                "Proxy build (meshopt, once per mesh)",
-                &[
-                    "mesh",
-                    "ratio_pct",
-                    "proxy_triangles",
-                    "error_rel",
-                    "error_object",
-                    "simplify_ms",
-                ],
-            ),
-        }
-    }
-}
-
 /// One antialiasing setting's rig and its measured costs.
 struct AaRig<'a> {
     /// The antialiasing.
@@ -446,10 +333,14 @@ struct MeshRun<'a> {
 /// Runs the benchmark and prints (and optionally writes) its tables.
 ///
 /// `models` (default: the Fox fixture) play `clip` (default: each one's first) in the
-/// moving-model table ([`super::warp_clip`]); Tables 1-3 keep their meshes.
+/// moving-model table ([`super::warp_clip`]); Tables 1-3 keep their meshes. With
+/// `--mesh` or `--animation`, the moving-model table alone runs.
 pub fn run(json: Option<&Path>, models: &[PathBuf], clip: Option<&str>) -> anyhow::Result<()> {
     let started = Instant::now();
     let ctx = GpuContext::new()?;
+    if !models.is_empty() || clip.is_some() {
+        return emit(&[super::warp_clip::run(&ctx, models, clip)?], json);
+    }
     let adapter = ctx.adapter.get_info().name;
     println!("bench warp: adapter {}", ctx.adapter_summary());
     println!(
@@ -523,16 +414,11 @@ pub fn run(json: Option<&Path>, models: &[PathBuf], clip: Option<&str>) -> anyho
          Dragon 8.14x, Buddha 8.39x.",
         started.elapsed().as_secs_f64()
     );
-    let moving = if only.as_ref().is_none_or(|o| o == "moving") {
-        let models = if models.is_empty() {
-            super::warp_clip::default_models()
-        } else {
-            models.to_vec()
-        };
-        Some(super::warp_clip::run(&ctx, &models, clip)?)
-    } else {
-        None
-    };
+    let moving = only
+        .as_ref()
+        .is_none_or(|o| o == "moving")
+        .then(|| super::warp_clip::run(&ctx, models, clip))
+        .transpose()?;
     let t = tables;
     let mut all = vec![t.t1, t.ablation, t.bins, t.t3, t.spread, t.proxy];
     all.extend(moving);

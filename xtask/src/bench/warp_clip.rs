@@ -52,7 +52,8 @@ fn psnr(stats: &[FrameStats]) -> (f64, f64, usize) {
     (mean, worst, p.len())
 }
 
-/// The table for `models`, each playing `clip` (its first clip when `None`).
+/// The table for `models` (the Fox fixture when none), each playing `clip` (its first
+/// clip when `None`).
 ///
 /// # Errors
 /// A model that does not load, a clip it lacks, GPU errors.
@@ -66,8 +67,13 @@ pub fn run(
         effect: Effect::Warp,
         ..Preset::default()
     };
+    let models = if models.is_empty() {
+        default_models()
+    } else {
+        models.to_vec()
+    };
     let mut out = table();
-    for path in models {
+    for path in &models {
         let rows = model_rows(ctx, path, clip, &preset)?;
         let rigid_mean = rows.last().map_or(f64::NAN, |r| r.1.0);
         for (motion, (mean, worst, warped), clip_name, proxy) in &rows {
