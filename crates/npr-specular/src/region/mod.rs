@@ -45,6 +45,10 @@ pub struct Footprint {
     /// region's normal cone; receivers beyond it cannot be in the region); −1 when not
     /// measured (Eq. (8)).
     pub normal_cone_cos: f32,
+    /// The scale (≤ 1) the region's moment ellipse was fitted with
+    /// ([`RegionGrower::overlap_scale`]); 1 for Eq. (8). `half_extent / fit_scale` is
+    /// the moment ellipse's own, what matching from frame to frame reaches over.
+    pub fit_scale: f32,
 }
 
 impl Default for Footprint {
@@ -55,6 +59,7 @@ impl Default for Footprint {
             rotate_rad: 0.0,
             region_area: 0.0,
             normal_cone_cos: -1.0,
+            fit_scale: 1.0,
         }
     }
 }
