@@ -10,7 +10,9 @@
 //! moments summed. The footprint is the ellipse with the same moments: centred at the
 //! region's centroid, half extent `2·sqrt(variance)` along each axis (a uniform ellipse of
 //! half axis `a` has variance `a²/4`), turned towards the moments' own axes when the
-//! region is clearly anisotropic.
+//! region is clearly anisotropic. The highlight set then draws it scaled by
+//! [`RegionGrower::overlap_scale`]: to the region's own area, since any region that is not
+//! an ellipse has a moment ellipse larger than itself.
 
 mod classify;
 mod fit;
