@@ -54,6 +54,8 @@ pub struct RegionGrower {
     /// best ([`RegionGrower::overlap_scale`]).
     scales: Vec<f32>,
     piece_scales: Vec<f32>,
+    /// Indices into `taken`, grouped by seed (scratch of the fits).
+    by_seed: Vec<u32>,
     /// Scratch of [`split_bent`].
     along: Vec<(f32, u32)>,
     /// Tests: sample every face on the finest sub-grid with `H` computed at each point
@@ -369,6 +371,22 @@ impl RegionGrower {
         self.scales.resize(parts.len(), 1.0);
         self.piece_scales.clear();
         self.piece_scales.resize(MAX_PIECES * parts.len(), 1.0);
+        // The taken faces and patches by seed (a counting sort of their indices), so that
+        // each seed's fit reads its own.
+        let mut offsets = vec![0u32; parts.len() + 1];
+        for t in &self.taken {
+            offsets[t.0 as usize + 1] += 1;
+        }
+        for k in 0..parts.len() {
+            offsets[k + 1] += offsets[k];
+        }
+        let mut fill = offsets.clone();
+        self.by_seed.clear();
+        self.by_seed.resize(self.taken.len(), 0);
+        for (i, t) in self.taken.iter().enumerate() {
+            self.by_seed[fill[t.0 as usize] as usize] = i as u32;
+            fill[t.0 as usize] += 1;
+        }
         for (k, part) in parts.iter().enumerate() {
             if out[k] == Region::Empty && part.faces > 0 {
                 if let Some(fp) = part.moments.footprint() {
@@ -376,8 +394,12 @@ impl RegionGrower {
                         normal_cone_cos: part.cone,
                         ..fp
                     };
-                    let seed = k as u32;
-                    let items = || self.taken.iter().filter(move |t| t.0 == seed).map(|t| &t.2);
+                    let own = offsets[k] as usize..offsets[k + 1] as usize;
+                    let items = || {
+                        self.by_seed[own.clone()]
+                            .iter()
+                            .map(|&i| &self.taken[i as usize].2)
+                    };
                     self.scales[k] = best_overlap_scale(&fp, items());
                     out[k] = Region::Fit(fp, part.faces);
                     if needs_split(&fp) {
