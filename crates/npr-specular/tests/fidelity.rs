@@ -21,12 +21,22 @@ fn fixture(name: &str) -> Mesh {
 
 /// Scores `mesh` over 3 eyes × 2 lights at 200×150 with `sizing`.
 fn score(ctx: &npr_gpu::GpuContext, mesh: &Mesh, sizing: HighlightSizing) -> FidelityScore {
-    let (w, h) = (200, 150);
+    score_views(ctx, mesh, sizing, 3, (200, 150))
+}
+
+/// Scores `mesh` over `eyes` eyes × 2 lights at `w × h` with `sizing`.
+fn score_views(
+    ctx: &npr_gpu::GpuContext,
+    mesh: &Mesh,
+    sizing: HighlightSizing,
+    eyes: usize,
+    (w, h): (u32, u32),
+) -> FidelityScore {
     let rig = FidelityRig::new(&ctx.device, &ctx.queue, w, h).unwrap();
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
     set.sizing = sizing;
     let gpu = GpuMesh::upload(&ctx.device, &surface_at_scale(mesh, &set)).unwrap();
-    let views = standard_views(unit_sphere_transform(mesh), 3, w as f32 / h as f32);
+    let views = standard_views(unit_sphere_transform(mesh), eyes, w as f32 / h as f32);
     let scores: Vec<_> = views
         .iter()
         .map(|v| {
@@ -57,6 +67,36 @@ fn highlights_cover_the_region_they_stylize() {
     eprintln!("spot: ours {ours:?}");
     assert!(ours.precision >= 0.7 && ours.recall >= 0.7, "{ours:?}");
     assert!(ours.stretch_max <= 4.0, "{ours:?}");
+}
+
+/// Scanned and modelled characters at the default settings: recall ≥ 0.75 at precision
+/// ≥ 0.85, and the §3.4 edits keep ≥ 95 % of what §4.2 alone would draw. Spot and the Fox
+/// were looked at while the region fit was chosen; the hammer (a raw scan) and the
+/// bunny's light at other views than the bench's are not. The paper's Eq. (8) fails the
+/// same bar, so the check can fail.
+#[test]
+fn scanned_meshes_keep_recall_at_precision_and_whole_edits_at_the_defaults() {
+    let Some(ctx) = testing::context_or_skip("scanned_meshes_keep_recall_at_precision") else {
+        return;
+    };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/meshes");
+    let mut failures = Vec::new();
+    for name in ["spot.obj", "Fox.glb", "hammer.obj", "stanford-bunny.obj"] {
+        let mesh = npr_geometry::io::load(dir.join(name)).unwrap().mesh;
+        let s = score_views(ctx, &mesh, HighlightSizing::default(), 6, (320, 240));
+        eprintln!("{name}: {s:?}");
+        if !(s.precision >= 0.85 && s.recall >= 0.75 && s.edit_completeness >= 0.95) {
+            failures.push(format!(
+                "{name}: precision {:.3}, recall {:.3}, edits {:.3}",
+                s.precision, s.recall, s.edit_completeness
+            ));
+        }
+        if name == "spot.obj" {
+            let paper = score_views(ctx, &mesh, HighlightSizing::Paper, 6, (320, 240));
+            assert!(paper.recall < 0.75 || paper.precision < 0.85, "{paper:?}");
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 /// On a coarse mesh the interpolated normal turns by more across one triangle

@@ -140,7 +140,8 @@ fn visibility_keeps_only_the_connected_front_part() {
     let hs = set.update(le, Mat4::IDENTITY).to_vec();
     assert!(!hs.is_empty());
     let topo = set.topology();
-    for h in &hs {
+    // A highlight drawn as pieces has no receivers of its own (its pieces have them).
+    for h in hs.iter().filter(|h| h.pieces == 0) {
         let faces = &set.receiver_faces()[h.receivers.clone()];
         assert!(!faces.is_empty());
         for &f in faces {
@@ -191,7 +192,7 @@ fn visibility_keeps_only_the_connected_front_part() {
 /// each track: continuous motion, even accelerating, stays near 1; a jump does not. The
 /// first and last two steps of a track are left out: centres are born and annihilate in
 /// pairs at folds of the N = H map, where their speed diverges.
-fn worst_jump(tracks: &std::collections::HashMap<u64, Vec<f32>>) -> f32 {
+fn worst_jump(tracks: &std::collections::HashMap<(u64, u32), Vec<f32>>) -> f32 {
     let mut worst = 0f32;
     for steps in tracks.values() {
         for k in 2..steps.len().saturating_sub(2) {
@@ -236,18 +237,22 @@ fn knot_rotation(interpolation: NormalInterpolation) -> (f32, f32, usize, f32) {
     let to_eye = Vec3::Z;
     let h = (to_light + to_eye).normalize();
     let le = LightEye::Directions { to_light, to_eye };
-    type Track = std::collections::HashMap<u64, Vec<f32>>;
+    type Track = std::collections::HashMap<(u64, u32), Vec<f32>>;
+    let mut segment: std::collections::HashMap<u64, u32> = Default::default();
     let mut prev: std::collections::HashMap<u64, (Vec3, Vec3)> = Default::default();
     let (mut tracks, mut snap_tracks): (Track, Track) = Default::default();
     let mut counts = Vec::new();
     for deg in 0..=360 {
         let m = Mat4::from_rotation_y((deg as f32).to_radians()) * Mat4::from_rotation_x(0.3);
         let hs = set.update(le, m).to_vec();
-        counts.push(hs.iter().filter(|h| h.found).count());
+        counts.push(hs.iter().filter(|h| h.found && !h.peak).count());
         let topo = set.topology();
         let nm = Mat3::from_mat4(m);
         let mut now = std::collections::HashMap::new();
-        for hl in hs.iter().filter(|h| h.found) {
+        // The N = H centres (a bright region without one has its centre at its maximum
+        // of N·H instead, not what this measures).
+        let nh_centre = |hl: &&npr_specular::Highlight| !hl.peak;
+        for hl in hs.iter().filter(|h| h.found).filter(nh_centre) {
             let t = topo.triangles[hl.centre.face as usize];
             let best = t
                 .iter()
@@ -261,9 +266,17 @@ fn knot_rotation(interpolation: NormalInterpolation) -> (f32, f32, usize, f32) {
             now.insert(hl.id, (hl.centre.position_world, best));
         }
         for (id, (p, snap)) in &now {
+            // A highlight whose centre was not an N = H point in the last frame starts a
+            // new track: its N = H centres were just born (at a fold, in a pair).
+            let key = (*id, *segment.entry(*id).or_insert(0));
             if let Some((q, qs)) = prev.get(id) {
-                tracks.entry(*id).or_default().push(p.distance(*q));
-                snap_tracks.entry(*id).or_default().push(snap.distance(*qs));
+                tracks.entry(key).or_default().push(p.distance(*q));
+                snap_tracks.entry(key).or_default().push(snap.distance(*qs));
+            }
+        }
+        for id in prev.keys() {
+            if !now.contains_key(id) {
+                *segment.entry(*id).or_insert(0) += 1;
             }
         }
         prev = now;
@@ -568,4 +581,42 @@ fn whole_runs_receive_exactly_the_faces_of_the_face_by_face_search() {
     }
     // The dense sphere's highlight covers whole patches: the shortcut is taken.
     assert!(whole_runs > 100, "{whole_runs} patches taken whole");
+}
+
+/// A bright region with no `N = H` point (a cap whose normals stop 2° short of `H`, like
+/// a limb turned slightly away) still gets its highlight, at its brightest point, and
+/// the footprint covers the region's side of the cap.
+#[test]
+fn a_bright_region_without_an_n_equals_h_point_gets_a_highlight() {
+    let sphere = generate::icosphere(4, 1.0);
+    let within = 20f32.to_radians().cos();
+    let mut cap = sphere.clone();
+    cap.indices = sphere
+        .indices
+        .chunks_exact(3)
+        .filter(|t| t.iter().all(|&i| sphere.normals[i as usize].z >= within))
+        .flatten()
+        .copied()
+        .collect();
+    let mut set = set_for(&cap);
+    let h = Vec3::new(0.0, 22f32.to_radians().sin(), 22f32.to_radians().cos());
+    let le = LightEye::Directions {
+        to_light: h,
+        to_eye: h,
+    };
+    let hs = set.update(le, Mat4::IDENTITY).to_vec();
+    assert_eq!(set.stats().centres, 0, "the cap holds no N = H point");
+    assert_eq!(hs.len(), 1, "{hs:?}");
+    let c = &hs[0].centre;
+    // The brightest point of the cap: its rim towards H (normals 18–20° from z there).
+    assert!(c.normal_world.dot(h) > 0.99, "{c:?}");
+    assert!(hs[0].footprint.region_area > 0.0);
+    // The region N·H ≥ 0.9 covers most of the cap; so does the footprint.
+    let cap_radius = 20f32.to_radians().sin();
+    let half = hs[0].footprint.half_extent;
+    assert!(half.min_element() > 0.3 * cap_radius, "{half:?}");
+    // Without the peak centres (the paper's sizing searches N = H only) nothing shows.
+    set.sizing = npr_specular::HighlightSizing::Paper;
+    set.reset();
+    assert!(set.update(le, Mat4::IDENTITY).is_empty());
 }

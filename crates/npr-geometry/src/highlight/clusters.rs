@@ -114,6 +114,36 @@ impl HighlightSearch {
     /// With a motion `budget`, a skipped vertex also fails it after the light and eye
     /// move by up to the budget (see [`SearchCoherence`]).
     pub(super) fn active_vertices(&self, frame: &FrameSetup, budget: Budget) -> Vec<u32> {
+        self.cluster_vertices_within(frame, budget, None)
+    }
+
+    /// The vertices of the clusters that can hold a vertex whose normal makes
+    /// `cos ≥ min_cos` with its own half vector (beyond the paper: the bright regions
+    /// `N·H ≥ σ` that hold no `N = H` point are found among them). Conservative: a
+    /// vertex left out has `N·H < min_cos` (angles measured in world space, so all
+    /// vertices for a transform that is not a similarity).
+    pub fn bright_candidates(
+        &self,
+        light_eye: crate::LightEye,
+        world_from_object: glam::Mat4,
+        min_cos: f32,
+    ) -> Vec<u32> {
+        match self.setup(light_eye, world_from_object) {
+            Some(frame) if frame.similarity && min_cos.is_finite() => {
+                self.cluster_vertices_within(&frame, Budget::NONE, Some(min_cos))
+            }
+            _ => (0..self.positions.len() as u32).collect(),
+        }
+    }
+
+    /// [`HighlightSearch::active_vertices`], or with `min_cos` the clusters whose normal
+    /// cone comes within `arccos(min_cos)` of a half vector its faces see.
+    fn cluster_vertices_within(
+        &self,
+        frame: &FrameSetup,
+        budget: Budget,
+        min_cos: Option<f32>,
+    ) -> Vec<u32> {
         let half_pi = std::f32::consts::FRAC_PI_2;
         let keep = |c: &Cluster| -> bool {
             if c.axis == Vec3::ZERO || !c.radius.is_finite() {
@@ -159,7 +189,12 @@ impl HighlightSearch {
                     (s / sl, b, b_h, (tau / (sl - t)).min(1.0).asin())
                 }
             };
-            let allowance = (cmin - b).clamp(-1.0, 1.0).acos();
+            // A vertex's own N·H ≥ min_cos: its normal within arccos(min_cos) of its H,
+            // which is within b_h of the centre's.
+            let allowance = match min_cos {
+                Some(c) => c.clamp(-1.0, 1.0).acos(),
+                None => (cmin - b).clamp(-1.0, 1.0).acos(),
+            };
             let angle = c.axis.dot(hc).clamp(-1.0, 1.0).acos();
             angle <= c.spread + b_h + allowance + phi + ANGLE_MARGIN
         };

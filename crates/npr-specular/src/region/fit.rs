@@ -100,7 +100,120 @@ impl Moments {
             rotate_rad: theta as f32,
             region_area: self.area as f32,
             normal_cone_cos: -1.0,
+            fit_scale: 1.0,
         };
         (half.min_element() > 0.0 && fp.offset.is_finite() && half.is_finite()).then_some(fp)
+    }
+}
+
+/// Bins of [`best_overlap_scale`] over the moment ellipse's normalised radius `[0, 1]`.
+const OVERLAP_BINS: usize = 128;
+
+/// The scale `s ≤ 1` of the moment ellipse `fp` (about its centre) that fits the region
+/// (beyond the paper), from the region's pieces `items` (faces clipped to it, or whole
+/// patches, each spread along the radius by its own second moments): the ellipse of the
+/// region's own area where at least half of that ellipse lies in the region, else the
+/// scale of the largest intersection over union. A region that is an ellipse keeps 1.
+pub(super) fn best_overlap_scale<'a>(
+    fp: &Footprint,
+    items: impl Iterator<Item = &'a Moments>,
+) -> f32 {
+    let h = fp.half_extent.as_dvec2();
+    if h.min_element().is_nan() || h.min_element() <= 0.0 {
+        return 1.0;
+    }
+    let (sn, cs) = f64::from(fp.rotate_rad).sin_cos();
+    let centre = fp.offset.as_dvec2();
+    let mut bins = [0f64; OVERLAP_BINS];
+    let mut total = 0.0;
+    let n = OVERLAP_BINS as f64;
+    for m in items.filter(|m| m.area > 0.0) {
+        let c = glam::DVec2::new(m.first[0] / m.area, m.first[1] / m.area);
+        let d = c - centre;
+        let (u, v) = (d.x * cs + d.y * sn, d.y * cs - d.x * sn);
+        let q = glam::DVec2::new(u / h.x, v / h.y);
+        let r = q.length();
+        total += m.area;
+        // The piece's own extent along the radius, from its second moments (a uniform
+        // spread of the same variance): a boundary face's centroid lies inside the
+        // boundary by about half its width, which would read as spill.
+        let g = q.normalize_or_zero() / h;
+        let g = glam::DVec2::new(g.x * cs - g.y * sn, g.x * sn + g.y * cs);
+        let cxx = m.second[0] / m.area - c.x * c.x;
+        let cxy = m.second[1] / m.area - c.x * c.y;
+        let cyy = m.second[2] / m.area - c.y * c.y;
+        let var = (g.x * g.x * cxx + 2.0 * g.x * g.y * cxy + g.y * g.y * cyy).max(0.0);
+        let half = 3f64.sqrt() * var.sqrt();
+        let (lo, hi) = ((r - half) * n, (r + half) * n);
+        if (hi - lo).is_nan() || hi - lo <= 1e-9 {
+            if r < 1.0 {
+                bins[((r * n) as usize).min(OVERLAP_BINS - 1)] += m.area;
+            }
+            continue;
+        }
+        let density = m.area / (hi - lo);
+        let first = if lo < 0.0 { 0 } else { lo as usize };
+        for (k, bin) in bins.iter_mut().enumerate().skip(first) {
+            let (a, b) = (k as f64, k as f64 + 1.0);
+            if a >= hi {
+                break;
+            }
+            // What falls below radius 0 lies on the other side of the centre, at −r.
+            let folded = (b.min(-lo) - a).max(0.0);
+            *bin += density * ((b.min(hi) - a.max(lo)).max(0.0) + folded);
+        }
+    }
+    // A piece of a split region is fitted against its own share of the area (the
+    // other pieces' faces inside its ellipse still count as region).
+    let total = f64::from(fp.region_area).min(total);
+    let ellipse = std::f64::consts::PI * h.x * h.y;
+    if total.is_nan() || total <= 0.0 || !ellipse.is_finite() {
+        return 1.0;
+    }
+    // The ellipse of the region's own area, where most of it lies in the region: of all
+    // shapes with the same second moments the ellipse has the largest area, so a region
+    // that is not an ellipse has a moment ellipse larger than itself, which spills past
+    // it by the difference. Shrunk to the region's area it keeps the moments' shape and
+    // axes.
+    let s_area = (total / ellipse).sqrt().min(1.0);
+    let inside_within = |s: f64| {
+        let x = s * OVERLAP_BINS as f64;
+        let full = (x as usize).min(OVERLAP_BINS);
+        let part = bins.get(full).map_or(0.0, |b| b * (x - full as f64));
+        bins[..full].iter().sum::<f64>() + part
+    };
+    if inside_within(s_area) >= 0.25 * total {
+        return s_area as f32;
+    }
+    // Else (a ring, a crescent: its area lies away from its centroid) the scale of the
+    // largest intersection over union, at each bin's outer edge (the last is the moment
+    // ellipse itself), which reaches the band where the ellipse of its area would fall
+    // into the hole.
+    let mut best = (f64::NEG_INFINITY, 1.0);
+    let mut inside = 0.0;
+    for (k, a) in bins.iter().enumerate() {
+        inside += a;
+        let s = (k + 1) as f64 / OVERLAP_BINS as f64;
+        let inside = inside.min(total);
+        let iou = inside / (total + ellipse * s * s - inside);
+        if iou > best.0 {
+            best = (iou, s);
+        }
+    }
+    best.1 as f32
+}
+
+impl Footprint {
+    /// The same ellipse scaled by `s` about its centre.
+    pub(crate) fn scaled(self, s: f32) -> Footprint {
+        if s > 0.0 && s < 1.0 {
+            Footprint {
+                half_extent: self.half_extent * s,
+                fit_scale: self.fit_scale * s,
+                ..self
+            }
+        } else {
+            self
+        }
     }
 }

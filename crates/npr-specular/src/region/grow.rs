@@ -1,11 +1,11 @@
 //! [`RegionGrower`]: the breadth-first growth of all seeds' regions at once, taking whole
 //! patches where bounds allow, and the face-by-face regrowth where regions met.
 
-use super::fit::Moments;
+use super::fit::{Moments, best_overlap_scale};
 use super::measure::VertexCache;
 use super::patches::RegionPatches;
 use super::split::{needs_split, split_bent};
-use super::{Footprint, MAX_REGION_FACES, Region, RegionCounts, RegionFrame};
+use super::{Footprint, MAX_PIECES, MAX_REGION_FACES, Region, RegionCounts, RegionFrame};
 use glam::{Mat3, Vec3};
 use npr_geometry::{HighlightCentre, Topology};
 use std::collections::VecDeque;
@@ -50,6 +50,12 @@ pub struct RegionGrower {
     /// Pieces of bent regions ([`RegionGrower::pieces`]), and each seed's range of them.
     pub(super) pieces: Vec<Footprint>,
     pub(super) piece_ranges: Vec<std::ops::Range<usize>>,
+    /// Per seed and per piece, the scale of its moment ellipse that overlaps its region
+    /// best ([`RegionGrower::overlap_scale`]).
+    scales: Vec<f32>,
+    piece_scales: Vec<f32>,
+    /// Indices into `taken`, grouped by seed (scratch of the fits).
+    by_seed: Vec<u32>,
     /// Scratch of [`split_bent`].
     along: Vec<(f32, u32)>,
     /// Tests: sample every face on the finest sub-grid with `H` computed at each point
@@ -120,6 +126,25 @@ impl RegionGrower {
     /// A new stamp for the faces and patches a growth pass reaches.
     fn next_stamp(&mut self) {
         self.stamp += 1;
+    }
+
+    /// The scale (≤ 1) of seed `k`'s fitted footprint, or of its `piece`-th piece
+    /// ([`RegionGrower::pieces`]), at which that ellipse overlaps the region best
+    /// (intersection over union, `best_overlap_scale` in `fit.rs`) in the last
+    /// [`RegionGrower::grow_all`]; 1 for an unknown seed. Kept apart from the footprint,
+    /// which is the moments' own (the same whether faces were taken one by one or in
+    /// whole patches; the scale, estimated from the pieces taken, may differ by a
+    /// fraction of a percent between the two).
+    pub fn overlap_scale(&self, k: usize, piece: Option<usize>) -> f32 {
+        match piece {
+            None => self.scales.get(k).copied(),
+            Some(i) => self
+                .piece_ranges
+                .get(k)
+                .and_then(|r| self.piece_scales.get(r.start + i))
+                .copied(),
+        }
+        .unwrap_or(1.0)
     }
 
     /// How the faces of the last [`RegionGrower::grow_all`] were classified.
@@ -342,6 +367,26 @@ impl RegionGrower {
     /// Fits the footprint of each seed's part that grew (into `out`, unless covered) and
     /// splits the long bent ones ([`split_bent`]).
     fn fit_parts(&mut self, parts: &[Part], out: &mut [Region]) {
+        self.scales.clear();
+        self.scales.resize(parts.len(), 1.0);
+        self.piece_scales.clear();
+        self.piece_scales.resize(MAX_PIECES * parts.len(), 1.0);
+        // The taken faces and patches by seed (a counting sort of their indices), so that
+        // each seed's fit reads its own.
+        let mut offsets = vec![0u32; parts.len() + 1];
+        for t in &self.taken {
+            offsets[t.0 as usize + 1] += 1;
+        }
+        for k in 0..parts.len() {
+            offsets[k + 1] += offsets[k];
+        }
+        let mut fill = offsets.clone();
+        self.by_seed.clear();
+        self.by_seed.resize(self.taken.len(), 0);
+        for (i, t) in self.taken.iter().enumerate() {
+            self.by_seed[fill[t.0 as usize] as usize] = i as u32;
+            fill[t.0 as usize] += 1;
+        }
         for (k, part) in parts.iter().enumerate() {
             if out[k] == Region::Empty && part.faces > 0 {
                 if let Some(fp) = part.moments.footprint() {
@@ -349,6 +394,13 @@ impl RegionGrower {
                         normal_cone_cos: part.cone,
                         ..fp
                     };
+                    let own = offsets[k] as usize..offsets[k + 1] as usize;
+                    let items = || {
+                        self.by_seed[own.clone()]
+                            .iter()
+                            .map(|&i| &self.taken[i as usize].2)
+                    };
+                    self.scales[k] = best_overlap_scale(&fp, items());
                     out[k] = Region::Fit(fp, part.faces);
                     if needs_split(&fp) {
                         let start = self.pieces.len();
@@ -359,6 +411,9 @@ impl RegionGrower {
                             &mut self.along,
                             &mut self.pieces,
                         );
+                        for p in start..self.pieces.len() {
+                            self.piece_scales[p] = best_overlap_scale(&self.pieces[p], items());
+                        }
                         self.piece_ranges[k] = start..self.pieces.len();
                     }
                 }

@@ -10,7 +10,9 @@
 //! moments summed. The footprint is the ellipse with the same moments: centred at the
 //! region's centroid, half extent `2·sqrt(variance)` along each axis (a uniform ellipse of
 //! half axis `a` has variance `a²/4`), turned towards the moments' own axes when the
-//! region is clearly anisotropic.
+//! region is clearly anisotropic. The highlight set then draws it scaled by
+//! [`RegionGrower::overlap_scale`]: to the region's own area, since any region that is not
+//! an ellipse has a moment ellipse larger than itself.
 
 mod classify;
 mod fit;
@@ -45,6 +47,10 @@ pub struct Footprint {
     /// region's normal cone; receivers beyond it cannot be in the region); −1 when not
     /// measured (Eq. (8)).
     pub normal_cone_cos: f32,
+    /// The scale (≤ 1) the region's moment ellipse was fitted with
+    /// ([`RegionGrower::overlap_scale`]); 1 for Eq. (8). `half_extent / fit_scale` is
+    /// the moment ellipse's own, what matching from frame to frame reaches over.
+    pub fit_scale: f32,
 }
 
 impl Default for Footprint {
@@ -55,6 +61,7 @@ impl Default for Footprint {
             rotate_rad: 0.0,
             region_area: 0.0,
             normal_cone_cos: -1.0,
+            fit_scale: 1.0,
         }
     }
 }

@@ -17,7 +17,9 @@
 //!   inside the central half of the other's frustum) are merged into the older one;
 //! - a merged or suppressed highlight fades out like a lost one.
 
+mod matching;
 mod mesh;
+mod peaks;
 mod receivers;
 
 use crate::projector::eq8_footprint;
@@ -76,6 +78,9 @@ pub struct Highlight {
     /// then has no receivers, its projector is the whole region's ellipse, what picking
     /// and matching use).
     pub pieces: u8,
+    /// Whether the centre is the maximum of `N·H` of a bright region that holds no
+    /// `N = H` point (beyond the paper, `set::peaks`) rather than an `N = H` point.
+    pub peak: bool,
 }
 
 /// The default abstraction of [`HighlightSet::new`], in units of the bounding-sphere
@@ -120,6 +125,9 @@ pub enum HighlightBoundary {
 pub struct UpdateStats {
     /// Centres found by the N = H search.
     pub centres: usize,
+    /// Centres of bright regions without an `N = H` point, at their maximum of `N·H`
+    /// ([`HighlightSizing::Region`]; see `set::peaks`).
+    pub peaks: usize,
     /// Highlights drawn (found + fading).
     pub highlights: usize,
     /// Receiver faces over all highlights.
@@ -217,6 +225,7 @@ pub struct HighlightSet {
     /// highlight fades in, even after a frame that showed none.
     tracking: bool,
     stats: UpdateStats,
+    peak_scratch: peaks::PeakScratch,
 }
 
 impl HighlightSet {
@@ -395,6 +404,7 @@ impl HighlightSet {
             next_id: 0,
             tracking: false,
             stats: UpdateStats::default(),
+            peak_scratch: peaks::PeakScratch::default(),
         }
     }
 
@@ -469,24 +479,42 @@ impl HighlightSet {
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
-        let (centres, search_us) = self.search_centres(light_eye, world_from_object);
+        let (mut centres, search_us) = self.search_centres(light_eye, world_from_object);
+        let found = centres.len();
+        if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
+            let peaks = self.peak_centres(&centres, light_eye, world_from_object);
+            centres.extend(peaks);
+        }
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         // Pieces are made afresh from their highlight each frame.
         let mut previous = std::mem::take(&mut self.highlights);
         previous.retain(|h| h.piece == 0);
-        let next = self.match_centres(&previous, &centres, radius_world, scale, world_from_object);
+        let next = self.match_centres(
+            &previous,
+            (&centres, found),
+            radius_world,
+            scale,
+            world_from_object,
+        );
         let region_start = Instant::now();
         let regions = self.grow_regions(&next, light_eye, world_from_object);
         let region_us = region_start.elapsed().as_secs_f64() * 1e6;
-        let (mut kept, merged) = self.footprints(next, &previous, regions, radius_world, scale);
+        let (mut kept, merged) = self.footprints(
+            next,
+            (&previous, &centres[found..]),
+            regions,
+            radius_world,
+            scale,
+        );
         let visibility_start = Instant::now();
         self.find_receivers(&mut kept, world_from_object);
         self.share_regions(&mut kept);
         let live: std::collections::HashSet<u64> = kept.iter().map(|h| h.id).collect();
         self.per_highlight.retain(|id, _| live.contains(id));
         self.stats = UpdateStats {
-            centres: centres.len(),
+            centres: found,
+            peaks: centres.len() - found,
             highlights: kept.iter().filter(|h| h.piece == 0).count(),
             receiver_faces: self.receiver_faces.len(),
             merged,
@@ -508,17 +536,8 @@ impl HighlightSet {
         light_eye: LightEye,
         world_from_object: Mat4,
     ) -> (Vec<HighlightCentre>, f64) {
-        let valid_input = match light_eye {
-            LightEye::Directions { to_light, to_eye } => {
-                to_light.is_finite()
-                    && to_eye.is_finite()
-                    && to_light.length_squared() > 0.0
-                    && to_eye.length_squared() > 0.0
-            }
-            LightEye::Positions { light, eye } => light.is_finite() && eye.is_finite(),
-        };
         let search_start = Instant::now();
-        let centres = if valid_input && world_from_object.is_finite() {
+        let centres = if valid_input(light_eye, world_from_object) {
             self.search
                 .find_coherent(&mut self.coherence, light_eye, world_from_object)
         } else {
@@ -526,70 +545,6 @@ impl HighlightSet {
         };
         let search_us = search_start.elapsed().as_secs_f64() * 1e6;
         (centres, search_us)
-    }
-
-    /// Matches this frame's `centres` with the `previous` highlights: (id, centre, found,
-    /// previous highlight index) per highlight to show, oldest first.
-    fn match_centres(
-        &mut self,
-        previous: &[Highlight],
-        centres: &[HighlightCentre],
-        radius_world: f32,
-        scale: f32,
-        world_from_object: Mat4,
-    ) -> Vec<Entry> {
-        let mut claimed = vec![false; centres.len()];
-        // (id, centre, found, previous highlight index)
-        let mut next: Vec<Entry> = Vec::with_capacity(centres.len() + previous.len());
-        // Greedy matching, closest pairs first, in object space (rigid motion of the
-        // object does not move a centre there; only lighting changes do).
-        let mut pairs: Vec<(f32, usize, usize)> = Vec::new();
-        for (i, h) in previous.iter().enumerate() {
-            // Reach from the footprint before controls, at most Eq. (8)'s cap: a large
-            // measured region must not let a highlight take a far centre's identity.
-            let extent = h.footprint.half_extent.max_element().min(radius_world);
-            let reach = self.match_radius * extent / scale.max(1e-12);
-            for (j, c) in centres.iter().enumerate() {
-                let d = h.centre.position_object.distance(c.position_object);
-                if d <= reach.max(2.0 * self.topology.mean_edge_length) {
-                    pairs.push((d, i, j));
-                }
-            }
-        }
-        pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut prev_taken = vec![false; previous.len()];
-        for (_, i, j) in pairs {
-            if !prev_taken[i] && !claimed[j] {
-                prev_taken[i] = true;
-                claimed[j] = true;
-                next.push((previous[i].id, centres[j], true, Some(i)));
-            }
-        }
-        // Lost highlights fade out at their last point on the object, re-placed with the
-        // object's current transform (the projector and the receiver search both follow
-        // an object that moves while the highlight fades).
-        for (i, h) in previous.iter().enumerate() {
-            if !prev_taken[i] {
-                let c = &h.centre;
-                let centre = self
-                    .search
-                    .centre_at(c.face, c.alpha, c.beta, world_from_object)
-                    .unwrap_or(h.centre);
-                next.push((h.id, centre, false, Some(i)));
-            }
-        }
-        // New highlights fade in (appear at full opacity on the first frame).
-        for (j, c) in centres.iter().enumerate() {
-            if !claimed[j] {
-                next.push((self.next_id, *c, true, None));
-                self.next_id += 1;
-            }
-        }
-        // Footprints, oldest highlight first: an older highlight keeps its region, and a
-        // younger centre inside a region already claimed is suppressed (fades out if it
-        // was shown, never appears if it is new).
-        next.sort_by_key(|e| e.0);
-        next
     }
 
     /// The regions of the found centres in `next` ([`HighlightSizing::Region`]; none for
@@ -620,11 +575,12 @@ impl HighlightSet {
     }
 
     /// Footprints, opacities and pieces of the highlights in `next` (fades, suppression,
-    /// the paper's merging), and how many were merged away.
+    /// the paper's merging), and how many were merged away; `peaks` are this frame's
+    /// centres of bright regions without an `N = H` point.
     fn footprints(
         &self,
         next: Vec<Entry>,
-        previous: &[Highlight],
+        (previous, peaks): (&[Highlight], &[HighlightCentre]),
         regions: Vec<Region>,
         radius_world: f32,
         scale: f32,
@@ -653,6 +609,7 @@ impl HighlightSet {
                 (true, HighlightSizing::Region) => match regions.next() {
                     Some((k, Region::Fit(fp, _))) => {
                         seed = Some(k);
+                        let fp = fp.scaled(self.grower.overlap_scale(k, None));
                         (fp.region_area >= min_area).then_some(fp)
                     }
                     _ => None,
@@ -707,15 +664,24 @@ impl HighlightSet {
             let Some(mut h) = self.make(id, centre, controls, footprint, opacity, found) else {
                 continue;
             };
+            h.peak = if found {
+                peaks.contains(&centre)
+            } else {
+                before.is_some_and(|b| b.peak)
+            };
             let pieces = match seed {
                 Some(k) if found => self.grower.pieces(k),
                 _ => &[],
             };
             let mut drawn = Vec::with_capacity(pieces.len());
-            for piece in pieces {
-                let edited = group_edit(&footprint, piece, &controls);
+            for (i, piece) in pieces.iter().enumerate() {
+                let piece = seed.map_or(*piece, |k| {
+                    piece.scaled(self.grower.overlap_scale(k, Some(i)))
+                });
+                let edited = group_edit(&footprint, &piece, &controls);
                 if let Some(mut p) = self.make(id, centre, controls, edited, opacity, found) {
-                    p.footprint = *piece;
+                    p.footprint = piece;
+                    p.peak = h.peak;
                     p.piece = (drawn.len() + 1) as u8;
                     drawn.push(p);
                 }
@@ -756,8 +722,24 @@ impl HighlightSet {
             shared_with: [u32::MAX; 4],
             piece: 0,
             pieces: 0,
+            peak: false,
         })
     }
+}
+
+/// Whether the light, eye and transform are finite and the directions non-zero (else a
+/// frame has no highlights rather than NaN).
+fn valid_input(light_eye: LightEye, world_from_object: Mat4) -> bool {
+    let light_eye_ok = match light_eye {
+        LightEye::Directions { to_light, to_eye } => {
+            to_light.is_finite()
+                && to_eye.is_finite()
+                && to_light.length_squared() > 0.0
+                && to_eye.length_squared() > 0.0
+        }
+        LightEye::Positions { light, eye } => light.is_finite() && eye.is_finite(),
+    };
+    light_eye_ok && world_from_object.is_finite()
 }
 
 /// `next` with each half extent kept within a factor `sqrt(1 + max_area_change)` of

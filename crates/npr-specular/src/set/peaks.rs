@@ -1,0 +1,263 @@
+//! Highlights of bright regions that hold no `N = H` point (beyond the paper).
+//!
+//! §3.1 places a highlight at the maximum of the specular term, Eq. (2), and finds it
+//! where `N = H`, Eq. (3). On a smooth closed surface the Gauss map reaches every
+//! direction somewhere, but not inside every bright region: a limb, an ear or a panel
+//! whose normals come within `arccos σ` of `H` without reaching it has a region
+//! `N·H ≥ σ` whose maximum is below 1, and no `N = H` point to stylize it. On scanned
+//! characters such regions are a large share of the light (on Spot, 13 % of the
+//! `N·H ≥ σ` pixels over the fidelity views). Here each connected part of the vertices
+//! with `N·H ≥ σ` that no `N = H` centre lies in gets one centre at its own maximum of
+//! `N·H` (the vertex of largest specular term, Eq. (2)), whose region is then grown and
+//! fitted like any other ([`crate::region`]).
+
+use super::HighlightSet;
+use glam::{Mat3, Mat4, Vec3};
+use npr_geometry::{HighlightCentre, LightEye};
+
+/// Per-vertex scratch of [`HighlightSet::peak_centres`], kept across frames: `N·H` of
+/// the bright vertices and their union-find parents (entries outside a call are −2 and
+/// `u32::MAX`), so a frame costs the candidate vertices, not the mesh.
+#[derive(Clone, Debug, Default)]
+pub(super) struct PeakScratch {
+    nh: Vec<f32>,
+    parent: Vec<u32>,
+    claimed: Vec<bool>,
+    best: Vec<u32>,
+}
+
+/// Not measured this frame (below every σ).
+const UNSET: f32 = -2.0;
+
+fn find(parent: &mut [u32], mut v: u32) -> u32 {
+    while parent[v as usize] != v {
+        let up = parent[parent[v as usize] as usize];
+        parent[v as usize] = up;
+        v = up;
+    }
+    v
+}
+
+impl HighlightSet {
+    /// The centres of the bright regions without an `N = H` point (see the module docs),
+    /// at σ (the global controls'), for `centres` found by the search this frame.
+    pub(super) fn peak_centres(
+        &mut self,
+        centres: &[HighlightCentre],
+        light_eye: LightEye,
+        world_from_object: Mat4,
+    ) -> Vec<HighlightCentre> {
+        let nv = self.topology.vertex_count();
+        let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
+        if self.search.normals().len() != nv || !normal_from_object.is_finite() {
+            return Vec::new();
+        }
+        let sigma = self.global.sigma;
+        let mut scratch = std::mem::take(&mut self.peak_scratch);
+        if scratch.nh.len() != nv {
+            scratch = PeakScratch {
+                nh: vec![UNSET; nv],
+                parent: vec![u32::MAX; nv],
+                claimed: vec![false; nv],
+                best: vec![u32::MAX; nv],
+            };
+        }
+        let bright = self.bright_vertices(
+            light_eye,
+            world_from_object,
+            normal_from_object,
+            &mut scratch,
+        );
+        let PeakScratch {
+            nh,
+            parent,
+            claimed,
+            best,
+        } = &mut scratch;
+        // Connected parts of the bright vertices, by the mesh's edges (union-find).
+        for &v in &bright {
+            for &f in self.topology.vertex_faces(v as usize) {
+                for u in self.topology.triangles[f as usize] {
+                    if u > v && nh[u as usize] >= sigma {
+                        let (ra, rb) = (find(parent, u), find(parent, v));
+                        if ra != rb {
+                            parent[ra.max(rb) as usize] = ra.min(rb);
+                        }
+                    }
+                }
+            }
+        }
+        // Parts an `N = H` centre lies in (through its face's bright vertices).
+        for c in centres {
+            let Some(t) = self.topology.triangles.get(c.face as usize) else {
+                continue;
+            };
+            for &v in t {
+                if nh[v as usize] >= sigma {
+                    let r = find(parent, v);
+                    claimed[r as usize] = true;
+                }
+            }
+        }
+        // Each unclaimed part's brightest vertex (the lowest index on ties: `bright`
+        // is in ascending order).
+        let mut roots = Vec::new();
+        for &v in &bright {
+            let r = find(parent, v) as usize;
+            if claimed[r] {
+                continue;
+            }
+            let b = best[r];
+            if b == u32::MAX {
+                roots.push(r);
+            }
+            if b == u32::MAX || nh[v as usize] > nh[b as usize] {
+                best[r] = v;
+            }
+        }
+        let peaks = roots
+            .iter()
+            .filter_map(|&r| {
+                self.centre_at_vertex(
+                    best[r] as usize,
+                    light_eye,
+                    world_from_object,
+                    normal_from_object,
+                )
+            })
+            .collect();
+        // Leave the scratch clean for the next frame.
+        for &v in &bright {
+            let v = v as usize;
+            (nh[v], parent[v], claimed[v], best[v]) = (UNSET, u32::MAX, false, u32::MAX);
+        }
+        self.peak_scratch = scratch;
+        peaks
+    }
+
+    /// The vertices with `N·H ≥ σ` (world space, `H` per vertex), ascending, among the
+    /// search's candidates ([`npr_geometry::HighlightSearch::bright_candidates`]); their
+    /// `N·H` into the scratch and each its own union-find root.
+    fn bright_vertices(
+        &self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        normal_from_object: Mat3,
+        scratch: &mut PeakScratch,
+    ) -> Vec<u32> {
+        let sigma = self.global.sigma;
+        let normals = self.search.normals();
+        let mut candidates = self
+            .search
+            .bright_candidates(light_eye, world_from_object, sigma);
+        candidates.sort_unstable();
+        candidates.retain(|&v| {
+            let v = v as usize;
+            let n = (normal_from_object * normals[v]).normalize_or_zero();
+            let p = world_from_object.transform_point3(self.topology.positions[v]);
+            let h = half_vector(light_eye, p);
+            let d = n.dot(h);
+            let bright = d >= sigma && n != Vec3::ZERO && h != Vec3::ZERO;
+            if bright {
+                scratch.nh[v] = d;
+                scratch.parent[v] = v as u32;
+            }
+            bright
+        });
+        candidates
+    }
+
+    /// The centre of the part whose brightest vertex is `v`: the maximum of `N̂·Ĥ` over
+    /// the faces around `v` (both interpolated linearly, as Eq. (4)–(5) interpolate
+    /// them), so that it glides over the surface as the light moves instead of jumping
+    /// from vertex to vertex, with the principal frame there.
+    fn centre_at_vertex(
+        &self,
+        v: usize,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        normal_from_object: Mat3,
+    ) -> Option<HighlightCentre> {
+        let topo = &self.topology;
+        let normals = self.search.normals();
+        let world = |i: u32| {
+            let p = world_from_object.transform_point3(topo.positions[i as usize]);
+            let n = (normal_from_object * normals[i as usize]).normalize_or_zero();
+            (n, half_vector(light_eye, p))
+        };
+        let mut best: Option<(f32, u32, f32, f32)> = None;
+        for &f in topo.vertex_faces(v) {
+            if topo.is_degenerate(f as usize) {
+                continue;
+            }
+            let t = topo.triangles[f as usize];
+            let Some(corner) = t.iter().position(|&i| i as usize == v) else {
+                continue;
+            };
+            let [(n0, h0), (n1, h1), (n2, h2)] = t.map(world);
+            let value = |a: f32, b: f32| {
+                let n = n0 + a * (n1 - n0) + b * (n2 - n0);
+                let h = h0 + a * (h1 - h0) + b * (h2 - h0);
+                n.normalize_or_zero().dot(h.normalize_or_zero())
+            };
+            let start = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)][corner];
+            let (a, b, g) = ascend(value, start);
+            if best.is_none_or(|(bg, ..)| g > bg) {
+                best = Some((g, f, a, b));
+            }
+        }
+        let (_, f, a, b) = best?;
+        self.search.centre_at(f, a, b, world_from_object)
+    }
+}
+
+/// The unit half vector at world point `p`.
+fn half_vector(light_eye: LightEye, p: Vec3) -> Vec3 {
+    match light_eye {
+        LightEye::Positions { light, eye } => {
+            (light - p).normalize_or_zero() + (eye - p).normalize_or_zero()
+        }
+        LightEye::Directions { to_light, to_eye } => {
+            to_light.normalize_or_zero() + to_eye.normalize_or_zero()
+        }
+    }
+    .normalize_or_zero()
+}
+
+/// The barycentric point of a triangle (α, β ≥ 0, α + β ≤ 1) where `value` is largest,
+/// by projected gradient ascent from `start` (central differences, step halved when it
+/// does not climb), and the value there.
+fn ascend(value: impl Fn(f32, f32) -> f32, start: (f32, f32)) -> (f32, f32, f32) {
+    let project = |a: f32, b: f32| {
+        let (a, b) = (a.max(0.0), b.max(0.0));
+        let over = a + b - 1.0;
+        if over > 0.0 {
+            (
+                (a - 0.5 * over).clamp(0.0, 1.0),
+                (b - 0.5 * over).clamp(0.0, 1.0),
+            )
+        } else {
+            (a, b)
+        }
+    };
+    let (mut a, mut b) = start;
+    let mut g = value(a, b);
+    let mut step = 0.25f32;
+    let e = 1e-3;
+    for _ in 0..40 {
+        let da = value(a + e, b) - value(a - e, b);
+        let db = value(a, b + e) - value(a, b - e);
+        let len = (da * da + db * db).sqrt();
+        if len.is_nan() || len <= 1e-9 || step < 1e-4 {
+            break;
+        }
+        let (na, nb) = project(a + step * da / len, b + step * db / len);
+        let ng = value(na, nb);
+        if ng > g {
+            (a, b, g) = (na, nb, ng);
+        } else {
+            step *= 0.5;
+        }
+    }
+    (a, b, g)
+}
