@@ -9,8 +9,7 @@ use glam::{Mat4, Vec3};
 use npr_geometry::Mesh;
 use npr_geometry::generate::{Rigged, bent_tube};
 use npr_gpu::{
-    Camera, GpuContext, GpuMesh, OffscreenTarget, TargetFormats, readback_rgba,
-    testing::context_or_skip,
+    Camera, GpuContext, GpuMesh, OffscreenTarget, TargetFormats, testing::context_or_skip,
 };
 use npr_warp::{
     Departures, ObjectView, PhongBase, Proxy, ReferenceDraw, ReferenceFrame, WarpError, WarpObject,
@@ -100,7 +99,7 @@ impl Scene {
     }
 
     fn warp_image(&mut self, refs: [&ReferenceFrame; 2], s: f32) -> image::RgbaImage {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let d = &self.ctx.device;
         let pair = self.pass.bind_pair(d, refs);
         let input = npr_warp::WarpInput {
             frame: npr_gpu::FrameId(0),
@@ -110,15 +109,7 @@ impl Scene {
             settings: &self.settings,
             mode: Departures::OURS.mode(),
         };
-        let prepared = self.pass.prepare(q, &mut self.object, &input).unwrap();
-        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
-        let mut encoder = d.create_command_encoder(&Default::default());
-        {
-            let mut rpass = target.begin_clear_pass(&mut encoder, CLEAR);
-            self.pass.draw(&mut rpass, &self.object, &prepared).unwrap();
-        }
-        q.submit(Some(encoder.finish()));
-        readback_rgba(d, q, &target.color).unwrap()
+        common::warp_render(self.ctx, &self.pass, &mut self.object, &input)
     }
 }
 

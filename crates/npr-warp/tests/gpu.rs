@@ -100,7 +100,7 @@ impl Rig {
         s: f32,
         mode: WarpMode,
     ) -> image::RgbaImage {
-        let (d, q) = (&self.ctx.device, &self.ctx.queue);
+        let d = &self.ctx.device;
         let pair = self.pass.bind_pair(d, refs);
         let now = self.path.pose(t).object(0);
         let input = npr_warp::WarpInput {
@@ -111,15 +111,7 @@ impl Rig {
             settings: &self.settings,
             mode,
         };
-        let prepared = self.pass.prepare(q, &mut self.object, &input).unwrap();
-        let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
-        let mut encoder = d.create_command_encoder(&Default::default());
-        {
-            let mut rpass = target.begin_clear_pass(&mut encoder, CLEAR);
-            self.pass.draw(&mut rpass, &self.object, &prepared).unwrap();
-        }
-        q.submit(Some(encoder.finish()));
-        readback_rgba(d, q, &target.color).unwrap()
+        common::warp_render(self.ctx, &self.pass, &mut self.object, &input)
     }
 }
 

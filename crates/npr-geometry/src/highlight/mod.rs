@@ -73,6 +73,22 @@ pub enum LightEye {
     },
 }
 
+impl LightEye {
+    /// The unit half vector `H` (§3.1) at world point `p`: the normalised sum of the unit
+    /// directions towards the light and the eye; zero where either is undefined.
+    pub fn half_vector(self, p: Vec3) -> Vec3 {
+        match self {
+            Self::Positions { light, eye } => {
+                (light - p).normalize_or_zero() + (eye - p).normalize_or_zero()
+            }
+            Self::Directions { to_light, to_eye } => {
+                to_light.normalize_or_zero() + to_eye.normalize_or_zero()
+            }
+        }
+        .normalize_or_zero()
+    }
+}
+
 /// One highlight centre (maximum specular intensity point, §3.1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HighlightCentre {

@@ -140,16 +140,3 @@ pub(super) fn classify(
         }
     }
 }
-
-/// The unit half vector `H` at world point `p`.
-pub(super) fn half_vector(light_eye: LightEye, p: Vec3) -> Vec3 {
-    match light_eye {
-        LightEye::Positions { light, eye } => {
-            (light - p).normalize_or_zero() + (eye - p).normalize_or_zero()
-        }
-        LightEye::Directions { to_light, to_eye } => {
-            to_light.normalize_or_zero() + to_eye.normalize_or_zero()
-        }
-    }
-    .normalize_or_zero()
-}

@@ -5,7 +5,7 @@ use super::RegionFrame;
 #[cfg(test)]
 use super::classify::SUB;
 use super::classify::{
-    EXACT_H_TURN, FaceClass, GRID_POINTS, classify, for_sub_triangles, grid_points, half_vector,
+    EXACT_H_TURN, FaceClass, GRID_POINTS, classify, for_sub_triangles, grid_points,
 };
 use super::fit::Moments;
 use super::grow::{Part, RegionGrower};
@@ -46,11 +46,11 @@ impl RegionGrower {
                 let h = if dl > 0.0 && de > 0.0 && ds > 0.0 && ds.is_finite() {
                     s / ds
                 } else {
-                    half_vector(f.light_eye, p)
+                    f.light_eye.half_vector(p)
                 };
                 (h, [dl, de, ds])
             }
-            LightEye::Directions { .. } => (half_vector(f.light_eye, p), [0.0; 3]),
+            LightEye::Directions { .. } => (f.light_eye.half_vector(p), [0.0; 3]),
         };
         let nh = n.dot(h);
         self.vertices[v] = VertexCache {
@@ -204,7 +204,7 @@ fn sample_sub_grid(
         let d = if exact_h {
             let p = vs[0].0 * b[0] + vs[1].0 * b[1] + vs[2].0 * b[2];
             let u = vs[0].1 * b[0] + vs[1].1 * b[1] + vs[2].1 * b[2];
-            u.dot(half_vector(light_eye, p)) * inv_len - sigma
+            u.dot(light_eye.half_vector(p)) * inv_len - sigma
         } else {
             quad(&nh) * inv_len - sigma
         };

@@ -3,7 +3,6 @@
 
 #[cfg(doc)]
 use super::RegionGrower;
-use super::classify::half_vector;
 use super::fit::Moments;
 use super::grow::{GrowContext, Part};
 use glam::{Mat3, Vec3};
@@ -154,7 +153,7 @@ impl RegionPatches {
         }
         let centre = ctx.frame.world_from_object.transform_point3(p.centre);
         let r = p.radius * ctx.scale;
-        let h = half_vector(ctx.frame.light_eye, centre);
+        let h = ctx.frame.light_eye.half_vector(centre);
         // How far H turns over the patch's bounding sphere (see `classify`).
         let delta = match ctx.frame.light_eye {
             LightEye::Directions { .. } => 0.0,

@@ -155,7 +155,7 @@ impl HighlightSet {
             let v = v as usize;
             let n = (normal_from_object * normals[v]).normalize_or_zero();
             let p = world_from_object.transform_point3(self.topology.positions[v]);
-            let h = half_vector(light_eye, p);
+            let h = light_eye.half_vector(p);
             let d = n.dot(h);
             let bright = d >= sigma && n != Vec3::ZERO && h != Vec3::ZERO;
             if bright {
@@ -183,7 +183,7 @@ impl HighlightSet {
         let world = |i: u32| {
             let p = world_from_object.transform_point3(topo.positions[i as usize]);
             let n = (normal_from_object * normals[i as usize]).normalize_or_zero();
-            (n, half_vector(light_eye, p))
+            (n, light_eye.half_vector(p))
         };
         let mut best: Option<(f32, u32, f32, f32)> = None;
         for &f in topo.vertex_faces(v) {
@@ -209,19 +209,6 @@ impl HighlightSet {
         let (_, f, a, b) = best?;
         self.search.centre_at(f, a, b, world_from_object)
     }
-}
-
-/// The unit half vector at world point `p`.
-fn half_vector(light_eye: LightEye, p: Vec3) -> Vec3 {
-    match light_eye {
-        LightEye::Positions { light, eye } => {
-            (light - p).normalize_or_zero() + (eye - p).normalize_or_zero()
-        }
-        LightEye::Directions { to_light, to_eye } => {
-            to_light.normalize_or_zero() + to_eye.normalize_or_zero()
-        }
-    }
-    .normalize_or_zero()
 }
 
 /// The barycentric point of a triangle (α, β ≥ 0, α + β ≤ 1) where `value` is largest,

@@ -1,5 +1,5 @@
 //! The scene the GPU tests of npr-warp share: a (2, 3) torus knot, its material and light,
-//! and the full render warped frames are compared with.
+//! the full render warped frames are compared with, and a warp drawn and read back.
 #![allow(dead_code)]
 
 use glam::{Mat4, Vec3};
@@ -54,6 +54,25 @@ pub fn full_render(
     let mut encoder = d.create_command_encoder(&Default::default());
     let (c, z) = (&target.color_view, &target.depth_view);
     renderer.record(&mut encoder, c, z, CLEAR).unwrap();
+    q.submit(Some(encoder.finish()));
+    npr_gpu::readback_rgba(d, q, &target.color).unwrap()
+}
+
+/// `object` warped by `pass` as `input` says, into a cleared target, read back.
+pub fn warp_render(
+    ctx: &GpuContext,
+    pass: &npr_warp::WarpPass,
+    object: &mut npr_warp::WarpObject,
+    input: &npr_warp::WarpInput<'_>,
+) -> image::RgbaImage {
+    let (d, q) = (&ctx.device, &ctx.queue);
+    let prepared = pass.prepare(q, object, input).unwrap();
+    let target = OffscreenTarget::new(d, SIZE, SIZE).unwrap();
+    let mut encoder = d.create_command_encoder(&Default::default());
+    {
+        let mut rpass = target.begin_clear_pass(&mut encoder, CLEAR);
+        pass.draw(&mut rpass, object, &prepared).unwrap();
+    }
     q.submit(Some(encoder.finish()));
     npr_gpu::readback_rgba(d, q, &target.color).unwrap()
 }
