@@ -55,11 +55,14 @@ pub mod stroke_field;
 pub mod topology;
 pub mod weld;
 
-pub use curvature::{CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius};
+pub use curvature::{
+    CurvatureField, CurvatureMethod, CurvatureOptions, CurvatureRadius, FieldDifference,
+};
 pub use error::GeometryError;
 pub use highlight::{
-    CoherenceStats, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
-    SearchCoherence, try_solve_barycentric, try_solve_barycentric_eq6, welded_mesh_normals,
+    CoherenceStats, FaceSolution, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
+    SearchCoherence, SolveFrame, SolveHalfVector, SolveVertex, try_solve_barycentric,
+    try_solve_barycentric_eq6, welded_mesh_normals,
 };
 /// The OBJ entry points at their former path (they live in [`io::obj`]).
 pub use io::obj;

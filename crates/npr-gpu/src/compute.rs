@@ -1,14 +1,15 @@
-//! What the compute passes of this crate share (`PosingPass`, `CurvaturePass`): their
-//! layout entries, pipelines, buffers and dispatch sizes.
+//! What the compute passes share (`PosingPass`, `CurvaturePass` here, and the technique
+//! crates' own): their layout entries, pipelines, buffers, dispatch sizes and the check of
+//! a buffer against the storage binding limit.
 
 use crate::GpuError;
 use wgpu::util::DeviceExt;
 
 /// Invocations per workgroup of every compute entry point (`@workgroup_size(64)`).
-pub(crate) const WORKGROUP: u32 = 64;
+pub const WORKGROUP: u32 = 64;
 
 /// A buffer binding of type `ty` at `binding`, visible to the compute stage.
-pub(crate) fn layout_entry(
+pub fn layout_entry(
     binding: u32,
     ty: wgpu::BufferBindingType,
 ) -> wgpu::BindGroupLayoutEntry {
@@ -25,12 +26,12 @@ pub(crate) fn layout_entry(
 }
 
 /// A storage buffer at `binding`, compute stage.
-pub(crate) fn storage_layout_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+pub fn storage_layout_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     layout_entry(binding, wgpu::BufferBindingType::Storage { read_only })
 }
 
 /// The compute pipeline of `entry` in `module`, over one bind group of `layout`.
-pub(crate) fn pipeline(
+pub fn pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
@@ -48,7 +49,7 @@ pub(crate) fn pipeline(
 }
 
 /// A buffer of `data`, at least one element long (a binding may not be empty).
-pub(crate) fn buffer_init<T: bytemuck::Pod + Default>(
+pub fn buffer_init<T: bytemuck::Pod + Default>(
     device: &wgpu::Device,
     label: &str,
     data: &[T],
@@ -64,7 +65,7 @@ pub(crate) fn buffer_init<T: bytemuck::Pod + Default>(
 }
 
 /// `buffer` whole at `binding`.
-pub(crate) fn group_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+pub fn group_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {
         binding,
         resource: buffer.as_entire_binding(),
@@ -73,7 +74,7 @@ pub(crate) fn group_entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGrou
 
 /// Workgroup counts covering `n` invocations within the per-dimension limit (the shaders
 /// fold `y` back into one index).
-pub(crate) fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
+pub fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
     let groups = n.div_ceil(WORKGROUP as usize).max(1) as u64;
     let max = u64::from(max_per_dimension.max(1));
     let y = groups.div_ceil(max);
@@ -83,7 +84,7 @@ pub(crate) fn dispatch_size(n: usize, max_per_dimension: u32) -> (u32, u32) {
 
 /// [`GpuError::MeshTooLarge`] for the first buffer (name, bytes) over the storage
 /// binding limit.
-pub(crate) fn check_bindings(buffers: &[(&'static str, u64)], limit: u64) -> Result<(), GpuError> {
+pub fn check_bindings(buffers: &[(&'static str, u64)], limit: u64) -> Result<(), GpuError> {
     match buffers.iter().find(|(_, bytes)| *bytes > limit) {
         Some(&(buffer, size)) => Err(GpuError::MeshTooLarge {
             buffer,

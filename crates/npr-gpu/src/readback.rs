@@ -1,4 +1,4 @@
-//! Reading textures back to the CPU. Row padding (`COPY_BYTES_PER_ROW_ALIGNMENT`) is
+//! Reading textures and buffers back to the CPU. Row padding (`COPY_BYTES_PER_ROW_ALIGNMENT`) is
 //! handled here and nowhere else.
 
 use crate::GpuError;
@@ -40,11 +40,99 @@ type MapSlot = std::sync::Arc<(
 /// (native).
 #[derive(Debug)]
 pub struct TextureReadback {
-    buffer: wgpu::Buffer,
+    map: BufferReadback,
     padded: u32,
     row: u32,
     height: u32,
+}
+
+/// A buffer on its way to the CPU: [`BufferReadback::map`] asks for the map of a
+/// `MAP_READ` buffer after the submission that fills it; [`BufferReadback::try_take`]
+/// returns its bytes once the map has completed, without blocking (the browser's way: the
+/// map completes between two animation frames, or a frame later on native); and
+/// [`BufferReadback::wait`] blocks until then (native). The buffer is unmapped once its
+/// bytes are taken, so a persistent buffer can be mapped again next frame.
+#[derive(Debug)]
+pub struct BufferReadback {
+    buffer: wgpu::Buffer,
     mapped: MapSlot,
+}
+
+impl BufferReadback {
+    /// Asks for the map of the whole of `buffer` (`MAP_READ`, not mapped), after the
+    /// submission that fills it.
+    pub fn map(buffer: wgpu::Buffer) -> Self {
+        let mapped = MapSlot::default();
+        let slot = mapped.clone();
+        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            if let Ok(mut s) = slot.0.lock() {
+                *s = Some(r.map_err(|e| e.to_string()));
+            }
+            slot.1.notify_all();
+        });
+        Self { buffer, mapped }
+    }
+
+    /// The map's outcome once it has completed; `None` while it has not.
+    fn done(&self) -> Option<Result<(), GpuError>> {
+        let done = match self.mapped.0.lock() {
+            Ok(mut s) => s.take()?,
+            Err(_) => Err("the map callback panicked".to_string()),
+        };
+        Some(done.map_err(GpuError::Readback))
+    }
+
+    /// The buffer's bytes once the map has completed (the buffer is unmapped then);
+    /// `None` while it has not. After it has returned `Some`, further calls return `None`.
+    pub fn try_take(&self) -> Option<Result<Vec<u8>, GpuError>> {
+        Some(self.done()?.and_then(|()| {
+            let bytes = self
+                .buffer
+                .get_mapped_range(..)
+                .map_err(|e| GpuError::Readback(e.to_string()))?
+                .to_vec();
+            self.buffer.unmap();
+            Ok(bytes)
+        }))
+    }
+
+    /// Blocks until the map has completed (native: polls `device`) and returns the bytes.
+    ///
+    /// # Errors
+    /// [`GpuError::Readback`] when polling or mapping fails, or no callback came within
+    /// a minute of the device going idle.
+    pub fn wait(self, device: &wgpu::Device) -> Result<Vec<u8>, GpuError> {
+        self.wait_mapped(device)?;
+        self.try_take().unwrap_or_else(not_completed)
+    }
+
+    /// Polls `device` until idle, then waits for the map's callback: another thread
+    /// polling the same device may be the one that runs it, a moment after this thread's
+    /// poll has returned.
+    fn wait_mapped(&self, device: &wgpu::Device) -> Result<(), GpuError> {
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let (lock, signal) = &*self.mapped;
+        let guard = lock
+            .lock()
+            .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
+        let (_guard, timeout) = signal
+            .wait_timeout_while(guard, std::time::Duration::from_secs(60), |s| s.is_none())
+            .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
+        if timeout.timed_out() {
+            return Err(GpuError::Readback(
+                "the map had not completed a minute after the device went idle".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+fn not_completed<T>() -> Result<T, GpuError> {
+    Err(GpuError::Readback(
+        "the map had not completed after the device went idle".into(),
+    ))
 }
 
 impl TextureReadback {
@@ -96,71 +184,36 @@ impl TextureReadback {
             },
         );
         queue.submit(Some(encoder.finish()));
-        let mapped = MapSlot::default();
-        let slot = mapped.clone();
-        buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            if let Ok(mut s) = slot.0.lock() {
-                *s = Some(r.map_err(|e| e.to_string()));
-            }
-            slot.1.notify_all();
-        });
         Ok(Self {
-            buffer,
+            map: BufferReadback::map(buffer),
             padded,
             row: width * bpp,
             height,
-            mapped,
         })
     }
 
     /// The tightly packed rows once the map has completed; `None` while it has not. After
     /// it has returned `Some`, the buffer is unmapped and further calls fail.
     pub fn try_take(&self) -> Option<Result<Vec<u8>, GpuError>> {
-        let done = match self.mapped.0.lock() {
-            Ok(mut s) => s.take()?,
-            Err(_) => Err("the map callback panicked".to_string()),
-        };
-        Some(done.map_err(GpuError::Readback).and_then(|()| self.rows()))
+        Some(self.map.done()?.and_then(|()| self.rows()))
     }
 
     /// Blocks until the map has completed and returns the rows (native: polls `device`).
-    /// Another thread polling the same device may be the one that runs the map's callback,
-    /// a moment after this thread's poll has returned, so the callback is waited for too.
     ///
     /// # Errors
     /// [`GpuError::Readback`] when polling or mapping fails, or no callback came within
     /// a minute of the device going idle.
     pub fn wait(self, device: &wgpu::Device) -> Result<Vec<u8>, GpuError> {
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        {
-            let (lock, signal) = &*self.mapped;
-            let guard = lock
-                .lock()
-                .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
-            let (_guard, timeout) = signal
-                .wait_timeout_while(guard, std::time::Duration::from_secs(60), |s| s.is_none())
-                .map_err(|_| GpuError::Readback("the map callback panicked".into()))?;
-            if timeout.timed_out() {
-                return Err(GpuError::Readback(
-                    "the map had not completed a minute after the device went idle".into(),
-                ));
-            }
-        }
-        self.try_take().unwrap_or_else(|| {
-            Err(GpuError::Readback(
-                "the map had not completed after the device went idle".into(),
-            ))
-        })
+        self.map.wait_mapped(device)?;
+        self.try_take().unwrap_or_else(not_completed)
     }
 
     fn rows(&self) -> Result<Vec<u8>, GpuError> {
         let (row, padded) = (self.row as usize, self.padded as usize);
+        let buffer = &self.map.buffer;
         let mut out = Vec::with_capacity(row * self.height as usize);
         {
-            let view = self
-                .buffer
+            let view = buffer
                 .get_mapped_range(..)
                 .map_err(|e| GpuError::Readback(e.to_string()))?;
             for y in 0..self.height as usize {
@@ -168,7 +221,7 @@ impl TextureReadback {
                 out.extend_from_slice(&view[start..start + row]);
             }
         }
-        self.buffer.unmap();
+        buffer.unmap();
         Ok(out)
     }
 }

@@ -37,78 +37,12 @@ fn copy_out(
     testing::copy_for_readback(device, encoder, object.output())
 }
 
-/// The worst errors of `gpu` against `cpu`.
-#[derive(Debug, Default)]
-struct Errors {
-    /// Largest curvature difference over the robust largest |κ|.
-    kappa: f32,
-    /// Largest normal angle, degrees.
-    normal: f32,
-    /// Largest principal-direction angle where the curvatures differ, degrees.
-    direction: f32,
-    /// Vertices whose validity differs.
-    validity: usize,
-    /// Vertices where the direction was compared.
-    directions_checked: usize,
-    /// Vertices compared.
-    vertices: usize,
-    /// The robust largest |κ| and the true largest.
-    scale: (f32, f32),
-}
-
-/// The angle between `a` and `b` in degrees, by `atan2(|a × b|, a · b)` in f64 (an f32
-/// `acos` cannot tell angles below 0.02° apart), up to sign when asked.
-fn angle(a: Vec3, b: Vec3, up_to_sign: bool) -> f32 {
-    let (a, b) = (a.as_dvec3(), b.as_dvec3());
-    let mut c = a.dot(b);
-    if up_to_sign {
-        c = c.abs();
-    }
-    a.cross(b).length().atan2(c).to_degrees() as f32
-}
+/// The worst errors of a GPU field against the CPU's.
+type Errors = npr_geometry::FieldDifference;
 
 fn errors(cpu: &CurvatureField, gpu: &CurvatureField) -> Errors {
     assert_eq!(cpu.len(), gpu.len(), "entry counts");
-    let mut mags: Vec<f32> = (0..cpu.len())
-        .filter(|&v| cpu.valid[v])
-        .map(|v| cpu.kappa_max[v].abs().max(cpu.kappa_min[v].abs()))
-        .collect();
-    mags.sort_by(f32::total_cmp);
-    let robust = mags
-        .get(((mags.len() as f32 * 0.99) as usize).min(mags.len().saturating_sub(1)))
-        .copied()
-        .unwrap_or(0.0);
-    let mut e = Errors {
-        scale: (robust, mags.last().copied().unwrap_or(0.0)),
-        vertices: cpu.len(),
-        ..Errors::default()
-    };
-    let scale = robust.max(f32::MIN_POSITIVE);
-    for v in 0..cpu.len() {
-        e.normal = e.normal.max(angle(cpu.normal[v], gpu.normal[v], false));
-        if cpu.valid[v] != gpu.valid[v] {
-            e.validity += 1;
-            continue;
-        }
-        if !cpu.valid[v] {
-            continue;
-        }
-        let dk = (cpu.kappa_max[v] - gpu.kappa_max[v])
-            .abs()
-            .max((cpu.kappa_min[v] - gpu.kappa_min[v]).abs());
-        e.kappa = e.kappa.max(dk / scale);
-        let (kx, kn) = (cpu.kappa_max[v], cpu.kappa_min[v]);
-        if (kx - kn).abs() > 0.1 * kx.abs().max(kn.abs()) {
-            let a = angle(cpu.dir_kappa_max[v], gpu.dir_kappa_max[v], true).max(angle(
-                cpu.dir_kappa_min[v],
-                gpu.dir_kappa_min[v],
-                true,
-            ));
-            e.direction = e.direction.max(a);
-            e.directions_checked += 1;
-        }
-    }
-    e
+    cpu.difference(gpu)
 }
 
 fn check(name: &str, e: &Errors) {
@@ -118,8 +52,8 @@ fn check(name: &str, e: &Errors) {
         e.kappa,
         e.scale.0,
         e.scale.1,
-        e.normal,
-        e.direction,
+        e.normal_deg,
+        e.direction_deg,
         e.directions_checked,
         e.vertices,
         e.validity
@@ -132,14 +66,14 @@ fn check(name: &str, e: &Errors) {
         e.kappa
     );
     assert!(
-        e.normal <= 0.05,
+        e.normal_deg <= 0.05,
         "{name}: normal {:.4}° off (bound 0.05°)",
-        e.normal
+        e.normal_deg
     );
     assert!(
-        e.direction <= 0.5,
+        e.direction_deg <= 0.5,
         "{name}: principal directions {:.4}° off (bound 0.5°)",
-        e.direction
+        e.direction_deg
     );
 }
 

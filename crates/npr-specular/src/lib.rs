@@ -14,7 +14,8 @@
 //!
 //! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
 //! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded
-//! into the caller's render pass after the base shading).
+//! into the caller's render pass after the base shading). The `N = H` search can run on
+//! the GPU instead ([`CentreSearchPass`], then [`HighlightSet::update_from_solutions`]).
 
 mod error;
 #[cfg(any(test, feature = "test-support"))]
@@ -22,6 +23,7 @@ pub mod fidelity;
 pub mod pass;
 pub mod projector;
 pub mod region;
+pub mod search_pass;
 pub mod set;
 pub mod shaders;
 #[cfg(any(test, feature = "test-support"))]
@@ -37,6 +39,9 @@ pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
 };
 pub use region::Footprint;
+pub use search_pass::{
+    CentreSearchPass, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
+};
 pub use set::{
     DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,
     UpdateStats,

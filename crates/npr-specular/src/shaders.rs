@@ -12,5 +12,13 @@ pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
     prelude: &[COMMON],
 };
 
+/// The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass, one face per invocation
+/// (no shared snippet).
+pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
+    name: "centre_search.wgsl",
+    source: include_str!("../shaders/centre_search.wgsl"),
+    prelude: &[],
+};
+
 /// Every shader file of this crate.
-pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT];
+pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH];

@@ -12,6 +12,8 @@
 
 #[cfg(target_arch = "wasm32")]
 mod app;
+#[cfg(target_arch = "wasm32")]
+mod compute_check;
 
 #[cfg(target_arch = "wasm32")]
 pub use app::Viewer;

@@ -10,13 +10,21 @@
 //! on the file's own triangle order is `setup_us_median_1core_file_order`, from the same
 //! run. Default meshes plus the 1.1M-triangle knot and any `--mesh PATH` (OBJ, PLY,
 //! glTF).
+//!
+//! Each mesh has two rows from the same run, told apart by `setup`: `"cpu"` (the `N = H`
+//! search on the CPU, `HighlightSet::update`) and `"gpu"` (the search as a compute pass,
+//! `npr_specular::CentreSearchPass`, its compact list read back and the rest of the update
+//! run on it, `HighlightSet::update_from_solutions`). `cpu_ms_median` is the CPU time of
+//! the highlight work from the frame's start to its submit, matching included (for the
+//! `gpu` row: the search's prepare, record, submit and the wait for its list, which on a
+//! software adapter is CPU work too). The one-core columns are the CPU path's.
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
-use npr_specular::HighlightSet;
+use npr_specular::{CentreSearchPass, HighlightSet};
 use npr_specular::snapshot::{HighlightScene, Renderer};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -43,31 +51,57 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             world_from_normalized,
             to_light: Vec3::new(0.4, 0.7, 1.0).normalize(),
         };
-        let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name)?;
         let (setup_1core, setup_1core_file_order) =
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
-        let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
-        table.push(vec![
-            name.as_str().into(),
-            (mesh.indices.len() / 3).into(),
-            gpu.hmin.into(),
-            gpu.hmax.into(),
-            Cell::Num(median(gpu.receivers), 0),
-            Cell::Num(median(gpu.setup), 1),
-            Cell::Num(median(setup_1core), 1),
-            Cell::Num(median(setup_1core_file_order), 1),
-            Cell::Num(median(gpu.search), 1),
-            Cell::Num(median(gpu.region), 1),
-            Cell::Num(median(gpu.visibility), 1),
-            Cell::Num(b, 3),
-            Cell::Num(w, 3),
-            Cell::Num(f, 3),
-            Cell::Num(w / b, 3),
-            Cell::Num(f / b, 3),
-            adapter.as_str().into(),
-        ]);
+        for setup in [Setup::Cpu, Setup::Gpu] {
+            let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name, setup)?;
+            let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
+            let one_core = |samples: &[f64]| match setup {
+                Setup::Cpu => Cell::Num(median(samples.to_vec()), 1),
+                Setup::Gpu => Cell::Empty,
+            };
+            table.push(vec![
+                name.as_str().into(),
+                setup.key().into(),
+                (mesh.indices.len() / 3).into(),
+                gpu.hmin.into(),
+                gpu.hmax.into(),
+                Cell::Num(median(gpu.receivers), 0),
+                Cell::Num(median(gpu.setup.clone()) / 1e3, 3),
+                Cell::Num(median(gpu.setup), 1),
+                one_core(&setup_1core),
+                one_core(&setup_1core_file_order),
+                Cell::Num(median(gpu.search), 1),
+                Cell::Num(median(gpu.region), 1),
+                Cell::Num(median(gpu.visibility), 1),
+                Cell::Num(b, 3),
+                Cell::Num(w, 3),
+                Cell::Num(f, 3),
+                Cell::Num(w / b, 3),
+                Cell::Num(f / b, 3),
+                adapter.as_str().into(),
+            ]);
+        }
     }
     emit(&[table], json)
+}
+
+/// Where a row's `N = H` search runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Setup {
+    /// `HighlightSet::update`.
+    Cpu,
+    /// `CentreSearchPass`, then `HighlightSet::update_from_solutions`.
+    Gpu,
+}
+
+impl Setup {
+    fn key(self) -> &'static str {
+        match self {
+            Self::Cpu => "cpu",
+            Self::Gpu => "gpu",
+        }
+    }
 }
 
 /// The meshes measured, in table order: the defaults, the 1.1M-face knot, then `extra`.
@@ -106,10 +140,12 @@ fn new_table(adapter: &str) -> Table {
         ),
         &[
             "mesh",
+            "setup",
             "faces",
             "highlights_min",
             "highlights_max",
             "receiver_faces_median",
+            "cpu_ms_median",
             "setup_us_median",
             "setup_us_median_1core",
             "setup_us_median_1core_file_order",
@@ -180,8 +216,14 @@ fn measure_gpu(
     mesh: &Mesh,
     view: &View,
     name: &str,
+    setup: Setup,
 ) -> anyhow::Result<GpuSamples> {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
+    let search_pass = CentreSearchPass::new(&ctx.device);
+    let mut search = match setup {
+        Setup::Gpu => Some(search_pass.create_object(&ctx.device, set.search())?),
+        Setup::Cpu => None,
+    };
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
     let mut res = renderer.resources(&ctx.device, &gpu);
     let light = Light::directional(view.to_light);
@@ -201,7 +243,18 @@ fn measure_gpu(
     for frame in 0..FRAMES + 3 {
         let (world_from_object, le) = view.frame(frame);
         let t = Instant::now();
-        set.update(le, world_from_object);
+        let search_us = match search.as_mut() {
+            None => {
+                set.update(le, world_from_object);
+                set.stats().search_us
+            }
+            Some(object) => {
+                let faces = gpu_search(ctx, &search_pass, object, &set, (le, world_from_object), frame)?;
+                let search_us = t.elapsed().as_secs_f64() * 1e6;
+                set.update_from_solutions(le, world_from_object, &faces);
+                search_us + set.stats().search_us
+            }
+        };
         let setup_us = t.elapsed().as_secs_f64() * 1e6;
         let scene = |highlights| HighlightScene {
             mesh: &gpu,
@@ -230,7 +283,7 @@ fn measure_gpu(
         let w = time(true)?;
         if frame >= 3 {
             out.setup.push(setup_us);
-            out.search.push(set.stats().search_us);
+            out.search.push(search_us);
             out.region.push(set.stats().region_us);
             out.visibility.push(set.stats().visibility_us);
             out.base.push(b);
@@ -244,6 +297,36 @@ fn measure_gpu(
     }
     bar.finish_and_clear();
     Ok(out)
+}
+
+/// The GPU search of one frame: prepare, record, submit, and the faces it accepted (the
+/// CPU search's where its list overflowed).
+fn gpu_search(
+    ctx: &GpuContext,
+    pass: &CentreSearchPass,
+    object: &mut npr_specular::SearchObject,
+    set: &HighlightSet,
+    (light_eye, world_from_object): (LightEye, Mat4),
+    frame: usize,
+) -> anyhow::Result<Vec<npr_geometry::FaceSolution>> {
+    let input = npr_specular::SearchInput {
+        frame: npr_gpu::FrameId(frame as u64),
+        search: set.search(),
+        light_eye,
+        world_from_object,
+    };
+    let prepared = pass.prepare(&ctx.queue, object, &input)?;
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    pass.record(&mut encoder, object, &prepared)?;
+    ctx.queue.submit([encoder.finish()]);
+    let solved = object.read(&ctx.device, &prepared)?;
+    anyhow::ensure!(
+        solved.complete(),
+        "the GPU search accepted {} faces, over its list of {}",
+        solved.accepted,
+        object.capacity()
+    );
+    Ok(solved.faces)
 }
 
 /// Times the setup alone on one core, as loaded and in the file's order; µs each.

@@ -186,6 +186,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
         }
     }
     check_shaders(driver, session)?;
+    check_compute(driver, session)?;
     check_bad_drop(driver, session, site, site_port, &ctx, &model)?;
     svg::check(driver, session, (site, site_port), &ctx, &model)?;
     check_clip(driver, session, site, site_port)?;
@@ -252,6 +253,51 @@ fn check_shaders(driver: &Driver, session: &str) -> anyhow::Result<()> {
         "xtask: Chromium compiles all {} shaders as the passes compose them",
         shaders.len()
     );
+    Ok(())
+}
+
+/// The compute passes on the page's own device (`Viewer::compute_check_start`): the
+/// curvature tensor and the `N = H` search on a torus, read back over the next animation
+/// frames and compared with the CPU in the page, within the native tests' bounds
+/// (curvature within 1e-3 of the robust largest |κ| and directions within 0.5°; the
+/// CPU's centres within 1e-4 of the bounding radius).
+fn check_compute(driver: &Driver, session: &str) -> anyhow::Result<()> {
+    let result = driver.script_async(
+        session,
+        "const done = arguments[arguments.length - 1];
+         try {
+           window.nprViewer.compute_check_start();
+           const poll = () => {
+             try {
+               const r = window.nprViewer.compute_check_result();
+               if (r) { done(JSON.parse(r)); } else { requestAnimationFrame(poll); }
+             } catch (e) { done({ error: String(e) }); }
+           };
+           requestAnimationFrame(poll);
+         } catch (e) { done({ error: String(e) }); }",
+    )?;
+    if let Some(e) = result.get("error") {
+        bail!("the compute check in the page: {e}");
+    }
+    let num = |key: &str| {
+        result[key]
+            .as_f64()
+            .with_context(|| format!("the compute check has no {key}: {result}"))
+    };
+    let (kappa, direction) = (num("curvature_kappa_error")?, num("curvature_direction_error_deg")?);
+    let (validity, vertices) = (num("curvature_validity_differences")?, num("curvature_vertices")?);
+    let (cpu, gpu, centre) = (num("centres_cpu")?, num("centres_gpu")?, num("centre_error_of_radius")?);
+    println!(
+        "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
+         {direction:.3}° over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
+         within {centre:.2e} of the radius"
+    );
+    if vertices < 1.0 || validity > 0.0 || kappa > 1e-3 || direction > 0.5 {
+        bail!("the page's GPU curvature differs from the CPU's: {result}");
+    }
+    if cpu < 1.0 || gpu != cpu || centre > 1e-4 {
+        bail!("the page's GPU N = H search differs from the CPU's: {result}");
+    }
     Ok(())
 }
 

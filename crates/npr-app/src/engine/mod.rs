@@ -13,6 +13,7 @@ mod base;
 mod hatching;
 pub mod inputs;
 mod outline;
+mod search;
 mod specialized;
 mod specular;
 mod surface;
@@ -52,6 +53,9 @@ pub struct FrameStats {
     pub effect: String,
     /// CPU setup the frame waited on (N = H search, matching, BFS; warp: none), µs.
     pub setup_us: f64,
+    /// Whether the highlights' `N = H` search ran on the GPU (specular; `[specular]
+    /// search`).
+    pub search_on_gpu: bool,
     /// Highlights drawn (specular).
     pub highlights: usize,
     /// Receiver faces of all highlights (specular).

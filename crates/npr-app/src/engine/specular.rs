@@ -5,6 +5,7 @@
 
 use super::FrameStats;
 use super::inputs::{anchor_reach, apply_controls, builtin_shape};
+use super::search::SearchSetup;
 use super::specialized::Specialized;
 use crate::AppError;
 use crate::model::Model;
@@ -51,6 +52,8 @@ pub(crate) struct SpecularEffect {
     shape: Specialized<String, ShapePass>,
     /// The model moved since the set was built or last reposed.
     moved: bool,
+    /// Where the `N = H` search runs, and the GPU search of the current set.
+    search: SearchSetup,
 }
 
 impl SpecularEffect {
@@ -76,6 +79,7 @@ impl SpecularEffect {
     pub(crate) fn clear(&mut self) {
         self.set.clear();
         self.shape.clear();
+        self.search.forget();
     }
 
     /// Updates the highlights for `view` (the CPU setup: the `N = H` search, matching,
@@ -106,6 +110,9 @@ impl SpecularEffect {
             built = true;
             HighlightSet::with_abstraction(&model.mesh, &options, sp.abstraction)
         })?;
+        if built {
+            self.search.forget();
+        }
         if std::mem::take(&mut self.moved) && !built {
             set.repose(&model.mesh, &options)?;
         }
@@ -118,7 +125,12 @@ impl SpecularEffect {
             set.update(view.light_eye(), view.world_from_object);
         }
         apply_controls(set, preset, shape.layer, anchor_reach(&model.framing));
-        set.update(view.light_eye(), view.world_from_object);
+        stats.search_on_gpu = self.search.update(
+            (device, queue),
+            set,
+            sp.search,
+            (view.light_eye(), view.world_from_object),
+        )?;
         stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
         let st = set.stats();
         stats.highlights = st.highlights;

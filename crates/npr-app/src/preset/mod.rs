@@ -251,6 +251,8 @@ pub struct SpecularPreset {
     /// k_s of the base shading under the highlights (0: the stylized highlight replaces
     /// the base's own).
     pub base_ks: f32,
+    /// Where the per-frame `N = H` search runs.
+    pub search: SearchPreset,
     /// Per-highlight edits.
     pub edits: Vec<HighlightEdit>,
 }
@@ -265,9 +267,27 @@ impl Default for SpecularPreset {
             abstraction: npr_specular::DEFAULT_ABSTRACTION,
             boundary: BoundaryPreset::Smooth,
             base_ks: 0.0,
+            search: SearchPreset::default(),
             edits: Vec::new(),
         }
     }
+}
+
+/// Where the per-frame `N = H` search of the highlights runs ([`SpecularPreset::search`]).
+/// Both give the same centres (the GPU solves in `f32`; `npr-specular`'s
+/// `tests/gpu_search.rs`); the rest of the highlight work stays on the CPU either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SearchPreset {
+    /// The faster of the two for the model, timed on its first frame (each path twice,
+    /// the second timing kept) and again when the model or its highlight set changes.
+    #[default]
+    Auto,
+    /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
+    Cpu,
+    /// As a compute pass (`npr_specular::CentreSearchPass`), its compact list read back.
+    /// In the browser, where a readback completes only between frames, the CPU's.
+    Gpu,
 }
 
 /// Where a highlight's edge meets the surface (`npr_specular::HighlightBoundary`).

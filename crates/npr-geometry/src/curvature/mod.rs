@@ -26,6 +26,7 @@ use crate::{Mesh, weld};
 
 mod ball;
 mod compute;
+mod difference;
 mod eigen;
 mod scale;
 mod tensor;
@@ -33,6 +34,7 @@ mod tensor;
 mod tests;
 
 pub use ball::BallFaces;
+pub use difference::FieldDifference;
 pub use scale::MAX_SCALE_STEPS;
 /// Which form of Eq. (1) to evaluate.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

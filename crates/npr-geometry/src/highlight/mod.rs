@@ -43,11 +43,13 @@ mod clusters;
 mod coherence;
 mod search;
 mod solve;
+mod tables;
 #[cfg(test)]
 mod tests;
 
 pub use build::welded_mesh_normals;
 pub use coherence::{CoherenceStats, SearchCoherence};
+pub use tables::{FaceSolution, SolveFrame, SolveHalfVector, SolveVertex};
 pub use solve::{
     BARYCENTRIC_EPSILON, NormalInterpolation, RESIDUAL_TOLERANCE, try_solve_barycentric,
     try_solve_barycentric_eq6,

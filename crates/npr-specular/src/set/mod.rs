@@ -479,7 +479,44 @@ impl HighlightSet {
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
-        let (mut centres, search_us) = self.search_centres(light_eye, world_from_object);
+        let (centres, search_us) = self.search_centres(light_eye, world_from_object);
+        self.update_with(light_eye, world_from_object, centres, search_us)
+    }
+
+    /// [`HighlightSet::update`] on the faces an `N = H` solve elsewhere accepted (the GPU
+    /// search, [`crate::CentreSearchPass`], for this light, eye and transform) in place of
+    /// the CPU search: the same centres once merged
+    /// ([`HighlightSearch::centres_from_solutions`]), then the same matching, fades,
+    /// projectors and receivers.
+    pub fn update_from_solutions(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        solutions: &[npr_geometry::FaceSolution],
+    ) -> &[Highlight] {
+        let start = Instant::now();
+        let centres = if valid_input(light_eye, world_from_object) {
+            self.search
+                .centres_from_solutions(solutions, world_from_object)
+        } else {
+            Vec::new()
+        };
+        let search_us = start.elapsed().as_secs_f64() * 1e6;
+        self.update_with(light_eye, world_from_object, centres, search_us)
+    }
+
+    /// The search of this set's mesh: what [`crate::CentreSearchPass`] uploads and solves.
+    pub fn search(&self) -> &HighlightSearch {
+        &self.search
+    }
+
+    fn update_with(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        mut centres: Vec<HighlightCentre>,
+        search_us: f64,
+    ) -> &[Highlight] {
         let found = centres.len();
         if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
             let peaks = self.peak_centres(&centres, light_eye, world_from_object);

@@ -1,0 +1,163 @@
+//! Where the engine's per-frame `N = H` search runs (`[specular] search`): on the CPU
+//! (`HighlightSet::update`), or as a compute pass (`npr_specular::CentreSearchPass`,
+//! its compact list read back, then `HighlightSet::update_from_solutions`), or the faster
+//! of the two for the model, timed on its first frame (`auto`, the default). The GPU path
+//! falls back to the CPU's where the device's limits are too small for the mesh or a
+//! frame's list overflows. In the browser a readback completes only between frames, so
+//! the search runs on the CPU there.
+
+use crate::AppError;
+use crate::preset::SearchPreset;
+use glam::Mat4;
+use npr_geometry::LightEye;
+use npr_specular::HighlightSet;
+
+/// The GPU search of the current set, and the path `auto` chose for it.
+#[derive(Default)]
+pub(crate) struct SearchSetup {
+    #[cfg(not(target_arch = "wasm32"))]
+    gpu: Option<native::GpuSearch>,
+    /// `Some(true)` for the GPU: what `auto` measured for the current set.
+    chosen: Option<bool>,
+}
+
+impl SearchSetup {
+    /// Forgets the GPU object and `auto`'s choice (a new set or model).
+    pub(crate) fn forget(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Updates `set` for this light, eye and transform on the path `preset` asks for;
+    /// returns whether the search ran on the GPU.
+    ///
+    /// # Errors
+    /// A GPU failure other than a mesh too large for the device's limits.
+    pub(crate) fn update(
+        &mut self,
+        gpu: (&wgpu::Device, &wgpu::Queue),
+        set: &mut HighlightSet,
+        preset: SearchPreset,
+        (light_eye, world_from_object): (LightEye, Mat4),
+    ) -> Result<bool, AppError> {
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = (gpu, preset);
+            set.update(light_eye, world_from_object);
+            Ok(false)
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let on_gpu = match preset {
+                SearchPreset::Cpu => false,
+                SearchPreset::Gpu => true,
+                SearchPreset::Auto => match self.chosen {
+                    Some(c) => c,
+                    None => {
+                        let c = self.time_both(gpu, set, (light_eye, world_from_object))?;
+                        self.chosen = Some(c);
+                        c
+                    }
+                },
+            };
+            if on_gpu {
+                if let Some(faces) = self.gpu_faces(gpu, set, (light_eye, world_from_object))? {
+                    set.update_from_solutions(light_eye, world_from_object, &faces);
+                    return Ok(true);
+                }
+            }
+            set.update(light_eye, world_from_object);
+            Ok(false)
+        }
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod native {
+    use super::SearchSetup;
+    use crate::AppError;
+    use glam::Mat4;
+    use npr_geometry::{FaceSolution, LightEye};
+    use npr_gpu::FrameId;
+    use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchObject, SpecularError};
+    use std::time::Instant;
+
+    /// The compute pass and the set's tables on the GPU; `None` in `object` where the
+    /// device's limits are too small for the mesh.
+    pub(super) struct GpuSearch {
+        pass: CentreSearchPass,
+        object: Option<SearchObject>,
+        frame: FrameId,
+    }
+
+    impl SearchSetup {
+        /// The faces the GPU search accepts for this frame; `None` where the CPU must run
+        /// it (the mesh does not fit the device's limits, or the list overflowed).
+        pub(super) fn gpu_faces(
+            &mut self,
+            (device, queue): (&wgpu::Device, &wgpu::Queue),
+            set: &HighlightSet,
+            (light_eye, world_from_object): (LightEye, Mat4),
+        ) -> Result<Option<Vec<FaceSolution>>, AppError> {
+            if self.gpu.is_none() {
+                let pass = CentreSearchPass::new(device);
+                let object = match pass.create_object(device, set.search()) {
+                    Ok(o) => Some(o),
+                    Err(SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge { .. })) => None,
+                    Err(e) => return Err(e.into()),
+                };
+                self.gpu = Some(GpuSearch {
+                    pass,
+                    object,
+                    frame: FrameId::default(),
+                });
+            }
+            let Some(gpu) = self.gpu.as_mut() else {
+                return Ok(None);
+            };
+            let Some(object) = gpu.object.as_mut() else {
+                return Ok(None);
+            };
+            gpu.frame = gpu.frame.next();
+            let input = SearchInput {
+                frame: gpu.frame,
+                search: set.search(),
+                light_eye,
+                world_from_object,
+            };
+            let prepared = gpu.pass.prepare(queue, object, &input)?;
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("npr centre search"),
+            });
+            gpu.pass.record(&mut encoder, object, &prepared)?;
+            queue.submit([encoder.finish()]);
+            let solved = object.read(device, &prepared)?;
+            Ok(solved.complete().then_some(solved.faces))
+        }
+
+        /// `auto`: times the CPU search (`HighlightSearch::find`) and the GPU's (with its
+        /// submit and readback) twice each on this frame and keeps the second timings;
+        /// whether the GPU's was faster.
+        pub(super) fn time_both(
+            &mut self,
+            gpu: (&wgpu::Device, &wgpu::Queue),
+            set: &HighlightSet,
+            frame: (LightEye, Mat4),
+        ) -> Result<bool, AppError> {
+            let mut cpu_s = f64::INFINITY;
+            let mut gpu_s = f64::INFINITY;
+            for _ in 0..2 {
+                let t = Instant::now();
+                std::hint::black_box(set.search().find(frame.0, frame.1));
+                cpu_s = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let found = self.gpu_faces(gpu, set, frame)?;
+                gpu_s = if found.is_some() {
+                    t.elapsed().as_secs_f64()
+                } else {
+                    f64::INFINITY
+                };
+            }
+            Ok(gpu_s < cpu_s)
+        }
+    }
+}

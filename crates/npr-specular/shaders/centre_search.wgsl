@@ -1,0 +1,280 @@
+// The `N = H` search of Lee & Choi §3.1 on the GPU: one invocation per face solves
+// Eq. (6) for the point where the interpolated normal (Eq. (4)) and half vector (Eq. (5))
+// are parallel (Eq. (3)), refines it by Gauss–Newton on the normalised fields, and
+// appends each accepted point to a compact list (an atomic counter: integer atomics only,
+// as WebGPU has). The CPU reference is `npr_geometry::HighlightSearch::find`; each
+// function below names its Rust twin in `npr_geometry::highlight` (`solve.rs`,
+// `search.rs`). The CPU solves in `f64`; WGSL has no `f64`, so the tolerances that test
+// for exact zeros in the CPU's form are set here to what `f32` resolves.
+//
+// Every face is solved (no cheap rejection: the CPU's tests only skip faces that cannot
+// hold a centre). Duplicates of one centre from neighbouring faces are merged on the CPU
+// from the compact list (`HighlightSearch::centres_from_solutions`).
+
+// One welded vertex (`npr_geometry::highlight::SolveVertex`): position, the normal the
+// search solves on, and the columns of its shape operator S (object space).
+struct SolveVertex {
+    position: vec4<f32>,
+    normal: vec4<f32>,
+    shape_x: vec4<f32>,
+    shape_y: vec4<f32>,
+    shape_z: vec4<f32>,
+}
+
+struct SearchParams {
+    // kind 2: the object's map to world space, for the world-space half vector.
+    world_from_object: mat4x4<f32>,
+    // kind 2: the transpose of its linear part (upper 3×3), taking H to object space.
+    object_from_world_normal: mat4x4<f32>,
+    // kind 1: object space; kind 2: world space.
+    light: vec4<f32>,
+    eye: vec4<f32>,
+    // kind 0: the one half vector, object space.
+    half_vector: vec4<f32>,
+    // 0: constant H; 1: point light and eye in object space; 2: in world space.
+    kind: u32,
+    // 1: the curvature-blended normal field (`NormalInterpolation::Curvature`); 0: Eq. (4).
+    curved: u32,
+    face_count: u32,
+    // Entries of `solutions`; faces past it are counted but not written.
+    capacity: u32,
+}
+
+struct Counter {
+    found: atomic<u32>,
+}
+
+@group(0) @binding(0) var<storage, read> vertices: array<SolveVertex>;
+// Per face: its three welded vertices, 0.
+@group(0) @binding(1) var<storage, read> triangles: array<vec4<u32>>;
+@group(0) @binding(2) var<storage, read_write> counter: Counter;
+// Per accepted face: (face, α and β as bits, 0).
+@group(0) @binding(3) var<storage, read_write> solutions: array<vec4<u32>>;
+@group(0) @binding(4) var<uniform> params: SearchParams;
+
+const WORKGROUP: u32 = 64u;
+// `BARYCENTRIC_EPSILON` and `RESIDUAL_TOLERANCE` of `solve.rs`.
+const BARYCENTRIC_EPSILON: f32 = 1e-3;
+const RESIDUAL_TOLERANCE: f32 = 1e-3;
+// The rank test of `eq6` relative to the columns' size: 1e-12 in `f64`, here above
+// `f32`'s rounding of `g11 g22 − g12²` (a few 1e-7), so a rank-deficient system (a
+// face across which N − H changes along one direction only) is refused as on the CPU.
+const RANK_TOLERANCE: f32 = 1e-5;
+// Gauss–Newton's stopping steps (`gauss_newton`: 1e-12, 1e-14, 1e-13 in `f64`).
+const RESIDUAL_FLOOR: f32 = 1e-7;
+const JACOBIAN_TOLERANCE: f32 = 1e-7;
+const STEP_FLOOR: f32 = 1e-7;
+
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    if l > 0.0 && finite(l) {
+        return v / l;
+    }
+    return vec3<f32>(0.0);
+}
+
+fn shape_of(v: SolveVertex) -> mat3x3<f32> {
+    return mat3x3<f32>(v.shape_x.xyz, v.shape_y.xyz, v.shape_z.xyz);
+}
+
+// `test_vertices` (`search.rs`): the unit half vector at object point `p`, in object
+// space; w = 0 where it is undefined.
+fn half_vector_at(p: vec3<f32>) -> vec4<f32> {
+    if params.kind == 0u {
+        return vec4<f32>(params.half_vector.xyz, 1.0);
+    }
+    var q = p;
+    if params.kind == 2u {
+        q = (params.world_from_object * vec4<f32>(p, 1.0)).xyz;
+    }
+    let l = params.light.xyz - q;
+    let e = params.eye.xyz - q;
+    let s = l / length(l) + e / length(e);
+    let sl = length(s);
+    if !(sl > 1e-6) || !finite(sl) {
+        return vec4<f32>(0.0);
+    }
+    var h = s / sl;
+    if params.kind == 2u {
+        let m = params.object_from_world_normal;
+        h = normalize_or_zero(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz) * h);
+        if all(h == vec3<f32>(0.0)) {
+            return vec4<f32>(0.0);
+        }
+    }
+    return vec4<f32>(h, 1.0);
+}
+
+// One face's data, positions relative to its vertex 0.
+struct Face {
+    n0: vec3<f32>,
+    n1: vec3<f32>,
+    n2: vec3<f32>,
+    h0: vec3<f32>,
+    h1: vec3<f32>,
+    h2: vec3<f32>,
+    dp1: vec3<f32>,
+    dp2: vec3<f32>,
+    s0: mat3x3<f32>,
+    s1: mat3x3<f32>,
+    s2: mat3x3<f32>,
+}
+
+// The normal field at (α, β) and its derivatives: `solve_normalised`'s linear field of
+// Eq. (4), or `solve_curvature`'s blend of each vertex's first-order model
+// `N_i + S_i (p − p_i)`.
+struct Field {
+    n: vec3<f32>,
+    d1: vec3<f32>,
+    d2: vec3<f32>,
+}
+
+fn field_at(f: Face, a: f32, b: f32) -> Field {
+    let dn1 = f.n1 - f.n0;
+    let dn2 = f.n2 - f.n0;
+    if params.curved == 0u {
+        return Field(f.n0 + a * dn1 + b * dn2, dn1, dn2);
+    }
+    let w0 = 1.0 - a - b;
+    let x = a * f.dp1 + b * f.dp2;
+    let m0 = f.n0 + f.s0 * x;
+    let m1 = f.n1 + f.s1 * (x - f.dp1);
+    let m2 = f.n2 + f.s2 * (x - f.dp2);
+    let blended = f.s0 * w0 + f.s1 * a + f.s2 * b;
+    return Field(w0 * m0 + a * m1 + b * m2, m1 - m0 + blended * f.dp1, m2 - m0 + blended * f.dp2);
+}
+
+// `eq6`: least-squares (α, β) of Eq. (6) by pseudo-inverse; z = 0 for a rank-deficient
+// system.
+fn eq6(f: Face) -> vec3<f32> {
+    let c1 = (f.n1 - f.n0) - (f.h1 - f.h0);
+    let c2 = (f.n2 - f.n0) - (f.h2 - f.h0);
+    let rhs = f.h0 - f.n0;
+    let g11 = dot(c1, c1);
+    let g12 = dot(c1, c2);
+    let g22 = dot(c2, c2);
+    let det = g11 * g22 - g12 * g12;
+    if !(det > RANK_TOLERANCE * g11 * g22) || !(g11 * g22 > 1e-30) {
+        return vec3<f32>(0.0);
+    }
+    let r1 = dot(c1, rhs);
+    let r2 = dot(c2, rhs);
+    let a = (g22 * r1 - g12 * r2) / det;
+    let b = (g11 * r2 - g12 * r1) / det;
+    if !finite(a) || !finite(b) {
+        return vec3<f32>(0.0);
+    }
+    return vec3<f32>(a, b, 1.0);
+}
+
+// `inside`: the ε test of §3.1.
+fn inside(a: f32, b: f32) -> bool {
+    let e = BARYCENTRIC_EPSILON;
+    return a >= -e && b >= -e && a + b <= 1.0 + e && a <= 1.0 + e && b <= 1.0 + e;
+}
+
+// d(v/|v|) = (I − v̂v̂ᵀ) dv / |v|
+fn unit_derivative(u: vec3<f32>, d: vec3<f32>, l: f32) -> vec3<f32> {
+    return (d - u * dot(u, d)) / l;
+}
+
+// `gauss_newton`: from the Eq. (6) start, Gauss–Newton on N̂(α,β) − Ĥ(α,β) = 0; z = 1
+// where the residual ends below `RESIDUAL_TOLERANCE` inside the face.
+fn solve(f: Face) -> vec3<f32> {
+    let start = eq6(f);
+    var a = start.x;
+    var b = start.y;
+    if start.z == 0.0 || a < -0.5 || b < -0.5 || a + b > 1.5 {
+        return vec3<f32>(0.0);
+    }
+    let dh1 = f.h1 - f.h0;
+    let dh2 = f.h2 - f.h0;
+    var res = 3.0e38;
+    let iterations = select(6u, 10u, params.curved == 1u);
+    for (var i = 0u; i < iterations; i++) {
+        let nf = field_at(f, a, b);
+        let hv = f.h0 + a * dh1 + b * dh2;
+        let ln = length(nf.n);
+        let lh = length(hv);
+        if !(ln > 1e-12 && lh > 1e-12) {
+            return vec3<f32>(0.0);
+        }
+        let nn = nf.n / ln;
+        let hn = hv / lh;
+        let r = nn - hn;
+        res = length(r);
+        if res < RESIDUAL_FLOOR {
+            break;
+        }
+        let j1 = unit_derivative(nn, nf.d1, ln) - unit_derivative(hn, dh1, lh);
+        let j2 = unit_derivative(nn, nf.d2, ln) - unit_derivative(hn, dh2, lh);
+        let g11 = dot(j1, j1);
+        let g12 = dot(j1, j2);
+        let g22 = dot(j2, j2);
+        let det = g11 * g22 - g12 * g12;
+        if !(det > JACOBIAN_TOLERANCE * g11 * g22) {
+            break;
+        }
+        let r1 = dot(j1, r);
+        let r2 = dot(j2, r);
+        let da = -(g22 * r1 - g12 * r2) / det;
+        let db = -(g11 * r2 - g12 * r1) / det;
+        a += da;
+        b += db;
+        if !finite(a) || !finite(b) || abs(a) > 4.0 || abs(b) > 4.0 {
+            return vec3<f32>(0.0);
+        }
+        if abs(da) + abs(db) < STEP_FLOOR {
+            let nv = field_at(f, a, b).n;
+            let hw = f.h0 + a * dh1 + b * dh2;
+            res = length(normalize_or_zero(nv) - normalize_or_zero(hw));
+            break;
+        }
+    }
+    if res < RESIDUAL_TOLERANCE && inside(a, b) {
+        return vec3<f32>(a, b, 1.0);
+    }
+    return vec3<f32>(0.0);
+}
+
+// `search_vertices` without the rejection (`HighlightSearch::find_exhaustive`), one
+// face per invocation.
+@compute @workgroup_size(64)
+fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let face = gid.x + gid.y * groups.x * WORKGROUP;
+    if face >= params.face_count {
+        return;
+    }
+    let t = triangles[face];
+    let nv = arrayLength(&vertices);
+    if t.x >= nv || t.y >= nv || t.z >= nv {
+        return;
+    }
+    let v0 = vertices[t.x];
+    let v1 = vertices[t.y];
+    let v2 = vertices[t.z];
+    let h0 = half_vector_at(v0.position.xyz);
+    let h1 = half_vector_at(v1.position.xyz);
+    let h2 = half_vector_at(v2.position.xyz);
+    if h0.w == 0.0 || h1.w == 0.0 || h2.w == 0.0 {
+        return;
+    }
+    let f = Face(
+        v0.normal.xyz, v1.normal.xyz, v2.normal.xyz,
+        h0.xyz, h1.xyz, h2.xyz,
+        v1.position.xyz - v0.position.xyz, v2.position.xyz - v0.position.xyz,
+        shape_of(v0), shape_of(v1), shape_of(v2),
+    );
+    let s = solve(f);
+    if s.z == 0.0 {
+        return;
+    }
+    let at = atomicAdd(&counter.found, 1u);
+    if at < params.capacity {
+        solutions[at] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), 0u);
+    }
+}

@@ -1,0 +1,522 @@
+//! The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass: every face solved on the GPU
+//! in one dispatch (`shaders/centre_search.wgsl`, `cs_search`), the accepted faces
+//! appended to a compact list by an integer atomic counter (WebGPU has no float
+//! atomics), and only that list read back: at most [`SearchObject::capacity`] entries of
+//! 16 bytes, never a mesh-sized buffer. The list becomes centres on the CPU with
+//! [`HighlightSearch::centres_from_solutions`], which merges duplicates as the CPU
+//! search does, and [`crate::HighlightSet::update_from_solutions`] runs the rest of the
+//! frame's highlight work on them.
+//!
+//! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
+//!
+//! ```ignore
+//! let pass = CentreSearchPass::new(device);
+//! let mut object = pass.create_object(device, set.search())?;
+//! // per frame
+//! let input = SearchInput { frame, search: set.search(), light_eye, world_from_object };
+//! let prepared = pass.prepare(queue, &mut object, &input)?;
+//! pass.record(&mut encoder, &object, &prepared)?;
+//! queue.submit([encoder.finish()]);
+//! let solutions = object.read(device, &prepared)?;
+//! set.update_from_solutions(light_eye, world_from_object, &solutions.faces);
+//! ```
+//!
+//! The CPU search ([`HighlightSearch::find`]) is the reference: `tests/gpu_search.rs`
+//! compares the two on the same frame. WGSL has no `f64`, so the solve runs in `f32`
+//! where the CPU's runs in `f64`; the shader's header says which tolerances change.
+
+use glam::Mat4;
+use npr_geometry::{FaceSolution, HighlightSearch, LightEye, SolveFrame, SolveHalfVector};
+use npr_gpu::compute::{
+    buffer_init, check_bindings, dispatch_size, group_entry, layout_entry, pipeline,
+    storage_layout_entry,
+};
+use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
+
+use crate::SpecularError;
+
+/// Accepted faces one frame keeps by default: far more than a frame has highlights
+/// (each centre is found by one to six faces), at 16 bytes each.
+pub const DEFAULT_CAPACITY: usize = 4096;
+
+/// The search's compute pipeline: one per device, shared by every object.
+#[derive(Debug)]
+pub struct CentreSearchPass {
+    id: PassId,
+    device: wgpu::Device,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// What one search needs: the frame, the search whose tables the object holds, and the
+/// light, eye and transform of [`HighlightSearch::find`].
+#[derive(Clone, Copy, Debug)]
+pub struct SearchInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// The search of the mesh (its tables are uploaded again when its id changes).
+    pub search: &'a HighlightSearch,
+    /// Light and eye, world space.
+    pub light_eye: LightEye,
+    /// The object's transform.
+    pub world_from_object: Mat4,
+}
+
+/// One mesh's search tables on the GPU and the per-frame lists.
+#[derive(Debug)]
+pub struct SearchObject {
+    search_id: u64,
+    vertex_count: usize,
+    faces: usize,
+    capacity: usize,
+    vertices: wgpu::Buffer,
+    triangles: wgpu::Buffer,
+    slots: Slots<Slot>,
+}
+
+/// One prepare's params, list, counter and readback copy.
+#[derive(Debug)]
+struct Slot {
+    params: wgpu::Buffer,
+    counter: wgpu::Buffer,
+    solutions: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
+    active: bool,
+}
+
+/// The faces one frame's search accepted.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SearchSolutions {
+    /// The accepted faces (at most the object's capacity), in no particular order.
+    pub faces: Vec<FaceSolution>,
+    /// How many faces were accepted: more than `faces.len()` when the list overflowed
+    /// (then use the CPU search for that frame, or a larger capacity).
+    pub accepted: usize,
+}
+
+impl SearchSolutions {
+    /// Whether every accepted face is in [`SearchSolutions::faces`].
+    pub fn complete(&self) -> bool {
+        self.accepted == self.faces.len()
+    }
+}
+
+/// `SearchParams` of `centre_search.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    world_from_object: [[f32; 4]; 4],
+    object_from_world_normal: [[f32; 4]; 4],
+    light: [f32; 4],
+    eye: [f32; 4],
+    half_vector: [f32; 4],
+    kind: u32,
+    curved: u32,
+    face_count: u32,
+    capacity: u32,
+}
+
+/// `SolveVertex` of `centre_search.wgsl`: 20 floats.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct VertexRecord {
+    position: [f32; 4],
+    normal: [f32; 4],
+    shape_x: [f32; 4],
+    shape_y: [f32; 4],
+    shape_z: [f32; 4],
+}
+
+fn vertex_records(search: &HighlightSearch) -> Vec<VertexRecord> {
+    search
+        .solve_vertices()
+        .iter()
+        .map(|v| VertexRecord {
+            position: v.position,
+            normal: v.normal,
+            shape_x: v.shape[0],
+            shape_y: v.shape[1],
+            shape_z: v.shape[2],
+        })
+        .collect()
+}
+
+fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize) -> Params {
+    let four = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    let mut p = Params {
+        face_count: faces as u32,
+        capacity: capacity as u32,
+        ..Params::default()
+    };
+    let Some(frame) = frame else {
+        return p;
+    };
+    p.curved = u32::from(frame.curved);
+    match frame.half_vector {
+        SolveHalfVector::Constant(h) => {
+            p.kind = 0;
+            p.half_vector = four(h);
+        }
+        SolveHalfVector::ObjectPositions { light, eye } => {
+            p.kind = 1;
+            (p.light, p.eye) = (four(light), four(eye));
+        }
+        SolveHalfVector::WorldPositions {
+            light,
+            eye,
+            world_from_object,
+            object_from_world_normal,
+        } => {
+            p.kind = 2;
+            (p.light, p.eye) = (four(light), four(eye));
+            p.world_from_object = world_from_object.to_cols_array_2d();
+            p.object_from_world_normal = Mat4::from_mat3(object_from_world_normal).to_cols_array_2d();
+        }
+    }
+    p
+}
+
+impl CentreSearchPass {
+    /// The compute pipeline. A compute pass draws into no target, so it takes no
+    /// [`npr_gpu::TargetFormats`].
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = crate::shaders::CENTRE_SEARCH.module(device);
+        let mut entries: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
+        entries.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr centre search"),
+            entries: &entries,
+        });
+        Self {
+            id: PassId::fresh(),
+            device: device.clone(),
+            pipeline: pipeline(device, &module, &layout, "cs_search"),
+            layout,
+        }
+    }
+
+    /// Uploads `search`'s tables ([`HighlightSearch::solve_vertices`], 80 bytes a welded
+    /// vertex, and its triangles, 16 bytes a face), keeping [`DEFAULT_CAPACITY`] accepted
+    /// faces a frame.
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::MeshTooLarge`] when a table exceeds the device's storage
+    /// binding limit.
+    pub fn create_object(
+        &self,
+        device: &wgpu::Device,
+        search: &HighlightSearch,
+    ) -> Result<SearchObject, SpecularError> {
+        self.create_object_with_capacity(device, search, DEFAULT_CAPACITY)
+    }
+
+    /// [`CentreSearchPass::create_object`] keeping `capacity` accepted faces a frame (at
+    /// least 1).
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::create_object`].
+    pub fn create_object_with_capacity(
+        &self,
+        device: &wgpu::Device,
+        search: &HighlightSearch,
+        capacity: usize,
+    ) -> Result<SearchObject, SpecularError> {
+        let records = vertex_records(search);
+        let triangles: Vec<[u32; 4]> = search
+            .triangles()
+            .iter()
+            .map(|t| [t[0], t[1], t[2], 0])
+            .collect();
+        let capacity = capacity.max(1);
+        check_bindings(
+            &[
+                ("search vertices", (records.len() * 80) as u64),
+                ("search triangles", (triangles.len() * 16) as u64),
+                ("search solutions", (capacity * 16) as u64),
+            ],
+            device.limits().max_storage_buffer_binding_size,
+        )?;
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        Ok(SearchObject {
+            search_id: search.id(),
+            vertex_count: records.len(),
+            faces: triangles.len(),
+            capacity,
+            vertices: buffer_init(device, "npr search vertices", &records, usage),
+            triangles: buffer_init(device, "npr search triangles", &triangles, usage),
+            slots: Slots::new(self.id),
+        })
+    }
+
+    /// Takes a slot for `input.frame` and writes its params. When `input.search` is not
+    /// the search the object was built or last prepared with (a new pose: same mesh, new
+    /// normals and curvature), its vertex tables are written again.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a foreign object or too many prepares in one frame;
+    /// [`SpecularError::Mismatch`] for a search of another mesh (other vertex or face
+    /// counts).
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut SearchObject,
+        input: &SearchInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        object.slots.check_pass(self.id)?;
+        let search = input.search;
+        if search.id() != object.search_id {
+            let records = vertex_records(search);
+            if records.len() != object.vertex_count || search.triangles().len() != object.faces {
+                return Err(SpecularError::Mismatch(format!(
+                    "a search object of {} vertices and {} faces prepared with a search of {} and {}",
+                    object.vertex_count,
+                    object.faces,
+                    records.len(),
+                    search.triangles().len()
+                )));
+            }
+            if records.is_empty() {
+                object.search_id = search.id();
+            } else {
+                queue.write_buffer(&object.vertices, 0, bytemuck::cast_slice(&records));
+            }
+            object.search_id = search.id();
+        }
+        let frame = search.solve_frame(input.light_eye, input.world_from_object);
+        let params = params_of(frame, object.faces, object.capacity);
+        let (device, layout) = (&self.device, &self.layout);
+        let (vertices, triangles, capacity) = (&object.vertices, &object.triangles, object.capacity);
+        let (prepared, slot) = object
+            .slots
+            .next(self.id, input.frame, || make_slot(device, layout, [vertices, triangles], capacity))?;
+        queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
+        slot.active = frame.is_some();
+        Ok(prepared)
+    }
+
+    /// Records the search: the counter cleared, one invocation per face, and the counter
+    /// and list copied for [`SearchObject::read`].
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a `prepared` of another pass, object or frame; nothing
+    /// is recorded then.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        object: &SearchObject,
+        prepared: &Prepared,
+    ) -> Result<(), SpecularError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        encoder.clear_buffer(&slot.counter, 0, None);
+        if slot.active {
+            let max = self.device.limits().max_compute_workgroups_per_dimension;
+            let (x, y) = dispatch_size(object.faces, max);
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("npr centre search"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &slot.group, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 16);
+        encoder.copy_buffer_to_buffer(
+            &slot.solutions,
+            0,
+            &slot.readback,
+            16,
+            slot.solutions.size(),
+        );
+        Ok(())
+    }
+}
+
+fn make_slot(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    [vertices, triangles]: [&wgpu::Buffer; 2],
+    capacity: usize,
+) -> Slot {
+    let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+    let params = buffer_init(
+        device,
+        "npr search params",
+        &[Params::default()],
+        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    );
+    let counter = buffer_init(
+        device,
+        "npr search counter",
+        &[[0u32; 4]],
+        storage | wgpu::BufferUsages::COPY_DST,
+    );
+    let solutions = buffer_init(device, "npr search solutions", &vec![[0u32; 4]; capacity], storage);
+    let readback = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("npr search readback"),
+        size: 16 + solutions.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("npr centre search"),
+        layout,
+        entries: &[
+            group_entry(0, vertices),
+            group_entry(1, triangles),
+            group_entry(2, &counter),
+            group_entry(3, &solutions),
+            group_entry(4, &params),
+        ],
+    });
+    Slot {
+        params,
+        counter,
+        solutions,
+        readback,
+        group,
+        active: false,
+    }
+}
+
+impl SearchObject {
+    /// Accepted faces a frame keeps.
+    pub fn capacity(&self) -> usize {
+        self.capacity
+    }
+
+    /// Faces solved per search.
+    pub fn face_count(&self) -> usize {
+        self.faces
+    }
+
+    /// Reads back the faces the search of `prepared` accepted, after the submission that
+    /// holds its [`CentreSearchPass::record`]: waits for the GPU, maps the compact list
+    /// (16 bytes an entry plus the counter), and decodes it. Native only: in the browser
+    /// use [`SearchObject::map`] and poll.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a stale or foreign `prepared`; [`SpecularError::Gpu`]
+    /// when the map fails or the device is lost.
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        prepared: &Prepared,
+    ) -> Result<SearchSolutions, SpecularError> {
+        Ok(self.map(prepared)?.wait(device)?)
+    }
+
+    /// Asks for the map of `prepared`'s list, after the submission that holds its
+    /// [`CentreSearchPass::record`], without waiting: [`PendingSolutions::try_take`]
+    /// gives it once the map has completed (the browser's way, and a renderer's that reads
+    /// results a frame late). Take it before the slot is recorded again.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a stale or foreign `prepared`.
+    pub fn map(&self, prepared: &Prepared) -> Result<PendingSolutions, SpecularError> {
+        let slot = self.slots.get(self.slots.pass(), prepared)?;
+        Ok(PendingSolutions {
+            map: npr_gpu::BufferReadback::map(slot.readback.clone()),
+            capacity: self.capacity,
+        })
+    }
+}
+
+/// A search's list on its way to the CPU ([`SearchObject::map`]).
+#[derive(Debug)]
+pub struct PendingSolutions {
+    map: npr_gpu::BufferReadback,
+    capacity: usize,
+}
+
+impl PendingSolutions {
+    /// The accepted faces once the map has completed; `None` while it has not.
+    pub fn try_take(&self) -> Option<Result<SearchSolutions, npr_gpu::GpuError>> {
+        Some(self.map.try_take()?.map(|b| decode(&b, self.capacity)))
+    }
+
+    /// Blocks until the map has completed (native: polls `device`) and decodes the list.
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
+    pub fn wait(self, device: &wgpu::Device) -> Result<SearchSolutions, npr_gpu::GpuError> {
+        let capacity = self.capacity;
+        Ok(decode(&self.map.wait(device)?, capacity))
+    }
+}
+
+/// The counter (first 4 bytes) and the entries after the 16-byte header.
+fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
+    let word = |i: usize| {
+        bytes
+            .get(4 * i..4 * i + 4)
+            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let accepted = word(0) as usize;
+    let faces = (0..accepted.min(capacity))
+        .map(|k| {
+            let at = 4 + 4 * k;
+            FaceSolution {
+                face: word(at),
+                alpha: f32::from_bits(word(at + 1)),
+                beta: f32::from_bits(word(at + 2)),
+            }
+        })
+        .collect();
+    SearchSolutions { faces, accepted }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn params_layout_matches_wgsl() {
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            Params,
+            "SearchParams",
+            [
+                world_from_object,
+                object_from_world_normal,
+                light,
+                eye,
+                half_vector,
+                kind,
+                curved,
+                face_count,
+                capacity
+            ]
+        );
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            VertexRecord,
+            "SolveVertex",
+            [position, normal, shape_x, shape_y, shape_z]
+        );
+
+    }
+
+    #[test]
+    fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
+        let mut bytes = vec![0u8; 16];
+        bytes[..4].copy_from_slice(&3u32.to_le_bytes());
+        for (face, a, b) in [(7u32, 0.25f32, 0.5f32), (9, 0.1, 0.2)] {
+            for w in [face, a.to_bits(), b.to_bits(), 0] {
+                bytes.extend_from_slice(&w.to_le_bytes());
+            }
+        }
+        let s = decode(&bytes, 2);
+        assert_eq!(s.accepted, 3);
+        assert!(!s.complete());
+        assert_eq!(
+            s.faces,
+            vec![
+                FaceSolution { face: 7, alpha: 0.25, beta: 0.5 },
+                FaceSolution { face: 9, alpha: 0.1, beta: 0.2 }
+            ]
+        );
+        assert!(decode(&bytes[..16], 0).faces.is_empty());
+    }
+}

@@ -1,0 +1,219 @@
+//! The `N = H` search on the GPU ([`CentreSearchPass`], `centre_search.wgsl`) against
+//! the CPU search ([`HighlightSearch::find`], the reference) on the same frame: the same
+//! centres within 1e-4 of the mesh's bounding radius, for directional and point lights,
+//! rigid, non-uniformly scaled and sheared transforms, on procedural surfaces and the
+//! scanned fixtures; and the highlight set fed with the GPU's faces gives the CPU's
+//! highlights.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat4, Vec3};
+use npr_geometry::{CurvatureOptions, HighlightCentre, LightEye, Mesh, generate};
+use npr_gpu::{FrameId, GpuContext};
+use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
+
+fn fixture(name: &str) -> Mesh {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/meshes");
+    npr_geometry::io::load(dir.join(name)).unwrap().mesh
+}
+
+/// Lights and transforms: two directions, a near point light and eye, and point lights
+/// under a non-uniform scale and a shear (the world-space half vector of the shader).
+fn frames(radius: f32) -> Vec<(LightEye, Mat4)> {
+    let d = |x: f32, y: f32, z: f32| Vec3::new(x, y, z).normalize();
+    let r = radius;
+    let turn = Mat4::from_rotation_y(0.6) * Mat4::from_rotation_x(-0.3);
+    let shear = Mat4::from_cols_array(&[
+        1.0, 0.0, 0.0, 0.0, 0.35, 1.0, 0.0, 0.0, 0.0, 0.2, 1.0, 0.0, 0.1, -0.2, 0.3, 1.0,
+    ]);
+    vec![
+        (
+            LightEye::Directions { to_light: d(0.3, 0.8, 0.5), to_eye: d(0.0, 0.0, 1.0) },
+            Mat4::IDENTITY,
+        ),
+        (
+            LightEye::Directions { to_light: d(-0.7, 0.2, 0.4), to_eye: d(0.2, 0.1, 1.0) },
+            turn,
+        ),
+        (
+            LightEye::Positions {
+                light: Vec3::new(1.5 * r, 2.0 * r, 2.5 * r),
+                eye: Vec3::new(0.0, 0.3 * r, 3.0 * r),
+            },
+            turn,
+        ),
+        (
+            LightEye::Positions {
+                light: Vec3::new(-2.0 * r, 1.0 * r, 2.0 * r),
+                eye: Vec3::new(0.5 * r, 0.0, 3.5 * r),
+            },
+            Mat4::from_scale(Vec3::new(1.3, 0.8, 1.0)) * turn,
+        ),
+        (
+            LightEye::Positions {
+                light: Vec3::new(2.0 * r, 2.0 * r, 1.0 * r),
+                eye: Vec3::new(0.0, 0.0, 3.0 * r),
+            },
+            shear,
+        ),
+    ]
+}
+
+/// The GPU search of one frame: its accepted faces.
+fn gpu_solutions(
+    ctx: &GpuContext,
+    pass: &CentreSearchPass,
+    set: &HighlightSet,
+    (light_eye, world_from_object): (LightEye, Mat4),
+    frame: FrameId,
+) -> SearchSolutions {
+    let mut object = pass.create_object(&ctx.device, set.search()).unwrap();
+    let input = SearchInput { frame, search: set.search(), light_eye, world_from_object };
+    let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    pass.record(&mut encoder, &object, &prepared).unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    object.read(&ctx.device, &prepared).unwrap()
+}
+
+/// Largest distance from a centre of `a` to its nearest in `b` (object space), and
+/// whether the two have as many centres.
+fn farthest(a: &[HighlightCentre], b: &[HighlightCentre]) -> f32 {
+    a.iter()
+        .map(|c| {
+            b.iter()
+                .map(|d| d.position_object.distance(c.position_object))
+                .fold(f32::INFINITY, f32::min)
+        })
+        .fold(0.0, f32::max)
+}
+
+fn bounding_radius(mesh: &Mesh) -> f32 {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let c = 0.5 * (lo + hi);
+    mesh.positions.iter().map(|p| p.distance(c)).fold(0.0, f32::max)
+}
+
+#[test]
+fn the_gpu_search_finds_the_cpu_centres() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("the_gpu_search_finds_the_cpu_centres")
+    else {
+        return;
+    };
+    let pass = CentreSearchPass::new(&ctx.device);
+    let meshes = [
+        ("torus", generate::torus(1.0, 0.35, 64, 32)),
+        ("jittered torus", generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7)),
+        ("ellipsoid", generate::ellipsoid(0.7, 1.4, 1.0, 24)),
+        ("paper knot", generate::paper_knot()),
+        ("bunny", fixture("stanford-bunny.obj")),
+        ("spot", fixture("spot.obj")),
+        ("hammer", fixture("hammer.obj")),
+    ];
+    let mut frame = FrameId(1);
+    let (mut total, mut worst_all) = (0, 0.0f32);
+    for (name, mesh) in &meshes {
+        let set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
+        let radius = bounding_radius(mesh);
+        for (k, (light_eye, world)) in frames(radius).into_iter().enumerate() {
+            let cpu = set.search().find(light_eye, world);
+            let exhaustive = set.search().find_exhaustive(light_eye, world);
+            let solved = gpu_solutions(ctx, &pass, &set, (light_eye, world), frame);
+            frame = frame.next();
+            assert!(solved.complete(), "{name} frame {k}: list overflowed");
+            let gpu = set.search().centres_from_solutions(&solved.faces, world);
+            let worst = farthest(&cpu, &gpu).max(farthest(&gpu, &cpu)) / radius;
+            assert!(
+                gpu.len() == cpu.len() && worst <= 1e-4,
+                "{name} frame {k}: {} GPU centres against {} CPU ({} exhaustive), worst {worst:.2e} of the radius",
+                gpu.len(),
+                cpu.len(),
+                exhaustive.len()
+            );
+            total += cpu.len();
+            worst_all = worst_all.max(worst);
+        }
+    }
+    eprintln!("{total} centres over every mesh and frame, the GPU's within {worst_all:.2e} of the radius");
+    assert!(total >= 40, "only {total} centres over every mesh and frame");
+}
+
+#[test]
+fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("a_set_fed_the_gpu_faces_gives_the_cpu_highlights")
+    else {
+        return;
+    };
+    let pass = CentreSearchPass::new(&ctx.device);
+    let mesh = fixture("spot.obj");
+    let options = CurvatureOptions::default();
+    let mut cpu = HighlightSet::new(&mesh, &options).unwrap();
+    let mut gpu = HighlightSet::new(&mesh, &options).unwrap();
+    let radius = bounding_radius(&mesh);
+    let mut object = pass.create_object(&ctx.device, gpu.search()).unwrap();
+    let mut shown = 0;
+    // A turning light over twelve frames: matching, fades and ids run on both.
+    for step in 0..12u64 {
+        let a = step as f32 * 0.15;
+        let light_eye = LightEye::Positions {
+            light: Vec3::new(2.0 * radius * a.cos(), 1.5 * radius, 2.0 * radius * a.sin() + radius),
+            eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
+        };
+        let world = Mat4::from_rotation_y(0.1 * a);
+        let input = SearchInput { frame: FrameId(step), search: gpu.search(), light_eye, world_from_object: world };
+        let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        pass.record(&mut encoder, &object, &prepared).unwrap();
+        ctx.queue.submit([encoder.finish()]);
+        let solved = object.read(&ctx.device, &prepared).unwrap();
+        let want = cpu.update(light_eye, world).to_vec();
+        let got = gpu.update_from_solutions(light_eye, world, &solved.faces).to_vec();
+        assert_eq!(got.len(), want.len(), "frame {step}: highlight counts");
+        for (g, w) in got.iter().zip(&want) {
+            assert_eq!((g.id, g.found, g.piece), (w.id, w.found, w.piece), "frame {step}");
+            let d = g.centre.position_world.distance(w.centre.position_world) / radius;
+            assert!(d <= 1e-4, "frame {step}: highlight {} moved {d:.2e} of the radius", g.id);
+            let e = (g.projector.half_extent - w.projector.half_extent).abs().max_element();
+            assert!(e <= 1e-3 * radius, "frame {step}: footprint differs by {e}");
+        }
+        assert_eq!(gpu.receiver_faces(), cpu.receiver_faces(), "frame {step}: receivers");
+        shown += got.len();
+    }
+    assert!(shown >= 12, "only {shown} highlights over the turn");
+}
+
+#[test]
+fn a_search_of_another_mesh_is_refused() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("a_search_of_another_mesh_is_refused")
+    else {
+        return;
+    };
+    let pass = CentreSearchPass::new(&ctx.device);
+    let options = CurvatureOptions::default();
+    let torus = HighlightSet::new(&generate::torus(1.0, 0.35, 32, 16), &options).unwrap();
+    let sphere = HighlightSet::new(&generate::icosphere(3, 1.0), &options).unwrap();
+    let mut object = pass.create_object(&ctx.device, torus.search()).unwrap();
+    let input = SearchInput {
+        frame: FrameId(1),
+        search: sphere.search(),
+        light_eye: LightEye::Directions { to_light: Vec3::Y, to_eye: Vec3::Z },
+        world_from_object: Mat4::IDENTITY,
+    };
+    let e = pass.prepare(&ctx.queue, &mut object, &input);
+    assert!(matches!(e, Err(npr_specular::SpecularError::Mismatch(_))), "{e:?}");
+    // A light opposite the eye has no half vector: nothing is found, nothing fails.
+    let input = SearchInput {
+        search: torus.search(),
+        light_eye: LightEye::Directions { to_light: Vec3::Z, to_eye: -Vec3::Z },
+        ..input
+    };
+    let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    pass.record(&mut encoder, &object, &prepared).unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    let solved = object.read(&ctx.device, &prepared).unwrap();
+    assert_eq!(solved.accepted, 0);
+}

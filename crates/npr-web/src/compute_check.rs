@@ -1,0 +1,142 @@
+//! The compute passes in the browser, against the CPU on the same frame: the curvature
+//! tensor (`npr_gpu::CurvaturePass`) and the `N = H` search (`npr_specular::CentreSearchPass`)
+//! on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
+//! read back over the next animation frames (a map completes only once control returns
+//! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
+//! check (`cargo xtask web --check`).
+
+use glam::{Mat4, Vec3};
+use npr_geometry::{CurvatureField, CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
+use npr_gpu::{BufferReadback, CurvatureInput, CurvatureObject, CurvaturePass, FrameId, GpuMesh};
+use npr_specular::{CentreSearchPass, HighlightSet, PendingSolutions, SearchInput};
+
+/// The light and eye of the check's search: a point light and eye under a turn (the
+/// shader's object-space half vector per vertex).
+fn light_eye() -> (LightEye, Mat4) {
+    (
+        LightEye::Positions {
+            light: Vec3::new(2.0, 3.0, 2.5),
+            eye: Vec3::new(0.0, 0.5, 4.0),
+        },
+        Mat4::from_rotation_y(0.4) * Mat4::from_rotation_x(-0.5),
+    )
+}
+
+/// The check on its way: the GPU's field and list being read back.
+pub struct ComputeCheck {
+    mesh: Mesh,
+    set: HighlightSet,
+    curvature: CurvatureObject,
+    field: BufferReadback,
+    search: PendingSolutions,
+    field_bytes: Option<Vec<u8>>,
+    solutions: Option<Vec<npr_geometry::FaceSolution>>,
+}
+
+impl ComputeCheck {
+    /// Records and submits both passes on a torus and asks for the maps.
+    ///
+    /// # Errors
+    /// A GPU or highlight error, as one line.
+    pub fn start(device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Self, String> {
+        let mesh = generate::torus(1.0, 0.35, 48, 24);
+        let gpu = GpuMesh::upload(device, &mesh).map_err(|e| e.to_string())?;
+        let pass = CurvaturePass::new(device);
+        let mut curvature = pass
+            .create_object(device, &gpu, &mesh, CurvatureRadius::default())
+            .map_err(|e| e.to_string())?;
+        let frame = FrameId(1);
+        let prepared = pass
+            .prepare(queue, &mut curvature, &CurvatureInput { frame })
+            .map_err(|e| e.to_string())?;
+        let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).map_err(|e| e.to_string())?;
+        let search_pass = CentreSearchPass::new(device);
+        let mut search = search_pass
+            .create_object(device, set.search())
+            .map_err(|e| e.to_string())?;
+        let (light_eye, world_from_object) = light_eye();
+        let input = SearchInput {
+            frame,
+            search: set.search(),
+            light_eye,
+            world_from_object,
+        };
+        let searched = search_pass
+            .prepare(queue, &mut search, &input)
+            .map_err(|e| e.to_string())?;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        pass.record(&mut encoder, &curvature, &prepared)
+            .map_err(|e| e.to_string())?;
+        search_pass
+            .record(&mut encoder, &search, &searched)
+            .map_err(|e| e.to_string())?;
+        let size = curvature.output().size();
+        let copy = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr compute check"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        encoder.copy_buffer_to_buffer(curvature.output(), 0, &copy, 0, size);
+        queue.submit([encoder.finish()]);
+        let pending = search.map(&searched).map_err(|e| e.to_string())?;
+        Ok(Self {
+            mesh,
+            set,
+            curvature,
+            field: BufferReadback::map(copy),
+            search: pending,
+            field_bytes: None,
+            solutions: None,
+        })
+    }
+
+    /// The report once both maps have completed (`None` before): the curvature's worst
+    /// differences from the CPU field, and the centres of both searches.
+    ///
+    /// # Errors
+    /// A failed map, as one line.
+    pub fn poll(&mut self) -> Result<Option<serde_json::Value>, String> {
+        if self.field_bytes.is_none() {
+            if let Some(bytes) = self.field.try_take() {
+                self.field_bytes = Some(bytes.map_err(|e| e.to_string())?);
+            }
+        }
+        if self.solutions.is_none() {
+            if let Some(list) = self.search.try_take() {
+                let list = list.map_err(|e| e.to_string())?;
+                if !list.complete() {
+                    return Err(format!("the search list overflowed: {} faces", list.accepted));
+                }
+                self.solutions = Some(list.faces);
+            }
+        }
+        let (Some(bytes), Some(solutions)) = (&self.field_bytes, &self.solutions) else {
+            return Ok(None);
+        };
+        let (_, _, cpu) = CurvatureField::for_mesh(&self.mesh, &CurvatureOptions::default());
+        let field = cpu.difference(&self.curvature.decode(bytes));
+        let (light_eye, world_from_object) = light_eye();
+        let want = self.set.search().find(light_eye, world_from_object);
+        let got = self.set.search().centres_from_solutions(solutions, world_from_object);
+        let worst = want
+            .iter()
+            .map(|c| {
+                got.iter()
+                    .map(|d| d.position_object.distance(c.position_object))
+                    .fold(f32::INFINITY, f32::min)
+            })
+            .fold(0.0, f32::max);
+        // The torus's bounding radius: its major plus its minor radius.
+        let radius = 1.35;
+        Ok(Some(serde_json::json!({
+            "curvature_kappa_error": field.kappa,
+            "curvature_direction_error_deg": field.direction_deg,
+            "curvature_validity_differences": field.validity,
+            "curvature_vertices": field.vertices,
+            "centres_cpu": want.len(),
+            "centres_gpu": got.len(),
+            "centre_error_of_radius": worst / radius,
+        })))
+    }
+}
