@@ -60,8 +60,8 @@ pub use curvature::{
 };
 pub use error::GeometryError;
 pub use highlight::{
-    CoherenceStats, FaceSolution, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation, NormalSource,
-    SearchCoherence, SolveFrame, SolveHalfVector, SolveVertex, try_solve_barycentric,
+    CoherenceStats, FaceSolution, HighlightCentre, HighlightSearch, LightEye, NormalInterpolation,
+    NormalSource, SearchCoherence, SolveFrame, SolveHalfVector, SolveVertex, try_solve_barycentric,
     try_solve_barycentric_eq6, welded_mesh_normals,
 };
 /// The OBJ entry points at their former path (they live in [`io::obj`]).

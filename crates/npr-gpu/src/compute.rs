@@ -9,10 +9,7 @@ use wgpu::util::DeviceExt;
 pub const WORKGROUP: u32 = 64;
 
 /// A buffer binding of type `ty` at `binding`, visible to the compute stage.
-pub fn layout_entry(
-    binding: u32,
-    ty: wgpu::BufferBindingType,
-) -> wgpu::BindGroupLayoutEntry {
+pub fn layout_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,

@@ -62,7 +62,9 @@ pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use pass::{FrameId, Pass, PassError, Prepared};
 pub use posing::{PoseInput, PosedObject, PosingPass};
-pub use readback::{BufferReadback, TextureReadback, padded_bytes_per_row, readback_rgba, readback_texture};
+pub use readback::{
+    BufferReadback, TextureReadback, padded_bytes_per_row, readback_rgba, readback_texture,
+};
 pub use render::{PipelineBuilder, TargetFormats};
 pub use shading::{
     BaseInput, BaseObject, BaseSettings, BaseShading, ShadingModel, default_ramp, toon_ramp,

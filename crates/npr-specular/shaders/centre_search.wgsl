@@ -7,8 +7,9 @@
 // `search.rs`). The CPU solves in `f64`; WGSL has no `f64`, so the tolerances that test
 // for exact zeros in the CPU's form are set here to what `f32` resolves.
 //
-// Every face is solved (no cheap rejection: the CPU's tests only skip faces that cannot
-// hold a centre). Duplicates of one centre from neighbouring faces are merged on the CPU
+// A face whose cone of vertex normals cannot hold its half vectors is skipped before the
+// solve (`in_cone`, the CPU's per-face rejection, conservative: it never drops a centre).
+// Duplicates of one centre from neighbouring faces are merged on the CPU
 // from the compact list (`HighlightSearch::centres_from_solutions`).
 
 // One welded vertex (`npr_geometry::highlight::SolveVertex`): position, the normal the
@@ -38,6 +39,8 @@ struct SearchParams {
     face_count: u32,
     // Entries of `solutions`; faces past it are counted but not written.
     capacity: u32,
+    // `ANGLE_MARGIN` of the CPU's rejection tests (radians).
+    angle_margin: f32,
 }
 
 struct Counter {
@@ -45,7 +48,8 @@ struct Counter {
 }
 
 @group(0) @binding(0) var<storage, read> vertices: array<SolveVertex>;
-// Per face: its three welded vertices, 0.
+// Per face: its three welded vertices, and the bits of its cone test's slack for the
+// curvature-blended field (`HighlightSearch::face_margins`).
 @group(0) @binding(1) var<storage, read> triangles: array<vec4<u32>>;
 @group(0) @binding(2) var<storage, read_write> counter: Counter;
 // Per accepted face: (face, α and β as bits, 0).
@@ -241,7 +245,32 @@ fn solve(f: Face) -> vec3<f32> {
     return vec3<f32>(0.0);
 }
 
-// `search_vertices` without the rejection (`HighlightSearch::find_exhaustive`), one
+// `in_cone` (`search.rs`): whether the interpolated half vector can lie in the cone
+// spanned by the vertex normals, with the slack of the largest chord from the averaged
+// half vector to the vertices' and `margin`; a flat cone passes.
+fn in_cone(f: Face, margin: f32) -> bool {
+    let hb = normalize_or_zero(f.h0 + f.h1 + f.h2);
+    if all(hb == vec3<f32>(0.0)) {
+        return true;
+    }
+    let det = dot(cross(f.n0, f.n1), f.n2);
+    if abs(det) < 1e-6 {
+        return true;
+    }
+    let min_dot = min(1.0, min(dot(f.h0, hb), min(dot(f.h1, hb), dot(f.h2, hb))));
+    let slack = sqrt(max(2.0 * (1.0 - min_dot), 0.0)) + margin;
+    let s = sign(det);
+    var n = array<vec3<f32>, 3>(f.n0, f.n1, f.n2);
+    for (var k = 0u; k < 3u; k++) {
+        let c = cross(n[k], n[(k + 1u) % 3u]);
+        if s * dot(c, hb) < -length(c) * slack {
+            return false;
+        }
+    }
+    return true;
+}
+
+// `search_vertices` with its per-face rejection (`HighlightSearch::find_exhaustive`), one
 // face per invocation.
 @compute @workgroup_size(64)
 fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
@@ -269,6 +298,13 @@ fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         v1.position.xyz - v0.position.xyz, v2.position.xyz - v0.position.xyz,
         shape_of(v0), shape_of(v1), shape_of(v2),
     );
+    var margin = params.angle_margin;
+    if params.curved == 1u {
+        margin += bitcast<f32>(t.w);
+    }
+    if !in_cone(f, margin) {
+        return;
+    }
     let s = solve(f);
     if s.z == 0.0 {
         return;

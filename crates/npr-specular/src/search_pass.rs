@@ -116,6 +116,8 @@ struct Params {
     curved: u32,
     face_count: u32,
     capacity: u32,
+    angle_margin: f32,
+    _pad: [u32; 3],
 }
 
 /// `SolveVertex` of `centre_search.wgsl`: 20 floats.
@@ -148,6 +150,7 @@ fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize) -> Params
     let mut p = Params {
         face_count: faces as u32,
         capacity: capacity as u32,
+        angle_margin: HighlightSearch::angle_margin(),
         ..Params::default()
     };
     let Some(frame) = frame else {
@@ -172,7 +175,8 @@ fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize) -> Params
             p.kind = 2;
             (p.light, p.eye) = (four(light), four(eye));
             p.world_from_object = world_from_object.to_cols_array_2d();
-            p.object_from_world_normal = Mat4::from_mat3(object_from_world_normal).to_cols_array_2d();
+            p.object_from_world_normal =
+                Mat4::from_mat3(object_from_world_normal).to_cols_array_2d();
         }
     }
     p
@@ -198,7 +202,7 @@ impl CentreSearchPass {
     }
 
     /// Uploads `search`'s tables ([`HighlightSearch::solve_vertices`], 80 bytes a welded
-    /// vertex, and its triangles, 16 bytes a face), keeping [`DEFAULT_CAPACITY`] accepted
+    /// vertex, and its triangles with their cone-test slack, 16 bytes a face), keeping [`DEFAULT_CAPACITY`] accepted
     /// faces a frame.
     ///
     /// # Errors
@@ -227,7 +231,8 @@ impl CentreSearchPass {
         let triangles: Vec<[u32; 4]> = search
             .triangles()
             .iter()
-            .map(|t| [t[0], t[1], t[2], 0])
+            .zip(search.face_margins())
+            .map(|(t, m)| [t[0], t[1], t[2], m.to_bits()])
             .collect();
         let capacity = capacity.max(1);
         check_bindings(
@@ -287,10 +292,11 @@ impl CentreSearchPass {
         let frame = search.solve_frame(input.light_eye, input.world_from_object);
         let params = params_of(frame, object.faces, object.capacity);
         let (device, layout) = (&self.device, &self.layout);
-        let (vertices, triangles, capacity) = (&object.vertices, &object.triangles, object.capacity);
-        let (prepared, slot) = object
-            .slots
-            .next(self.id, input.frame, || make_slot(device, layout, [vertices, triangles], capacity))?;
+        let (vertices, triangles, capacity) =
+            (&object.vertices, &object.triangles, object.capacity);
+        let (prepared, slot) = object.slots.next(self.id, input.frame, || {
+            make_slot(device, layout, [vertices, triangles], capacity)
+        })?;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
         Ok(prepared)
@@ -352,7 +358,12 @@ fn make_slot(
         &[[0u32; 4]],
         storage | wgpu::BufferUsages::COPY_DST,
     );
-    let solutions = buffer_init(device, "npr search solutions", &vec![[0u32; 4]; capacity], storage);
+    let solutions = buffer_init(
+        device,
+        "npr search solutions",
+        &vec![[0u32; 4]; capacity],
+        storage,
+    );
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("npr search readback"),
         size: 16 + solutions.size(),
@@ -486,7 +497,8 @@ mod tests {
                 kind,
                 curved,
                 face_count,
-                capacity
+                capacity,
+                angle_margin
             ]
         );
         npr_gpu::assert_wgsl_layout!(
@@ -495,7 +507,6 @@ mod tests {
             "SolveVertex",
             [position, normal, shape_x, shape_y, shape_z]
         );
-
     }
 
     #[test]
@@ -513,8 +524,16 @@ mod tests {
         assert_eq!(
             s.faces,
             vec![
-                FaceSolution { face: 7, alpha: 0.25, beta: 0.5 },
-                FaceSolution { face: 9, alpha: 0.1, beta: 0.2 }
+                FaceSolution {
+                    face: 7,
+                    alpha: 0.25,
+                    beta: 0.5
+                },
+                FaceSolution {
+                    face: 9,
+                    alpha: 0.1,
+                    beta: 0.2
+                }
             ]
         );
         assert!(decode(&bytes[..16], 0).faces.is_empty());

@@ -27,11 +27,17 @@ fn frames(radius: f32) -> Vec<(LightEye, Mat4)> {
     ]);
     vec![
         (
-            LightEye::Directions { to_light: d(0.3, 0.8, 0.5), to_eye: d(0.0, 0.0, 1.0) },
+            LightEye::Directions {
+                to_light: d(0.3, 0.8, 0.5),
+                to_eye: d(0.0, 0.0, 1.0),
+            },
             Mat4::IDENTITY,
         ),
         (
-            LightEye::Directions { to_light: d(-0.7, 0.2, 0.4), to_eye: d(0.2, 0.1, 1.0) },
+            LightEye::Directions {
+                to_light: d(-0.7, 0.2, 0.4),
+                to_eye: d(0.2, 0.1, 1.0),
+            },
             turn,
         ),
         (
@@ -67,7 +73,12 @@ fn gpu_solutions(
     frame: FrameId,
 ) -> SearchSolutions {
     let mut object = pass.create_object(&ctx.device, set.search()).unwrap();
-    let input = SearchInput { frame, search: set.search(), light_eye, world_from_object };
+    let input = SearchInput {
+        frame,
+        search: set.search(),
+        light_eye,
+        world_from_object,
+    };
     let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
     pass.record(&mut encoder, &object, &prepared).unwrap();
@@ -93,7 +104,10 @@ fn bounding_radius(mesh: &Mesh) -> f32 {
         |(lo, hi), p| (lo.min(*p), hi.max(*p)),
     );
     let c = 0.5 * (lo + hi);
-    mesh.positions.iter().map(|p| p.distance(c)).fold(0.0, f32::max)
+    mesh.positions
+        .iter()
+        .map(|p| p.distance(c))
+        .fold(0.0, f32::max)
 }
 
 #[test]
@@ -105,7 +119,10 @@ fn the_gpu_search_finds_the_cpu_centres() {
     let pass = CentreSearchPass::new(&ctx.device);
     let meshes = [
         ("torus", generate::torus(1.0, 0.35, 64, 32)),
-        ("jittered torus", generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7)),
+        (
+            "jittered torus",
+            generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7),
+        ),
         ("ellipsoid", generate::ellipsoid(0.7, 1.4, 1.0, 24)),
         ("paper knot", generate::paper_knot()),
         ("bunny", fixture("stanford-bunny.obj")),
@@ -136,8 +153,13 @@ fn the_gpu_search_finds_the_cpu_centres() {
             worst_all = worst_all.max(worst);
         }
     }
-    eprintln!("{total} centres over every mesh and frame, the GPU's within {worst_all:.2e} of the radius");
-    assert!(total >= 40, "only {total} centres over every mesh and frame");
+    eprintln!(
+        "{total} centres over every mesh and frame, the GPU's within {worst_all:.2e} of the radius"
+    );
+    assert!(
+        total >= 40,
+        "only {total} centres over every mesh and frame"
+    );
 }
 
 #[test]
@@ -159,27 +181,52 @@ fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
     for step in 0..12u64 {
         let a = step as f32 * 0.15;
         let light_eye = LightEye::Positions {
-            light: Vec3::new(2.0 * radius * a.cos(), 1.5 * radius, 2.0 * radius * a.sin() + radius),
+            light: Vec3::new(
+                2.0 * radius * a.cos(),
+                1.5 * radius,
+                2.0 * radius * a.sin() + radius,
+            ),
             eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
         };
         let world = Mat4::from_rotation_y(0.1 * a);
-        let input = SearchInput { frame: FrameId(step), search: gpu.search(), light_eye, world_from_object: world };
+        let input = SearchInput {
+            frame: FrameId(step),
+            search: gpu.search(),
+            light_eye,
+            world_from_object: world,
+        };
         let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
         pass.record(&mut encoder, &object, &prepared).unwrap();
         ctx.queue.submit([encoder.finish()]);
         let solved = object.read(&ctx.device, &prepared).unwrap();
         let want = cpu.update(light_eye, world).to_vec();
-        let got = gpu.update_from_solutions(light_eye, world, &solved.faces).to_vec();
+        let got = gpu
+            .update_from_solutions(light_eye, world, &solved.faces)
+            .to_vec();
         assert_eq!(got.len(), want.len(), "frame {step}: highlight counts");
         for (g, w) in got.iter().zip(&want) {
-            assert_eq!((g.id, g.found, g.piece), (w.id, w.found, w.piece), "frame {step}");
+            assert_eq!(
+                (g.id, g.found, g.piece),
+                (w.id, w.found, w.piece),
+                "frame {step}"
+            );
             let d = g.centre.position_world.distance(w.centre.position_world) / radius;
-            assert!(d <= 1e-4, "frame {step}: highlight {} moved {d:.2e} of the radius", g.id);
-            let e = (g.projector.half_extent - w.projector.half_extent).abs().max_element();
+            assert!(
+                d <= 1e-4,
+                "frame {step}: highlight {} moved {d:.2e} of the radius",
+                g.id
+            );
+            let e = (g.projector.half_extent - w.projector.half_extent)
+                .abs()
+                .max_element();
             assert!(e <= 1e-3 * radius, "frame {step}: footprint differs by {e}");
         }
-        assert_eq!(gpu.receiver_faces(), cpu.receiver_faces(), "frame {step}: receivers");
+        assert_eq!(
+            gpu.receiver_faces(),
+            cpu.receiver_faces(),
+            "frame {step}: receivers"
+        );
         shown += got.len();
     }
     assert!(shown >= 12, "only {shown} highlights over the turn");
@@ -187,8 +234,7 @@ fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
 
 #[test]
 fn a_search_of_another_mesh_is_refused() {
-    let Some(ctx) = npr_gpu::testing::context_or_skip("a_search_of_another_mesh_is_refused")
-    else {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("a_search_of_another_mesh_is_refused") else {
         return;
     };
     let pass = CentreSearchPass::new(&ctx.device);
@@ -199,15 +245,24 @@ fn a_search_of_another_mesh_is_refused() {
     let input = SearchInput {
         frame: FrameId(1),
         search: sphere.search(),
-        light_eye: LightEye::Directions { to_light: Vec3::Y, to_eye: Vec3::Z },
+        light_eye: LightEye::Directions {
+            to_light: Vec3::Y,
+            to_eye: Vec3::Z,
+        },
         world_from_object: Mat4::IDENTITY,
     };
     let e = pass.prepare(&ctx.queue, &mut object, &input);
-    assert!(matches!(e, Err(npr_specular::SpecularError::Mismatch(_))), "{e:?}");
+    assert!(
+        matches!(e, Err(npr_specular::SpecularError::Mismatch(_))),
+        "{e:?}"
+    );
     // A light opposite the eye has no half vector: nothing is found, nothing fails.
     let input = SearchInput {
         search: torus.search(),
-        light_eye: LightEye::Directions { to_light: Vec3::Z, to_eye: -Vec3::Z },
+        light_eye: LightEye::Directions {
+            to_light: Vec3::Z,
+            to_eye: -Vec3::Z,
+        },
         ..input
     };
     let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();

@@ -49,7 +49,8 @@ impl ComputeCheck {
         let prepared = pass
             .prepare(queue, &mut curvature, &CurvatureInput { frame })
             .map_err(|e| e.to_string())?;
-        let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).map_err(|e| e.to_string())?;
+        let set =
+            HighlightSet::new(&mesh, &CurvatureOptions::default()).map_err(|e| e.to_string())?;
         let search_pass = CentreSearchPass::new(device);
         let mut search = search_pass
             .create_object(device, set.search())
@@ -106,7 +107,10 @@ impl ComputeCheck {
             if let Some(list) = self.search.try_take() {
                 let list = list.map_err(|e| e.to_string())?;
                 if !list.complete() {
-                    return Err(format!("the search list overflowed: {} faces", list.accepted));
+                    return Err(format!(
+                        "the search list overflowed: {} faces",
+                        list.accepted
+                    ));
                 }
                 self.solutions = Some(list.faces);
             }
@@ -118,7 +122,10 @@ impl ComputeCheck {
         let field = cpu.difference(&self.curvature.decode(bytes));
         let (light_eye, world_from_object) = light_eye();
         let want = self.set.search().find(light_eye, world_from_object);
-        let got = self.set.search().centres_from_solutions(solutions, world_from_object);
+        let got = self
+            .set
+            .search()
+            .centres_from_solutions(solutions, world_from_object);
         let worst = want
             .iter()
             .map(|c| {

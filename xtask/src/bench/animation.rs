@@ -9,7 +9,11 @@
 //! (`animated_ms`: the posed model set (`Renderer::set_pose`) and rendered; `rigid_ms`: the
 //! same model rendered
 //! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
-//! setup the specular frame reports. Default models: the Fox and the procedural rigs
+//! setup the specular frame reports (mean, µs) and `cpu_ms_median` its median (ms): the
+//! CPU time of the highlight work from the frame's start to its submit, matching
+//! included. The highlights are measured twice, told apart by `setup`: the `N = H` search
+//! on the CPU (`"cpu"`) and as a compute pass (`"gpu"`, `[specular] search = "gpu"`).
+//! Default models: the Fox and the procedural rigs
 //! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`) and, as a
 //! scale row reported only, the bunny on `generate::swaying`'s two-joint rig; `--mesh`
 //! adds rigged glTF files. CPU times are wall time on this machine's cores.
@@ -32,7 +36,7 @@ use super::table::{Cell, Table, emit};
 use npr_app::animation::{Animated, Playback};
 use npr_app::engine::Renderer;
 use npr_app::model::Model;
-use npr_app::preset::{Effect, PoseGeometry, Preset};
+use npr_app::preset::{Effect, PoseGeometry, Preset, SearchPreset};
 use npr_app::view::View;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -41,13 +45,23 @@ use std::time::Instant;
 const FRAMES: usize = 30;
 /// The view size.
 const SIZE: (u32, u32) = (640, 480);
-/// The effects measured, with the hatching's two ways of following the pose.
-const EFFECTS: [(Effect, PoseGeometry); 5] = [
-    (Effect::Phong, PoseGeometry::Recompute),
-    (Effect::Specular, PoseGeometry::Recompute),
-    (Effect::HatchingPen, PoseGeometry::Recompute),
-    (Effect::HatchingPen, PoseGeometry::Carried),
-    (Effect::Warp, PoseGeometry::Recompute),
+/// The effects measured, with the hatching's two ways of following the pose and the
+/// highlights' two places for the `N = H` search (the `setup` key: `"cpu"`, `"gpu"`).
+const EFFECTS: [(Effect, PoseGeometry, SearchPreset); 6] = [
+    (Effect::Phong, PoseGeometry::Recompute, SearchPreset::Cpu),
+    (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Cpu),
+    (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Gpu),
+    (
+        Effect::HatchingPen,
+        PoseGeometry::Recompute,
+        SearchPreset::Cpu,
+    ),
+    (
+        Effect::HatchingPen,
+        PoseGeometry::Carried,
+        SearchPreset::Cpu,
+    ),
+    (Effect::Warp, PoseGeometry::Recompute, SearchPreset::Cpu),
 ];
 
 fn default_models() -> anyhow::Result<Vec<Model>> {
@@ -116,7 +130,9 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             "rigid_ms",
             "animated_ms",
             "animated_vs_rigid",
+            "setup",
             "setup_us",
+            "cpu_ms_median",
         ],
     );
     let mut posing = Table::new(
@@ -144,8 +160,8 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         if let Some(rig) = &rig {
             posing.push(posing_row(&ctx, &name, rig, &animated)?);
         }
-        for (effect, geometry) in EFFECTS {
-            gpu.push(gpu_row(&ctx, &name, &animated, (effect, geometry))?);
+        for (effect, geometry, search) in EFFECTS {
+            gpu.push(gpu_row(&ctx, &name, &animated, (effect, geometry, search))?);
         }
         bar.inc(1);
     }
@@ -213,12 +229,13 @@ fn gpu_row(
     ctx: &npr_gpu::GpuContext,
     name: &str,
     animated: &Animated,
-    (effect, geometry): (Effect, PoseGeometry),
+    (effect, geometry, search): (Effect, PoseGeometry, SearchPreset),
 ) -> anyhow::Result<Vec<Cell>> {
     let mut preset = Preset {
         effect,
         ..Preset::default()
     };
+    preset.specular.search = search;
     preset.animation.geometry = geometry;
     let which = preset.hatching.direction;
     let rest = (geometry == PoseGeometry::Carried).then(|| animated.rest_directions(which));
@@ -245,7 +262,7 @@ fn gpu_row(
         }
     };
     let mut result = Ok(());
-    let mut setup = 0.0;
+    let mut setup = Vec::new();
     let rigid_ms = mean_ms(|_| {
         if let Err(e) = draw(&mut renderer) {
             result = Err(e);
@@ -263,7 +280,7 @@ fn gpu_row(
         };
         let step = posed.and_then(|()| draw(&mut renderer));
         match step {
-            Ok(s) => setup += s.setup_us,
+            Ok(s) => setup.push(s.setup_us),
             Err(e) => result = Err(e),
         }
         wait();
@@ -280,7 +297,20 @@ fn gpu_row(
         Cell::Num(animated_ms, 2),
         Cell::Num(animated_ms / rigid_ms.max(1e-9), 2),
         if effect == Effect::Specular {
-            Cell::Num(setup / (FRAMES + 1) as f64, 0)
+            match search {
+                SearchPreset::Gpu => "gpu".into(),
+                _ => "cpu".into(),
+            }
+        } else {
+            Cell::Empty
+        },
+        if effect == Effect::Specular {
+            Cell::Num(setup.iter().sum::<f64>() / setup.len().max(1) as f64, 0)
+        } else {
+            Cell::Empty
+        },
+        if effect == Effect::Specular {
+            Cell::Num(npr_geometry::stats::median(setup) / 1e3, 3)
         } else {
             Cell::Empty
         },

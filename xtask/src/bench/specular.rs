@@ -24,8 +24,8 @@ use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
-use npr_specular::{CentreSearchPass, HighlightSet};
 use npr_specular::snapshot::{HighlightScene, Renderer};
+use npr_specular::{CentreSearchPass, HighlightSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -249,7 +249,14 @@ fn measure_gpu(
                 set.stats().search_us
             }
             Some(object) => {
-                let faces = gpu_search(ctx, &search_pass, object, &set, (le, world_from_object), frame)?;
+                let faces = gpu_search(
+                    ctx,
+                    &search_pass,
+                    object,
+                    &set,
+                    (le, world_from_object),
+                    frame,
+                )?;
                 let search_us = t.elapsed().as_secs_f64() * 1e6;
                 set.update_from_solutions(le, world_from_object, &faces);
                 search_us + set.stats().search_us

@@ -18,6 +18,7 @@ pub(crate) struct SearchSetup {
     #[cfg(not(target_arch = "wasm32"))]
     gpu: Option<native::GpuSearch>,
     /// `Some(true)` for the GPU: what `auto` measured for the current set.
+    #[cfg(not(target_arch = "wasm32"))]
     chosen: Option<bool>,
 }
 
@@ -59,11 +60,11 @@ impl SearchSetup {
                     }
                 },
             };
-            if on_gpu {
-                if let Some(faces) = self.gpu_faces(gpu, set, (light_eye, world_from_object))? {
-                    set.update_from_solutions(light_eye, world_from_object, &faces);
-                    return Ok(true);
-                }
+            if on_gpu
+                && let Some(faces) = self.gpu_faces(gpu, set, (light_eye, world_from_object))?
+            {
+                set.update_from_solutions(light_eye, world_from_object, &faces);
+                return Ok(true);
             }
             set.update(light_eye, world_from_object);
             Ok(false)

@@ -60,7 +60,9 @@ impl CurvatureField {
         };
         let scale = robust.max(f32::MIN_POSITIVE);
         for v in 0..n {
-            e.normal_deg = e.normal_deg.max(angle(self.normal[v], other.normal[v], false));
+            e.normal_deg = e
+                .normal_deg
+                .max(angle(self.normal[v], other.normal[v], false));
             if self.valid[v] != other.valid[v] {
                 e.validity += 1;
                 continue;
@@ -96,7 +98,15 @@ mod tests {
         let mesh = crate::generate::torus(1.0, 0.35, 32, 16);
         let (_, _, field) = CurvatureField::for_mesh(&mesh, &crate::CurvatureOptions::default());
         let same = field.difference(&field);
-        assert_eq!((same.kappa, same.normal_deg, same.direction_deg, same.validity), (0.0, 0.0, 0.0, 0));
+        assert_eq!(
+            (
+                same.kappa,
+                same.normal_deg,
+                same.direction_deg,
+                same.validity
+            ),
+            (0.0, 0.0, 0.0, 0)
+        );
         assert!(same.directions_checked > 0 && same.scale.0 > 0.0);
         let mut other = field.clone();
         let turn = glam::Quat::from_rotation_z(2f32.to_radians());

@@ -49,11 +49,11 @@ mod tests;
 
 pub use build::welded_mesh_normals;
 pub use coherence::{CoherenceStats, SearchCoherence};
-pub use tables::{FaceSolution, SolveFrame, SolveHalfVector, SolveVertex};
 pub use solve::{
     BARYCENTRIC_EPSILON, NormalInterpolation, RESIDUAL_TOLERANCE, try_solve_barycentric,
     try_solve_barycentric_eq6,
 };
+pub use tables::{FaceSolution, SolveFrame, SolveHalfVector, SolveVertex};
 
 use clusters::Cluster;
 /// Where the light and the eye are, in world space.

@@ -321,7 +321,12 @@ impl HighlightSearch {
         found.into_iter().map(|(c, _)| c).collect()
     }
 
-    pub(super) fn merge(&self, found: &mut Vec<(HighlightCentre, f32)>, c: HighlightCentre, inner: f32) {
+    pub(super) fn merge(
+        &self,
+        found: &mut Vec<(HighlightCentre, f32)>,
+        c: HighlightCentre,
+        inner: f32,
+    ) {
         for (old, old_inner) in found.iter_mut() {
             if old.position_object.distance(c.position_object) <= self.merge_distance {
                 if inner > *old_inner {

@@ -111,18 +111,33 @@ impl HighlightSearch {
         &self.triangles
     }
 
+    /// Per face, the slack (radians) its cone test (the cheap per-face rejection of
+    /// [`HighlightSearch::find`]) adds for the curvature-blended field, whose normals can
+    /// leave the cone of the three vertex normals; the test's fixed margin comes on top.
+    pub fn face_margins(&self) -> Vec<f32> {
+        (0..self.triangles.len())
+            .map(|f| self.face_curvature_margin.get(f).copied().unwrap_or(2.0))
+            .collect()
+    }
+
+    /// The fixed margin (radians) of the rejection tests, for the ε-acceptance and
+    /// rounding.
+    pub const fn angle_margin() -> f32 {
+        super::ANGLE_MARGIN
+    }
+
     /// This frame's values for a solve; `None` where the CPU search finds nothing either
     /// (a singular transform, an empty mesh, a light and eye without a half vector).
     pub fn solve_frame(&self, light_eye: LightEye, world_from_object: Mat4) -> Option<SolveFrame> {
         let frame = self.setup(light_eye, world_from_object)?;
         let half_vector = match frame.kind {
             FrameKind::Direction(h) => SolveHalfVector::Constant(h),
-            FrameKind::Positions {
-                light_o, eye_o, ..
-            } if frame.similarity => SolveHalfVector::ObjectPositions {
-                light: light_o,
-                eye: eye_o,
-            },
+            FrameKind::Positions { light_o, eye_o, .. } if frame.similarity => {
+                SolveHalfVector::ObjectPositions {
+                    light: light_o,
+                    eye: eye_o,
+                }
+            }
             FrameKind::Positions { light, eye, .. } => SolveHalfVector::WorldPositions {
                 light,
                 eye,
