@@ -140,6 +140,9 @@ pub struct UpdateStats {
     pub merged: usize,
     /// Wall time of the N = H search, microseconds.
     pub search_us: f64,
+    /// Wall time of the search for bright regions without an `N = H` point (`set::peaks`),
+    /// microseconds (0 for the paper's sizing).
+    pub peaks_us: f64,
     /// What the frame-coherent search did ([`npr_geometry::SearchCoherence`]).
     pub search: CoherenceStats,
     /// Wall time of the §4.2 visibility searches, microseconds.
@@ -489,10 +492,12 @@ impl HighlightSet {
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
         let (mut centres, search_us) = self.search_centres(light_eye, world_from_object);
         let found = centres.len();
+        let peaks_start = Instant::now();
         if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
             let peaks = self.peak_centres(&centres, light_eye, world_from_object);
             centres.extend(peaks);
         }
+        let peaks_us = peaks_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         // Pieces are made afresh from their highlight each frame.
@@ -528,6 +533,7 @@ impl HighlightSet {
             receiver_faces: self.receiver_faces.len(),
             merged,
             search_us,
+            peaks_us,
             search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,
