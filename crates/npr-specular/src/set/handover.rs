@@ -76,7 +76,11 @@ impl ObjectCentre {
         } else {
             a.dir_kappa_max
         };
-        let normal = a.normal.lerp(b.normal, w).try_normalize().unwrap_or(b.normal);
+        let normal = a
+            .normal
+            .lerp(b.normal, w)
+            .try_normalize()
+            .unwrap_or(b.normal);
         Self {
             position: a.position.lerp(b.position, w),
             normal,
@@ -171,7 +175,10 @@ impl HighlightSet {
             if !h.found {
                 // Fading where it was last drawn: the track waits for it to be found again.
                 if let Some(t) = track {
-                    let t = Track { handover: None, ..t };
+                    let t = Track {
+                        handover: None,
+                        ..t
+                    };
                     self.handovers.insert(h.id, t);
                 }
                 continue;
@@ -188,7 +195,12 @@ impl HighlightSet {
                     Some(s) => Some(s.drawn),
                     None => self
                         .search
-                        .centre_at(b.centre.face, b.centre.alpha, b.centre.beta, world_from_object)
+                        .centre_at(
+                            b.centre.face,
+                            b.centre.alpha,
+                            b.centre.beta,
+                            world_from_object,
+                        )
                         .map(|c| ObjectCentre::of(&c, object_from_world)),
                 };
                 // Long enough that the blend adds at most the last drawn step per update.
