@@ -18,13 +18,50 @@ use npr_geometry::{HighlightCentre, LightEye, Topology};
 /// Per-vertex scratch of [`HighlightSet::peak_centres`], kept across frames: `N·H` of
 /// the bright vertices and whether a part's fill has reached them (outside a call −2 and
 /// false), the vertices reached and the fill's stack, so a frame costs the candidate
-/// vertices, not the mesh.
+/// vertices, not the mesh; and each vertex's neighbours (the other corners of its faces,
+/// `neighbours[offsets[v]..offsets[v + 1]]`), built once.
 #[derive(Clone, Debug, Default)]
 pub(super) struct PeakScratch {
     nh: Vec<f32>,
     visited: Vec<bool>,
     seen: Vec<u32>,
     stack: Vec<u32>,
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+}
+
+impl PeakScratch {
+    /// Clean scratch for `topo`, with its vertices' neighbours.
+    fn new(topo: &Topology) -> Self {
+        let nv = topo.vertex_count();
+        let mut offsets = Vec::with_capacity(nv + 1);
+        let mut neighbours = Vec::new();
+        offsets.push(0);
+        for v in 0..nv {
+            let start = neighbours.len();
+            for &f in topo.vertex_faces(v) {
+                let t = topo.triangles[f as usize];
+                neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
+            }
+            neighbours[start..].sort_unstable();
+            let mut end = start;
+            for k in start..neighbours.len() {
+                if k == start || neighbours[k] != neighbours[end - 1] {
+                    neighbours[end] = neighbours[k];
+                    end += 1;
+                }
+            }
+            neighbours.truncate(end);
+            offsets.push(end as u32);
+        }
+        Self {
+            nh: vec![UNSET; nv],
+            visited: vec![false; nv],
+            offsets,
+            neighbours,
+            ..Self::default()
+        }
+    }
 }
 
 /// Not measured this frame (below every σ).
@@ -33,12 +70,14 @@ const UNSET: f32 = -2.0;
 /// Visits the part of the bright vertices (`N·H ≥ σ`, sharing a face) that holds `start`,
 /// marking each vertex reached; its lowest vertex and its brightest (the lowest index on
 /// ties).
-fn fill_part(topo: &Topology, sigma: f32, start: u32, s: &mut PeakScratch) -> (u32, u32) {
+fn fill_part(sigma: f32, start: u32, s: &mut PeakScratch) -> (u32, u32) {
     let PeakScratch {
         nh,
         visited,
         seen,
         stack,
+        offsets,
+        neighbours,
     } = s;
     visited[start as usize] = true;
     seen.push(start);
@@ -51,13 +90,12 @@ fn fill_part(topo: &Topology, sigma: f32, start: u32, s: &mut PeakScratch) -> (u
         if d > db || (d == db && v < best) {
             best = v;
         }
-        for &f in topo.vertex_faces(v as usize) {
-            for u in topo.triangles[f as usize] {
-                if !visited[u as usize] && nh[u as usize] >= sigma {
-                    visited[u as usize] = true;
-                    seen.push(u);
-                    stack.push(u);
-                }
+        let around = offsets[v as usize] as usize..offsets[v as usize + 1] as usize;
+        for &u in &neighbours[around] {
+            if !visited[u as usize] && nh[u as usize] >= sigma {
+                visited[u as usize] = true;
+                seen.push(u);
+                stack.push(u);
             }
         }
     }
@@ -81,11 +119,7 @@ impl HighlightSet {
         let sigma = self.global.sigma;
         let mut scratch = std::mem::take(&mut self.peak_scratch);
         if scratch.nh.len() != nv {
-            scratch = PeakScratch {
-                nh: vec![UNSET; nv],
-                visited: vec![false; nv],
-                ..PeakScratch::default()
-            };
+            scratch = PeakScratch::new(&self.topology);
         }
         let bright = self.bright_vertices(
             light_eye,
@@ -102,7 +136,7 @@ impl HighlightSet {
             };
             for &v in t {
                 if !scratch.visited[v as usize] && scratch.nh[v as usize] >= sigma {
-                    fill_part(topo, sigma, v, &mut scratch);
+                    fill_part(sigma, v, &mut scratch);
                 }
             }
         }
@@ -110,7 +144,7 @@ impl HighlightSet {
         let mut parts = Vec::new();
         for &v in &bright {
             if !scratch.visited[v as usize] {
-                parts.push(fill_part(topo, sigma, v, &mut scratch));
+                parts.push(fill_part(sigma, v, &mut scratch));
             }
         }
         parts.sort_unstable();
@@ -164,7 +198,9 @@ impl HighlightSet {
                 ),
                 None => (
                     (normal_from_object * normals[v]).normalize_or_zero(),
-                    light_eye.half_vector(world_from_object.transform_point3(self.topology.positions[v])),
+                    light_eye.half_vector(
+                        world_from_object.transform_point3(self.topology.positions[v]),
+                    ),
                 ),
             };
             let d = n.dot(h);
