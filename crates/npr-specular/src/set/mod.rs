@@ -16,7 +16,10 @@
 //! - with the paper's sizing, two projectors claiming the same region (one's centre
 //!   inside the central half of the other's frustum) are merged into the older one;
 //! - a merged or suppressed highlight fades out like a lost one.
+//! - a highlight whose centre changes kind (an `N = H` point ↔ the peak of a bright region
+//!   without one) blends its drawn centre to the new one over the fade (`set::handover`).
 
+mod handover;
 mod matching;
 mod mesh;
 mod peaks;
@@ -45,7 +48,8 @@ use web_time::Instant;
 pub struct Highlight {
     /// Stable identity across frames (matched by [`HighlightSet::update`]).
     pub id: u64,
-    /// The `N = H` centre this frame (or the last one seen, while fading out).
+    /// The `N = H` centre this frame (or the last one seen, while fading out; blended from
+    /// where it was drawn while it hands over or jumps, see `set::handover`).
     pub centre: HighlightCentre,
     /// Its projector (Eq. (7) over [`Highlight::footprint`], with the composed controls).
     pub projector: Projector,
@@ -136,6 +140,9 @@ pub struct UpdateStats {
     pub merged: usize,
     /// Wall time of the N = H search, microseconds.
     pub search_us: f64,
+    /// Wall time of the search for bright regions without an `N = H` point (`set::peaks`),
+    /// microseconds (0 for the paper's sizing).
+    pub peaks_us: f64,
     /// What the frame-coherent search did ([`npr_geometry::SearchCoherence`]).
     pub search: CoherenceStats,
     /// Wall time of the §4.2 visibility searches, microseconds.
@@ -226,6 +233,8 @@ pub struct HighlightSet {
     tracking: bool,
     stats: UpdateStats,
     peak_scratch: peaks::PeakScratch,
+    /// The found highlights' centres and handovers, by id (`set::handover`).
+    handovers: HashMap<u64, handover::Track>,
 }
 
 impl HighlightSet {
@@ -405,6 +414,7 @@ impl HighlightSet {
             tracking: false,
             stats: UpdateStats::default(),
             peak_scratch: peaks::PeakScratch::default(),
+            handovers: HashMap::new(),
         }
     }
 
@@ -469,6 +479,7 @@ impl HighlightSet {
     pub fn reset(&mut self) {
         self.highlights.clear();
         self.receiver_faces.clear();
+        self.handovers.clear();
         self.tracking = false;
     }
 
@@ -518,10 +529,12 @@ impl HighlightSet {
         search_us: f64,
     ) -> &[Highlight] {
         let found = centres.len();
+        let peaks_start = Instant::now();
         if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
             let peaks = self.peak_centres(&centres, light_eye, world_from_object);
             centres.extend(peaks);
         }
+        let peaks_us = peaks_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         // Pieces are made afresh from their highlight each frame.
@@ -544,6 +557,7 @@ impl HighlightSet {
             radius_world,
             scale,
         );
+        self.hand_over(&mut kept, &previous, world_from_object);
         let visibility_start = Instant::now();
         self.find_receivers(&mut kept, world_from_object);
         self.share_regions(&mut kept);
@@ -556,6 +570,7 @@ impl HighlightSet {
             receiver_faces: self.receiver_faces.len(),
             merged,
             search_us,
+            peaks_us,
             search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,

@@ -13,29 +13,93 @@
 
 use super::HighlightSet;
 use glam::{Mat3, Mat4, Vec3};
-use npr_geometry::{HighlightCentre, LightEye};
+use npr_geometry::{HighlightCentre, LightEye, Topology};
 
 /// Per-vertex scratch of [`HighlightSet::peak_centres`], kept across frames: `N·H` of
-/// the bright vertices and their union-find parents (entries outside a call are −2 and
-/// `u32::MAX`), so a frame costs the candidate vertices, not the mesh.
+/// the bright vertices and whether a part's fill has reached them (outside a call −2 and
+/// false), the vertices reached and the fill's stack, so a frame costs the candidate
+/// vertices, not the mesh; and each vertex's neighbours (the other corners of its faces,
+/// `neighbours[offsets[v]..offsets[v + 1]]`), built once.
 #[derive(Clone, Debug, Default)]
 pub(super) struct PeakScratch {
     nh: Vec<f32>,
-    parent: Vec<u32>,
-    claimed: Vec<bool>,
-    best: Vec<u32>,
+    visited: Vec<bool>,
+    seen: Vec<u32>,
+    stack: Vec<u32>,
+    offsets: Vec<u32>,
+    neighbours: Vec<u32>,
+}
+
+impl PeakScratch {
+    /// Clean scratch for `topo`, with its vertices' neighbours.
+    fn new(topo: &Topology) -> Self {
+        let nv = topo.vertex_count();
+        let mut offsets = Vec::with_capacity(nv + 1);
+        let mut neighbours = Vec::new();
+        offsets.push(0);
+        for v in 0..nv {
+            let start = neighbours.len();
+            for &f in topo.vertex_faces(v) {
+                let t = topo.triangles[f as usize];
+                neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
+            }
+            neighbours[start..].sort_unstable();
+            let mut end = start;
+            for k in start..neighbours.len() {
+                if k == start || neighbours[k] != neighbours[end - 1] {
+                    neighbours[end] = neighbours[k];
+                    end += 1;
+                }
+            }
+            neighbours.truncate(end);
+            offsets.push(end as u32);
+        }
+        Self {
+            nh: vec![UNSET; nv],
+            visited: vec![false; nv],
+            offsets,
+            neighbours,
+            ..Self::default()
+        }
+    }
 }
 
 /// Not measured this frame (below every σ).
 const UNSET: f32 = -2.0;
 
-fn find(parent: &mut [u32], mut v: u32) -> u32 {
-    while parent[v as usize] != v {
-        let up = parent[parent[v as usize] as usize];
-        parent[v as usize] = up;
-        v = up;
+/// Visits the part of the bright vertices (`N·H ≥ σ`, sharing a face) that holds `start`,
+/// marking each vertex reached; its lowest vertex and its brightest (the lowest index on
+/// ties).
+fn fill_part(sigma: f32, start: u32, s: &mut PeakScratch) -> (u32, u32) {
+    let PeakScratch {
+        nh,
+        visited,
+        seen,
+        stack,
+        offsets,
+        neighbours,
+    } = s;
+    visited[start as usize] = true;
+    seen.push(start);
+    stack.clear();
+    stack.push(start);
+    let (mut low, mut best) = (start, start);
+    while let Some(v) = stack.pop() {
+        low = low.min(v);
+        let (d, db) = (nh[v as usize], nh[best as usize]);
+        if d > db || (d == db && v < best) {
+            best = v;
+        }
+        let around = offsets[v as usize] as usize..offsets[v as usize + 1] as usize;
+        for &u in &neighbours[around] {
+            if !visited[u as usize] && nh[u as usize] >= sigma {
+                visited[u as usize] = true;
+                seen.push(u);
+                stack.push(u);
+            }
+        }
     }
-    v
+    (low, best)
 }
 
 impl HighlightSet {
@@ -55,12 +119,7 @@ impl HighlightSet {
         let sigma = self.global.sigma;
         let mut scratch = std::mem::take(&mut self.peak_scratch);
         if scratch.nh.len() != nv {
-            scratch = PeakScratch {
-                nh: vec![UNSET; nv],
-                parent: vec![u32::MAX; nv],
-                claimed: vec![false; nv],
-                best: vec![u32::MAX; nv],
-            };
+            scratch = PeakScratch::new(&self.topology);
         }
         let bright = self.bright_vertices(
             light_eye,
@@ -68,58 +127,32 @@ impl HighlightSet {
             normal_from_object,
             &mut scratch,
         );
-        let PeakScratch {
-            nh,
-            parent,
-            claimed,
-            best,
-        } = &mut scratch;
-        // Connected parts of the bright vertices, by the mesh's edges (union-find).
-        for &v in &bright {
-            for &f in self.topology.vertex_faces(v as usize) {
-                for u in self.topology.triangles[f as usize] {
-                    if u > v && nh[u as usize] >= sigma {
-                        let (ra, rb) = (find(parent, u), find(parent, v));
-                        if ra != rb {
-                            parent[ra.max(rb) as usize] = ra.min(rb);
-                        }
-                    }
-                }
-            }
-        }
-        // Parts an `N = H` centre lies in (through its face's bright vertices).
+        let topo = &self.topology;
+        // The parts an `N = H` centre lies in (through its face's bright vertices) are
+        // filled first: they need no peak.
         for c in centres {
-            let Some(t) = self.topology.triangles.get(c.face as usize) else {
+            let Some(t) = topo.triangles.get(c.face as usize) else {
                 continue;
             };
             for &v in t {
-                if nh[v as usize] >= sigma {
-                    let r = find(parent, v);
-                    claimed[r as usize] = true;
+                if !scratch.visited[v as usize] && scratch.nh[v as usize] >= sigma {
+                    fill_part(sigma, v, &mut scratch);
                 }
             }
         }
-        // Each unclaimed part's brightest vertex (the lowest index on ties: `bright`
-        // is in ascending order).
-        let mut roots = Vec::new();
+        // Each other part's brightest vertex, the parts in order of their lowest vertex.
+        let mut parts = Vec::new();
         for &v in &bright {
-            let r = find(parent, v) as usize;
-            if claimed[r] {
-                continue;
-            }
-            let b = best[r];
-            if b == u32::MAX {
-                roots.push(r);
-            }
-            if b == u32::MAX || nh[v as usize] > nh[b as usize] {
-                best[r] = v;
+            if !scratch.visited[v as usize] {
+                parts.push(fill_part(sigma, v, &mut scratch));
             }
         }
-        let peaks = roots
+        parts.sort_unstable();
+        let peaks = parts
             .iter()
-            .filter_map(|&r| {
+            .filter_map(|&(_, best)| {
                 self.centre_at_vertex(
-                    best[r] as usize,
+                    best as usize,
                     light_eye,
                     world_from_object,
                     normal_from_object,
@@ -128,16 +161,19 @@ impl HighlightSet {
             .collect();
         // Leave the scratch clean for the next frame.
         for &v in &bright {
-            let v = v as usize;
-            (nh[v], parent[v], claimed[v], best[v]) = (UNSET, u32::MAX, false, u32::MAX);
+            scratch.nh[v as usize] = UNSET;
         }
+        for &v in &scratch.seen {
+            scratch.visited[v as usize] = false;
+        }
+        scratch.seen.clear();
         self.peak_scratch = scratch;
         peaks
     }
 
-    /// The vertices with `N·H ≥ σ` (world space, `H` per vertex), ascending, among the
-    /// search's candidates ([`npr_geometry::HighlightSearch::bright_candidates`]); their
-    /// `N·H` into the scratch and each its own union-find root.
+    /// The vertices with `N·H ≥ σ` (world space, `H` per vertex), in the clusters' order,
+    /// among the search's candidates ([`npr_geometry::HighlightSearch::bright_candidates`]);
+    /// their `N·H` into the scratch.
     fn bright_vertices(
         &self,
         light_eye: LightEye,
@@ -150,17 +186,27 @@ impl HighlightSet {
         let mut candidates = self
             .search
             .bright_candidates(light_eye, world_from_object, sigma);
-        candidates.sort_unstable();
+        // Under a similarity the angle between N and H is the same in object space: test
+        // there, without transforming each normal and position.
+        let object = object_light_eye(light_eye, world_from_object);
         candidates.retain(|&v| {
             let v = v as usize;
-            let n = (normal_from_object * normals[v]).normalize_or_zero();
-            let p = world_from_object.transform_point3(self.topology.positions[v]);
-            let h = light_eye.half_vector(p);
+            let (n, h) = match object {
+                Some(le) => (
+                    normals[v].normalize_or_zero(),
+                    le.half_vector(self.topology.positions[v]),
+                ),
+                None => (
+                    (normal_from_object * normals[v]).normalize_or_zero(),
+                    light_eye.half_vector(
+                        world_from_object.transform_point3(self.topology.positions[v]),
+                    ),
+                ),
+            };
             let d = n.dot(h);
             let bright = d >= sigma && n != Vec3::ZERO && h != Vec3::ZERO;
             if bright {
                 scratch.nh[v] = d;
-                scratch.parent[v] = v as u32;
             }
             bright
         });
@@ -209,6 +255,27 @@ impl HighlightSet {
         let (_, f, a, b) = best?;
         self.search.centre_at(f, a, b, world_from_object)
     }
+}
+
+/// The light and eye in object space where `world_from_object` is a similarity (angles
+/// kept, so `N·H` is the same there); `None` otherwise.
+fn object_light_eye(light_eye: LightEye, world_from_object: Mat4) -> Option<LightEye> {
+    let m3 = Mat3::from_mat4(world_from_object);
+    if !crate::visibility::is_similarity(m3, 1e-6) {
+        return None;
+    }
+    let object_from_world = world_from_object.inverse();
+    let le = match light_eye {
+        LightEye::Directions { to_light, to_eye } => LightEye::Directions {
+            to_light: m3.transpose() * to_light,
+            to_eye: m3.transpose() * to_eye,
+        },
+        LightEye::Positions { light, eye } => LightEye::Positions {
+            light: object_from_world.transform_point3(light),
+            eye: object_from_world.transform_point3(eye),
+        },
+    };
+    object_from_world.is_finite().then_some(le)
 }
 
 /// The barycentric point of a triangle (α, β ≥ 0, α + β ≤ 1) where `value` is largest,
