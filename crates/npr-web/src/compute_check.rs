@@ -139,6 +139,7 @@ impl ComputeCheck {
         Ok(Some(serde_json::json!({
             "curvature_kappa_error": field.kappa,
             "curvature_direction_error_deg": field.direction_deg,
+            "curvature_normal_error_deg": field.normal_deg,
             "curvature_validity_differences": field.validity,
             "curvature_vertices": field.vertices,
             "centres_cpu": want.len(),

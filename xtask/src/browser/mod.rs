@@ -292,6 +292,7 @@ fn check_compute(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("curvature_validity_differences")?,
         num("curvature_vertices")?,
     );
+    let normal = num("curvature_normal_error_deg")?;
     let (cpu, gpu, centre) = (
         num("centres_cpu")?,
         num("centres_gpu")?,
@@ -299,7 +300,7 @@ fn check_compute(driver: &Driver, session: &str) -> anyhow::Result<()> {
     );
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
-         {direction:.3}° over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
+         {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
          within {centre:.2e} of the radius"
     );
     if vertices < 1.0 {
