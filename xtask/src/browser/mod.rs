@@ -22,6 +22,7 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+mod compute;
 mod svg;
 
 /// Chromium's flags for WebGPU with no GPU.
@@ -186,7 +187,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
         }
     }
     check_shaders(driver, session)?;
-    check_compute(driver, session)?;
+    compute::check(driver, session)?;
     check_bad_drop(driver, session, site, site_port, &ctx, &model)?;
     svg::check(driver, session, (site, site_port), &ctx, &model)?;
     check_clip(driver, session, site, site_port)?;
@@ -253,72 +254,6 @@ fn check_shaders(driver: &Driver, session: &str) -> anyhow::Result<()> {
         "xtask: Chromium compiles all {} shaders as the passes compose them",
         shaders.len()
     );
-    Ok(())
-}
-
-/// The compute passes on the page's own device (`Viewer::compute_check_start`): the
-/// curvature tensor and the `N = H` search on a torus, read back over the next animation
-/// frames and compared with the CPU in the page. The search must give the CPU's centres
-/// within 1e-4 of the bounding radius; the curvature's differences are printed against
-/// the native bounds (1e-3 of the robust largest |κ|, 0.5°; see below).
-fn check_compute(driver: &Driver, session: &str) -> anyhow::Result<()> {
-    let result = driver.script_async(
-        session,
-        "const done = arguments[arguments.length - 1];
-         try {
-           window.nprViewer.compute_check_start();
-           const poll = () => {
-             try {
-               const r = window.nprViewer.compute_check_result();
-               if (r) { done(JSON.parse(r)); } else { requestAnimationFrame(poll); }
-             } catch (e) { done({ error: String(e) }); }
-           };
-           requestAnimationFrame(poll);
-         } catch (e) { done({ error: String(e) }); }",
-    )?;
-    if let Some(e) = result.get("error") {
-        bail!("the compute check in the page: {e}");
-    }
-    let num = |key: &str| {
-        result[key]
-            .as_f64()
-            .with_context(|| format!("the compute check has no {key}: {result}"))
-    };
-    let (kappa, direction) = (
-        num("curvature_kappa_error")?,
-        num("curvature_direction_error_deg")?,
-    );
-    let (validity, vertices) = (
-        num("curvature_validity_differences")?,
-        num("curvature_vertices")?,
-    );
-    let normal = num("curvature_normal_error_deg")?;
-    let (cpu, gpu, centre) = (
-        num("centres_cpu")?,
-        num("centres_gpu")?,
-        num("centre_error_of_radius")?,
-    );
-    println!(
-        "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
-         {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
-         within {centre:.2e} of the radius"
-    );
-    if vertices < 1.0 {
-        bail!("the page measured no curvature: {result}");
-    }
-    // Known and open: in headless Chromium the curvature pass disagrees with the CPU
-    // (0.55 of the largest |κ| and 13° on this torus, where native llvmpipe agrees within
-    // 1.4e-5), while the N = H pass, on the CPU's curvature, agrees. Printed, not yet
-    // bounded, until the cause is found (docs/results.md, "Browser").
-    if validity > 0.0 || kappa > 1e-3 || direction > 0.5 {
-        println!(
-            "xtask: warning: the page's GPU curvature differs from the CPU's beyond the \
-             native bounds (1e-3, 0.5°)"
-        );
-    }
-    if cpu < 1.0 || gpu != cpu || centre > 1e-4 {
-        bail!("the page's GPU N = H search differs from the CPU's: {result}");
-    }
     Ok(())
 }
 

@@ -19,6 +19,7 @@
 //! - a highlight whose centre changes kind (an `N = H` point ↔ the peak of a bright region
 //!   without one) blends its drawn centre to the new one over the fade (`set::handover`).
 
+mod centres;
 mod handover;
 mod matching;
 mod mesh;
@@ -494,33 +495,6 @@ impl HighlightSet {
         self.update_with(light_eye, world_from_object, centres, search_us)
     }
 
-    /// [`HighlightSet::update`] on the faces an `N = H` solve elsewhere accepted (the GPU
-    /// search, [`crate::CentreSearchPass`], for this light, eye and transform) in place of
-    /// the CPU search: the same centres once merged
-    /// ([`HighlightSearch::centres_from_solutions`]), then the same matching, fades,
-    /// projectors and receivers.
-    pub fn update_from_solutions(
-        &mut self,
-        light_eye: LightEye,
-        world_from_object: Mat4,
-        solutions: &[npr_geometry::FaceSolution],
-    ) -> &[Highlight] {
-        let start = Instant::now();
-        let centres = if valid_input(light_eye, world_from_object) {
-            self.search
-                .centres_from_solutions(solutions, world_from_object)
-        } else {
-            Vec::new()
-        };
-        let search_us = start.elapsed().as_secs_f64() * 1e6;
-        self.update_with(light_eye, world_from_object, centres, search_us)
-    }
-
-    /// The search of this set's mesh: what [`crate::CentreSearchPass`] uploads and solves.
-    pub fn search(&self) -> &HighlightSearch {
-        &self.search
-    }
-
     fn update_with(
         &mut self,
         light_eye: LightEye,
@@ -579,24 +553,6 @@ impl HighlightSet {
         self.highlights = kept;
         self.tracking = true;
         &self.highlights
-    }
-
-    /// The `N = H` search (§3.1) of this frame and its wall time, microseconds: no centres
-    /// for non-finite or zero light/eye input.
-    fn search_centres(
-        &mut self,
-        light_eye: LightEye,
-        world_from_object: Mat4,
-    ) -> (Vec<HighlightCentre>, f64) {
-        let search_start = Instant::now();
-        let centres = if valid_input(light_eye, world_from_object) {
-            self.search
-                .find_coherent(&mut self.coherence, light_eye, world_from_object)
-        } else {
-            Vec::new()
-        };
-        let search_us = search_start.elapsed().as_secs_f64() * 1e6;
-        (centres, search_us)
     }
 
     /// The regions of the found centres in `next` ([`HighlightSizing::Region`]; none for

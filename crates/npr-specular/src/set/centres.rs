@@ -1,0 +1,59 @@
+//! Where a frame's `N = H` centres come from: the CPU search, coherent from frame to
+//! frame, or the faces a solve elsewhere accepted (the GPU search,
+//! [`crate::CentreSearchPass`]).
+
+use super::{Highlight, HighlightSet, valid_input};
+use glam::Mat4;
+use npr_geometry::{HighlightCentre, HighlightSearch, LightEye};
+// std's `Instant::now()` panics in the browser (wasm32-unknown-unknown has no clock).
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
+
+impl HighlightSet {
+    /// [`HighlightSet::update`] on the faces an `N = H` solve elsewhere accepted (the GPU
+    /// search, [`crate::CentreSearchPass`], for this light, eye and transform) in place of
+    /// the CPU search: the same centres once merged
+    /// ([`HighlightSearch::centres_from_solutions`]), then the same matching, fades,
+    /// projectors and receivers.
+    pub fn update_from_solutions(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        solutions: &[npr_geometry::FaceSolution],
+    ) -> &[Highlight] {
+        let start = Instant::now();
+        let centres = if valid_input(light_eye, world_from_object) {
+            self.search
+                .centres_from_solutions(solutions, world_from_object)
+        } else {
+            Vec::new()
+        };
+        let search_us = start.elapsed().as_secs_f64() * 1e6;
+        self.update_with(light_eye, world_from_object, centres, search_us)
+    }
+
+    /// The search of this set's mesh: what [`crate::CentreSearchPass`] uploads and solves.
+    pub fn search(&self) -> &HighlightSearch {
+        &self.search
+    }
+
+    /// The `N = H` search (§3.1) of this frame and its wall time, microseconds: no centres
+    /// for non-finite or zero light/eye input.
+    pub(super) fn search_centres(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+    ) -> (Vec<HighlightCentre>, f64) {
+        let search_start = Instant::now();
+        let centres = if valid_input(light_eye, world_from_object) {
+            self.search
+                .find_coherent(&mut self.coherence, light_eye, world_from_object)
+        } else {
+            Vec::new()
+        };
+        let search_us = search_start.elapsed().as_secs_f64() * 1e6;
+        (centres, search_us)
+    }
+}
