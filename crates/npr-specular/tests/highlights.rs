@@ -192,7 +192,7 @@ fn visibility_keeps_only_the_connected_front_part() {
 /// each track: continuous motion, even accelerating, stays near 1; a jump does not. The
 /// first and last two steps of a track are left out: centres are born and annihilate in
 /// pairs at folds of the N = H map, where their speed diverges.
-fn worst_jump(tracks: &std::collections::HashMap<u64, Vec<f32>>) -> f32 {
+fn worst_jump(tracks: &std::collections::HashMap<(u64, u32), Vec<f32>>) -> f32 {
     let mut worst = 0f32;
     for steps in tracks.values() {
         for k in 2..steps.len().saturating_sub(2) {
@@ -220,9 +220,7 @@ fn worst_jump(tracks: &std::collections::HashMap<u64, Vec<f32>>) -> f32 {
 
 /// Frame coherence on the paper's 2,880-face knot rotating 360° in 1° steps: no matched
 /// centre jumps (a step over 3× the median of its neighbouring steps), while snapping each
-/// centre to its face's best vertex (§3.1's rejected per-vertex approach) jumps. Every
-/// found highlight is tracked by its id, also across a handover between a bright region's
-/// peak and an `N = H` point (`set::handover` blends the drawn centre there).
+/// centre to its face's best vertex (§3.1's rejected per-vertex approach) jumps.
 ///
 /// The step is compared with its neighbours, not with the track's global median: a
 /// centre's speed is the rotation speed over the curvature along its path, which varies
@@ -239,19 +237,22 @@ fn knot_rotation(interpolation: NormalInterpolation) -> (f32, f32, usize, f32) {
     let to_eye = Vec3::Z;
     let h = (to_light + to_eye).normalize();
     let le = LightEye::Directions { to_light, to_eye };
-    type Track = std::collections::HashMap<u64, Vec<f32>>;
+    type Track = std::collections::HashMap<(u64, u32), Vec<f32>>;
+    let mut segment: std::collections::HashMap<u64, u32> = Default::default();
     let mut prev: std::collections::HashMap<u64, (Vec3, Vec3)> = Default::default();
     let (mut tracks, mut snap_tracks): (Track, Track) = Default::default();
     let mut counts = Vec::new();
     for deg in 0..=360 {
         let m = Mat4::from_rotation_y((deg as f32).to_radians()) * Mat4::from_rotation_x(0.3);
         let hs = set.update(le, m).to_vec();
-        // Every highlight found (one drawn as pieces once).
-        counts.push(hs.iter().filter(|h| h.found && h.piece == 0).count());
+        counts.push(hs.iter().filter(|h| h.found && !h.peak).count());
         let topo = set.topology();
         let nm = Mat3::from_mat4(m);
         let mut now = std::collections::HashMap::new();
-        for hl in hs.iter().filter(|h| h.found) {
+        // The N = H centres (a bright region without one has its centre at its maximum
+        // of N·H instead, not what this measures).
+        let nh_centre = |hl: &&npr_specular::Highlight| !hl.peak;
+        for hl in hs.iter().filter(|h| h.found).filter(nh_centre) {
             let t = topo.triangles[hl.centre.face as usize];
             let best = t
                 .iter()
@@ -265,9 +266,17 @@ fn knot_rotation(interpolation: NormalInterpolation) -> (f32, f32, usize, f32) {
             now.insert(hl.id, (hl.centre.position_world, best));
         }
         for (id, (p, snap)) in &now {
+            // A highlight whose centre was not an N = H point in the last frame starts a
+            // new track: its N = H centres were just born (at a fold, in a pair).
+            let key = (*id, *segment.entry(*id).or_insert(0));
             if let Some((q, qs)) = prev.get(id) {
-                tracks.entry(*id).or_default().push(p.distance(*q));
-                snap_tracks.entry(*id).or_default().push(snap.distance(*qs));
+                tracks.entry(key).or_default().push(p.distance(*q));
+                snap_tracks.entry(key).or_default().push(snap.distance(*qs));
+            }
+        }
+        for id in prev.keys() {
+            if !now.contains_key(id) {
+                *segment.entry(*id).or_insert(0) += 1;
             }
         }
         prev = now;

@@ -16,11 +16,8 @@
 //! - with the paper's sizing, two projectors claiming the same region (one's centre
 //!   inside the central half of the other's frustum) are merged into the older one;
 //! - a merged or suppressed highlight fades out like a lost one.
-//! - a highlight whose centre changes kind (an `N = H` point ↔ the peak of a bright region
-//!   without one) blends its drawn centre to the new one over the fade (`set::handover`).
 
 mod centres;
-mod handover;
 mod matching;
 mod mesh;
 mod peaks;
@@ -49,8 +46,7 @@ use web_time::Instant;
 pub struct Highlight {
     /// Stable identity across frames (matched by [`HighlightSet::update`]).
     pub id: u64,
-    /// The `N = H` centre this frame (or the last one seen, while fading out; blended from
-    /// where it was drawn while it hands over or jumps, see `set::handover`).
+    /// The `N = H` centre this frame (or the last one seen, while fading out).
     pub centre: HighlightCentre,
     /// Its projector (Eq. (7) over [`Highlight::footprint`], with the composed controls).
     pub projector: Projector,
@@ -234,8 +230,6 @@ pub struct HighlightSet {
     tracking: bool,
     stats: UpdateStats,
     peak_scratch: peaks::PeakScratch,
-    /// The found highlights' centres and handovers, by id (`set::handover`).
-    handovers: HashMap<u64, handover::Track>,
 }
 
 impl HighlightSet {
@@ -415,7 +409,6 @@ impl HighlightSet {
             tracking: false,
             stats: UpdateStats::default(),
             peak_scratch: peaks::PeakScratch::default(),
-            handovers: HashMap::new(),
         }
     }
 
@@ -480,7 +473,6 @@ impl HighlightSet {
     pub fn reset(&mut self) {
         self.highlights.clear();
         self.receiver_faces.clear();
-        self.handovers.clear();
         self.tracking = false;
     }
 
@@ -531,7 +523,6 @@ impl HighlightSet {
             radius_world,
             scale,
         );
-        self.hand_over(&mut kept, &previous, world_from_object);
         let visibility_start = Instant::now();
         self.find_receivers(&mut kept, world_from_object);
         self.share_regions(&mut kept);
