@@ -140,6 +140,7 @@ fn gpu_curvature_equals_the_cpu_reference() {
     let meshes = [
         ("icosphere(4, 1)", generate::icosphere(4, 1.0)),
         ("torus(1, 0.45, 96, 48)", generate::torus(1.0, 0.45, 96, 48)),
+        ("torus(1, 0.35, 48, 24)", generate::torus(1.0, 0.35, 48, 24)),
         ("bunny", fixture("stanford-bunny.obj").mesh),
         ("Fox, clip 1 at 0.4 s", rig.pose_mesh(&pose)),
     ];
