@@ -107,16 +107,24 @@ fn crease_split_cuts_only_creases() {
             assert_eq!(split.original[v as usize], topo.triangles[f][k]);
         }
     }
-    // Only lines at least as long as asked are cut: each rim is 2π long.
-    let count = |min: f32| topo.crease_edges(50.0, min).iter().filter(|&&c| c).count();
-    assert_eq!(count(0.0), 2 * 16);
-    assert_eq!(count(6.0), 2 * 16);
-    assert_eq!(count(6.5), 0);
+    // A rim that closes into one loop of 8 edges or more is cut at any length (a small
+    // hole's or boss's rim, not a scan's noise).
+    let count = |topo: &Topology, angle: f32, min: f32| {
+        topo.crease_edges(angle, min).iter().filter(|&&c| c).count()
+    };
+    assert_eq!(count(&topo, 50.0, 1e3), 2 * 16);
+    // Other lines only when at least as long as asked: a hexagonal prism's rims, above a
+    // crease angle of 70° (its sides meet at 60°), are loops of 6 edges, each 6 long.
+    let hexagon = Topology::new(&weld(&generate::cylinder(1.0, 2.0, 6, 4, true)));
+    assert_eq!(count(&hexagon, 70.0, 0.0), 2 * 6);
+    assert_eq!(count(&hexagon, 70.0, 5.9), 2 * 6);
+    assert_eq!(count(&hexagon, 70.0, 6.1), 0);
     assert_eq!(
-        topo.split_creases_longer_than(50.0, 6.5)
+        hexagon
+            .split_creases_longer_than(70.0, 6.1)
             .topology
             .vertex_count(),
-        topo.vertex_count()
+        hexagon.vertex_count()
     );
     // Above the crease angle nothing is cut, and the numbering is kept.
     let whole = topo.split_creases(91.0);

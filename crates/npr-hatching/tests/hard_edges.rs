@@ -247,7 +247,7 @@ fn scans_keep_their_field() {
     }
 }
 
-/// The two real CAD triangulations of `fixtures/meshes`, loaded as a user's file is (no
+/// The real CAD triangulations of `fixtures/meshes`, loaded as a user's file is (no
 /// normals: split along their crease lines).
 fn cad_fixture(name: &str) -> Mesh {
     let path = format!(
@@ -262,10 +262,11 @@ fn cad_fixture(name: &str) -> Mesh {
 
 #[test]
 fn noisy_cad_meshes_get_straight_strokes_on_their_flat_faces() {
-    // The wing nut (remeshed, gently curved faces) and the hammer (a scan): the
+    // The wing nut (remeshed, gently curved faces), the hammer (a scan) and the flange
+    // (a CAD kernel's mesh with six small bolt holes, whose rims must stay creases): the
     // bench's flat-region measure (normals within 5° of the region's mean, regions of
     // ≥ 1 % of the area) and the targets of `bench hatching-directions`.
-    for name in ["wingnut.obj", "hammer.obj"] {
+    for name in ["wingnut.obj", "hammer.obj", "flange.obj"] {
         let mesh = cad_fixture(name);
         let topo = Topology::new(&weld(&mesh));
         let crease = StrokeFieldOptions::default().crease_angle_deg;

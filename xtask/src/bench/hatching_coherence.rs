@@ -34,8 +34,8 @@
 //! bunny's surface-mode mean over its tiles of the same tone (tenths of the tone range),
 //! since a tile's flicker grows with its ink (a dark tile holds more strokes to change).
 //! Targets: sliding ≤ 0.25, density_change ≤ 0.25, flicker ≤ 1.5 × the paper mode's;
-//! on the hard-edged parts (`npr_geometry::generate::cad_parts`, the wing nut and the
-//! hammer of `fixtures/meshes`) the surface mode's `flicker_vs_bunny` ≤ 1 with
+//! on the hard-edged parts (`npr_geometry::generate::cad_parts`, the wing nut, the
+//! hammer and the flange of `fixtures/meshes`) the surface mode's `flicker_vs_bunny` ≤ 1 with
 //! `ink_vs_screen` within 0.9–1.1.
 
 use super::table::{Cell, Table, emit};
@@ -394,9 +394,9 @@ fn default_meshes() -> anyhow::Result<Vec<(String, Mesh)>> {
         out.push(fixture(name)?);
     }
     // Hard-edged CAD parts (flat faces, cylinders, fillets, creases): the procedural
-    // ones and two real triangulations.
+    // ones and three real triangulations.
     out.push(("cad-parts".to_string(), npr_geometry::generate::cad_parts()));
-    for name in ["wingnut.obj", "hammer.obj"] {
+    for name in ["wingnut.obj", "hammer.obj", "flange.obj"] {
         out.push(fixture(name)?);
     }
     Ok(out)

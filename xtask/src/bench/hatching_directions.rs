@@ -25,8 +25,8 @@
 //! stroke line (`npr_geometry::RenderFieldStats`), and `planar_area_share` the share of
 //! the area those regions cover. Targets: ≤ 2 % and ≤ 3° on every mesh. The CAD meshes
 //! (the procedural parts of `npr_geometry::generate::cad_parts`: a block with a
-//! through-hole, a stepped shaft, a bent bracket; the wing nut and the scanned hammer of
-//! `fixtures/meshes`) are default meshes, and one on which the measure finds no flat
+//! through-hole, a stepped shaft, a bent bracket; the wing nut, the scanned hammer and
+//! the OpenCascade flange of `fixtures/meshes`) are default meshes, and one on which the measure finds no flat
 //! region fails the bench rather than leaving a blank. A third
 //! field, `smooth-curvature-only` (`StrokeFieldOptions::curvature_only()`, the field
 //! before the hard-edge rules), shows what the crease cuts and the planar rule change.
@@ -63,6 +63,7 @@ fn default_meshes() -> anyhow::Result<Vec<Case>> {
         ("spot.obj", false),
         ("wingnut.obj", true),
         ("hammer.obj", true),
+        ("flange.obj", true),
     ] {
         out.push((
             name.trim_end_matches(".obj").to_string(),

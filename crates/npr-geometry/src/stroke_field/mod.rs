@@ -91,9 +91,9 @@ pub struct StrokeFieldOptions {
     /// `√(total area)` ([`Topology::crease_edges`]): the sharp edges of a scan's noise
     /// (slivers, spikes) are not creases. Default 0.2: on the Stanford bunny no line of
     /// its 248 edges above 50° is that long (0.1 keeps one line of 46 edges, which moves
-    /// its figures), and a CAD part's creases join into lines around whole faces. A hole
-    /// whose rim is shorter than this (diameter under about 6 % of the part's size) is
-    /// smoothed into its face. 0 cuts every crease edge.
+    /// its figures), and a CAD part's creases join into lines around whole faces. A
+    /// shorter line is cut too when it closes into one loop of 8 edges or more (the rim
+    /// of a small hole or boss). 0 cuts every crease edge.
     pub min_crease_length: f32,
     /// Planar patches: faces connected across non-crease edges whose normals stay
     /// within a tolerance of their region's mean normal form a region; the tolerance is

@@ -5,6 +5,10 @@ use glam::Vec3;
 
 use super::{CreaseSplit, NO_EDGE, Topology};
 
+/// The fewest edges of a closed crease loop that [`Topology::crease_edges`] takes as a
+/// rim at any length: a hole tessellated with 8 segments or more.
+const MIN_RIM_EDGES: u32 = 8;
+
 impl Topology {
     /// This mesh with every vertex split into one copy per fan of its faces that are
     /// joined around it by edges bending by at most `crease_angle_deg` (|β(e)|), so the
@@ -21,8 +25,10 @@ impl Topology {
 
     /// The crease edges of [`Topology::split_creases`] (two faces, `|β(e)|` above
     /// `crease_angle_deg`) that belong to a crease line: a set of crease edges joined at
-    /// their vertices whose total length is at least `min_line_length`. Isolated sharp
-    /// edges of a noisy scan (a folded sliver, a spike) form short sets and are kept.
+    /// their vertices whose total length is at least `min_line_length`, or that closes
+    /// into one loop of at least 8 edges (the rim of a small hole or boss).
+    /// Isolated sharp edges of a noisy scan (a folded sliver, a spike) form short open
+    /// sets and are kept.
     pub fn crease_edges(&self, crease_angle_deg: f32, min_line_length: f32) -> Vec<bool> {
         let limit = crease_angle_deg.to_radians();
         let mut cut: Vec<bool> = (0..self.edges.len())
@@ -50,8 +56,28 @@ impl Topology {
                 }
             }
         }
+        // A set that is one closed loop of at least `MIN_RIM_EDGES` edges (every vertex
+        // on two of its edges) is a rim, a hole's or a boss's, however short: noise gives
+        // open sets, stars around a spike and loops of a few edges.
+        let mut degree = vec![0u32; nv];
+        let mut edges = vec![0u32; nv];
+        for (e, &[a, b]) in self.edges.iter().enumerate() {
+            if cut[e] {
+                degree[a as usize] += 1;
+                degree[b as usize] += 1;
+                edges[find_set(&mut parent, a) as usize] += 1;
+            }
+        }
+        let mut open = vec![false; nv];
+        for v in 0..nv {
+            if degree[v] > 0 && degree[v] != 2 {
+                open[find_set(&mut parent, v as u32) as usize] = true;
+            }
+        }
         for (e, &[a, _]) in self.edges.iter().enumerate() {
-            if cut[e] && length[find_set(&mut parent, a) as usize] < f64::from(min_line_length) {
+            let r = find_set(&mut parent, a) as usize;
+            let rim = !open[r] && edges[r] >= MIN_RIM_EDGES;
+            if cut[e] && !rim && length[r] < f64::from(min_line_length) {
                 cut[e] = false;
             }
         }
