@@ -22,6 +22,7 @@ mod error;
 pub mod fidelity;
 pub mod pass;
 pub mod projector;
+pub mod receiver_pass;
 pub mod region;
 pub mod search_pass;
 pub mod set;
@@ -37,6 +38,9 @@ pub use pass::{
 };
 pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
+};
+pub use receiver_pass::{
+    PendingReceivers, ReceiverCounts, ReceiverInput, ReceiverObject, ReceiverPass, ReceiverReadback,
 };
 pub use region::Footprint;
 pub use search_pass::{

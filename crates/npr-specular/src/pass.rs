@@ -111,6 +111,9 @@ struct HighlightSlot {
     normals_id: Option<u64>,
     vertex_count: u32,
     capacity: (u64, u64),
+    /// The receiver pass's stream drawn indirectly, when prepared with it: its bind
+    /// group and the draw's arguments.
+    gpu_stream: Option<(wgpu::BindGroup, wgpu::Buffer)>,
 }
 
 /// One mesh's highlights on the GPU: the caller's mesh (its vertex buffer is read as
@@ -376,6 +379,7 @@ impl HighlightPass {
             storage_group,
             vertex_count: 0,
             capacity: (1024, 16),
+            gpu_stream: None,
         }
     }
 
@@ -400,7 +404,18 @@ impl HighlightPass {
             "npr highlight projectors",
             projector_capacity * std::mem::size_of::<ProjectorGpu>() as u64,
         );
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let group = self.storage_group(mesh, normals, &list, &projectors);
+        (list, projectors, group)
+    }
+
+    fn storage_group(
+        &self,
+        mesh: &GpuMesh,
+        normals: &wgpu::Buffer,
+        list: &wgpu::Buffer,
+        projectors: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr highlight storage"),
             layout: &self.storage_layout,
             entries: &[
@@ -421,8 +436,7 @@ impl HighlightPass {
                     resource: normals.as_entire_binding(),
                 },
             ],
-        });
-        (list, projectors, group)
+        })
     }
 
     /// Writes one draw's camera/light, object transform, projectors and draw list into a
@@ -440,10 +454,48 @@ impl HighlightPass {
         object: &mut HighlightObject,
         input: &HighlightInput<'_>,
     ) -> Result<Prepared, SpecularError> {
+        self.prepare_impl(queue, object, input, None)
+    }
+
+    /// [`HighlightPass::prepare`] drawing the receivers that [`crate::ReceiverPass`]
+    /// walked on the GPU for this frame (`walked`, recorded before this draw in the same
+    /// submission): the stream and its count stay where the compute pass wrote them, and
+    /// [`HighlightPass::draw`] draws them indirectly. `input.list` is ignored; set
+    /// [`HighlightSet::receivers_on_gpu`] so the update leaves the walk to the GPU.
+    ///
+    /// # Errors
+    /// As [`HighlightPass::prepare`], and [`SpecularError::Pass`] for a `walked` of
+    /// another object, pass or frame.
+    pub fn prepare_with_receivers(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut HighlightObject,
+        input: &HighlightInput<'_>,
+        receivers: &crate::ReceiverObject,
+        walked: &Prepared,
+    ) -> Result<Prepared, SpecularError> {
+        let stream = receivers.stream(walked)?;
+        if walked.frame() != input.frame {
+            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+                prepared: walked.frame().0,
+                current: input.frame.0,
+            }));
+        }
+        self.prepare_impl(queue, object, input, Some(stream))
+    }
+
+    fn prepare_impl(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut HighlightObject,
+        input: &HighlightInput<'_>,
+        stream: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+    ) -> Result<Prepared, SpecularError> {
         let own;
-        let list = match input.list {
-            Some(list) => list,
-            None => {
+        let list = match (input.list, stream) {
+            (_, Some(_)) => &[][..],
+            (Some(list), None) => list,
+            (None, None) => {
                 own = Self::draw_list(input.set, input.indices);
                 &own
             }
@@ -473,6 +525,8 @@ impl HighlightPass {
         }
         if !list.is_empty() {
             queue.write_buffer(&slot.draw_list, 0, bytemuck::cast_slice(list));
+        }
+        if !projectors.is_empty() {
             queue.write_buffer(&slot.projectors, 0, bytemuck::cast_slice(&projectors));
         }
         if slot.normals_id != Some(set.normals_id()) {
@@ -483,6 +537,10 @@ impl HighlightPass {
             slot.normals_id = Some(set.normals_id());
         }
         slot.vertex_count = list.len() as u32;
+        slot.gpu_stream = stream.map(|(list, args)| {
+            let group = self.storage_group(mesh, &slot.normals, list, &slot.projectors);
+            (group, args.clone())
+        });
         Ok(prepared)
     }
 
@@ -502,15 +560,23 @@ impl HighlightPass {
         prepared: &Prepared,
     ) -> Result<(), SpecularError> {
         let slot = object.slots.get(self.id, prepared)?;
-        if slot.vertex_count == 0 {
+        if slot.vertex_count == 0 && slot.gpu_stream.is_none() {
             return Ok(());
         }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &slot.frame_group, &[]);
         pass.set_bind_group(1, &slot.object_group, &[]);
-        pass.set_bind_group(2, &slot.storage_group, &[]);
         pass.set_bind_group(3, &self.texture_group, &[]);
-        pass.draw(0..slot.vertex_count, 0..1);
+        match &slot.gpu_stream {
+            Some((group, args)) => {
+                pass.set_bind_group(2, group, &[]);
+                pass.draw_indirect(args, 0);
+            }
+            None => {
+                pass.set_bind_group(2, &slot.storage_group, &[]);
+                pass.draw(0..slot.vertex_count, 0..1);
+            }
+        }
         Ok(())
     }
 }

@@ -20,5 +20,13 @@ pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
     prelude: &[],
 };
 
+/// The §4.2 receivers as a compute pass, one workgroup per highlight's walk (no shared
+/// snippet).
+pub const RECEIVERS: ShaderFile = ShaderFile {
+    name: "receivers.wgsl",
+    source: include_str!("../shaders/receivers.wgsl"),
+    prelude: &[],
+};
+
 /// Every shader file of this crate.
-pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH];
+pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH, RECEIVERS];

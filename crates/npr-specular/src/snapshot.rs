@@ -155,6 +155,33 @@ impl Renderer {
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
     ) -> Result<(), SpecularError> {
+        self.submit_with(device, queue, scene, res, None)
+    }
+
+    /// [`Renderer::submit`] with the receivers walked on the GPU by `receivers` (its
+    /// pass and an object of `scene.set`'s mesh) and drawn from the stream it writes.
+    ///
+    /// # Errors
+    /// As [`Renderer::submit`], and the receiver pass's.
+    pub fn submit_gpu_receivers(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+        res: &mut FrameResources,
+        receivers: (&crate::ReceiverPass, &mut crate::ReceiverObject),
+    ) -> Result<(), SpecularError> {
+        self.submit_with(device, queue, scene, res, Some(receivers))
+    }
+
+    fn submit_with(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+        res: &mut FrameResources,
+        receivers: Option<(&crate::ReceiverPass, &mut crate::ReceiverObject)>,
+    ) -> Result<(), SpecularError> {
         res.frame = res.frame.next();
         let view = FrameUniforms::new(&scene.camera, &scene.light);
         let base_input = npr_gpu::BaseInput {
@@ -164,6 +191,9 @@ impl Renderer {
             model: scene.base,
         };
         let base = self.base.prepare(queue, &mut res.object, &base_input)?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr specular frame"),
+        });
         let highlights = if scene.highlights {
             let input = crate::HighlightInput {
                 frame: res.frame,
@@ -173,13 +203,31 @@ impl Renderer {
                 object: &scene.object,
                 list: None,
             };
-            Some(self.pass.prepare(queue, &mut res.draw, &input)?)
+            match receivers {
+                Some((pass, walk)) => {
+                    let walk_input = crate::ReceiverInput {
+                        frame: res.frame,
+                        set: scene.set,
+                        world_from_object: glam::Mat4::from_cols_array_2d(
+                            &scene.object.world_from_object,
+                        ),
+                    };
+                    let walked = pass.prepare(queue, walk, &walk_input)?;
+                    pass.record(&mut encoder, walk, &walked)?;
+                    let drawn = self.pass.prepare_with_receivers(
+                        queue,
+                        &mut res.draw,
+                        &input,
+                        walk,
+                        &walked,
+                    )?;
+                    Some(drawn)
+                }
+                None => Some(self.pass.prepare(queue, &mut res.draw, &input)?),
+            }
         } else {
             None
         };
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("npr specular frame"),
-        });
         {
             let mut rpass = self.target.begin_clear_pass(&mut encoder, scene.clear);
             self.base.draw(&mut rpass, &res.object, &base)?;

@@ -370,7 +370,10 @@ fn receivers_impl(
 
 /// N_max in object space (`M⁻¹ N_max`), the normal map `M⁻ᵀ` and the projector's map from
 /// object space; `None` when the model matrix is singular.
-fn object_space(world_from_object: Mat4, projector: &Projector) -> Option<(Vec3, Mat3, Mat4)> {
+pub(crate) fn object_space(
+    world_from_object: Mat4,
+    projector: &Projector,
+) -> Option<(Vec3, Mat3, Mat4)> {
     let linear = Mat3::from_mat4(world_from_object);
     let n_max_object = linear.inverse() * projector.normal;
     let normal_from_object = linear.inverse().transpose();
@@ -384,7 +387,7 @@ fn object_space(world_from_object: Mat4, projector: &Projector) -> Option<(Vec3,
 
 /// The box the walk crosses, in projector coordinates: the frustum and the untranslated
 /// centre.
-fn walk_box(projector: &Projector) -> (Vec3, Vec3) {
+pub(crate) fn walk_box(projector: &Projector) -> (Vec3, Vec3) {
     let anchor = projector.ndc(projector.anchor_world);
     (
         FRUSTUM_LO.min(anchor.with_z(0.0)),

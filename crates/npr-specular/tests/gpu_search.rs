@@ -7,62 +7,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{CurvatureOptions, HighlightCentre, LightEye, Mesh, generate};
+use npr_geometry::{CurvatureOptions, HighlightCentre, LightEye, generate};
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
 
-fn fixture(name: &str) -> Mesh {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/meshes");
-    npr_geometry::io::load(dir.join(name)).unwrap().mesh
-}
-
-/// Lights and transforms: two directions, a near point light and eye, and point lights
-/// under a non-uniform scale and a shear (the world-space half vector of the shader).
-fn frames(radius: f32) -> Vec<(LightEye, Mat4)> {
-    let d = |x: f32, y: f32, z: f32| Vec3::new(x, y, z).normalize();
-    let r = radius;
-    let turn = Mat4::from_rotation_y(0.6) * Mat4::from_rotation_x(-0.3);
-    let shear = Mat4::from_cols_array(&[
-        1.0, 0.0, 0.0, 0.0, 0.35, 1.0, 0.0, 0.0, 0.0, 0.2, 1.0, 0.0, 0.1, -0.2, 0.3, 1.0,
-    ]);
-    vec![
-        (
-            LightEye::Directions {
-                to_light: d(0.3, 0.8, 0.5),
-                to_eye: d(0.0, 0.0, 1.0),
-            },
-            Mat4::IDENTITY,
-        ),
-        (
-            LightEye::Directions {
-                to_light: d(-0.7, 0.2, 0.4),
-                to_eye: d(0.2, 0.1, 1.0),
-            },
-            turn,
-        ),
-        (
-            LightEye::Positions {
-                light: Vec3::new(1.5 * r, 2.0 * r, 2.5 * r),
-                eye: Vec3::new(0.0, 0.3 * r, 3.0 * r),
-            },
-            turn,
-        ),
-        (
-            LightEye::Positions {
-                light: Vec3::new(-2.0 * r, 1.0 * r, 2.0 * r),
-                eye: Vec3::new(0.5 * r, 0.0, 3.5 * r),
-            },
-            Mat4::from_scale(Vec3::new(1.3, 0.8, 1.0)) * turn,
-        ),
-        (
-            LightEye::Positions {
-                light: Vec3::new(2.0 * r, 2.0 * r, 1.0 * r),
-                eye: Vec3::new(0.0, 0.0, 3.0 * r),
-            },
-            shear,
-        ),
-    ]
-}
+mod common;
+use common::{bounding_radius, fixture, frames};
 
 /// The GPU search of one frame: its accepted faces.
 fn gpu_solutions(
@@ -95,18 +45,6 @@ fn farthest(a: &[HighlightCentre], b: &[HighlightCentre]) -> f32 {
                 .map(|d| d.position_object.distance(c.position_object))
                 .fold(f32::INFINITY, f32::min)
         })
-        .fold(0.0, f32::max)
-}
-
-fn bounding_radius(mesh: &Mesh) -> f32 {
-    let (lo, hi) = mesh.positions.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let c = 0.5 * (lo + hi);
-    mesh.positions
-        .iter()
-        .map(|p| p.distance(c))
         .fold(0.0, f32::max)
 }
 

@@ -20,7 +20,8 @@ fn every_shader_file_is_embedded_and_validates() {
 #[test]
 fn every_bound_struct_has_a_layout_test() {
     // `Counter` is one atomic `u32`, read as the first word of the list (`search_pass`
-    // tests decode it).
+    // tests decode it); `Meta` is the indirect draw's four words and a `vec4<u32>` per
+    // highlight (`ReceiverObject::read` decodes it, `tests/gpu_receivers.rs` checks it).
     let covered = [
         "Frame",
         "Object",
@@ -28,6 +29,10 @@ fn every_bound_struct_has_a_layout_test() {
         "SearchParams",
         "SolveVertex",
         "Counter",
+        "ReceiverParams",
+        "Query",
+        "Face",
+        "Meta",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

@@ -1,6 +1,6 @@
 //! The compute passes in the browser, against the CPU on the same frame: the curvature
-//! tensor (`npr_gpu::CurvaturePass`) and the `N = H` search (`npr_specular::CentreSearchPass`)
-//! on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
+//! tensor (`npr_gpu::CurvaturePass`), the `N = H` search (`npr_specular::CentreSearchPass`)
+//! and the §4.2 receivers (`npr_specular::ReceiverPass`) on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
 //! read back over the next animation frames (a map completes only once control returns
 //! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
 //! check (`cargo xtask web --check`).
@@ -8,7 +8,11 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureField, CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
 use npr_gpu::{BufferReadback, CurvatureInput, CurvatureObject, CurvaturePass, FrameId, GpuMesh};
-use npr_specular::{CentreSearchPass, HighlightSet, PendingSolutions, SearchInput};
+use npr_specular::{
+    CentreSearchPass, HighlightPass, HighlightSet, PendingReceivers, PendingSolutions,
+    ReceiverInput, ReceiverPass, ReceiverReadback, SearchInput,
+};
+use std::collections::HashSet;
 
 /// The light and eye of the check's search: a point light and eye under a turn (the
 /// shader's object-space half vector per vertex).
@@ -29,8 +33,10 @@ pub struct ComputeCheck {
     curvature: CurvatureObject,
     field: BufferReadback,
     search: PendingSolutions,
+    receivers: PendingReceivers,
     field_bytes: Option<Vec<u8>>,
     solutions: Option<Vec<npr_geometry::FaceSolution>>,
+    walked: Option<ReceiverReadback>,
 }
 
 impl ComputeCheck {
@@ -49,7 +55,7 @@ impl ComputeCheck {
         let prepared = pass
             .prepare(queue, &mut curvature, &CurvatureInput { frame })
             .map_err(|e| e.to_string())?;
-        let set =
+        let mut set =
             HighlightSet::new(&mesh, &CurvatureOptions::default()).map_err(|e| e.to_string())?;
         let search_pass = CentreSearchPass::new(device);
         let mut search = search_pass
@@ -65,11 +71,28 @@ impl ComputeCheck {
         let searched = search_pass
             .prepare(queue, &mut search, &input)
             .map_err(|e| e.to_string())?;
+        // The CPU update (its receivers the reference), then the GPU walk of its highlights.
+        set.update(light_eye, world_from_object);
+        let walk_pass = ReceiverPass::new(device);
+        let mut walk = walk_pass
+            .create_object(device, &set, &mesh.indices)
+            .map_err(|e| e.to_string())?;
+        let walk_input = ReceiverInput {
+            frame,
+            set: &set,
+            world_from_object,
+        };
+        let walked = walk_pass
+            .prepare(queue, &mut walk, &walk_input)
+            .map_err(|e| e.to_string())?;
         let mut encoder = device.create_command_encoder(&Default::default());
         pass.record(&mut encoder, &curvature, &prepared)
             .map_err(|e| e.to_string())?;
         search_pass
             .record(&mut encoder, &search, &searched)
+            .map_err(|e| e.to_string())?;
+        walk_pass
+            .record(&mut encoder, &walk, &walked)
             .map_err(|e| e.to_string())?;
         let size = curvature.output().size();
         let copy = device.create_buffer(&wgpu::BufferDescriptor {
@@ -81,14 +104,19 @@ impl ComputeCheck {
         encoder.copy_buffer_to_buffer(curvature.output(), 0, &copy, 0, size);
         queue.submit([encoder.finish()]);
         let pending = search.map(&searched).map_err(|e| e.to_string())?;
+        let receivers = walk
+            .map(device, queue, &walked)
+            .map_err(|e| e.to_string())?;
         Ok(Self {
             mesh,
             set,
             curvature,
             field: BufferReadback::map(copy),
             search: pending,
+            receivers,
             field_bytes: None,
             solutions: None,
+            walked: None,
         })
     }
 
@@ -115,7 +143,14 @@ impl ComputeCheck {
                 self.solutions = Some(list.faces);
             }
         }
-        let (Some(bytes), Some(solutions)) = (&self.field_bytes, &self.solutions) else {
+        if self.walked.is_none() {
+            if let Some(walked) = self.receivers.try_take() {
+                self.walked = Some(walked.map_err(|e| e.to_string())?);
+            }
+        }
+        let (Some(bytes), Some(solutions), Some(walked)) =
+            (&self.field_bytes, &self.solutions, &self.walked)
+        else {
             return Ok(None);
         };
         let (_, _, cpu) = CurvatureField::for_mesh(&self.mesh, &CurvatureOptions::default());
@@ -136,6 +171,17 @@ impl ComputeCheck {
             .fold(0.0, f32::max);
         // The torus's bounding radius: its major plus its minor radius.
         let radius = 1.35;
+        // (highlight, render triangle) of each received face, CPU and GPU.
+        let faces = |stream: &[[u32; 2]]| -> HashSet<(u32, [u32; 3])> {
+            stream
+                .chunks_exact(3)
+                .map(|t| (t[0][1], [t[0][0], t[1][0], t[2][0]]))
+                .collect()
+        };
+        let cpu_faces = faces(&HighlightPass::draw_list(&self.set, &self.mesh.indices));
+        let gpu_faces = faces(&walked.stream);
+        let both = cpu_faces.intersection(&gpu_faces).count();
+        let either = cpu_faces.union(&gpu_faces).count();
         Ok(Some(serde_json::json!({
             "curvature_kappa_error": field.kappa,
             "curvature_direction_error_deg": field.direction_deg,
@@ -145,6 +191,10 @@ impl ComputeCheck {
             "centres_cpu": want.len(),
             "centres_gpu": got.len(),
             "centre_error_of_radius": worst / radius,
+            "receivers_cpu_faces": cpu_faces.len(),
+            "receivers_gpu_faces": gpu_faces.len(),
+            "receivers_agreement": both as f64 / either.max(1) as f64,
+            "receivers_overflowed": walked.counts.iter().filter(|c| c.overflowed).count(),
         })))
     }
 }

@@ -1,5 +1,5 @@
-//! The browser check's compute step: the curvature and `N = H` compute passes run on the
-//! page's own WebGPU device and compared with the CPU in the page.
+//! The browser check's compute step: the curvature, `N = H` and §4.2 receiver compute
+//! passes run on the page's own WebGPU device and compared with the CPU in the page.
 
 use super::Driver;
 use anyhow::{Context as _, bail};
@@ -7,8 +7,9 @@ use anyhow::{Context as _, bail};
 /// The compute passes on the page's own device (`Viewer::compute_check_start`): the
 /// curvature tensor and the `N = H` search on a torus, read back over the next animation
 /// frames and compared with the CPU in the page. The search must give the CPU's centres
-/// within 1e-4 of the bounding radius, and the curvature the CPU's within the native bounds
-/// (1e-3 of the robust largest |κ|, 0.5° for directions and normals, the same validity).
+/// within 1e-4 of the bounding radius, the curvature the CPU's within the native bounds
+/// (1e-3 of the robust largest |κ|, 0.5° for directions and normals, the same validity),
+/// and the receivers the CPU's on at least 99.5 % of the faces either received.
 pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let result = driver.script_async(
         session,
@@ -46,10 +47,16 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("centres_gpu")?,
         num("centre_error_of_radius")?,
     );
+    let (walked, agreement, overflowed) = (
+        num("receivers_cpu_faces")?,
+        num("receivers_agreement")?,
+        num("receivers_overflowed")?,
+    );
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
          {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
-         within {centre:.2e} of the radius"
+         within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces",
+        100.0 * agreement
     );
     if vertices < 1.0 {
         bail!("the page measured no curvature: {result}");
@@ -63,6 +70,10 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     }
     if cpu < 1.0 || gpu != cpu || centre > 1e-4 {
         bail!("the page's GPU N = H search differs from the CPU's: {result}");
+    }
+    // The native bound of `npr-specular/tests/gpu_receivers.rs`.
+    if walked < 1.0 || agreement < 0.995 || overflowed > 0.0 {
+        bail!("the page's GPU receivers differ from the CPU's: {result}");
     }
     Ok(())
 }

@@ -22,6 +22,7 @@ mod matching;
 mod mesh;
 mod peaks;
 mod receivers;
+pub(crate) use receivers::ReceiverRule;
 
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionCounts, RegionFrame, RegionGrower, RegionPatches};
@@ -208,6 +209,10 @@ pub struct HighlightSet {
     /// the next (default 0.25); the footprint catches up over a few updates instead of
     /// jumping when its region merges or splits. ≤ 0 disables the limit.
     pub max_area_change: f32,
+    /// Leave the §4.2 walk to [`crate::ReceiverPass`] (default false): updates then fill
+    /// no [`HighlightSet::receiver_faces`], and the highlight pass draws the stream the
+    /// compute pass writes ([`crate::HighlightPass::prepare_with_receivers`]).
+    pub receivers_on_gpu: bool,
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
     /// Per face: largest angle between its normal and its corners' render normals.
@@ -351,6 +356,7 @@ impl HighlightSet {
         next.receiver_min_cos = self.receiver_min_cos;
         next.receiver_cone_margin_rad = self.receiver_cone_margin_rad;
         next.max_area_change = self.max_area_change;
+        next.receivers_on_gpu = self.receivers_on_gpu;
         next.highlights = std::mem::take(&mut self.highlights);
         next.next_id = self.next_id;
         next.tracking = self.tracking;
@@ -395,6 +401,7 @@ impl HighlightSet {
             receiver_min_cos: 0.3,
             receiver_cone_margin_rad: 10f32.to_radians(),
             max_area_change: 0.25,
+            receivers_on_gpu: false,
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             face_slack: Vec::new(),
@@ -462,6 +469,11 @@ impl HighlightSet {
     /// Receiver faces of all highlights; each [`Highlight::receivers`] is a range of it.
     pub fn receiver_faces(&self) -> &[u32] {
         &self.receiver_faces
+    }
+
+    /// Per face, (cos, sin) of its slack angle ([`crate::visibility::face_slack`]).
+    pub(crate) fn face_slack(&self) -> &[[f32; 2]] {
+        &self.face_slack
     }
 
     /// Statistics of the last update.

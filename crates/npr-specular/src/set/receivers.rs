@@ -5,6 +5,16 @@ use super::{Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALL
 use crate::visibility::{FaceClusters, Facing, receivers_within_clustered};
 use glam::{Mat4, Vec3};
 
+/// How a highlight's §4.2 walk tests that a face faces its projector
+/// ([`crate::visibility::Facing`] without the per-face slack, which the set holds).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum ReceiverRule {
+    /// The face normal's cosine with the axis exceeds this.
+    Cos(f32),
+    /// [`crate::visibility::Facing::Interpolated`] at this limit.
+    Interpolated { limit_rad: f32 },
+}
+
 impl HighlightSet {
     /// The receiver faces (§4.2) of each highlight in `kept` (none for one drawn as
     /// pieces) and its per-pixel falloff, into [`HighlightSet::receiver_faces`].
@@ -12,53 +22,20 @@ impl HighlightSet {
         // Receivers (§4.2), over the region growth's face patches (none: face by face).
         let no_clusters = FaceClusters::default();
         self.receiver_faces.clear();
-        let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
         for h in kept.iter_mut() {
             let start = self.receiver_faces.len();
-            if h.pieces > 0 {
-                h.receivers = start..start;
-                h.falloff_cos = NO_FALLOFF;
+            h.receivers = start..start;
+            let (rule, falloff) = self.receiver_rule(h);
+            h.falloff_cos = falloff;
+            let Some(rule) = rule.filter(|_| !self.receivers_on_gpu) else {
                 continue;
-            }
-            // Ours: also within the measured region's normal cone, widened by
-            // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
-            // per face or as a per-pixel falloff.
-            // An edit may take the texture past the grazing limit of unedited highlights
-            // (onto surface the user asked it onto): then only §4.2's facing bounds it.
-            let turn = edit_turn(h);
-            let cap = if turn > 0.0 {
-                std::f32::consts::FRAC_PI_2 - 0.5 * self.receiver_cone_margin_rad
-            } else {
-                grazing
             };
-            let cone = (self.sizing == HighlightSizing::Region
-                && self.boundary != HighlightBoundary::Unrestricted)
-                .then(|| {
-                    let measured = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
-                    (measured + turn + self.receiver_cone_margin_rad).min(cap)
-                });
-            h.falloff_cos = NO_FALLOFF;
-            let facing = match (cone, self.boundary) {
-                (None, _) => Facing::Cos(0.0),
-                (Some(limit), HighlightBoundary::Smooth) => {
-                    // Alpha 1/2 at the limit (where the per-face rule cut), ramping over
-                    // half the margin either side, and at least over the normal's turn
-                    // across a face either side: on a coarse mesh a narrower ramp ends
-                    // within a triangle, as hard a step as the per-face cut.
-                    // The far end no further out than a margin-wide ramp reaches at the
-                    // cap (so the grazing limit still bounds the stretch), the ramp no
-                    // wider than keeps alpha 1/2 at the limit.
-                    let half_margin = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
-                    let outer = (cap + half_margin).min(std::f32::consts::FRAC_PI_2);
-                    let band = self.face_turn.min(outer - limit).max(half_margin);
-                    let zero = (limit + band).min(outer);
-                    h.falloff_cos = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
-                    Facing::Interpolated {
-                        limit_rad: zero,
-                        slack: &self.face_slack,
-                    }
-                }
-                (Some(limit), _) => Facing::Cos(limit.cos()),
+            let facing = match rule {
+                ReceiverRule::Cos(c) => Facing::Cos(c),
+                ReceiverRule::Interpolated { limit_rad } => Facing::Interpolated {
+                    limit_rad,
+                    slack: &self.face_slack,
+                },
             };
             receivers_within_clustered(
                 &self.topology,
@@ -71,6 +48,55 @@ impl HighlightSet {
                 &mut self.receiver_faces,
             );
             h.receivers = start..self.receiver_faces.len();
+        }
+    }
+
+    /// The §4.2 facing rule of highlight `h`'s walk (`None` for one drawn as pieces,
+    /// which has no receivers of its own) and its per-pixel falloff
+    /// ([`Highlight::falloff_cos`]): what the CPU walk and [`crate::ReceiverPass`] share.
+    pub(crate) fn receiver_rule(&self, h: &Highlight) -> (Option<ReceiverRule>, glam::Vec2) {
+        if h.pieces > 0 {
+            return (None, NO_FALLOFF);
+        }
+        let grazing = self.receiver_min_cos.clamp(-1.0, 1.0).acos();
+        // Ours: also within the measured region's normal cone, widened by
+        // `receiver_cone_margin_rad` (no receiver outside it can be in the region),
+        // per face or as a per-pixel falloff.
+        // An edit may take the texture past the grazing limit of unedited highlights
+        // (onto surface the user asked it onto): then only §4.2's facing bounds it.
+        let turn = edit_turn(h);
+        let cap = if turn > 0.0 {
+            std::f32::consts::FRAC_PI_2 - 0.5 * self.receiver_cone_margin_rad
+        } else {
+            grazing
+        };
+        let cone = (self.sizing == HighlightSizing::Region
+            && self.boundary != HighlightBoundary::Unrestricted)
+            .then(|| {
+                let measured = h.footprint.normal_cone_cos.clamp(-1.0, 1.0).acos();
+                (measured + turn + self.receiver_cone_margin_rad).min(cap)
+            });
+        match (cone, self.boundary) {
+            (None, _) => (Some(ReceiverRule::Cos(0.0)), NO_FALLOFF),
+            (Some(limit), HighlightBoundary::Smooth) => {
+                // Alpha 1/2 at the limit (where the per-face rule cut), ramping over
+                // half the margin either side, and at least over the normal's turn
+                // across a face either side: on a coarse mesh a narrower ramp ends
+                // within a triangle, as hard a step as the per-face cut.
+                // The far end no further out than a margin-wide ramp reaches at the
+                // cap (so the grazing limit still bounds the stretch), the ramp no
+                // wider than keeps alpha 1/2 at the limit.
+                let half_margin = 0.5 * self.receiver_cone_margin_rad.max(1e-3);
+                let outer = (cap + half_margin).min(std::f32::consts::FRAC_PI_2);
+                let band = self.face_turn.min(outer - limit).max(half_margin);
+                let zero = (limit + band).min(outer);
+                let falloff = glam::Vec2::new(zero.cos(), (zero - 2.0 * band).max(0.0).cos());
+                (
+                    Some(ReceiverRule::Interpolated { limit_rad: zero }),
+                    falloff,
+                )
+            }
+            (Some(limit), _) => (Some(ReceiverRule::Cos(limit.cos())), NO_FALLOFF),
         }
     }
 
