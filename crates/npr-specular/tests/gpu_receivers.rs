@@ -17,7 +17,7 @@ use npr_specular::{
 use std::collections::HashSet;
 
 mod common;
-use common::{bounding_radius, fixture, frames};
+use common::{bounding_radius, fixture, frames, meshes};
 
 /// The GPU walk of `set`'s current highlights.
 fn gpu_walk(
@@ -55,19 +55,8 @@ fn the_gpu_walk_receives_the_cpu_faces() {
         return;
     };
     let pass = ReceiverPass::new(&ctx.device);
-    let meshes = [
-        ("torus", generate::torus(1.0, 0.35, 64, 32)),
-        (
-            "jittered torus",
-            generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7),
-        ),
-        ("ellipsoid", generate::ellipsoid(0.7, 1.4, 1.0, 24)),
-        ("paper knot", generate::paper_knot()),
-        ("bunny", fixture("stanford-bunny.obj")),
-        ("spot", fixture("spot.obj")),
-        ("hammer", fixture("hammer.obj")),
-        ("flange", fixture("flange.obj")),
-    ];
+    let mut meshes = meshes();
+    meshes.push(("flange", fixture("flange.obj")));
     let boundaries = [
         HighlightBoundary::Smooth,
         HighlightBoundary::PerFace,

@@ -12,7 +12,7 @@ use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
 
 mod common;
-use common::{bounding_radius, fixture, frames};
+use common::{bounding_radius, frames, meshes};
 
 /// The GPU search of one frame: its accepted faces.
 fn gpu_solutions(
@@ -55,18 +55,7 @@ fn the_gpu_search_finds_the_cpu_centres() {
         return;
     };
     let pass = CentreSearchPass::new(&ctx.device);
-    let meshes = [
-        ("torus", generate::torus(1.0, 0.35, 64, 32)),
-        (
-            "jittered torus",
-            generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7),
-        ),
-        ("ellipsoid", generate::ellipsoid(0.7, 1.4, 1.0, 24)),
-        ("paper knot", generate::paper_knot()),
-        ("bunny", fixture("stanford-bunny.obj")),
-        ("spot", fixture("spot.obj")),
-        ("hammer", fixture("hammer.obj")),
-    ];
+    let meshes = meshes();
     let mut frame = FrameId(1);
     let (mut total, mut worst_all) = (0, 0.0f32);
     for (name, mesh) in &meshes {

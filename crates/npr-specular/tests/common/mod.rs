@@ -3,7 +3,7 @@
 #![allow(dead_code, clippy::unwrap_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{LightEye, Mesh};
+use npr_geometry::{LightEye, Mesh, generate};
 
 /// A mesh of the repository's `fixtures/meshes`.
 pub fn fixture(name: &str) -> Mesh {
@@ -69,4 +69,21 @@ pub fn bounding_radius(mesh: &Mesh) -> f32 {
         .iter()
         .map(|p| p.distance(c))
         .fold(0.0, f32::max)
+}
+
+/// The meshes both GPU comparisons run on: procedural surfaces (smooth, jittered, the
+/// paper's knot) and the scanned fixtures.
+pub fn meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("torus", generate::torus(1.0, 0.35, 64, 32)),
+        (
+            "jittered torus",
+            generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 7),
+        ),
+        ("ellipsoid", generate::ellipsoid(0.7, 1.4, 1.0, 24)),
+        ("paper knot", generate::paper_knot()),
+        ("bunny", fixture("stanford-bunny.obj")),
+        ("spot", fixture("spot.obj")),
+        ("hammer", fixture("hammer.obj")),
+    ]
 }
