@@ -557,13 +557,16 @@ impl ReceiverObject {
     }
 }
 
+/// The counts' and the stream's bytes, each once its map has completed.
+type TakenBytes = (Option<Vec<u8>>, Option<Vec<u8>>);
+
 /// A frame's walks on their way to the CPU ([`ReceiverObject::map`]).
 #[derive(Debug)]
 pub struct PendingReceivers {
     meta: npr_gpu::BufferReadback,
     list: npr_gpu::BufferReadback,
     /// The bytes of each map once taken.
-    taken: std::sync::Mutex<(Option<Vec<u8>>, Option<Vec<u8>>)>,
+    taken: std::sync::Mutex<TakenBytes>,
     highlights: usize,
 }
 

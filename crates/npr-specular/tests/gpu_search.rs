@@ -12,7 +12,7 @@ use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
 
 mod common;
-use common::{bounding_radius, frames, meshes};
+use common::{bounding_radius, fixture, frames, meshes};
 
 /// The GPU search of one frame: its accepted faces.
 fn gpu_solutions(
