@@ -1,5 +1,6 @@
-//! `[specular] search`: the highlights' `N = H` search on the GPU (`CentreSearchPass`)
-//! draws the frames the CPU search draws, on a walking Fox, frame by frame with its
+//! `[specular] search`: the highlights' `N = H` search on the GPU (`CentreSearchPass`),
+//! with the receivers walked there (`ReceiverPass`, drawn indirectly), draws the frames
+//! the CPU's setup draws, on a walking Fox, frame by frame with its
 //! tracking (ids, fades), and the frame's statistics say where it ran.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -53,6 +54,22 @@ fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
             !c.search_on_gpu && g.search_on_gpu,
             "frame {i}: where the search ran"
         );
+        assert!(
+            !c.receivers_on_gpu && g.receivers_on_gpu,
+            "frame {i}: where the receivers were walked"
+        );
+        // The GPU walk's count arrives one frame late: the CPU's of the frame before.
+        if i > 0 {
+            let before = cpu[i - 1].0.receiver_faces;
+            assert!(before > 0, "frame {}: no receivers", i - 1);
+            let off = g.receiver_faces.abs_diff(before) as f64 / before as f64;
+            assert!(
+                off <= 0.005,
+                "frame {i}: the GPU walk read back {} faces for frame {}, the CPU {before}",
+                g.receiver_faces,
+                i - 1
+            );
+        }
         assert_eq!(c.highlights, g.highlights, "frame {i}: highlight counts");
         let worst = ci
             .as_raw()
@@ -72,4 +89,6 @@ fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
     // `auto` keeps one path for the model, whichever it timed faster.
     let on_gpu = auto[0].0.search_on_gpu;
     assert!(auto.iter().all(|(s, _)| s.search_on_gpu == on_gpu));
+    // ... and walks the receivers where it searches, from its second frame.
+    assert!(auto[1..].iter().all(|(s, _)| s.receivers_on_gpu == on_gpu));
 }

@@ -40,7 +40,8 @@ pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
 };
 pub use receiver_pass::{
-    PendingReceivers, ReceiverCounts, ReceiverInput, ReceiverObject, ReceiverPass, ReceiverReadback,
+    DEFAULT_WALK_CAPACITY, PendingReceivers, ReceiverCounts, ReceiverInput, ReceiverObject,
+    ReceiverPass, ReceiverReadback,
 };
 pub use region::Footprint;
 pub use search_pass::{

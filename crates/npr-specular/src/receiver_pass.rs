@@ -533,6 +533,31 @@ impl ReceiverObject {
         queue: &wgpu::Queue,
         prepared: &Prepared,
     ) -> Result<PendingReceivers, SpecularError> {
+        self.map_impl(device, queue, prepared, true)
+    }
+
+    /// [`ReceiverObject::map`] of the counts alone (one 16-byte record per highlight,
+    /// nothing mesh-sized): the panel's receiver count and whether a walk overflowed,
+    /// one frame late. The readback's stream is empty.
+    ///
+    /// # Errors
+    /// As [`ReceiverObject::map`].
+    pub fn map_counts(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        prepared: &Prepared,
+    ) -> Result<PendingReceivers, SpecularError> {
+        self.map_impl(device, queue, prepared, false)
+    }
+
+    fn map_impl(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        prepared: &Prepared,
+        with_stream: bool,
+    ) -> Result<PendingReceivers, SpecularError> {
         let slot = self.slots.get(self.slots.pass(), prepared)?;
         let mut encoder = device.create_command_encoder(&Default::default());
         let mut copy = |from: &wgpu::Buffer, bytes: u64| {
@@ -546,12 +571,12 @@ impl ReceiverObject {
             to
         };
         let meta = copy(&slot.meta, (16 + 16 * slot.count.max(1)) as u64);
-        let list = copy(&slot.list, (slot.list_faces * 24) as u64);
+        let list = with_stream.then(|| copy(&slot.list, (slot.list_faces * 24) as u64));
         queue.submit([encoder.finish()]);
         Ok(PendingReceivers {
             meta: npr_gpu::BufferReadback::map(meta),
-            list: npr_gpu::BufferReadback::map(list),
-            taken: std::sync::Mutex::new((None, None)),
+            taken: std::sync::Mutex::new((None, list.is_none().then(Vec::new))),
+            list: list.map(npr_gpu::BufferReadback::map),
             highlights: slot.count,
         })
     }
@@ -564,7 +589,8 @@ type TakenBytes = (Option<Vec<u8>>, Option<Vec<u8>>);
 #[derive(Debug)]
 pub struct PendingReceivers {
     meta: npr_gpu::BufferReadback,
-    list: npr_gpu::BufferReadback,
+    /// `None` for [`ReceiverObject::map_counts`].
+    list: Option<npr_gpu::BufferReadback>,
     /// The bytes of each map once taken.
     taken: std::sync::Mutex<TakenBytes>,
     highlights: usize,
@@ -575,8 +601,13 @@ impl PendingReceivers {
     pub fn try_take(&self) -> Option<Result<ReceiverReadback, npr_gpu::GpuError>> {
         let mut guard = self.taken.lock().ok()?;
         let taken = &mut *guard;
-        for (slot, map) in [(&mut taken.0, &self.meta), (&mut taken.1, &self.list)] {
-            if slot.is_none() {
+        for (slot, map) in [
+            (&mut taken.0, Some(&self.meta)),
+            (&mut taken.1, self.list.as_ref()),
+        ] {
+            if slot.is_none()
+                && let Some(map) = map
+            {
                 match map.try_take()? {
                     Ok(bytes) => *slot = Some(bytes),
                     Err(e) => return Some(Err(e)),
@@ -595,7 +626,10 @@ impl PendingReceivers {
     /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
     pub fn wait(self, device: &wgpu::Device) -> Result<ReceiverReadback, npr_gpu::GpuError> {
         let meta = self.meta.wait(device)?;
-        let list = self.list.wait(device)?;
+        let list = match self.list {
+            Some(list) => list.wait(device)?,
+            None => Vec::new(),
+        };
         Ok(decode(&meta, &list, self.highlights))
     }
 }

@@ -70,6 +70,17 @@ pub struct FrameResources {
     object: npr_gpu::BaseObject,
     draw: crate::HighlightObject,
     frame: npr_gpu::FrameId,
+    /// The receiver walk of the last [`Renderer::submit_gpu_receivers`].
+    walked: Option<npr_gpu::Prepared>,
+}
+
+impl FrameResources {
+    /// The receiver walk of the last frame submitted with
+    /// [`Renderer::submit_gpu_receivers`] (for [`crate::ReceiverObject::read`] or
+    /// [`crate::ReceiverObject::map_counts`] after it); `None` after a frame without one.
+    pub fn walked(&self) -> Option<npr_gpu::Prepared> {
+        self.walked
+    }
 }
 
 /// Reusable GPU state for [`render`] (pipelines, buffers, target).
@@ -140,6 +151,7 @@ impl Renderer {
             object: self.base.create_object(device, mesh),
             draw: self.pass.create_object(device, mesh),
             frame: npr_gpu::FrameId::default(),
+            walked: None,
         }
     }
 
@@ -183,6 +195,7 @@ impl Renderer {
         receivers: Option<(&crate::ReceiverPass, &mut crate::ReceiverObject)>,
     ) -> Result<(), SpecularError> {
         res.frame = res.frame.next();
+        res.walked = None;
         let view = FrameUniforms::new(&scene.camera, &scene.light);
         let base_input = npr_gpu::BaseInput {
             frame: res.frame,
@@ -214,6 +227,7 @@ impl Renderer {
                     };
                     let walked = pass.prepare(queue, walk, &walk_input)?;
                     pass.record(&mut encoder, walk, &walked)?;
+                    res.walked = Some(walked);
                     let drawn = self.pass.prepare_with_receivers(
                         queue,
                         &mut res.draw,

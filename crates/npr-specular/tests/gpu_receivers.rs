@@ -236,4 +236,12 @@ fn a_walk_past_its_capacity_stops_there_and_says_so() {
     );
     let total: u32 = walked.counts.iter().map(|c| c.received).sum();
     assert_eq!(walked.stream.len(), 3 * total as usize);
+    // The counts alone (the panel's readback) are the same counts, without the stream.
+    let counts = object
+        .map_counts(&ctx.device, &ctx.queue, &prepared)
+        .unwrap()
+        .wait(&ctx.device)
+        .unwrap();
+    assert_eq!(counts.counts, walked.counts);
+    assert!(counts.stream.is_empty());
 }

@@ -14,10 +14,13 @@
 //! Each mesh has two rows from the same run, told apart by `setup`: `"cpu"` (the `N = H`
 //! search on the CPU, `HighlightSet::update`) and `"gpu"` (the search as a compute pass,
 //! `npr_specular::CentreSearchPass`, its compact list read back and the rest of the update
-//! run on it, `HighlightSet::update_from_solutions`). `cpu_ms_median` is the CPU time of
-//! the highlight work from the frame's start to its submit, matching included (for the
-//! `gpu` row: the search's prepare, record, submit and the wait for its list, which on a
-//! software adapter is CPU work too). The one-core columns are the CPU path's.
+//! run on it, `HighlightSet::update_from_solutions`, but for the §4.2 receivers, which
+//! `npr_specular::ReceiverPass` walks in the frame's own submission and the highlight
+//! pass draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
+//! frame's start to its submit, matching included (for the `gpu` row: the search's
+//! prepare, record, submit and the wait for its list, which on a software adapter is CPU
+//! work too); the `gpu` row's GPU frame includes the walk. Its receiver count is read
+//! back after the timed frame. The one-core columns are the CPU path's.
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
@@ -25,7 +28,7 @@ use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use npr_specular::{CentreSearchPass, HighlightSet};
+use npr_specular::{CentreSearchPass, HighlightSet, ReceiverPass};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -220,10 +223,15 @@ fn measure_gpu(
 ) -> anyhow::Result<GpuSamples> {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let search_pass = CentreSearchPass::new(&ctx.device);
-    let mut search = match setup {
-        Setup::Gpu => Some(search_pass.create_object(&ctx.device, set.search())?),
-        Setup::Cpu => None,
+    let receiver_pass = ReceiverPass::new(&ctx.device);
+    let (mut search, mut walk) = match setup {
+        Setup::Gpu => (
+            Some(search_pass.create_object(&ctx.device, set.search())?),
+            Some(receiver_pass.create_object(&ctx.device, &set, &mesh.indices)?),
+        ),
+        Setup::Cpu => (None, None),
     };
+    set.receivers_on_gpu = walk.is_some();
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
     let mut res = renderer.resources(&ctx.device, &gpu);
     let light = Light::directional(view.to_light);
@@ -282,12 +290,37 @@ fn measure_gpu(
         };
         let mut time = |highlights| -> anyhow::Result<f64> {
             let t = Instant::now();
-            renderer.submit(&ctx.device, &ctx.queue, &scene(highlights), &mut res)?;
+            let scene = scene(highlights);
+            match walk.as_mut() {
+                Some(walk) => renderer.submit_gpu_receivers(
+                    &ctx.device,
+                    &ctx.queue,
+                    &scene,
+                    &mut res,
+                    (&receiver_pass, walk),
+                )?,
+                None => renderer.submit(&ctx.device, &ctx.queue, &scene, &mut res)?,
+            }
             ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
             Ok(t.elapsed().as_secs_f64() * 1e3)
         };
         let b = time(false)?;
         let w = time(true)?;
+        // The GPU walk's receiver count, read after the timed frame (the panel's way).
+        let receivers = match (walk.as_ref(), res.walked()) {
+            (Some(walk), Some(walked)) => {
+                let read = walk
+                    .map_counts(&ctx.device, &ctx.queue, &walked)?
+                    .wait(&ctx.device)?;
+                anyhow::ensure!(
+                    read.counts.iter().all(|c| !c.overflowed),
+                    "a GPU receiver walk overflowed its {} faces",
+                    walk.capacity()
+                );
+                read.counts.iter().map(|c| c.received as usize).sum()
+            }
+            _ => set.stats().receiver_faces,
+        };
         if frame >= 3 {
             out.setup.push(setup_us);
             out.search.push(search_us);
@@ -296,7 +329,7 @@ fn measure_gpu(
             out.base.push(b);
             out.with.push(w);
             out.whole.push(w + setup_us / 1e3);
-            out.receivers.push(set.stats().receiver_faces as f64);
+            out.receivers.push(receivers as f64);
             out.hmin = out.hmin.min(set.highlights().len());
             out.hmax = out.hmax.max(set.highlights().len());
         }

@@ -13,6 +13,7 @@ mod base;
 mod hatching;
 pub mod inputs;
 mod outline;
+mod receivers;
 mod search;
 mod specialized;
 mod specular;
@@ -56,6 +57,10 @@ pub struct FrameStats {
     /// Whether the highlights' `N = H` search ran on the GPU (specular; `[specular]
     /// search`).
     pub search_on_gpu: bool,
+    /// Whether the §4.2 receivers were walked on the GPU (specular; where the search
+    /// runs there). Then `receiver_faces` is the previous GPU walk's, read back one frame
+    /// late (0 before the first arrives).
+    pub receivers_on_gpu: bool,
     /// Highlights drawn (specular).
     pub highlights: usize,
     /// Receiver faces of all highlights (specular).
@@ -479,6 +484,7 @@ impl Renderer {
                 let highlights = if effect == Effect::Specular {
                     Some(self.specular.prepare(
                         gpu,
+                        &mut encoder,
                         (&self.model, &self.gpu_mesh),
                         preset,
                         view,
@@ -501,6 +507,9 @@ impl Renderer {
         }
         self.record_outline(device, queue, &mut encoder, preset, view, submission)?;
         queue.submit(Some(encoder.finish()));
+        if preset.effect == Effect::Specular {
+            self.specular.after_submit(device, queue)?;
+        }
         Ok(stats)
     }
 

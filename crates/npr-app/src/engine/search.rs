@@ -28,6 +28,19 @@ impl SearchSetup {
         *self = Self::default();
     }
 
+    /// Whether `auto` chose the GPU for the current set (`false` before it has timed
+    /// both, and in the browser, where the search stays on the CPU).
+    pub(crate) fn chose_gpu(&self) -> bool {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            self.chosen == Some(true)
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            false
+        }
+    }
+
     /// Updates `set` for this light, eye and transform on the path `preset` asks for;
     /// returns whether the search ran on the GPU.
     ///

@@ -5,11 +5,12 @@
 
 use super::FrameStats;
 use super::inputs::{anchor_reach, apply_controls, builtin_shape};
+use super::receivers::ReceiverSetup;
 use super::search::SearchSetup;
 use super::specialized::Specialized;
 use crate::AppError;
 use crate::model::Model;
-use crate::preset::Preset;
+use crate::preset::{Preset, SearchPreset};
 use crate::view::View;
 use npr_geometry::{CurvatureOptions, CurvatureRadius};
 use npr_gpu::{FrameId, FrameUniforms, GpuMesh, ObjectUniforms, Prepared, TargetFormats};
@@ -54,6 +55,8 @@ pub(crate) struct SpecularEffect {
     moved: bool,
     /// Where the `N = H` search runs, and the GPU search of the current set.
     search: SearchSetup,
+    /// The GPU walk of the §4.2 receivers, where the search runs on the GPU.
+    receivers: ReceiverSetup,
 }
 
 impl SpecularEffect {
@@ -80,10 +83,13 @@ impl SpecularEffect {
         self.set.clear();
         self.shape.clear();
         self.search.forget();
+        self.receivers.forget();
     }
 
-    /// Updates the highlights for `view` (the CPU setup: the `N = H` search, matching,
+    /// Updates the highlights for `view` (the setup: the `N = H` search, matching,
     /// regions, visibility; timed into `stats`) and writes this draw's per-frame data.
+    /// Where the search runs on the GPU the receivers are walked there too, recorded
+    /// into `encoder` ahead of the frame's render pass.
     ///
     /// # Errors
     /// A highlight texture that cannot be loaded, or a mesh the set cannot use.
@@ -91,6 +97,7 @@ impl SpecularEffect {
     pub(crate) fn prepare(
         &mut self,
         (device, queue): (&wgpu::Device, &wgpu::Queue),
+        encoder: &mut wgpu::CommandEncoder,
         (model, mesh): (&Model, &GpuMesh),
         preset: &Preset,
         view: &View,
@@ -112,6 +119,7 @@ impl SpecularEffect {
         })?;
         if built {
             self.search.forget();
+            self.receivers.forget();
         }
         if std::mem::take(&mut self.moved) && !built {
             set.repose(&model.mesh, &options)?;
@@ -125,16 +133,34 @@ impl SpecularEffect {
             set.update(view.light_eye(), view.world_from_object);
         }
         apply_controls(set, preset, shape.layer, anchor_reach(&model.framing));
+        let walk_on_gpu = match sp.search {
+            SearchPreset::Cpu => false,
+            SearchPreset::Gpu => true,
+            SearchPreset::Auto => self.search.chose_gpu(),
+        } && self.receivers.ready(device, set, &model.mesh.indices)?;
+        set.receivers_on_gpu = walk_on_gpu;
         stats.search_on_gpu = self.search.update(
             (device, queue),
             set,
             sp.search,
             (view.light_eye(), view.world_from_object),
         )?;
+        let gpu_faces = self.receivers.faces();
+        let walked = if walk_on_gpu {
+            self.receivers
+                .record(queue, encoder, set, (frame, view.world_from_object))?
+        } else {
+            None
+        };
         stats.setup_us = started.elapsed().as_secs_f64() * 1e6;
         let st = set.stats();
         stats.highlights = st.highlights;
-        stats.receiver_faces = st.receiver_faces;
+        stats.receivers_on_gpu = walked.is_some();
+        stats.receiver_faces = if walked.is_some() {
+            gpu_faces
+        } else {
+            st.receiver_faces
+        };
         let input = npr_specular::HighlightInput {
             frame,
             indices: &model.mesh.indices,
@@ -143,7 +169,29 @@ impl SpecularEffect {
             object,
             list: None,
         };
-        Ok(shape.pass.prepare(queue, &mut shape.object, &input)?)
+        Ok(match walked {
+            Some((receivers, walked)) => shape.pass.prepare_with_receivers(
+                queue,
+                &mut shape.object,
+                &input,
+                receivers,
+                &walked,
+            )?,
+            None => shape.pass.prepare(queue, &mut shape.object, &input)?,
+        })
+    }
+
+    /// After the frame's submission: asks for the counts of its GPU walk (the panel's
+    /// receiver count, one frame late).
+    ///
+    /// # Errors
+    /// A readback that cannot be set up.
+    pub(crate) fn after_submit(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(), AppError> {
+        self.receivers.after_submit(device, queue)
     }
 
     /// Draws the highlights prepared as `prepared`.

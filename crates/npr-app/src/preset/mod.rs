@@ -273,9 +273,11 @@ impl Default for SpecularPreset {
     }
 }
 
-/// Where the per-frame `N = H` search of the highlights runs ([`SpecularPreset::search`]).
-/// Both give the same centres (the GPU solves in `f32`; `npr-specular`'s
-/// `tests/gpu_search.rs`); the rest of the highlight work stays on the CPU either way.
+/// Where the per-frame `N = H` search of the highlights runs ([`SpecularPreset::search`]),
+/// and with it the §4.2 receivers. Both give the same centres (the GPU solves in `f32`;
+/// `npr-specular`'s `tests/gpu_search.rs`) and the same receivers
+/// (`tests/gpu_receivers.rs`); matching, regions and projectors stay on the CPU either
+/// way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SearchPreset {
@@ -285,8 +287,10 @@ pub enum SearchPreset {
     Auto,
     /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
     Cpu,
-    /// As a compute pass (`npr_specular::CentreSearchPass`), its compact list read back.
-    /// In the browser, where a readback completes only between frames, the CPU's.
+    /// As a compute pass (`npr_specular::CentreSearchPass`), its compact list read back,
+    /// and the receivers walked by another (`npr_specular::ReceiverPass`) in the frame's
+    /// submission, drawn from the stream it writes. In the browser, where a readback
+    /// completes only between frames, the search is the CPU's and the walk the GPU's.
     Gpu,
 }
 

@@ -490,8 +490,10 @@ fn frame_lines(
     warp: &super::live::WarpLive,
     frame_ms: f64,
 ) {
+    let walk = if stats.receivers_on_gpu { " (GPU)" } else { "" };
     ui.small(format!(
-        "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} triangles",
+        "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers{walk} · {} \
+         triangles",
         stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
     ));
     if state.preset.effect == Effect::Warp {
