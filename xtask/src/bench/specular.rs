@@ -56,8 +56,12 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         };
         let (setup_1core, setup_1core_file_order) =
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
+        // The GPU walks' capacity: twice the CPU row's longest walk (it runs first), so
+        // that no timed frame overflows.
+        let mut walk_capacity = npr_specular::DEFAULT_WALK_CAPACITY;
         for setup in [Setup::Cpu, Setup::Gpu] {
-            let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name, setup)?;
+            let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name, (setup, walk_capacity))?;
+            walk_capacity = walk_capacity.max(2 * gpu.longest_walk);
             let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
             let one_core = |samples: &[f64]| match setup {
                 Setup::Cpu => Cell::Num(median(samples.to_vec()), 1),
@@ -206,6 +210,8 @@ struct GpuSamples {
     region: Vec<f64>,
     /// BFS visibility per frame, µs.
     visibility: Vec<f64>,
+    /// Most receiver faces of one highlight in a frame.
+    longest_walk: usize,
     /// Fewest highlights in a frame.
     hmin: usize,
     /// Most highlights in a frame.
@@ -219,7 +225,7 @@ fn measure_gpu(
     mesh: &Mesh,
     view: &View,
     name: &str,
-    setup: Setup,
+    (setup, walk_capacity): (Setup, usize),
 ) -> anyhow::Result<GpuSamples> {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let search_pass = CentreSearchPass::new(&ctx.device);
@@ -227,7 +233,12 @@ fn measure_gpu(
     let (mut search, mut walk) = match setup {
         Setup::Gpu => (
             Some(search_pass.create_object(&ctx.device, set.search())?),
-            Some(receiver_pass.create_object(&ctx.device, &set, &mesh.indices)?),
+            Some(receiver_pass.create_object_with_capacity(
+                &ctx.device,
+                &set,
+                &mesh.indices,
+                walk_capacity,
+            )?),
         ),
         Setup::Cpu => (None, None),
     };
@@ -244,6 +255,7 @@ fn measure_gpu(
         search: Vec::new(),
         region: Vec::new(),
         visibility: Vec::new(),
+        longest_walk: 0,
         hmin: usize::MAX,
         hmax: 0,
     };
@@ -314,13 +326,15 @@ fn measure_gpu(
                     .wait(&ctx.device)?;
                 anyhow::ensure!(
                     read.counts.iter().all(|c| !c.overflowed),
-                    "a GPU receiver walk overflowed its {} faces",
+                    "{name}: a GPU receiver walk overflowed its {} faces",
                     walk.capacity()
                 );
                 read.counts.iter().map(|c| c.received as usize).sum()
             }
             _ => set.stats().receiver_faces,
         };
+        let longest = set.highlights().iter().map(|h| h.receivers.len());
+        out.longest_walk = out.longest_walk.max(longest.max().unwrap_or(0));
         if frame >= 3 {
             out.setup.push(setup_us);
             out.search.push(search_us);

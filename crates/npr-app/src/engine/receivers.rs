@@ -85,7 +85,12 @@ impl ReceiverSetup {
         });
         gpu.walked = None;
         let capacity = match &gpu.object {
-            None => npr_specular::DEFAULT_WALK_CAPACITY,
+            // Twice the longest walk the CPU last made, where it made one.
+            None => set
+                .highlights()
+                .iter()
+                .map(|h| 2 * h.receivers.len())
+                .fold(npr_specular::DEFAULT_WALK_CAPACITY, usize::max),
             Some(o) if self.overflowed && o.capacity() < set.topology().face_count() => {
                 o.capacity() * 4
             }
