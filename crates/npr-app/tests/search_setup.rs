@@ -92,3 +92,69 @@ fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
     // ... and walks the receivers where it searches, from its second frame.
     assert!(auto[1..].iter().all(|(s, _)| s.receivers_on_gpu == on_gpu));
 }
+
+/// A walk that overflows its first capacity (a fine sphere's one highlight crosses more
+/// than the default's faces on the first GPU frame, which has no CPU walk to size it
+/// from) is cut short in that frame, and grown for the frames after its counts arrive,
+/// which then draw the CPU's frame.
+#[test]
+fn a_gpu_walk_that_overflowed_is_grown_for_the_next_frames() {
+    let Some(ctx) = context_or_skip("a_gpu_walk_that_overflowed_is_grown_for_the_next_frames")
+    else {
+        return;
+    };
+    let mesh = npr_geometry::generate::icosphere(7, 1.0);
+    assert!(mesh.triangle_count() > 16 * npr_specular::DEFAULT_WALK_CAPACITY);
+    let model = Model::from_mesh("sphere", mesh);
+    let size = (200, 150);
+    let render_all = |search: SearchPreset| {
+        let mut preset = Preset {
+            effect: Effect::Specular,
+            ..Preset::default()
+        };
+        preset.specular.search = search;
+        preset.specular.abstraction = 0.0;
+        preset.specular.sigma = 0.8;
+        let view = View::new(&preset, &model.framing, size, 0.0);
+        let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size).unwrap();
+        (0..3)
+            .map(|_| {
+                let stats = renderer
+                    .render(&ctx.device, &ctx.queue, &preset, &view)
+                    .unwrap();
+                (stats, renderer.read(&ctx.device, &ctx.queue).unwrap())
+            })
+            .collect::<Vec<_>>()
+    };
+    let cpu = render_all(SearchPreset::Cpu);
+    let gpu = render_all(SearchPreset::Gpu);
+    let longest = cpu[0].0.receiver_faces;
+    assert!(
+        longest > npr_specular::DEFAULT_WALK_CAPACITY,
+        "the sphere's highlight receives only {longest} faces: it does not overflow"
+    );
+    let worst = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.as_raw()
+            .iter()
+            .zip(b.as_raw())
+            .map(|(x, y)| x.abs_diff(*y))
+            .max()
+            .unwrap()
+    };
+    assert!(gpu.iter().all(|(s, _)| s.receivers_on_gpu));
+    assert!(
+        worst(&cpu[0].1, &gpu[0].1) > 16,
+        "the first GPU walk was not cut short"
+    );
+    for i in 1..3 {
+        let w = worst(&cpu[i].1, &gpu[i].1);
+        assert!(
+            w <= 1,
+            "frame {i} after the walk grew differs by {w}/255; {}",
+            npr_gpu::testing::image_failure("gpu-walk-grown", &cpu[i].1, &gpu[i].1)
+        );
+    }
+    // The count read back for the grown walk is the CPU's.
+    let off = gpu[2].0.receiver_faces.abs_diff(cpu[1].0.receiver_faces);
+    assert!(off as f64 <= 0.005 * longest as f64, "{off} faces apart");
+}
