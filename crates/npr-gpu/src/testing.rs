@@ -639,3 +639,44 @@ pub fn read_mapped(device: &wgpu::Device, buffer: &wgpu::Buffer) -> Vec<u8> {
         .expect("poll");
     buffer.get_mapped_range(..).expect("mapped range").to_vec()
 }
+
+/// Mean LDR FLIP of `test` against `reference` (same size) over the object's pixels
+/// (alpha above 0 in either; transparent pixels count as black), at
+/// `nv_flip::DEFAULT_PIXELS_PER_DEGREE` (67: a 31.6-inch 3840-pixel-wide monitor seen
+/// from 0.7 m). 0 for identical images; `None` for mismatched sizes or no object pixels.
+pub fn flip_mean(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<f64> {
+    flip_stats(reference, test).map(|(mean, _)| mean)
+}
+
+/// Mean and largest per-pixel LDR FLIP over the object's pixels (see [`flip_mean`]).
+pub fn flip_stats(reference: &image::RgbaImage, test: &image::RgbaImage) -> Option<(f64, f64)> {
+    if reference.dimensions() != test.dimensions() {
+        return None;
+    }
+    let (w, h) = reference.dimensions();
+    let rgb = |img: &image::RgbaImage| -> Vec<u8> {
+        img.pixels()
+            .flat_map(|p| if p[3] > 0 { [p[0], p[1], p[2]] } else { [0; 3] })
+            .collect()
+    };
+    let (a, b) = (reference.as_raw(), test.as_raw());
+    let mask: Vec<bool> = (0..(w * h) as usize)
+        .map(|i| a[4 * i + 3] > 0 || b[4 * i + 3] > 0)
+        .collect();
+    let pixels = mask.iter().filter(|m| **m).count();
+    if pixels == 0 || w == 0 || h == 0 {
+        return None;
+    }
+    let error = nv_flip::flip(
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(reference)),
+        nv_flip::FlipImageRgb8::with_data(w, h, &rgb(test)),
+        nv_flip::DEFAULT_PIXELS_PER_DEGREE,
+    )
+    .to_vec();
+    let (mut sum, mut max) = (0.0f64, 0.0f64);
+    for (e, _) in error.iter().zip(&mask).filter(|(_, m)| **m) {
+        sum += f64::from(*e);
+        max = max.max(f64::from(*e));
+    }
+    Some((sum / pixels as f64, max))
+}

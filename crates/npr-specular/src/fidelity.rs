@@ -29,8 +29,11 @@
 //!   `e_max`, turned 45° and grown 1.5×, each drawn ÷ the same edited texture drawn with
 //!   §4.2 alone.
 
-use crate::snapshot::{HighlightScene, Renderer};
-use crate::{HighlightBoundary, HighlightControls, HighlightSet, SpecularError};
+use crate::snapshot::{FrameResources, HighlightScene, Renderer};
+use crate::{
+    CentreSearchPass, HighlightBoundary, HighlightControls, HighlightSet, ReceiverObject,
+    ReceiverPass, SearchInput, SearchObject, SpecularError,
+};
 use glam::{Mat3, Mat4, Vec3};
 use npr_geometry::LightEye;
 use npr_geometry::{CurvatureOptions, Mesh};
@@ -250,20 +253,50 @@ impl FidelityRig {
         set: &mut HighlightSet,
         view: &FidelityView,
     ) -> Result<ViewScore, SpecularError> {
+        self.score_with(device, queue, mesh, set, view, None)
+    }
+
+    /// [`FidelityRig::score`] with every update and highlight frame of the measure set up
+    /// on the GPU by `gpu` (made for `set` and `mesh`), or on the CPU without it.
+    ///
+    /// # Errors
+    /// Readback failure, or a GPU pass's error.
+    pub fn score_with(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        mesh: (&GpuMesh, &[u32]),
+        set: &mut HighlightSet,
+        view: &FidelityView,
+        gpu: Option<&mut GpuSetup>,
+    ) -> Result<ViewScore, SpecularError> {
         set.reset();
         let light_eye = LightEye::Positions {
             light: view.to_light * 1e4,
             eye: view.camera.eye,
         };
-        set.update(light_eye, view.world_from_object);
-        let sigma = set.global.sigma;
         let w = view.world_from_object;
+        let gpu = std::cell::RefCell::new(gpu);
+        let update = |set: &mut HighlightSet| -> Result<(), SpecularError> {
+            match gpu.borrow_mut().as_deref_mut() {
+                Some(g) => g.update(device, queue, set, (light_eye, w)),
+                None => {
+                    set.update(light_eye, w);
+                    Ok(())
+                }
+            }
+        };
+        update(set)?;
+        let sigma = set.global.sigma;
         // Phong with k_s, specular colour and exponent 1 and no diffuse: N·H where N·L > 0;
         // all zero: a black base for the highlight pass.
         let render = |set: &HighlightSet, k_s: f32, highlights: bool| {
             let object = ObjectUniforms::new(w, Vec3::ZERO, k_s, Vec3::splat(k_s), 1.0);
-            self.renderer
-                .render(device, queue, &scene(mesh, set, view, object, highlights))
+            let scene = scene(mesh, set, view, object, highlights);
+            match gpu.borrow_mut().as_deref_mut() {
+                Some(g) if highlights => g.render(device, queue, &self.renderer, &scene),
+                _ => self.renderer.render(device, queue, &scene),
+            }
         };
         let n_dot_h = render(set, 1.0, false)?;
         // Each highlight's tint codes its index in (g, b) / r, so that overlapping
@@ -295,10 +328,10 @@ impl FidelityRig {
         let (boundary_px, cut_px) = {
             let boundary = set.boundary;
             set.boundary = HighlightBoundary::Unrestricted;
-            set.update(light_eye, w);
+            update(set)?;
             let unrestricted = coded(set, &ids, |set| render(set, 0.0, true))?;
             set.boundary = boundary;
-            set.update(light_eye, w);
+            update(set)?;
             cuts(&drawn, &unrestricted, self.width as usize)
         };
         // Edits of the largest highlight.
@@ -324,7 +357,7 @@ impl FidelityRig {
                 ];
                 let boundary = set.boundary;
                 let area = |set: &mut HighlightSet| -> Result<usize, SpecularError> {
-                    set.update(light_eye, w);
+                    update(set)?;
                     let px = coded(set, &ids, |set| render(set, 0.0, true))?;
                     Ok(px.iter().filter(|p| p.0 == k % 256 && p.1 >= 0.5).count())
                 };
@@ -342,7 +375,7 @@ impl FidelityRig {
                 }
                 *set.controls_mut(id) = HighlightControls::default();
                 set.boundary = boundary;
-                set.update(light_eye, w);
+                update(set)?;
                 Some(ratios)
             }
             _ => None,
@@ -354,7 +387,10 @@ impl FidelityRig {
             highlights: set.highlights().iter().filter(|h| h.piece == 0).count(),
             visible_highlights: own.iter().filter(|n| **n > MIN_BLOB_PX).count(),
             blobs: blobs(&region, self.width as usize, MIN_BLOB_PX),
-            stretch_max: stretch_max(set, w),
+            stretch_max: match gpu.borrow_mut().as_deref_mut() {
+                Some(g) => g.stretch_max(device, queue, set, w)?,
+                None => stretch_max(set, w),
+            },
             overlap_px,
             boundary_px,
             cut_px,
@@ -530,14 +566,184 @@ pub fn turntable_coherence(
     frames: usize,
     step_deg: f32,
 ) -> Coherence {
+    let cpu = |set: &mut HighlightSet, (le, w): (LightEye, Mat4)| {
+        set.update(le, w);
+        Ok::<(), std::convert::Infallible>(())
+    };
+    match turntable_coherence_with(
+        set,
+        (light_eye, world_from_normalized),
+        (frames, step_deg),
+        cpu,
+    ) {
+        Ok(c) => c,
+        Err(e) => match e {},
+    }
+}
+
+/// [`turntable_coherence`] with each frame's update done by `update` (for instance
+/// [`GpuSetup::update`]).
+///
+/// # Errors
+/// The first error of `update`.
+pub fn turntable_coherence_with<E>(
+    set: &mut HighlightSet,
+    (light_eye, world_from_normalized): (LightEye, Mat4),
+    (frames, step_deg): (usize, f32),
+    mut update: impl FnMut(&mut HighlightSet, (LightEye, Mat4)) -> Result<(), E>,
+) -> Result<Coherence, E> {
     set.reset();
     let mut c = Coherence::new(set.fade_frames);
     for k in 0..frames {
         let turn = Mat4::from_rotation_y((k as f32 * step_deg).to_radians());
-        set.update(light_eye, turn * world_from_normalized);
+        update(set, (light_eye, turn * world_from_normalized))?;
         c.step(set);
     }
-    c
+    Ok(c)
+}
+
+/// The GPU setup of the measured frames: the `N = H` search as a compute pass
+/// ([`CentreSearchPass`], its list fed to [`HighlightSet::update_from_solutions`]) and
+/// the §4.2 receivers walked by [`ReceiverPass`] in each highlight frame's submission and
+/// drawn from their stream. One per set and render mesh.
+#[derive(Debug)]
+pub struct GpuSetup {
+    search_pass: CentreSearchPass,
+    search: SearchObject,
+    walk_pass: ReceiverPass,
+    walk: ReceiverObject,
+    /// The render triangles' face ids, to read the walk's stream back as faces.
+    face_of: std::collections::HashMap<[u32; 3], u32>,
+    resources: Option<FrameResources>,
+    frame: npr_gpu::FrameId,
+}
+
+impl GpuSetup {
+    /// Uploads `set`'s search and walk tables (`indices`: the render mesh's triangles).
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::MeshTooLarge`] where a table exceeds the device's bindings.
+    pub fn new(
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        indices: &[u32],
+    ) -> Result<Self, SpecularError> {
+        let search_pass = CentreSearchPass::new(device);
+        let walk_pass = ReceiverPass::new(device);
+        // Walks of up to four times the default capacity (the whole mesh where smaller).
+        let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
+        Ok(Self {
+            search: search_pass.create_object(device, set.search())?,
+            walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
+            search_pass,
+            walk_pass,
+            face_of: indices
+                .chunks_exact(3)
+                .enumerate()
+                .map(|(f, t)| ([t[0], t[1], t[2]], f as u32))
+                .collect(),
+            resources: None,
+            frame: npr_gpu::FrameId::default(),
+        })
+    }
+
+    /// Updates `set` for this light, eye and transform from the GPU search's faces, the
+    /// receivers left to the GPU walk (the CPU search's where the list overflowed).
+    ///
+    /// # Errors
+    /// The search pass's, or its readback's.
+    pub fn update(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &mut HighlightSet,
+        (light_eye, world_from_object): (LightEye, Mat4),
+    ) -> Result<(), SpecularError> {
+        self.frame = self.frame.next();
+        let input = SearchInput {
+            frame: self.frame,
+            search: set.search(),
+            light_eye,
+            world_from_object,
+        };
+        let prepared = self.search_pass.prepare(queue, &mut self.search, &input)?;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.search_pass
+            .record(&mut encoder, &self.search, &prepared)?;
+        queue.submit([encoder.finish()]);
+        let solved = self.search.read(device, &prepared)?;
+        set.receivers_on_gpu = true;
+        if solved.complete() {
+            set.update_from_solutions(light_eye, world_from_object, &solved.faces);
+        } else {
+            set.update(light_eye, world_from_object);
+        }
+        Ok(())
+    }
+
+    /// [`stretch_max`] of `set`'s highlights over the faces the GPU walks for them (read
+    /// back: a measure, not a frame).
+    ///
+    /// # Errors
+    /// The walk's, or its readback's.
+    pub fn stretch_max(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &HighlightSet,
+        world_from_object: Mat4,
+    ) -> Result<f32, SpecularError> {
+        self.frame = self.frame.next();
+        let input = crate::ReceiverInput {
+            frame: self.frame,
+            set,
+            world_from_object,
+        };
+        let prepared = self.walk_pass.prepare(queue, &mut self.walk, &input)?;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.walk_pass.record(&mut encoder, &self.walk, &prepared)?;
+        queue.submit([encoder.finish()]);
+        let read = self.walk.read(device, queue, &prepared)?;
+        let mut lists = vec![Vec::new(); set.highlights().len()];
+        for t in read.stream.chunks_exact(3) {
+            if let (Some(list), Some(&f)) = (
+                lists.get_mut(t[0][1] as usize),
+                self.face_of.get(&[t[0][0], t[1][0], t[2][0]]),
+            ) {
+                list.push(f);
+            }
+        }
+        Ok(stretch_over(set, world_from_object, |k| lists[k].clone()))
+    }
+
+    /// Renders `scene` with `renderer`, its receivers walked on the GPU, and reads it
+    /// back.
+    ///
+    /// # Errors
+    /// The passes' errors, or readback failure.
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        renderer: &Renderer,
+        scene: &HighlightScene<'_>,
+    ) -> Result<image::RgbaImage, SpecularError> {
+        let res = self
+            .resources
+            .get_or_insert_with(|| renderer.resources(device, scene.mesh));
+        renderer.submit_gpu_receivers(
+            device,
+            queue,
+            scene,
+            res,
+            (&self.walk_pass, &mut self.walk),
+        )?;
+        Ok(npr_gpu::readback_rgba(
+            device,
+            queue,
+            &renderer.target().color,
+        )?)
+    }
 }
 
 /// The set tracked over the poses of a moving mesh (a clip's frames, same triangles):
@@ -615,12 +821,23 @@ pub fn blobs(mask: &[bool], width: usize, min_px: usize) -> usize {
 /// the highlight's per-pixel falloff ([`crate::Highlight::falloff_cos`]) show nothing
 /// there and are not counted.
 pub fn stretch_max(set: &HighlightSet, world_from_object: Mat4) -> f32 {
+    let faces = set.receiver_faces();
+    stretch_over(set, world_from_object, |k| {
+        faces[set.highlights()[k].receivers.clone()].to_vec()
+    })
+}
+
+/// [`stretch_max`] over the receiver faces `receivers` gives each highlight (by index).
+fn stretch_over(
+    set: &HighlightSet,
+    world_from_object: Mat4,
+    receivers: impl Fn(usize) -> Vec<u32>,
+) -> f32 {
     let topo = set.topology();
     let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
-    let faces = set.receiver_faces();
     let mut worst = 0f32;
-    for h in set.highlights() {
-        for &f in &faces[h.receivers.clone()] {
+    for (k, h) in set.highlights().iter().enumerate() {
+        for f in receivers(k) {
             let n = (normal_from_object * topo.face_normals[f as usize]).normalize_or_zero();
             let c = n.dot(h.projector.normal);
             if c <= h.falloff_cos.x {

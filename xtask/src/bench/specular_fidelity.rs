@@ -8,14 +8,19 @@
 //! largest change of a footprint's area between consecutive frames. With
 //! `--animation CLIP`, each `--mesh` that has the clip also plays it (361 frames at
 //! 30 fps, camera still, the highlight set reposed every frame), beside its own turn.
+//!
+//! Every score row and every turn is measured twice, told apart by `setup`: `"cpu"`
+//! (`HighlightSet::update`) and `"gpu"` (`npr_specular::fidelity::GpuSetup`: the `N = H`
+//! search as a compute pass, `HighlightSet::update_from_solutions` on its list, and the
+//! §4.2 receivers walked on the GPU and drawn from its stream). The clips run on the CPU.
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
 use npr_specular::fidelity::{
-    FidelityRig, FidelityScore, pose_coherence, standard_views, surface_at_scale,
-    turntable_coherence, unit_sphere_transform,
+    FidelityRig, FidelityScore, GpuSetup, pose_coherence, standard_views, surface_at_scale,
+    turntable_coherence, turntable_coherence_with, unit_sphere_transform,
 };
 use npr_specular::{HighlightBoundary, HighlightSet, HighlightSizing};
 use std::path::{Path, PathBuf};
@@ -79,6 +84,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
         &[
             "mesh",
             "sizing",
+            "setup",
             "abstraction",
             "precision",
             "recall",
@@ -135,35 +141,52 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
             set.sizing = sizing;
             set.boundary = boundary;
             let abstraction = set.abstraction();
-            let bar = super::progress(views.len() as u64, &format!("{name} {label}"));
-            let mut scores = Vec::with_capacity(views.len());
-            for view in &views {
-                scores.push(rig.score(&ctx.device, &ctx.queue, (gpu, &mesh.indices), set, view)?);
-                bar.inc(1);
+            for on_gpu in [false, true] {
+                let key = if on_gpu { "gpu" } else { "cpu" };
+                let mut setup = if on_gpu {
+                    Some(GpuSetup::new(&ctx.device, set, &mesh.indices)?)
+                } else {
+                    None
+                };
+                let bar = super::progress(views.len() as u64, &format!("{name} {label} {key}"));
+                let mut scores = Vec::with_capacity(views.len());
+                for view in &views {
+                    scores.push(rig.score_with(
+                        &ctx.device,
+                        &ctx.queue,
+                        (gpu, &mesh.indices),
+                        set,
+                        view,
+                        setup.as_mut(),
+                    )?);
+                    bar.inc(1);
+                }
+                bar.finish_and_clear();
+                set.receivers_on_gpu = false;
+                let s = FidelityScore::pool(&scores);
+                table.push(vec![
+                    name.as_str().into(),
+                    label.into(),
+                    key.into(),
+                    Cell::Num(f64::from(abstraction), 3),
+                    Cell::Num(s.precision, 3),
+                    Cell::Num(s.recall, 3),
+                    Cell::Num(s.highlights_median, 1),
+                    Cell::Num(s.drawn_median, 1),
+                    Cell::Num(s.blobs_median, 1),
+                    format!("{}/{}", s.count_within, s.views).into(),
+                    Cell::Num(f64::from(s.stretch_max), 2),
+                    Cell::Num(s.overlap_share, 3),
+                    Cell::Num(s.cut_boundary_share, 3),
+                    Cell::Num(s.edit_completeness, 3),
+                    // The settings `npr` and `HighlightSet::new` use.
+                    Cell::Bool(scale == 1 && sizing == HighlightSizing::default()),
+                    adapter.as_str().into(),
+                ]);
             }
-            bar.finish_and_clear();
-            let s = FidelityScore::pool(&scores);
-            table.push(vec![
-                name.as_str().into(),
-                label.into(),
-                Cell::Num(f64::from(abstraction), 3),
-                Cell::Num(s.precision, 3),
-                Cell::Num(s.recall, 3),
-                Cell::Num(s.highlights_median, 1),
-                Cell::Num(s.drawn_median, 1),
-                Cell::Num(s.blobs_median, 1),
-                format!("{}/{}", s.count_within, s.views).into(),
-                Cell::Num(f64::from(s.stretch_max), 2),
-                Cell::Num(s.overlap_share, 3),
-                Cell::Num(s.cut_boundary_share, 3),
-                Cell::Num(s.edit_completeness, 3),
-                // The settings `npr` and `HighlightSet::new` use.
-                Cell::Bool(scale == 1 && sizing == HighlightSizing::default()),
-                adapter.as_str().into(),
-            ]);
         }
     }
-    emit(&[table, turning(extra, animation)?], json)
+    emit(&[table, turning(&ctx, extra, animation)?], json)
 }
 
 /// A mesh for the turning table: its name, the mesh at rest and, with `--animation`,
@@ -218,13 +241,14 @@ fn turning_meshes(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<
 /// Each mesh turning 360° in 1° steps under a fixed light and eye, for both sizings; with
 /// `--animation CLIP`, the same meshes playing the clip (361 frames at 30 fps, camera and
 /// object still) beside their turn, in the same run.
-fn turning(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Table> {
+fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Table> {
     let mut table = Table::new(
         "specular-fidelity: turning 360° in 1° steps, and a clip's frames (fade rule, footprint area)",
         &[
             "mesh",
             "motion",
             "sizing",
+            "setup",
             "max_area_change",
             "frames",
             "pops_in",
@@ -249,8 +273,19 @@ fn turning(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Table> 
             set.max_area_change = limit;
             let mut runs = vec![(
                 "turntable".to_string(),
+                "cpu",
                 turntable_coherence(&mut set, le, world_from_normalized, TURN_FRAMES, 1.0),
             )];
+            // The same turn set up on the GPU (the walk is drawn, not measured here).
+            let mut gpu = GpuSetup::new(&ctx.device, &set, &t.mesh.indices)?;
+            let on_gpu = turntable_coherence_with(
+                &mut set,
+                (le, world_from_normalized),
+                (TURN_FRAMES, 1.0),
+                |set, frame| gpu.update(&ctx.device, &ctx.queue, set, frame),
+            )?;
+            set.receivers_on_gpu = false;
+            runs.push(("turntable".to_string(), "gpu", on_gpu));
             if let Some((clip, frames)) = &t.clip {
                 let c = pose_coherence(
                     &mut set,
@@ -259,15 +294,16 @@ fn turning(extra: &[PathBuf], animation: Option<&str>) -> anyhow::Result<Table> 
                     frames.iter().cloned(),
                     &options,
                 )?;
-                runs.push((format!("clip {clip}"), c));
+                runs.push((format!("clip {clip}"), "cpu", c));
                 // Back to the rest pose for the next sizing's turn.
                 set.repose(&t.mesh, &options)?;
             }
-            for (motion, c) in runs {
+            for (motion, setup, c) in runs {
                 table.push(vec![
                     t.name.as_str().into(),
                     motion.into(),
                     format!("{sizing:?}").to_lowercase().into(),
+                    setup.into(),
                     Cell::Num(f64::from(limit), 2),
                     c.frames.into(),
                     c.pops_in.into(),
