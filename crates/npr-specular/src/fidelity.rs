@@ -666,12 +666,9 @@ impl GpuSetup {
             light_eye,
             world_from_object,
         };
-        let prepared = self.search_pass.prepare(queue, &mut self.search, &input)?;
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.search_pass
-            .record(&mut encoder, &self.search, &prepared)?;
-        queue.submit([encoder.finish()]);
-        let solved = self.search.read(device, &prepared)?;
+        let solved = self
+            .search_pass
+            .search_now(device, queue, &mut self.search, &input)?;
         set.receivers_on_gpu = true;
         if solved.complete() {
             set.update_from_solutions(light_eye, world_from_object, &solved.faces);

@@ -302,6 +302,29 @@ impl CentreSearchPass {
         Ok(prepared)
     }
 
+    /// One frame's search at once (native; the browser maps and polls instead): prepare,
+    /// record in an encoder of its own, submit, and read the accepted faces back, waiting
+    /// for the GPU. For callers whose frame waits on the list anyway (the app's GPU
+    /// search, benches, measures).
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::prepare`] and [`SearchObject::read`].
+    pub fn search_now(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        object: &mut SearchObject,
+        input: &SearchInput<'_>,
+    ) -> Result<SearchSolutions, SpecularError> {
+        let prepared = self.prepare(queue, object, input)?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr centre search"),
+        });
+        self.record(&mut encoder, object, &prepared)?;
+        queue.submit([encoder.finish()]);
+        object.read(device, &prepared)
+    }
+
     /// Records the search: the counter cleared, one invocation per face, and the counter
     /// and list copied for [`SearchObject::read`].
     ///

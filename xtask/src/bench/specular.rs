@@ -369,11 +369,7 @@ fn gpu_search(
         light_eye,
         world_from_object,
     };
-    let prepared = pass.prepare(&ctx.queue, object, &input)?;
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    pass.record(&mut encoder, object, &prepared)?;
-    ctx.queue.submit([encoder.finish()]);
-    let solved = object.read(&ctx.device, &prepared)?;
+    let solved = pass.search_now(&ctx.device, &ctx.queue, object, &input)?;
     anyhow::ensure!(
         solved.complete(),
         "the GPU search accepted {} faces, over its list of {}",

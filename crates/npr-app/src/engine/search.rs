@@ -138,13 +138,7 @@ mod native {
                 light_eye,
                 world_from_object,
             };
-            let prepared = gpu.pass.prepare(queue, object, &input)?;
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("npr centre search"),
-            });
-            gpu.pass.record(&mut encoder, object, &prepared)?;
-            queue.submit([encoder.finish()]);
-            let solved = object.read(device, &prepared)?;
+            let solved = gpu.pass.search_now(device, queue, object, &input)?;
             Ok(solved.complete().then_some(solved.faces))
         }
 
