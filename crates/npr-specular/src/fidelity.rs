@@ -29,12 +29,12 @@
 //!   `e_max`, turned 45° and grown 1.5×, each drawn ÷ the same edited texture drawn with
 //!   §4.2 alone.
 
-use crate::snapshot::{FrameResources, HighlightScene, Renderer};
-use crate::{
-    CentreSearchPass, HighlightBoundary, HighlightControls, HighlightSet, ReceiverObject,
-    ReceiverPass, SearchInput, SearchObject, SpecularError,
-};
+use crate::snapshot::{HighlightScene, Renderer};
+
+mod gpu_setup;
+use crate::{HighlightBoundary, HighlightControls, HighlightSet, SpecularError};
 use glam::{Mat3, Mat4, Vec3};
+pub use gpu_setup::GpuSetup;
 use npr_geometry::LightEye;
 use npr_geometry::{CurvatureOptions, Mesh};
 use npr_gpu::{Camera, GpuMesh, Light, ObjectUniforms, ShadingModel};
@@ -600,147 +600,6 @@ pub fn turntable_coherence_with<E>(
         c.step(set);
     }
     Ok(c)
-}
-
-/// The GPU setup of the measured frames: the `N = H` search as a compute pass
-/// ([`CentreSearchPass`], its list fed to [`HighlightSet::update_from_solutions`]) and
-/// the §4.2 receivers walked by [`ReceiverPass`] in each highlight frame's submission and
-/// drawn from their stream. One per set and render mesh.
-#[derive(Debug)]
-pub struct GpuSetup {
-    search_pass: CentreSearchPass,
-    search: SearchObject,
-    walk_pass: ReceiverPass,
-    walk: ReceiverObject,
-    /// The render triangles' face ids, to read the walk's stream back as faces.
-    face_of: std::collections::HashMap<[u32; 3], u32>,
-    resources: Option<FrameResources>,
-    frame: npr_gpu::FrameId,
-}
-
-impl GpuSetup {
-    /// Uploads `set`'s search and walk tables (`indices`: the render mesh's triangles).
-    ///
-    /// # Errors
-    /// [`npr_gpu::GpuError::MeshTooLarge`] where a table exceeds the device's bindings.
-    pub fn new(
-        device: &wgpu::Device,
-        set: &HighlightSet,
-        indices: &[u32],
-    ) -> Result<Self, SpecularError> {
-        let search_pass = CentreSearchPass::new(device);
-        let walk_pass = ReceiverPass::new(device);
-        // Walks of up to four times the default capacity (the whole mesh where smaller).
-        let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
-        Ok(Self {
-            search: search_pass.create_object(device, set.search())?,
-            walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
-            search_pass,
-            walk_pass,
-            face_of: indices
-                .chunks_exact(3)
-                .enumerate()
-                .map(|(f, t)| ([t[0], t[1], t[2]], f as u32))
-                .collect(),
-            resources: None,
-            frame: npr_gpu::FrameId::default(),
-        })
-    }
-
-    /// Updates `set` for this light, eye and transform from the GPU search's faces, the
-    /// receivers left to the GPU walk (the CPU search's where the list overflowed).
-    ///
-    /// # Errors
-    /// The search pass's, or its readback's.
-    pub fn update(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        set: &mut HighlightSet,
-        (light_eye, world_from_object): (LightEye, Mat4),
-    ) -> Result<(), SpecularError> {
-        self.frame = self.frame.next();
-        let input = SearchInput {
-            frame: self.frame,
-            search: set.search(),
-            light_eye,
-            world_from_object,
-        };
-        let solved = self
-            .search_pass
-            .search_now(device, queue, &mut self.search, &input)?;
-        set.receivers_on_gpu = true;
-        if solved.complete() {
-            set.update_from_solutions(light_eye, world_from_object, &solved.faces);
-        } else {
-            set.update(light_eye, world_from_object);
-        }
-        Ok(())
-    }
-
-    /// [`stretch_max`] of `set`'s highlights over the faces the GPU walks for them (read
-    /// back: a measure, not a frame).
-    ///
-    /// # Errors
-    /// The walk's, or its readback's.
-    pub fn stretch_max(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        set: &HighlightSet,
-        world_from_object: Mat4,
-    ) -> Result<f32, SpecularError> {
-        self.frame = self.frame.next();
-        let input = crate::ReceiverInput {
-            frame: self.frame,
-            set,
-            world_from_object,
-        };
-        let prepared = self.walk_pass.prepare(queue, &mut self.walk, &input)?;
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.walk_pass.record(&mut encoder, &self.walk, &prepared)?;
-        queue.submit([encoder.finish()]);
-        let read = self.walk.read(device, queue, &prepared)?;
-        let mut lists = vec![Vec::new(); set.highlights().len()];
-        for t in read.stream.chunks_exact(3) {
-            if let (Some(list), Some(&f)) = (
-                lists.get_mut(t[0][1] as usize),
-                self.face_of.get(&[t[0][0], t[1][0], t[2][0]]),
-            ) {
-                list.push(f);
-            }
-        }
-        Ok(stretch_over(set, world_from_object, |k| lists[k].clone()))
-    }
-
-    /// Renders `scene` with `renderer`, its receivers walked on the GPU, and reads it
-    /// back.
-    ///
-    /// # Errors
-    /// The passes' errors, or readback failure.
-    pub fn render(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        renderer: &Renderer,
-        scene: &HighlightScene<'_>,
-    ) -> Result<image::RgbaImage, SpecularError> {
-        let res = self
-            .resources
-            .get_or_insert_with(|| renderer.resources(device, scene.mesh));
-        renderer.submit_gpu_receivers(
-            device,
-            queue,
-            scene,
-            res,
-            (&self.walk_pass, &mut self.walk),
-        )?;
-        Ok(npr_gpu::readback_rgba(
-            device,
-            queue,
-            &renderer.target().color,
-        )?)
-    }
 }
 
 /// The set tracked over the poses of a moving mesh (a clip's frames, same triangles):
