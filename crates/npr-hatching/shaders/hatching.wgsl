@@ -46,6 +46,11 @@ override ANCHORS: u32 = 2u;
 @group(0) @binding(2) var gbuffer: texture_2d<f32>;
 // The surface anchors: xy = anchor 0, zw = anchor 1 (pixels at two reference views).
 @group(0) @binding(3) var anchors: texture_2d<f32>;
+// Bilinear with wrap-around (`HatchPass`'s `tam_sampler`). The surface variants read the
+// map through it: their lookup positions, anchored on the surface, move by fractions of a
+// texel from frame to frame, and a nearest read would snap stroke edges from texel to
+// texel (shimmer). The paper's screen space reads texels nearest, as Eq. (1) indexes them.
+@group(0) @binding(4) var tam_sampler: sampler;
 
 // `vs_fullscreen`, `vs_fullscreen_far` and `FullscreenOut`: npr-gpu's `fullscreen.wgsl`,
 // composed before this file. The scene's pass (`HatchPass::record_scene`) draws at the far
@@ -53,13 +58,28 @@ override ANCHORS: u32 = 2u;
 // its paper colour coming from the pass's clear.
 
 // f(u_k, v_k) of Eq. (2): the pixel (x, y) rotated by theta_k (Eq. (1), §3.1), read from
-// the map nearest with wrap-around, blended between slices `slice` and `slice + 1` by `a`.
+// the map nearest with wrap-around (filtered in the surface variants), blended between
+// slices `slice` and `slice + 1` by `a`.
 // `cs` = (cos theta_k, sin theta_k) / stroke scale. Mirrors `CpuHatcher::stroke_texel`.
 // `k` shortens the strokes (which run along u) k times.
 fn stroke_texel(cs: vec2<f32>, p: vec2<f32>, slice: i32, a: f32, k: f32) -> f32 {
     let u = (cs.x * p.x - cs.y * p.y) * k;
     let v = cs.y * p.x + cs.x * p.y;
     let mask = i32(hatch.config.z);
+    if SURFACE {
+        // Filtered through `tam_sampler` (texel centres at (i + 1/2) / size, wrapping),
+        // with the fraction between centres eased to f^2 (3 - 2f): strokes slide
+        // continuously and stay nearly as crisp as a nearest read (plain bilinear blurs
+        // thin pen lines, and their blur grows as the anchors magnify). Mirrors
+        // `CpuHatcher::filtered_texel`.
+        let size = f32(hatch.config.z + 1u);
+        let q = vec2<f32>(u, v) - 0.5;
+        let i = floor(q);
+        let f = q - i;
+        let e = f * f * (3.0 - 2.0 * f);
+        let filtered = textureSampleLevel(tam, tam_sampler, (i + e + 0.5) / size, slice, 0.0).rg;
+        return filtered.x + (filtered.y - filtered.x) * a;
+    }
     let t = vec2<i32>(i32(floor(u)) & mask, i32(floor(v)) & mask);
     let pair = textureLoad(tam, t, slice, 0).rg;
     return pair.x + (pair.y - pair.x) * a;

@@ -63,6 +63,9 @@ pub struct CpuHatcher {
     bins_ext: Vec<[f32; 4]>,
     /// Coverage (quantized to `LUT_SIZE` steps) → sRGB8 of `paper + (ink − paper)·c`.
     lut: Vec<[u8; 4]>,
+    /// Surface space: the map is read filtered ([`CpuHatcher::filtered_texel`]), as the
+    /// GPU pass's surface variants read it.
+    filtered: bool,
 }
 
 impl CpuHatcher {
@@ -103,6 +106,7 @@ impl CpuHatcher {
             tones,
             bins: params.bins as i32,
             lut,
+            filtered: params.space == crate::StrokeSpace::Surface,
         })
     }
 
@@ -112,13 +116,16 @@ impl CpuHatcher {
     }
 
     /// `f(u_k, v_k)` of Eq. (2): the map at the rotated pixel (Eq. (1)), nearest texel with
-    /// wrap-around, blended between slices `slice` and `slice + 1` by `a`. `cs` = (cos θ_k,
+    /// wrap-around (filtered in the surface space, [`CpuHatcher::filtered_texel`]), blended between slices `slice` and `slice + 1` by `a`. `cs` = (cos θ_k,
     /// sin θ_k) / stroke_scale; `k` shortens the strokes (along u) k times. Mirrors WGSL
     /// `stroke_texel`.
     #[inline(always)]
     fn stroke_texel(&self, cs: (f32, f32), x: f32, y: f32, slice: usize, a: f32, k: f32) -> f32 {
         let u = (cs.0 * x - cs.1 * y) * k;
         let v = cs.1 * x + cs.0 * y;
+        if self.filtered {
+            return self.filtered_texel(u, v, slice, a);
+        }
         let tx = (floor_i32(u) & self.mask) as usize;
         let ty = (floor_i32(v) & self.mask) as usize;
         let base = ((ty << self.size_log2) + tx) * self.tones + slice;
@@ -126,6 +133,42 @@ impl CpuHatcher {
             Some(&[a, b]) => (f32::from(a) * (1.0 / 255.0), f32::from(b) * (1.0 / 255.0)),
             _ => (0.0, 0.0),
         };
+        t0 + (t1 - t0) * a
+    }
+
+    /// The map at texel coordinates `(u, v)` filtered with wrap-around (texel centres at
+    /// `i + ½`), blended between slices `slice` and `slice + 1` by `a`: the surface
+    /// space's lookup (WGSL `stroke_texel` through `tam_sampler`). Bilinear, with each
+    /// axis's fraction `f` eased to `f²(3 − 2f)`: a stroke's edge slides continuously as
+    /// the position moves, and stays nearly as crisp as a nearest read.
+    fn filtered_texel(&self, u: f32, v: f32, slice: usize, a: f32) -> f32 {
+        let (uu, vv) = (u - 0.5, v - 0.5);
+        let (i0, j0) = (floor_i32(uu), floor_i32(vv));
+        // Non-finite or far-off coordinates (where `floor_i32` saturates) read texel
+        // (i0, j0) alone.
+        let ease = |x: f32, i: i32| {
+            let f = x - i as f32;
+            if (0.0..=1.0).contains(&f) {
+                f * f * (3.0 - 2.0 * f)
+            } else {
+                0.0
+            }
+        };
+        let (fu, fv) = (ease(uu, i0), ease(vv, j0));
+        let pair = |i: i32, j: i32| {
+            let base = ((((j & self.mask) as usize) << self.size_log2) + (i & self.mask) as usize)
+                * self.tones
+                + slice;
+            match self.texels.get(base..base + 2) {
+                Some(&[t0, t1]) => (f32::from(t0) / 255.0, f32::from(t1) / 255.0),
+                _ => (0.0, 0.0),
+            }
+        };
+        let lerp =
+            |p: (f32, f32), q: (f32, f32), t: f32| (p.0 + (q.0 - p.0) * t, p.1 + (q.1 - p.1) * t);
+        let top = lerp(pair(i0, j0), pair(i0 + 1, j0), fu);
+        let bottom = lerp(pair(i0, j0 + 1), pair(i0 + 1, j0 + 1), fu);
+        let (t0, t1) = lerp(top, bottom, fv);
         t0 + (t1 - t0) * a
     }
 
@@ -377,7 +420,7 @@ impl CpuHatcher {
         let py = y as f32 + 0.5;
         let n = tone.len().min(theta.len());
         let anchors = anchors.filter(|_| self.uniforms.space[0] == 1);
-        if anchors.is_some() || self.uniforms.length[3] > 0.0 {
+        if anchors.is_some() || self.filtered || self.uniforms.length[3] > 0.0 {
             for i in 0..n {
                 let tr = turn.and_then(|t| t.get(i)).copied().unwrap_or(0.0);
                 let c = match anchors.and_then(|a| a.get(i)) {

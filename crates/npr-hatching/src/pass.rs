@@ -410,6 +410,8 @@ pub struct HatchPass {
     target_format: wgpu::TextureFormat,
     layout: wgpu::BindGroupLayout,
     tam_view: wgpu::TextureView,
+    /// Bilinear, wrapping: the surface variants' reads of the map.
+    tam_sampler: wgpu::Sampler,
     tam: TonalArtMap,
 }
 
@@ -428,7 +430,7 @@ impl HatchPass {
         let tam = &settings.tam;
         HatchUniforms::new(&HatchParams::default(), tam)?;
         let module = crate::shaders::HATCHING.module(device);
-        use npr_gpu::layout::{UNFILTERABLE, uniform_entry};
+        use npr_gpu::layout::{FILTERABLE, UNFILTERABLE, sampler_entry, uniform_entry};
         let texture_entry = |binding, view_dimension| {
             npr_gpu::layout::texture_entry(binding, view_dimension, UNFILTERABLE)
         };
@@ -436,9 +438,10 @@ impl HatchPass {
             label: Some("npr hatching"),
             entries: &[
                 uniform_entry(0),
-                texture_entry(1, wgpu::TextureViewDimension::D2Array),
+                npr_gpu::layout::texture_entry(1, wgpu::TextureViewDimension::D2Array, FILTERABLE),
                 texture_entry(2, wgpu::TextureViewDimension::D2),
                 texture_entry(3, wgpu::TextureViewDimension::D2),
+                sampler_entry(4),
             ],
         });
         let pipeline_layout = render::pipeline_layout(device, "npr hatching", &[&layout]);
@@ -448,8 +451,20 @@ impl HatchPass {
                     dimension: Some(wgpu::TextureViewDimension::D2Array),
                     ..Default::default()
                 });
+        // Surface-anchored strokes move by fractions of a texel from frame to frame: the
+        // surface variants read the map filtered (bilinear, wrapping), so that a stroke's
+        // edge slides instead of snapping from texel to texel.
+        let tam_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("npr hatching tonal art map"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         Ok(Self {
             id: PassId::fresh(),
+            tam_sampler,
             pipelines: (0..Variant::COUNT).map(|_| OnceLock::new()).collect(),
             device: device.clone(),
             module,
@@ -518,6 +533,10 @@ impl HatchPass {
                     wgpu::BindGroupEntry {
                         binding: 3,
                         resource: wgpu::BindingResource::TextureView(&anchors),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 4,
+                        resource: wgpu::BindingResource::Sampler(&self.tam_sampler),
                     },
                 ],
             });

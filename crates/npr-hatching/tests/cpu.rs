@@ -4,7 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use npr_hatching::{
-    BlendMode, CpuHatcher, HatchError, HatchInputs, HatchParams, TamParams, TamStyle, TonalArtMap,
+    BlendMode, CpuHatcher, HatchError, HatchInputs, HatchParams, StrokeSpace, TamParams, TamStyle,
+    TonalArtMap,
 };
 use std::f32::consts::PI;
 use std::sync::OnceLock;
@@ -422,4 +423,47 @@ fn strokes_shorten_where_the_field_turns() {
         CpuHatcher::new(&tam, &bad),
         Err(npr_hatching::HatchError::InvalidParams { .. })
     ));
+}
+
+/// The largest change of any pixel's coverage between consecutive steps of a slide by
+/// 0.1 pixel along (1, 0.3), at tone `tone` and θ = 0.4, over a 48×48 patch.
+fn largest_step(h: &CpuHatcher, tone: f32) -> f32 {
+    let mut worst = 0.0f32;
+    for y in 0..48 {
+        for x in 0..48 {
+            let at = |d: f32| h.coverage(x as f32 + 0.5 + d, y as f32 + 0.5 + 0.3 * d, tone, 0.4);
+            let mut last = at(0.0);
+            for i in 1..=10 {
+                let c = at(0.1 * i as f32);
+                worst = worst.max((c - last).abs());
+                last = c;
+            }
+        }
+    }
+    worst
+}
+
+/// Surface-anchored strokes slide with their surface by fractions of a texel from frame to
+/// frame: the surface space reads the map filtered, so a slide of 0.1 pixel changes no
+/// pixel by more than a fraction of a stroke's contrast, where the screen space's nearest
+/// read (the paper's Eq. (1) indexing) flips pixels at stroke edges (whole pixels with the
+/// pen, several times the filtered step with the soft pencil).
+#[test]
+fn surface_strokes_slide_without_snapping() {
+    for style in [TamStyle::Pen, TamStyle::Pencil] {
+        let params = |space| HatchParams {
+            space,
+            ..Default::default()
+        };
+        let surface = CpuHatcher::new(tam(style), &params(StrokeSpace::Surface)).unwrap();
+        let screen = CpuHatcher::new(tam(style), &params(StrokeSpace::Screen)).unwrap();
+        for tone in [0.2, 0.5, 0.8] {
+            let (filtered, nearest) = (largest_step(&surface, tone), largest_step(&screen, tone));
+            eprintln!("{style:?} tone {tone}: {filtered:.3} filtered, {nearest:.3} nearest");
+            assert!(
+                filtered <= 0.25 && nearest >= 3.0 * filtered,
+                "{style:?} tone {tone}: largest step {filtered:.3} filtered, {nearest:.3} nearest"
+            );
+        }
+    }
 }

@@ -7,8 +7,8 @@ use glam::{Mat4, Vec3};
 use npr_gpu::{Camera, FrameId, GpuMesh, ObjectUniforms, TargetFormats, testing};
 use npr_hatching::{
     BlendMode, CpuHatcher, HatchError, HatchFrame, HatchFrameSettings, HatchInputs, HatchParams,
-    HatchView, SceneSettings, ShadowLight, TamParams, TamStyle, TonalArtMap, VsmSettings,
-    hatch_image_gpu,
+    HatchView, SceneSettings, ShadowLight, StrokeSpace, TamParams, TamStyle, TonalArtMap,
+    VsmSettings, hatch_image_gpu,
 };
 use std::f32::consts::PI;
 
@@ -57,9 +57,13 @@ fn gpu_hatching_equals_cpu_reference() {
     .unwrap();
     for style in [TamStyle::Pen, TamStyle::Pencil] {
         let tam = TonalArtMap::generate(&TamParams::for_style(style)).unwrap();
-        for mode in BlendMode::ALL {
+        for (mode, space) in BlendMode::ALL
+            .into_iter()
+            .flat_map(|m| StrokeSpace::ALL.map(|s| (m, s)))
+        {
             let params = HatchParams {
                 mode,
+                space,
                 bins: 18,
                 stroke_scale: 1.5,
                 ink: [0.05, 0.02, 0.1],
@@ -76,12 +80,18 @@ fn gpu_hatching_equals_cpu_reference() {
                 .unwrap();
             let (mean, frac) = compare(&gpu, &cpu);
             eprintln!(
-                "{style:?} {mode:?}: mean |Δ| {mean:.4}, pixels > 2: {:.4} %",
+                "{style:?} {mode:?} {space:?}: mean |Δ| {mean:.4}, pixels > 2: {:.4} %",
                 frac * 100.0
             );
+            // The surface space reads the map filtered: the GPU's sampler weighs texels
+            // with a few sub-texel bits (8 on lavapipe), the CPU in f32.
+            let bound = match space {
+                StrokeSpace::Screen => 0.25,
+                StrokeSpace::Surface => 0.5,
+            };
             assert!(
-                mean <= 0.25 && frac <= 0.005,
-                "{style:?} {mode:?}: mean {mean}, fraction {frac}; {}",
+                mean <= bound && frac <= 0.005,
+                "{style:?} {mode:?} {space:?}: mean {mean}, fraction {frac}; {}",
                 npr_gpu::testing::image_failure(&format!("hatch-{style:?}-{mode:?}"), &cpu, &gpu)
             );
         }

@@ -33,6 +33,8 @@
 //! `flicker_vs_bunny_same_tone` compares at equal tone: each tile's flicker against the
 //! bunny's surface-mode mean over its tiles of the same tone (tenths of the tone range),
 //! since a tile's flicker grows with its ink (a dark tile holds more strokes to change).
+//! A second table gives each mesh's surface-mode flicker per tone bin and the share of its
+//! tiles at mid tones (0.2–0.6, where flicker peaks on every mesh).
 //! Targets: sliding ≤ 0.25, density_change ≤ 0.25, flicker ≤ 1.5 × the paper mode's;
 //! on the hard-edged parts (`npr_geometry::generate::cad_parts`, the wing nut, the
 //! hammer and the flange of `fixtures/meshes`) the surface mode's `flicker_vs_bunny` ≤ 1 with
@@ -535,7 +537,47 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>, animation: Option<&str>) -> 
             }
         }
     }
-    emit(&[table], json)
+    emit(&[table, by_tone_table(&measured)], json)
+}
+
+/// The surface mode's flicker per tone bin, one row per mesh and motion: where a mesh's
+/// `flicker_vs_bunny` comes from (a tile's flicker depends on its tone, so a mesh whose
+/// tiles are mostly mid-tone flickers more on average at the same flicker per tone).
+fn by_tone_table(measured: &[(&String, Vec<(String, Vec<Measured>)>)]) -> Table {
+    let bins: Vec<String> = (0..TONE_BINS)
+        .map(|b| format!("flicker_tone_{:.1}", b as f64 / TONE_BINS as f64))
+        .collect();
+    let mut columns = vec!["mesh", "motion", "mid_tone_tile_share"];
+    columns.extend(bins.iter().map(String::as_str));
+    let mut table = Table::new(
+        "surface mode's flicker by tile tone (tone bins of 0.1 from black; - where no \
+         tile has that tone); mid_tone_tile_share = tiles of tone 0.2-0.6",
+        &columns,
+    );
+    for (name, runs) in measured {
+        for (motion, rows) in runs {
+            let Some(r) = in_mode(rows, "surface") else {
+                continue;
+            };
+            let mid = r
+                .tile_flicker
+                .iter()
+                .filter(|(t, _)| (0.2..0.6).contains(t))
+                .count();
+            let mut row = vec![
+                Cell::from(name.as_str()),
+                Cell::from(motion.as_str()),
+                Cell::Num(mid as f64 / r.tile_flicker.len().max(1) as f64, 2),
+            ];
+            row.extend(
+                flicker_by_tone(&r.tile_flicker)
+                    .into_iter()
+                    .map(|f| f.map_or(Cell::Empty, |f| Cell::Num(f, 4))),
+            );
+            table.push(row);
+        }
+    }
+    table
 }
 
 #[cfg(test)]
