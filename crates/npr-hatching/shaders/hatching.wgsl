@@ -15,7 +15,8 @@ struct Hatch {
     paper: vec4<f32>,
     // x = (tones - 1) / max coverage.
     tone: vec4<f32>,
-    // x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition),
+    // x = bins, y = mode (0 cut-and-paste, 1 blended, 2 offset partition; the shader
+    // branches on its copy, the pipeline constant MODE),
     // z = map size - 1 (texel mask), w = tones.
     config: vec4<u32>,
     // x = stroke space: 0 screen (the paper: Eq. (1) rotates the pixel position), 1 surface
@@ -37,6 +38,10 @@ override SHORT_STROKES: bool = false;
 // G-buffer's weight; 0 or 1 = that anchor alone, for a frame whose weight is 0 or 1 on
 // every pixel (`ScenePasses::anchor_weight`), with the same result as 2 there.
 override ANCHORS: u32 = 2u;
+// The blend mode, mirroring `hatch.config.y` (0 cut-and-paste, 1 blended, 2 offset
+// partition): lavapipe runs every mode's lookups behind a branch on the uniform, so each
+// mode is its own pipeline variant.
+override MODE: u32 = 2u;
 // The tonal art map as tone pairs (`TonalArtMap::upload_tone_pairs`): layer s holds slice
 // s in r and slice s + 1 in g (Rg8Unorm), light to dark; fetched nearest, one fetch per
 // rotated position for both slices the tone blends.
@@ -135,11 +140,11 @@ fn hatch_coverage(p: vec2<f32>, tone: f32, theta: f32, k: f32) -> f32 {
     let slice = min(max(i32(floor(s)), 0), i32(hatch.config.w) - 2);
     let a = s - f32(slice);
     let t = theta * hatch.ink.a;
-    if hatch.config.y == 0u {
+    if MODE == 0u {
         let q = i32(floor(t + 0.5));
         return stroke_texel(bin_cs(q, false), p, slice, a, k);
     }
-    if hatch.config.y == 1u {
+    if MODE == 1u {
         return blended(t, false, p, slice, a, k);
     }
     return 0.5 * blended(t, false, p, slice, a, k) + 0.5 * blended(t, true, p, slice, a, k);

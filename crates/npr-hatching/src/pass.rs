@@ -561,6 +561,7 @@ impl HatchPass {
                 ("SURFACE", f64::from(u8::from(variant.surface))),
                 ("SHORT_STROKES", f64::from(u8::from(variant.short))),
                 ("ANCHORS", f64::from(variant.anchors)),
+                ("MODE", f64::from(variant.mode)),
             ];
             let targets = [Some(self.target_format.into())];
             let vs = if variant.masked {
@@ -595,11 +596,17 @@ impl HatchPass {
             Some(w) if surface && w == 1.0 => 1,
             _ => 2,
         };
+        let mode = match slot.params.mode {
+            crate::BlendMode::CutAndPaste => 0,
+            crate::BlendMode::Blended => 1,
+            crate::BlendMode::OffsetPartition => 2,
+        };
         Variant {
             surface,
             short: slot.params.stroke_length.is_some(),
             anchors,
             masked,
+            mode,
         }
     }
 
@@ -691,16 +698,21 @@ struct Variant {
     /// 0 or 1: that anchor alone; 2: both, cross-faded.
     anchors: u8,
     masked: bool,
+    /// The blend mode (`HatchUniforms::config[1]`: 0 cut-and-paste, 1 blended, 2 offset
+    /// partition).
+    mode: u8,
 }
 
 impl Variant {
-    const COUNT: usize = 2 * 2 * 3 * 2;
+    const COUNT: usize = 2 * 2 * 3 * 2 * 3;
 
     fn index(self) -> usize {
-        ((usize::from(self.surface) * 2 + usize::from(self.short)) * 3
+        (((usize::from(self.surface) * 2 + usize::from(self.short)) * 3
             + usize::from(self.anchors.min(2)))
             * 2
-            + usize::from(self.masked)
+            + usize::from(self.masked))
+            * 3
+            + usize::from(self.mode.min(2))
     }
 }
 
