@@ -8,7 +8,8 @@
 // for exact zeros in the CPU's form are set here to what `f32` resolves.
 //
 // A face whose cone of vertex normals cannot hold its half vectors is skipped before the
-// solve (`in_cone`, the CPU's per-face rejection, conservative: it never drops a centre).
+// solve (`in_cone`, the CPU's per-face rejection, conservative: it never drops a centre),
+// and a whole workgroup of faces whose cluster's cone cannot (`cluster_may_hold`).
 // Duplicates of one centre from neighbouring faces are merged on the CPU
 // from the compact list (`HighlightSearch::centres_from_solutions`).
 
@@ -45,6 +46,18 @@ struct SearchParams {
 
 struct Counter {
     found: atomic<u32>,
+    // Clusters whose workgroup went on to its faces (`cluster_may_hold`).
+    clusters: atomic<u32>,
+}
+
+// A run of `WORKGROUP` faces in Morton order (`ClusterRecord` in `search_clusters.rs`):
+// the cone of its vertex normals (axis; w = the largest angle to one of them plus the
+// fixed margin and a safety, ≥ π without a cone), the sphere holding its faces, and the
+// largest curvature slack of its faces (x).
+struct ClusterRecord {
+    axis: vec4<f32>,
+    sphere: vec4<f32>,
+    margin: vec4<f32>,
 }
 
 @group(0) @binding(0) var<storage, read> vertices: array<SolveVertex>;
@@ -55,6 +68,10 @@ struct Counter {
 // Per accepted face: (face, α and β as bits, 0).
 @group(0) @binding(3) var<storage, read_write> solutions: array<vec4<u32>>;
 @group(0) @binding(4) var<uniform> params: SearchParams;
+// The face each invocation solves (`triangles` is stored in this order): slot -> face.
+@group(0) @binding(5) var<storage, read> order: array<u32>;
+// One per workgroup of faces.
+@group(0) @binding(6) var<storage, read> clusters: array<ClusterRecord>;
 
 const WORKGROUP: u32 = 64u;
 // `BARYCENTRIC_EPSILON` and `RESIDUAL_TOLERANCE` of `solve.rs`.
@@ -270,15 +287,64 @@ fn in_cone(f: Face, margin: f32) -> bool {
     return true;
 }
 
+// Whether a cluster's faces can hold a point where N = H (conservative): H, over every
+// point of the cluster, within its normal cone widened by the faces' slack. The CPU
+// search's cluster rejection (`HighlightSearch::find`, step 0), which applies to
+// directions (kind 0) and to positions in object space (kind 1, similarity maps); kind 2
+// solves every cluster. For positions, H is taken at the sphere's centre: over the sphere
+// (radius r) the unit directions to light and eye turn by at most 2r/d each, so their sum
+// s moves by at most that and H by asin(|Δs| / |s|).
+fn cluster_may_hold(c: ClusterRecord) -> bool {
+    var limit = c.axis.w;
+    if params.curved == 1u {
+        limit += c.margin.x;
+    }
+    if params.kind == 2u || !(limit < 3.0) {
+        return true;
+    }
+    var h = params.half_vector.xyz;
+    if params.kind == 1u {
+        let r = c.sphere.w;
+        let l = params.light.xyz - c.sphere.xyz;
+        let e = params.eye.xyz - c.sphere.xyz;
+        let dl = length(l);
+        let de = length(e);
+        if !(dl > 2.0 * r) || !(de > 2.0 * r) {
+            return true;
+        }
+        let s = l / dl + e / de;
+        let sl = length(s);
+        let ds = 2.0 * r / dl + 2.0 * r / de;
+        if !(ds < 0.9 * sl) {
+            return true;
+        }
+        h = s / sl;
+        limit += asin(ds / sl);
+        if !(limit < 3.0) {
+            return true;
+        }
+    }
+    return dot(h, c.axis.xyz) >= cos(limit);
+}
+
 // `search_vertices` with its per-face rejection (`HighlightSearch::find_exhaustive`), one
-// face per invocation.
+// face per invocation, one cluster per workgroup (a workgroup whose cluster cannot hold
+// N = H returns at once).
 @compute @workgroup_size(64)
 fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let face = gid.x + gid.y * groups.x * WORKGROUP;
-    if face >= params.face_count {
+    let at = gid.x + gid.y * groups.x * WORKGROUP;
+    if at >= params.face_count {
         return;
     }
-    let t = triangles[face];
+    // Every invocation of the workgroup reads the same cluster: the branch is uniform.
+    if !cluster_may_hold(clusters[at / WORKGROUP]) {
+        return;
+    }
+    if at % WORKGROUP == 0u {
+        atomicAdd(&counter.clusters, 1u);
+    }
+    let face = order[at];
+    let t = triangles[at];
     let nv = arrayLength(&vertices);
     if t.x >= nv || t.y >= nv || t.z >= nv {
         return;
@@ -309,8 +375,8 @@ fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     if s.z == 0.0 {
         return;
     }
-    let at = atomicAdd(&counter.found, 1u);
-    if at < params.capacity {
-        solutions[at] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), 0u);
+    let slot = atomicAdd(&counter.found, 1u);
+    if slot < params.capacity {
+        solutions[slot] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), 0u);
     }
 }

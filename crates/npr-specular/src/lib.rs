@@ -24,6 +24,7 @@ pub mod pass;
 pub mod projector;
 pub mod receiver_pass;
 pub mod region;
+mod search_clusters;
 pub mod search_pass;
 pub mod set;
 pub mod shaders;

@@ -1,5 +1,7 @@
 //! The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass: every face solved on the GPU
-//! in one dispatch (`shaders/centre_search.wgsl`, `cs_search`), the accepted faces
+//! in one dispatch (`shaders/centre_search.wgsl`, `cs_search`), one workgroup per
+//! cluster of 64 faces in Morton order that skips its faces at once when the cluster's
+//! normal cone cannot hold `N = H` (as the CPU search skips vertex clusters), the accepted faces
 //! appended to a compact list by an integer atomic counter (WebGPU has no float
 //! atomics), and only that list read back: at most [`SearchObject::capacity`] entries of
 //! 16 bytes, never a mesh-sized buffer. The list becomes centres on the CPU with
@@ -34,6 +36,7 @@ use npr_gpu::compute::{
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 
 use crate::SpecularError;
+use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
 
 /// Accepted faces one frame keeps by default: far more than a frame has highlights
 /// (each centre is found by one to six faces), at 16 bytes each.
@@ -70,7 +73,14 @@ pub struct SearchObject {
     faces: usize,
     capacity: usize,
     vertices: wgpu::Buffer,
+    /// The triangles in [`search_clusters::face_order`] (the order `cs_search` visits).
     triangles: wgpu::Buffer,
+    /// That order: visiting slot → face.
+    face_order: Vec<u32>,
+    order: wgpu::Buffer,
+    /// One [`search_clusters::ClusterRecord`] per workgroup of faces, for the pose of
+    /// `search_id`.
+    clusters: wgpu::Buffer,
     slots: Slots<Slot>,
 }
 
@@ -94,6 +104,10 @@ pub struct SearchSolutions {
     /// How many faces were accepted: more than `faces.len()` when the list overflowed
     /// (then use the CPU search for that frame, or a larger capacity).
     pub accepted: usize,
+    /// How many clusters of faces (workgroups of [`SearchObject::cluster_faces`]) the
+    /// search solved; the others' normal cones could not hold `N = H` and were skipped
+    /// whole ([`SearchObject::cluster_count`] in all).
+    pub clusters_solved: usize,
 }
 
 impl SearchSolutions {
@@ -131,9 +145,8 @@ struct VertexRecord {
     shape_z: [f32; 4],
 }
 
-fn vertex_records(search: &HighlightSearch) -> Vec<VertexRecord> {
-    search
-        .solve_vertices()
+fn vertex_records(solve_vertices: &[npr_geometry::SolveVertex]) -> Vec<VertexRecord> {
+    solve_vertices
         .iter()
         .map(|v| VertexRecord {
             position: v.position,
@@ -189,6 +202,7 @@ impl CentreSearchPass {
         let module = crate::shaders::CENTRE_SEARCH.module(device);
         let mut entries: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
         entries.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
+        entries.extend((5..7).map(|b| storage_layout_entry(b, true)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr centre search"),
             entries: &entries,
@@ -227,23 +241,40 @@ impl CentreSearchPass {
         search: &HighlightSearch,
         capacity: usize,
     ) -> Result<SearchObject, SpecularError> {
-        let records = vertex_records(search);
-        let triangles: Vec<[u32; 4]> = search
-            .triangles()
+        let solve_vertices = search.solve_vertices();
+        let records = vertex_records(&solve_vertices);
+        let face_order = search_clusters::face_order(&solve_vertices, search.triangles());
+        let margins = search.face_margins();
+        let triangles: Vec<[u32; 4]> = face_order
             .iter()
-            .zip(search.face_margins())
-            .map(|(t, m)| [t[0], t[1], t[2], m.to_bits()])
+            .map(|&f| {
+                let t = search.triangles()[f as usize];
+                [t[0], t[1], t[2], margins[f as usize].to_bits()]
+            })
             .collect();
+        let clusters = search_clusters::cluster_records(search, &solve_vertices, &face_order);
         let capacity = capacity.max(1);
         check_bindings(
             &[
                 ("search vertices", (records.len() * 80) as u64),
                 ("search triangles", (triangles.len() * 16) as u64),
                 ("search solutions", (capacity * 16) as u64),
+                ("search order", (face_order.len() * 4) as u64),
+                (
+                    "search clusters",
+                    (clusters.len() * std::mem::size_of::<ClusterRecord>()) as u64,
+                ),
             ],
             device.limits().max_storage_buffer_binding_size,
         )?;
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        // Zero-sized buffers cannot be bound: an empty mesh keeps one placeholder entry.
+        let nonempty = |v: &[u32]| if v.is_empty() { vec![0] } else { v.to_vec() };
+        let cluster_data = if clusters.is_empty() {
+            vec![ClusterRecord::default()]
+        } else {
+            clusters.clone()
+        };
         Ok(SearchObject {
             search_id: search.id(),
             vertex_count: records.len(),
@@ -251,6 +282,9 @@ impl CentreSearchPass {
             capacity,
             vertices: buffer_init(device, "npr search vertices", &records, usage),
             triangles: buffer_init(device, "npr search triangles", &triangles, usage),
+            order: buffer_init(device, "npr search order", &nonempty(&face_order), usage),
+            clusters: buffer_init(device, "npr search clusters", &cluster_data, usage),
+            face_order,
             slots: Slots::new(self.id),
         })
     }
@@ -272,7 +306,8 @@ impl CentreSearchPass {
         object.slots.check_pass(self.id)?;
         let search = input.search;
         if search.id() != object.search_id {
-            let records = vertex_records(search);
+            let solve_vertices = search.solve_vertices();
+            let records = vertex_records(&solve_vertices);
             if records.len() != object.vertex_count || search.triangles().len() != object.faces {
                 return Err(SpecularError::Mismatch(format!(
                     "a search object of {} vertices and {} faces prepared with a search of {} and {}",
@@ -282,20 +317,29 @@ impl CentreSearchPass {
                     search.triangles().len()
                 )));
             }
-            if records.is_empty() {
-                object.search_id = search.id();
-            } else {
+            if !records.is_empty() {
                 queue.write_buffer(&object.vertices, 0, bytemuck::cast_slice(&records));
+                // The new pose's cones and spheres, over the mesh's fixed face order.
+                let clusters =
+                    search_clusters::cluster_records(search, &solve_vertices, &object.face_order);
+                if !clusters.is_empty() {
+                    queue.write_buffer(&object.clusters, 0, bytemuck::cast_slice(&clusters));
+                }
             }
             object.search_id = search.id();
         }
         let frame = search.solve_frame(input.light_eye, input.world_from_object);
         let params = params_of(frame, object.faces, object.capacity);
         let (device, layout) = (&self.device, &self.layout);
-        let (vertices, triangles, capacity) =
-            (&object.vertices, &object.triangles, object.capacity);
+        let tables = [
+            &object.vertices,
+            &object.triangles,
+            &object.order,
+            &object.clusters,
+        ];
+        let capacity = object.capacity;
         let (prepared, slot) = object.slots.next(self.id, input.frame, || {
-            make_slot(device, layout, [vertices, triangles], capacity)
+            make_slot(device, layout, tables, capacity)
         })?;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
@@ -365,7 +409,7 @@ impl CentreSearchPass {
 fn make_slot(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    [vertices, triangles]: [&wgpu::Buffer; 2],
+    [vertices, triangles, order, clusters]: [&wgpu::Buffer; 4],
     capacity: usize,
 ) -> Slot {
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
@@ -402,6 +446,8 @@ fn make_slot(
             group_entry(2, &counter),
             group_entry(3, &solutions),
             group_entry(4, &params),
+            group_entry(5, order),
+            group_entry(6, clusters),
         ],
     });
     Slot {
@@ -423,6 +469,16 @@ impl SearchObject {
     /// Faces solved per search.
     pub fn face_count(&self) -> usize {
         self.faces
+    }
+
+    /// Clusters of faces the search tests as a whole, one workgroup each.
+    pub fn cluster_count(&self) -> usize {
+        self.faces.div_ceil(CLUSTER_FACES)
+    }
+
+    /// Faces a cluster holds (consecutive in the Morton order of their centroids).
+    pub const fn cluster_faces() -> usize {
+        CLUSTER_FACES
     }
 
     /// Reads back the faces the search of `prepared` accepted, after the submission that
@@ -480,7 +536,8 @@ impl PendingSolutions {
     }
 }
 
-/// The counter (first 4 bytes) and the entries after the 16-byte header.
+/// The counters (accepted faces, then clusters solved) and the entries after the 16-byte
+/// header.
 fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
     let word = |i: usize| {
         bytes
@@ -488,6 +545,7 @@ fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
             .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
     };
     let accepted = word(0) as usize;
+    let clusters_solved = word(1) as usize;
     let faces = (0..accepted.min(capacity))
         .map(|k| {
             let at = 4 + 4 * k;
@@ -498,7 +556,11 @@ fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
             }
         })
         .collect();
-    SearchSolutions { faces, accepted }
+    SearchSolutions {
+        faces,
+        accepted,
+        clusters_solved,
+    }
 }
 
 #[cfg(test)]
@@ -526,6 +588,12 @@ mod tests {
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,
+            ClusterRecord,
+            "ClusterRecord",
+            [axis, sphere, margin]
+        );
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
             VertexRecord,
             "SolveVertex",
             [position, normal, shape_x, shape_y, shape_z]
@@ -536,13 +604,14 @@ mod tests {
     fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
         let mut bytes = vec![0u8; 16];
         bytes[..4].copy_from_slice(&3u32.to_le_bytes());
+        bytes[4..8].copy_from_slice(&5u32.to_le_bytes());
         for (face, a, b) in [(7u32, 0.25f32, 0.5f32), (9, 0.1, 0.2)] {
             for w in [face, a.to_bits(), b.to_bits(), 0] {
                 bytes.extend_from_slice(&w.to_le_bytes());
             }
         }
         let s = decode(&bytes, 2);
-        assert_eq!(s.accepted, 3);
+        assert_eq!((s.accepted, s.clusters_solved), (3, 5));
         assert!(!s.complete());
         assert_eq!(
             s.faces,
