@@ -6,6 +6,38 @@
 //! winding; only indices change (vertices no triangle uses are dropped). Also what a GPU wants for its post-transform cache.
 
 use crate::Mesh;
+use glam::Vec3;
+
+/// The Morton (Z-order) code of each point: 10 bits an axis over the finite points'
+/// bounding box, interleaved x, y, z from the lowest bit; `u32::MAX` for a non-finite
+/// point. Sorting by it puts points that are near in space mostly near in the order
+/// (the search's clusters of vertices and of faces are runs of it).
+pub fn morton_codes(points: &[Vec3]) -> Vec<u32> {
+    let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
+    let spread_bits = |x: u32| {
+        let mut x = x & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    points
+        .iter()
+        .map(|&p| {
+            if !p.is_finite() {
+                return u32::MAX;
+            }
+            let q = ((p - lo) / extent * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
+            spread_bits(q.x as u32)
+                | (spread_bits(q.y as u32) << 1)
+                | (spread_bits(q.z as u32) << 2)
+        })
+        .collect()
+}
 
 /// What [`reorder_for_locality`] did.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -9,7 +9,8 @@
 //
 // A face whose cone of vertex normals cannot hold its half vectors is skipped before the
 // solve (`in_cone`, the CPU's per-face rejection, conservative: it never drops a centre),
-// and a whole workgroup of faces whose cluster's cone cannot (`cluster_may_hold`).
+// and a whole cluster of faces whose cone cannot (`cluster_may_hold`): `cs_clusters`
+// lists the others, and `cs_search` is dispatched indirectly over that list only.
 // Duplicates of one centre from neighbouring faces are merged on the CPU
 // from the compact list (`HighlightSearch::centres_from_solutions`).
 
@@ -46,8 +47,14 @@ struct SearchParams {
 
 struct Counter {
     found: atomic<u32>,
-    // Clusters whose workgroup went on to its faces (`cluster_may_hold`).
-    clusters: atomic<u32>,
+}
+
+// The indirect dispatch of `cs_search`, written by `cs_clusters`: x = the clusters listed
+// (one workgroup each), y = z = 1.
+struct Dispatch {
+    x: atomic<u32>,
+    y: u32,
+    z: u32,
 }
 
 // A run of `WORKGROUP` faces in Morton order (`ClusterRecord` in `search_clusters.rs`):
@@ -70,8 +77,12 @@ struct ClusterRecord {
 @group(0) @binding(4) var<uniform> params: SearchParams;
 // The face each invocation solves (`triangles` is stored in this order): slot -> face.
 @group(0) @binding(5) var<storage, read> order: array<u32>;
-// One per workgroup of faces.
+// One per run of `WORKGROUP` faces.
 @group(0) @binding(6) var<storage, read> clusters: array<ClusterRecord>;
+// The clusters `cs_clusters` kept, in no particular order.
+@group(0) @binding(7) var<storage, read_write> listed: array<u32>;
+// `cs_clusters` only (a buffer the indirect dispatch reads may not be bound writable to it).
+@group(1) @binding(0) var<storage, read_write> dispatch: Dispatch;
 
 const WORKGROUP: u32 = 64u;
 // `BARYCENTRIC_EPSILON` and `RESIDUAL_TOLERANCE` of `solve.rs`.
@@ -327,21 +338,34 @@ fn cluster_may_hold(c: ClusterRecord) -> bool {
     return dot(h, c.axis.xyz) >= cos(limit);
 }
 
-// `search_vertices` with its per-face rejection (`HighlightSearch::find_exhaustive`), one
-// face per invocation, one cluster per workgroup (a workgroup whose cluster cannot hold
-// N = H returns at once).
+// The clusters whose faces can hold N = H, one invocation per cluster: appended to
+// `listed`, their count the workgroups of `cs_search`'s indirect dispatch.
 @compute @workgroup_size(64)
-fn cs_search(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let at = gid.x + gid.y * groups.x * WORKGROUP;
+fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let c = gid.x + gid.y * groups.x * WORKGROUP;
+    if c == 0u {
+        dispatch.y = 1u;
+        dispatch.z = 1u;
+    }
+    if c >= arrayLength(&clusters) || c * WORKGROUP >= params.face_count {
+        return;
+    }
+    if !cluster_may_hold(clusters[c]) {
+        return;
+    }
+    listed[atomicAdd(&dispatch.x, 1u)] = c;
+}
+
+// `search_vertices` with its per-face rejection (`HighlightSearch::find_exhaustive`), one
+// face per invocation, one workgroup per cluster `cs_clusters` listed.
+@compute @workgroup_size(64)
+fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    if wid.x >= arrayLength(&listed) {
+        return;
+    }
+    let at = listed[wid.x] * WORKGROUP + lid;
     if at >= params.face_count {
         return;
-    }
-    // Every invocation of the workgroup reads the same cluster: the branch is uniform.
-    if !cluster_may_hold(clusters[at / WORKGROUP]) {
-        return;
-    }
-    if at % WORKGROUP == 0u {
-        atomicAdd(&counter.clusters, 1u);
     }
     let face = order[at];
     let t = triangles[at];

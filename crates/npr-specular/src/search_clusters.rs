@@ -60,25 +60,9 @@ pub(crate) fn face_order(vertices: &[SolveVertex], triangles: &[[u32; 3]]) -> Ve
         .iter()
         .map(|t| (at(t[0]) + at(t[1]) + at(t[2])) / 3.0)
         .collect();
-    let (lo, hi) = centroids.iter().filter(|p| p.is_finite()).fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
-    let spread_bits = |x: u32| {
-        let mut x = x & 0x3ff;
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
-    };
-    let code = |p: Vec3| {
-        let q = ((p - lo) / extent * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
-        // NaN centroids clamp to NaN and cast to 0.
-        spread_bits(q.x as u32) | (spread_bits(q.y as u32) << 1) | (spread_bits(q.z as u32) << 2)
-    };
+    let codes = npr_geometry::locality::morton_codes(&centroids);
     let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
-    order.sort_by_key(|&f| (sides[f as usize], code(centroids[f as usize]), f));
+    order.sort_by_key(|&f| (sides[f as usize], codes[f as usize], f));
     order
 }
 

@@ -47,8 +47,12 @@ pub const DEFAULT_CAPACITY: usize = 4096;
 pub struct CentreSearchPass {
     id: PassId,
     device: wgpu::Device,
+    /// `cs_clusters`: group 0 and the dispatch group.
+    clusters_pipeline: wgpu::ComputePipeline,
+    /// `cs_search`: group 0 only, dispatched indirectly.
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    dispatch_layout: wgpu::BindGroupLayout,
 }
 
 /// What one search needs: the frame, the search whose tables the object holds, and the
@@ -90,8 +94,12 @@ struct Slot {
     params: wgpu::Buffer,
     counter: wgpu::Buffer,
     solutions: wgpu::Buffer,
+    /// `cs_search`'s indirect dispatch (`Dispatch` of the shader), written by
+    /// `cs_clusters`.
+    dispatch: wgpu::Buffer,
     readback: wgpu::Buffer,
     group: wgpu::BindGroup,
+    dispatch_group: wgpu::BindGroup,
     /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
     active: bool,
 }
@@ -202,16 +210,32 @@ impl CentreSearchPass {
         let module = crate::shaders::CENTRE_SEARCH.module(device);
         let mut entries: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
         entries.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
-        entries.extend((5..7).map(|b| storage_layout_entry(b, true)));
+        entries.extend((5..8).map(|b| storage_layout_entry(b, b < 7)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr centre search"),
             entries: &entries,
         });
+        let dispatch_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr centre search dispatch"),
+            entries: &[storage_layout_entry(0, false)],
+        });
+        let clusters_layout =
+            npr_gpu::render::pipeline_layout(device, "cs_clusters", &[&layout, &dispatch_layout]);
+        let clusters_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("cs_clusters"),
+            layout: Some(&clusters_layout),
+            module: &module,
+            entry_point: Some("cs_clusters"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
         Self {
             id: PassId::fresh(),
             device: device.clone(),
+            clusters_pipeline,
             pipeline: pipeline(device, &module, &layout, "cs_search"),
             layout,
+            dispatch_layout,
         }
     }
 
@@ -254,6 +278,18 @@ impl CentreSearchPass {
             .collect();
         let clusters = search_clusters::cluster_records(search, &solve_vertices, &face_order);
         let capacity = capacity.max(1);
+        // One workgroup per listed cluster, in one dimension of the indirect dispatch.
+        let max_groups = device.limits().max_compute_workgroups_per_dimension;
+        if clusters.len() > max_groups as usize {
+            let record = std::mem::size_of::<ClusterRecord>() as u64;
+            return Err(npr_gpu::GpuError::MeshTooLarge {
+                buffer: "search clusters",
+                size: clusters.len() as u64 * record,
+                limit_name: "max_compute_workgroups_per_dimension (a workgroup per 48-byte cluster)",
+                limit: u64::from(max_groups) * record,
+            }
+            .into());
+        }
         check_bindings(
             &[
                 ("search vertices", (records.len() * 80) as u64),
@@ -268,13 +304,6 @@ impl CentreSearchPass {
             device.limits().max_storage_buffer_binding_size,
         )?;
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
-        // Zero-sized buffers cannot be bound: an empty mesh keeps one placeholder entry.
-        let nonempty = |v: &[u32]| if v.is_empty() { vec![0] } else { v.to_vec() };
-        let cluster_data = if clusters.is_empty() {
-            vec![ClusterRecord::default()]
-        } else {
-            clusters.clone()
-        };
         Ok(SearchObject {
             search_id: search.id(),
             vertex_count: records.len(),
@@ -282,8 +311,8 @@ impl CentreSearchPass {
             capacity,
             vertices: buffer_init(device, "npr search vertices", &records, usage),
             triangles: buffer_init(device, "npr search triangles", &triangles, usage),
-            order: buffer_init(device, "npr search order", &nonempty(&face_order), usage),
-            clusters: buffer_init(device, "npr search clusters", &cluster_data, usage),
+            order: buffer_init(device, "npr search order", &face_order, usage),
+            clusters: buffer_init(device, "npr search clusters", &clusters, usage),
             face_order,
             slots: Slots::new(self.id),
         })
@@ -337,9 +366,10 @@ impl CentreSearchPass {
             &object.order,
             &object.clusters,
         ];
-        let capacity = object.capacity;
+        let sizes = (object.capacity, object.faces.div_ceil(CLUSTER_FACES));
+        let dispatch_layout = &self.dispatch_layout;
         let (prepared, slot) = object.slots.next(self.id, input.frame, || {
-            make_slot(device, layout, tables, capacity)
+            make_slot(device, [layout, dispatch_layout], tables, sizes)
         })?;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
@@ -383,18 +413,33 @@ impl CentreSearchPass {
     ) -> Result<(), SpecularError> {
         let slot = object.slots.get(self.id, prepared)?;
         encoder.clear_buffer(&slot.counter, 0, None);
+        encoder.clear_buffer(&slot.dispatch, 0, None);
         if slot.active {
             let max = self.device.limits().max_compute_workgroups_per_dimension;
-            let (x, y) = dispatch_size(object.faces, max);
+            let (x, y) = dispatch_size(object.cluster_count(), max);
+            // Two passes: the dispatch buffer is written as storage by the first and read
+            // as the second's indirect arguments.
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("npr centre search clusters"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.clusters_pipeline);
+                pass.set_bind_group(0, &slot.group, &[]);
+                pass.set_bind_group(1, &slot.dispatch_group, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            }
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("npr centre search"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &slot.group, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.dispatch_workgroups_indirect(&slot.dispatch, 0);
         }
-        encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 16);
+        // The header: faces accepted, then clusters listed.
+        encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
+        encoder.copy_buffer_to_buffer(&slot.dispatch, 0, &slot.readback, 4, 4);
         encoder.copy_buffer_to_buffer(
             &slot.solutions,
             0,
@@ -408,9 +453,9 @@ impl CentreSearchPass {
 
 fn make_slot(
     device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
+    [layout, dispatch_layout]: [&wgpu::BindGroupLayout; 2],
     [vertices, triangles, order, clusters]: [&wgpu::Buffer; 4],
-    capacity: usize,
+    (capacity, cluster_count): (usize, usize),
 ) -> Slot {
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
     let params = buffer_init(
@@ -431,6 +476,18 @@ fn make_slot(
         &vec![[0u32; 4]; capacity],
         storage,
     );
+    let listed = buffer_init(
+        device,
+        "npr search listed clusters",
+        &vec![0u32; cluster_count],
+        wgpu::BufferUsages::STORAGE,
+    );
+    let dispatch = buffer_init(
+        device,
+        "npr search dispatch",
+        &[[0u32; 4]],
+        storage | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::INDIRECT,
+    );
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("npr search readback"),
         size: 16 + solutions.size(),
@@ -448,14 +505,22 @@ fn make_slot(
             group_entry(4, &params),
             group_entry(5, order),
             group_entry(6, clusters),
+            group_entry(7, &listed),
         ],
+    });
+    let dispatch_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("npr centre search dispatch"),
+        layout: dispatch_layout,
+        entries: &[group_entry(0, &dispatch)],
     });
     Slot {
         params,
         counter,
         solutions,
+        dispatch,
         readback,
         group,
+        dispatch_group,
         active: false,
     }
 }

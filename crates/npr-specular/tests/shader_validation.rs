@@ -19,8 +19,8 @@ fn every_shader_file_is_embedded_and_validates() {
 /// it has one.
 #[test]
 fn every_bound_struct_has_a_layout_test() {
-    // `Counter` is two atomic `u32`s, read as the first words of the list (`search_pass`
-    // tests decode them); `Meta` is the indirect draw's four words and a `vec4<u32>` per
+    // `Counter` is one atomic `u32` and `Dispatch` three (an indirect dispatch), read as
+    // the first two words of the list (`search_pass` tests decode them); `Meta` is the indirect draw's four words and a `vec4<u32>` per
     // highlight (`ReceiverObject::read` decodes it, `tests/gpu_receivers.rs` checks it).
     let covered = [
         "Frame",
@@ -30,6 +30,7 @@ fn every_bound_struct_has_a_layout_test() {
         "SolveVertex",
         "ClusterRecord",
         "Counter",
+        "Dispatch",
         "ReceiverParams",
         "Query",
         "Face",

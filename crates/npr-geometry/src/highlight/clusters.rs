@@ -42,27 +42,9 @@ pub(super) fn build_clusters(
     curvature_margin: &[f32],
 ) -> (Vec<Cluster>, Vec<u32>) {
     let nv = positions.len();
-    let (lo, hi) = positions.iter().filter(|p| p.is_finite()).fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let extent = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
-    let spread_bits = |x: u32| {
-        let mut x = x & 0x3ff;
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
-    };
-    let morton = |p: Vec3| -> u32 {
-        if !p.is_finite() {
-            return u32::MAX;
-        }
-        let q = ((p - lo) / extent * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
-        spread_bits(q.x as u32) | (spread_bits(q.y as u32) << 1) | (spread_bits(q.z as u32) << 2)
-    };
+    let codes = crate::locality::morton_codes(positions);
     let mut order: Vec<u32> = (0..nv as u32).collect();
-    order.sort_by_key(|&v| morton(positions[v as usize]));
+    order.sort_by_key(|&v| codes[v as usize]);
     let clusters = order
         .chunks(CLUSTER_SIZE)
         .enumerate()
