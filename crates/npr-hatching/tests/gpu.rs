@@ -71,7 +71,6 @@ fn gpu_hatching_equals_cpu_reference() {
                 // Short strokes on for the pen map: the turn field below spans calm,
                 // blended and all-short pixels.
                 stroke_length: (style == TamStyle::Pen).then(Default::default),
-                ..Default::default()
             };
             let gpu = hatch_image_gpu(&ctx.device, &ctx.queue, &inputs, &tam, &params).unwrap();
             let cpu = CpuHatcher::new(&tam, &params)

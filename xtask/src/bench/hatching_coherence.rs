@@ -543,7 +543,10 @@ pub fn run(meshes: &[PathBuf], json: Option<&Path>, animation: Option<&str>) -> 
 /// The surface mode's flicker per tone bin, one row per mesh and motion: where a mesh's
 /// `flicker_vs_bunny` comes from (a tile's flicker depends on its tone, so a mesh whose
 /// tiles are mostly mid-tone flickers more on average at the same flicker per tone).
-fn by_tone_table(measured: &[(&String, Vec<(String, Vec<Measured>)>)]) -> Table {
+/// One mesh's measurements: its name and, per motion (the turntable, a clip), the rows.
+type MeshRuns<'a> = (&'a String, Vec<(String, Vec<Measured>)>);
+
+fn by_tone_table(measured: &[MeshRuns<'_>]) -> Table {
     let bins: Vec<String> = (0..TONE_BINS)
         .map(|b| format!("flicker_tone_{:.1}", b as f64 / TONE_BINS as f64))
         .collect();
