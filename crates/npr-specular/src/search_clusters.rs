@@ -103,7 +103,13 @@ pub(crate) fn cluster_records(
                 .filter_map(|&f| margins.get(f as usize))
                 .fold(0.0f32, |m, x| m.max(*x));
             let limit = spread + HighlightSearch::angle_margin() + SAFETY;
-            let usable = axis != Vec3::ZERO && limit.is_finite() && radius.is_finite();
+            // A cap wider than a hemisphere is not convex: the arc between two of its
+            // normals (a face's interpolated normals) can leave it. Such a cluster is
+            // always solved.
+            let usable = axis != Vec3::ZERO
+                && spread < std::f32::consts::FRAC_PI_2
+                && limit.is_finite()
+                && radius.is_finite();
             let limit = if usable { limit } else { std::f32::consts::PI };
             ClusterRecord {
                 axis: [axis.x, axis.y, axis.z, limit],

@@ -218,3 +218,71 @@ fn a_search_of_another_mesh_is_refused() {
     let solved = object.read(&ctx.device, &prepared).unwrap();
     assert_eq!(solved.accepted, 0);
 }
+
+/// The cluster rejection never drops a centre: on a thin tube (the paper's knot, whose
+/// clusters are wide), a jittered torus and the bunny, 24 random directional lights and
+/// 12 random point lights near the mesh each give the GPU the CPU's centres.
+#[test]
+fn skipped_clusters_never_hold_a_centre() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("skipped_clusters_never_hold_a_centre")
+    else {
+        return;
+    };
+    let pass = CentreSearchPass::new(&ctx.device);
+    let mut rng = npr_geometry::rng::XorShift64::new(0x5eed_c105);
+    let mut unit = || {
+        let mut v = || rng.next_f64() as f32 * 2.0 - 1.0;
+        Vec3::new(v(), v(), v()).normalize_or(Vec3::Y)
+    };
+    let mut frame = FrameId(1);
+    let (mut centres, mut skipped) = (0, 0);
+    for mesh in [
+        generate::paper_knot(),
+        generate::torus_jittered(1.0, 0.35, 48, 24, 0.3, 11),
+        fixture("stanford-bunny.obj"),
+    ] {
+        let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let radius = bounding_radius(&mesh);
+        let mut object = pass.create_object(&ctx.device, set.search()).unwrap();
+        for k in 0..36 {
+            let light_eye = if k < 24 {
+                LightEye::Directions {
+                    to_light: unit(),
+                    to_eye: unit(),
+                }
+            } else {
+                LightEye::Positions {
+                    light: unit() * radius * 1.6,
+                    eye: unit() * radius * 2.5,
+                }
+            };
+            let world = Mat4::IDENTITY;
+            let input = SearchInput {
+                frame,
+                search: set.search(),
+                light_eye,
+                world_from_object: world,
+            };
+            frame = frame.next();
+            let solved = pass
+                .search_now(&ctx.device, &ctx.queue, &mut object, &input)
+                .unwrap();
+            let cpu = set.search().find_exhaustive(light_eye, world);
+            let gpu = set.search().centres_from_solutions(&solved.faces, world);
+            let worst = farthest(&cpu, &gpu).max(farthest(&gpu, &cpu)) / radius;
+            assert!(
+                gpu.len() == cpu.len() && worst <= 1e-4,
+                "light {k}: {} GPU centres against {} CPU, worst {worst:.2e}",
+                gpu.len(),
+                cpu.len()
+            );
+            centres += cpu.len();
+            skipped += object.cluster_count() - solved.clusters_solved;
+        }
+    }
+    eprintln!("{centres} centres, {skipped} clusters skipped over 108 lights");
+    assert!(
+        centres >= 100 && skipped > 0,
+        "{centres} centres, {skipped} skipped"
+    );
+}
