@@ -166,8 +166,10 @@ impl CpuHatcher {
         };
         let lerp =
             |p: (f32, f32), q: (f32, f32), t: f32| (p.0 + (q.0 - p.0) * t, p.1 + (q.1 - p.1) * t);
-        let top = lerp(pair(i0, j0), pair(i0 + 1, j0), fu);
-        let bottom = lerp(pair(i0, j0 + 1), pair(i0 + 1, j0 + 1), fu);
+        // Wrapping: `floor_i32` saturates at i32::MAX far off, and the map wraps anyway.
+        let (i1, j1) = (i0.wrapping_add(1), j0.wrapping_add(1));
+        let top = lerp(pair(i0, j0), pair(i1, j0), fu);
+        let bottom = lerp(pair(i0, j1), pair(i1, j1), fu);
         let (t0, t1) = lerp(top, bottom, fv);
         t0 + (t1 - t0) * a
     }

@@ -43,18 +43,23 @@ struct SearchParams {
     capacity: u32,
     // `ANGLE_MARGIN` of the CPU's rejection tests (radians).
     angle_margin: f32,
+    // The device's `max_compute_workgroups_per_dimension`: the listed clusters' indirect
+    // dispatch is folded into rows of this many workgroups.
+    max_groups: u32,
 }
 
 struct Counter {
     found: atomic<u32>,
 }
 
-// The indirect dispatch of `cs_search`, written by `cs_clusters`: x = the clusters listed
-// (one workgroup each), y = z = 1.
+// The indirect dispatch of `cs_search`, written by `cs_clusters`: one workgroup per
+// listed cluster, folded into rows of `params.max_groups` (x = at most that, y = rows,
+// z = 1); `count` = the clusters listed.
 struct Dispatch {
     x: atomic<u32>,
-    y: u32,
+    y: atomic<u32>,
     z: u32,
+    count: atomic<u32>,
 }
 
 // A run of `WORKGROUP` faces in Morton order (`ClusterRecord` in `search_clusters.rs`):
@@ -79,7 +84,8 @@ struct ClusterRecord {
 @group(0) @binding(5) var<storage, read> order: array<u32>;
 // One per run of `WORKGROUP` faces.
 @group(0) @binding(6) var<storage, read> clusters: array<ClusterRecord>;
-// The clusters `cs_clusters` kept, in no particular order.
+// The clusters `cs_clusters` kept, each as its index + 1, in no particular order; 0 past
+// them (cleared every frame).
 @group(0) @binding(7) var<storage, read_write> listed: array<u32>;
 // `cs_clusters` only (a buffer the indirect dispatch reads may not be bound writable to it).
 @group(1) @binding(0) var<storage, read_write> dispatch: Dispatch;
@@ -344,7 +350,6 @@ fn cluster_may_hold(c: ClusterRecord) -> bool {
 fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let c = gid.x + gid.y * groups.x * WORKGROUP;
     if c == 0u {
-        dispatch.y = 1u;
         dispatch.z = 1u;
     }
     if c >= arrayLength(&clusters) || c * WORKGROUP >= params.face_count {
@@ -353,17 +358,23 @@ fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     if !cluster_may_hold(clusters[c]) {
         return;
     }
-    listed[atomicAdd(&dispatch.x, 1u)] = c;
+    let k = atomicAdd(&dispatch.count, 1u);
+    listed[k] = c + 1u;
+    let row = max(params.max_groups, 1u);
+    atomicMax(&dispatch.x, min(k + 1u, row));
+    atomicMax(&dispatch.y, k / row + 1u);
 }
 
 // `search_vertices` with its per-face rejection (`HighlightSearch::find_exhaustive`), one
 // face per invocation, one workgroup per cluster `cs_clusters` listed.
 @compute @workgroup_size(64)
 fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    if wid.x >= arrayLength(&listed) {
+    let k = wid.x + wid.y * max(params.max_groups, 1u);
+    // The last row's workgroups past the count find 0: no cluster.
+    if k >= arrayLength(&listed) || listed[k] == 0u {
         return;
     }
-    let at = listed[wid.x] * WORKGROUP + lid;
+    let at = (listed[k] - 1u) * WORKGROUP + lid;
     if at >= params.face_count {
         return;
     }

@@ -25,8 +25,9 @@ pub(crate) struct ClusterRecord {
     pub(crate) axis: [f32; 4],
     /// Centre and radius of a sphere holding every point of the cluster's faces.
     pub(crate) sphere: [f32; 4],
-    /// `x` = the largest per-face slack of the curvature-blended field
-    /// ([`HighlightSearch::face_margins`]); `yzw` unused.
+    /// `x` = the angle of the largest per-face slack of the curvature-blended field
+    /// ([`HighlightSearch::face_margins`], a sine; π where it bounds nothing); `yzw`
+    /// unused.
     pub(crate) margin: [f32; 4],
 }
 
@@ -98,10 +99,18 @@ pub(crate) fn cluster_records(
             let radius = corners()
                 .map(|v| three(v.position).distance(centre))
                 .fold(0.0f32, f32::max);
-            let margin = faces
+            // The per-face slack is a sine (the per-face test compares it with the sine of
+            // H's distance to an edge's plane): as an angle, asin of it; 1 or more bounds
+            // nothing, and the cluster is always solved then.
+            let slack = faces
                 .iter()
                 .filter_map(|&f| margins.get(f as usize))
                 .fold(0.0f32, |m, x| m.max(*x));
+            let margin = if (0.0..1.0).contains(&slack) {
+                slack.asin()
+            } else {
+                std::f32::consts::PI
+            };
             let limit = spread + HighlightSearch::angle_margin() + SAFETY;
             // A cap wider than a hemisphere is not convex: the arc between two of its
             // normals (a face's interpolated normals) can leave it. Such a cluster is

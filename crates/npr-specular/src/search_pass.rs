@@ -53,6 +53,9 @@ pub struct CentreSearchPass {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     dispatch_layout: wgpu::BindGroupLayout,
+    /// Workgroups a row of `cs_search`'s indirect dispatch holds: the device's
+    /// `max_compute_workgroups_per_dimension`.
+    row: u32,
 }
 
 /// What one search needs: the frame, the search whose tables the object holds, and the
@@ -97,6 +100,8 @@ struct Slot {
     /// `cs_search`'s indirect dispatch (`Dispatch` of the shader), written by
     /// `cs_clusters`.
     dispatch: wgpu::Buffer,
+    /// The clusters `cs_clusters` listed (index + 1; 0 past them).
+    listed: wgpu::Buffer,
     readback: wgpu::Buffer,
     group: wgpu::BindGroup,
     dispatch_group: wgpu::BindGroup,
@@ -139,7 +144,8 @@ struct Params {
     face_count: u32,
     capacity: u32,
     angle_margin: f32,
-    _pad: [u32; 3],
+    max_groups: u32,
+    _pad: [u32; 2],
 }
 
 /// `SolveVertex` of `centre_search.wgsl`: 20 floats.
@@ -166,12 +172,26 @@ fn vertex_records(solve_vertices: &[npr_geometry::SolveVertex]) -> Vec<VertexRec
         .collect()
 }
 
-fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize) -> Params {
+/// The search's triangles in `order`, each with its cone test's slack (`w`, as bits).
+fn ordered_triangles(search: &HighlightSearch, order: &[u32]) -> Vec<[u32; 4]> {
+    let margins = search.face_margins();
+    order
+        .iter()
+        .map(|&f| {
+            let t = search.triangles()[f as usize];
+            let m = margins.get(f as usize).copied().unwrap_or(2.0);
+            [t[0], t[1], t[2], m.to_bits()]
+        })
+        .collect()
+}
+
+fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize, max_groups: u32) -> Params {
     let four = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
     let mut p = Params {
         face_count: faces as u32,
         capacity: capacity as u32,
         angle_margin: HighlightSearch::angle_margin(),
+        max_groups,
         ..Params::default()
     };
     let Some(frame) = frame else {
@@ -236,6 +256,7 @@ impl CentreSearchPass {
             pipeline: pipeline(device, &module, &layout, "cs_search"),
             layout,
             dispatch_layout,
+            row: device.limits().max_compute_workgroups_per_dimension,
         }
     }
 
@@ -268,28 +289,9 @@ impl CentreSearchPass {
         let solve_vertices = search.solve_vertices();
         let records = vertex_records(&solve_vertices);
         let face_order = search_clusters::face_order(&solve_vertices, search.triangles());
-        let margins = search.face_margins();
-        let triangles: Vec<[u32; 4]> = face_order
-            .iter()
-            .map(|&f| {
-                let t = search.triangles()[f as usize];
-                [t[0], t[1], t[2], margins[f as usize].to_bits()]
-            })
-            .collect();
+        let triangles = ordered_triangles(search, &face_order);
         let clusters = search_clusters::cluster_records(search, &solve_vertices, &face_order);
         let capacity = capacity.max(1);
-        // One workgroup per listed cluster, in one dimension of the indirect dispatch.
-        let max_groups = device.limits().max_compute_workgroups_per_dimension;
-        if clusters.len() > max_groups as usize {
-            let record = std::mem::size_of::<ClusterRecord>() as u64;
-            return Err(npr_gpu::GpuError::MeshTooLarge {
-                buffer: "search clusters",
-                size: clusters.len() as u64 * record,
-                limit_name: "max_compute_workgroups_per_dimension (a workgroup per 48-byte cluster)",
-                limit: u64::from(max_groups) * record,
-            }
-            .into());
-        }
         check_bindings(
             &[
                 ("search vertices", (records.len() * 80) as u64),
@@ -348,6 +350,9 @@ impl CentreSearchPass {
             }
             if !records.is_empty() {
                 queue.write_buffer(&object.vertices, 0, bytemuck::cast_slice(&records));
+                // The new pose's per-face slack, which the per-face test reads.
+                let triangles = ordered_triangles(search, &object.face_order);
+                queue.write_buffer(&object.triangles, 0, bytemuck::cast_slice(&triangles));
                 // The new pose's cones and spheres, over the mesh's fixed face order.
                 let clusters =
                     search_clusters::cluster_records(search, &solve_vertices, &object.face_order);
@@ -358,7 +363,7 @@ impl CentreSearchPass {
             object.search_id = search.id();
         }
         let frame = search.solve_frame(input.light_eye, input.world_from_object);
-        let params = params_of(frame, object.faces, object.capacity);
+        let params = params_of(frame, object.faces, object.capacity, self.row);
         let (device, layout) = (&self.device, &self.layout);
         let tables = [
             &object.vertices,
@@ -414,6 +419,7 @@ impl CentreSearchPass {
         let slot = object.slots.get(self.id, prepared)?;
         encoder.clear_buffer(&slot.counter, 0, None);
         encoder.clear_buffer(&slot.dispatch, 0, None);
+        encoder.clear_buffer(&slot.listed, 0, None);
         if slot.active {
             let max = self.device.limits().max_compute_workgroups_per_dimension;
             let (x, y) = dispatch_size(object.cluster_count(), max);
@@ -437,9 +443,9 @@ impl CentreSearchPass {
             pass.set_bind_group(0, &slot.group, &[]);
             pass.dispatch_workgroups_indirect(&slot.dispatch, 0);
         }
-        // The header: faces accepted, then clusters listed.
+        // The header: faces accepted, then clusters listed (`Dispatch::count`).
         encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
-        encoder.copy_buffer_to_buffer(&slot.dispatch, 0, &slot.readback, 4, 4);
+        encoder.copy_buffer_to_buffer(&slot.dispatch, 12, &slot.readback, 4, 4);
         encoder.copy_buffer_to_buffer(
             &slot.solutions,
             0,
@@ -480,7 +486,7 @@ fn make_slot(
         device,
         "npr search listed clusters",
         &vec![0u32; cluster_count],
-        wgpu::BufferUsages::STORAGE,
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
     );
     let dispatch = buffer_init(
         device,
@@ -518,6 +524,7 @@ fn make_slot(
         counter,
         solutions,
         dispatch,
+        listed,
         readback,
         group,
         dispatch_group,
@@ -648,7 +655,8 @@ mod tests {
                 curved,
                 face_count,
                 capacity,
-                angle_margin
+                angle_margin,
+                max_groups
             ]
         );
         npr_gpu::assert_wgsl_layout!(
@@ -663,6 +671,44 @@ mod tests {
             "SolveVertex",
             [position, normal, shape_x, shape_y, shape_z]
         );
+    }
+
+    /// More listed clusters than a row of the indirect dispatch holds (over 4.19M faces at
+    /// the default limit) fold into more rows: rows of 3 here, on a torus under a light
+    /// whose highlights fall in several clusters, give the centres of one row.
+    #[test]
+    fn listed_clusters_fold_into_rows() {
+        let Some(ctx) = npr_gpu::testing::context_or_skip("listed_clusters_fold_into_rows") else {
+            return;
+        };
+        let mesh = npr_geometry::generate::torus(1.0, 0.35, 64, 32);
+        let set = crate::HighlightSet::new(&mesh, &npr_geometry::CurvatureOptions::default())
+            .expect("a torus");
+        let light_eye = npr_geometry::LightEye::Directions {
+            to_light: glam::Vec3::new(0.3, 0.8, 0.5).normalize(),
+            to_eye: glam::Vec3::Z,
+        };
+        let mut search = |row: u32| {
+            let mut pass = CentreSearchPass::new(&ctx.device);
+            pass.row = row;
+            let mut object = pass.create_object(&ctx.device, set.search()).expect("fits");
+            let input = SearchInput {
+                frame: FrameId(1),
+                search: set.search(),
+                light_eye,
+                world_from_object: Mat4::IDENTITY,
+            };
+            let solved = pass
+                .search_now(&ctx.device, &ctx.queue, &mut object, &input)
+                .expect("searched");
+            let mut faces: Vec<u32> = solved.faces.iter().map(|f| f.face).collect();
+            faces.sort_unstable();
+            (faces, solved.clusters_solved)
+        };
+        let (folded, listed) = search(3);
+        let (whole, listed_whole) = search(65_535);
+        assert!(listed > 3, "{listed} clusters listed: fewer than a row");
+        assert_eq!((folded, listed), (whole, listed_whole));
     }
 
     #[test]
