@@ -688,7 +688,7 @@ mod tests {
             to_light: glam::Vec3::new(0.3, 0.8, 0.5).normalize(),
             to_eye: glam::Vec3::Z,
         };
-        let mut search = |row: u32| {
+        let search = |row: u32| {
             let mut pass = CentreSearchPass::new(&ctx.device);
             pass.row = row;
             let mut object = pass.create_object(&ctx.device, set.search()).expect("fits");
