@@ -34,7 +34,18 @@ pub fn pipeline(
     layout: &wgpu::BindGroupLayout,
     entry: &str,
 ) -> wgpu::ComputePipeline {
-    let layout = crate::render::pipeline_layout(device, entry, &[layout]);
+    pipeline_over(device, module, &[layout], entry)
+}
+
+/// The compute pipeline of `entry` in `module`, over bind groups `0..layouts.len()` of
+/// `layouts`.
+pub fn pipeline_over(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layouts: &[&wgpu::BindGroupLayout],
+    entry: &str,
+) -> wgpu::ComputePipeline {
+    let layout = crate::render::pipeline_layout(device, entry, layouts);
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(entry),
         layout: Some(&layout),

@@ -116,8 +116,9 @@ impl CpuHatcher {
     }
 
     /// `f(u_k, v_k)` of Eq. (2): the map at the rotated pixel (Eq. (1)), nearest texel with
-    /// wrap-around (filtered in the surface space, [`CpuHatcher::filtered_texel`]), blended between slices `slice` and `slice + 1` by `a`. `cs` = (cos θ_k,
-    /// sin θ_k) / stroke_scale; `k` shortens the strokes (along u) k times. Mirrors WGSL
+    /// wrap-around (filtered in the surface space, [`CpuHatcher::filtered_texel`]),
+    /// blended between slices `slice` and `slice + 1` by `a`. `cs` = (cos θ_k, sin θ_k) /
+    /// stroke_scale; `k` shortens the strokes (along u) k times. Mirrors WGSL
     /// `stroke_texel`.
     #[inline(always)]
     fn stroke_texel(&self, cs: (f32, f32), x: f32, y: f32, slice: usize, a: f32, k: f32) -> f32 {

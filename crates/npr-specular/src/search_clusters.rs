@@ -1,7 +1,8 @@
 //! The GPU search's clusters: the faces in the Morton (Z-order) order of their centroids,
 //! cut into runs of one workgroup, each with a normal cone and a bounding sphere, so that
-//! `cs_search` skips a whole workgroup whose faces cannot hold `N = H` (`cluster_may_hold`
-//! in `shaders/centre_search.wgsl`), as the CPU search skips whole vertex clusters
+//! `cs_clusters` (`cluster_may_hold` in `shaders/centre_search.wgsl`) leaves out of
+//! `cs_search` every run whose faces cannot hold `N = H`, as the CPU search skips whole
+//! vertex clusters
 //! (`HighlightSearch::find`, its step 0). Built on the CPU once per mesh (the order) and
 //! once per pose (the cones and spheres).
 
@@ -69,13 +70,13 @@ pub(crate) fn face_order(vertices: &[SolveVertex], triangles: &[[u32; 3]]) -> Ve
 
 /// The cones and spheres of the clusters of `order` (runs of [`CLUSTER_FACES`]) for the
 /// search's current pose.
+/// `margins`: the search's per-face slack ([`HighlightSearch::face_margins`]).
 pub(crate) fn cluster_records(
-    search: &HighlightSearch,
+    triangles: &[[u32; 3]],
+    margins: &[f32],
     vertices: &[SolveVertex],
     order: &[u32],
 ) -> Vec<ClusterRecord> {
-    let triangles = search.triangles();
-    let margins = search.face_margins();
     let three = |v: [f32; 4]| Vec3::new(v[0], v[1], v[2]);
     order
         .chunks(CLUSTER_FACES)
@@ -153,7 +154,8 @@ mod tests {
         // normals span well under a hemisphere and its sphere is a small part of the
         // torus (outer radius 1.35); without the sides, a third of the runs spanned more
         // than 69° (the top and the bottom of the tube in one spatial cell).
-        let records = cluster_records(&search, &vertices, &order);
+        let margins = search.face_margins();
+        let records = cluster_records(search.triangles(), &margins, &vertices, &order);
         assert_eq!(records.len(), order.len().div_ceil(CLUSTER_FACES));
         let median = |mut v: Vec<f32>| {
             v.sort_by(f32::total_cmp);

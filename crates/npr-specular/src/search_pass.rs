@@ -1,7 +1,8 @@
-//! The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass: every face solved on the GPU
-//! in one dispatch (`shaders/centre_search.wgsl`, `cs_search`), one workgroup per
-//! cluster of 64 faces in Morton order that skips its faces at once when the cluster's
-//! normal cone cannot hold `N = H` (as the CPU search skips vertex clusters), the accepted faces
+//! The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass (`shaders/centre_search.wgsl`):
+//! `cs_clusters` lists the clusters of 64 faces whose normal cone can hold `N = H` (the
+//! others are skipped whole, as the CPU search skips vertex clusters), `cs_search` solves
+//! the faces of the listed clusters, one workgroup each, dispatched indirectly; the
+//! accepted faces
 //! appended to a compact list by an integer atomic counter (WebGPU has no float
 //! atomics), and only that list read back: at most [`SearchObject::capacity`] entries of
 //! 16 bytes, never a mesh-sized buffer. The list becomes centres on the CPU with
@@ -30,7 +31,7 @@
 use glam::Mat4;
 use npr_geometry::{FaceSolution, HighlightSearch, LightEye, SolveFrame, SolveHalfVector};
 use npr_gpu::compute::{
-    buffer_init, check_bindings, dispatch_size, group_entry, layout_entry, pipeline,
+    buffer_init, check_bindings, dispatch_size, group_entry, layout_entry, pipeline, pipeline_over,
     storage_layout_entry,
 };
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
@@ -172,9 +173,9 @@ fn vertex_records(solve_vertices: &[npr_geometry::SolveVertex]) -> Vec<VertexRec
         .collect()
 }
 
-/// The search's triangles in `order`, each with its cone test's slack (`w`, as bits).
-fn ordered_triangles(search: &HighlightSearch, order: &[u32]) -> Vec<[u32; 4]> {
-    let margins = search.face_margins();
+/// The search's triangles in `order`, each with its cone test's slack (`margins`, per
+/// face; in `w` as bits).
+fn ordered_triangles(search: &HighlightSearch, margins: &[f32], order: &[u32]) -> Vec<[u32; 4]> {
     order
         .iter()
         .map(|&f| {
@@ -239,20 +240,15 @@ impl CentreSearchPass {
             label: Some("npr centre search dispatch"),
             entries: &[storage_layout_entry(0, false)],
         });
-        let clusters_layout =
-            npr_gpu::render::pipeline_layout(device, "cs_clusters", &[&layout, &dispatch_layout]);
-        let clusters_pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cs_clusters"),
-            layout: Some(&clusters_layout),
-            module: &module,
-            entry_point: Some("cs_clusters"),
-            compilation_options: wgpu::PipelineCompilationOptions::default(),
-            cache: None,
-        });
         Self {
             id: PassId::fresh(),
             device: device.clone(),
-            clusters_pipeline,
+            clusters_pipeline: pipeline_over(
+                device,
+                &module,
+                &[&layout, &dispatch_layout],
+                "cs_clusters",
+            ),
             pipeline: pipeline(device, &module, &layout, "cs_search"),
             layout,
             dispatch_layout,
@@ -289,8 +285,14 @@ impl CentreSearchPass {
         let solve_vertices = search.solve_vertices();
         let records = vertex_records(&solve_vertices);
         let face_order = search_clusters::face_order(&solve_vertices, search.triangles());
-        let triangles = ordered_triangles(search, &face_order);
-        let clusters = search_clusters::cluster_records(search, &solve_vertices, &face_order);
+        let margins = search.face_margins();
+        let triangles = ordered_triangles(search, &margins, &face_order);
+        let clusters = search_clusters::cluster_records(
+            search.triangles(),
+            &margins,
+            &solve_vertices,
+            &face_order,
+        );
         let capacity = capacity.max(1);
         check_bindings(
             &[
@@ -322,7 +324,8 @@ impl CentreSearchPass {
 
     /// Takes a slot for `input.frame` and writes its params. When `input.search` is not
     /// the search the object was built or last prepared with (a new pose: same mesh, new
-    /// normals and curvature), its vertex tables are written again.
+    /// normals and curvature), its vertex tables, the faces' slack and the clusters' cones
+    /// are written again.
     ///
     /// # Errors
     /// [`SpecularError::Pass`] for a foreign object or too many prepares in one frame;
@@ -350,12 +353,17 @@ impl CentreSearchPass {
             }
             if !records.is_empty() {
                 queue.write_buffer(&object.vertices, 0, bytemuck::cast_slice(&records));
-                // The new pose's per-face slack, which the per-face test reads.
-                let triangles = ordered_triangles(search, &object.face_order);
+                // The new pose's per-face slack, which the per-face test reads, and its
+                // cones and spheres, over the mesh's fixed face order.
+                let (order, margins) = (&object.face_order, search.face_margins());
+                let triangles = ordered_triangles(search, &margins, order);
                 queue.write_buffer(&object.triangles, 0, bytemuck::cast_slice(&triangles));
-                // The new pose's cones and spheres, over the mesh's fixed face order.
-                let clusters =
-                    search_clusters::cluster_records(search, &solve_vertices, &object.face_order);
+                let clusters = search_clusters::cluster_records(
+                    search.triangles(),
+                    &margins,
+                    &solve_vertices,
+                    order,
+                );
                 if !clusters.is_empty() {
                     queue.write_buffer(&object.clusters, 0, bytemuck::cast_slice(&clusters));
                 }
