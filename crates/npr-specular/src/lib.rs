@@ -24,6 +24,7 @@ pub mod pass;
 pub mod projector;
 pub mod receiver_pass;
 pub mod region;
+pub mod region_pass;
 mod search_clusters;
 pub mod search_pass;
 pub mod set;
@@ -45,6 +46,10 @@ pub use receiver_pass::{
     ReceiverPass, ReceiverReadback,
 };
 pub use region::Footprint;
+pub use region_pass::{
+    DEFAULT_REGION_CAPACITY, GpuRegion, MAX_REGION_SEEDS, PendingRegions, RegionInput,
+    RegionObject, RegionPass,
+};
 pub use search_pass::{
     CentreSearchPass, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
 };

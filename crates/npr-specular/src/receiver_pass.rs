@@ -176,7 +176,7 @@ fn positions(set: &HighlightSet) -> Vec<[f32; 4]> {
 }
 
 /// `face_count + 1` offsets, then the neighbours ([`npr_geometry::Topology::face_neighbours`]).
-fn adjacency(set: &HighlightSet) -> Vec<u32> {
+pub(crate) fn adjacency(set: &HighlightSet) -> Vec<u32> {
     let topo = set.topology();
     let faces = topo.face_count();
     let mut offsets = Vec::with_capacity(faces + 1);
@@ -450,7 +450,8 @@ impl ReceiverPass {
     }
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+/// A storage buffer of `bytes` (at least 16), written by the queue and copied out.
+pub(crate) fn storage(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: bytes.max(16),

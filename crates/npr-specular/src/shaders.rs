@@ -28,5 +28,13 @@ pub const RECEIVERS: ShaderFile = ShaderFile {
     prelude: &[],
 };
 
+/// The regions `N·H ≥ σ` grown and fitted with their moment ellipses as a compute pass,
+/// one workgroup per seed (no shared snippet).
+pub const REGIONS: ShaderFile = ShaderFile {
+    name: "regions.wgsl",
+    source: include_str!("../shaders/regions.wgsl"),
+    prelude: &[],
+};
+
 /// Every shader file of this crate.
-pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH, RECEIVERS];
+pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH, RECEIVERS, REGIONS];

@@ -35,6 +35,11 @@ fn every_bound_struct_has_a_layout_test() {
         "Query",
         "Face",
         "Meta",
+        "RegionParams",
+        "Seed",
+        "RegionVertex",
+        "RegionFace",
+        "RegionFit",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

@@ -1,0 +1,571 @@
+// The regions `N·H ≥ σ` a highlight stylizes (beyond Lee & Choi: §3.3 sizes the projector
+// from κ at the centre, Eq. (8)), grown over the mesh from each centre's face and fitted
+// with the ellipse of the same area moments, on the GPU. The CPU reference is
+// `crate::region::RegionGrower::grow_all` face by face; each function below names its
+// Rust twin in `crate::region` (`measure.rs`, `classify.rs`, `fit.rs`, `grow.rs`).
+//
+// The CPU grows every seed at once in one breadth-first queue, so a face goes to the seed
+// that reaches it in fewest steps, the lower seed on a tie (the queue holds each level in
+// seed order). Here each seed is walked by a workgroup of its own, level by level
+// (`cs_grow`), and marks every face it takes with `(steps, seed)` by an integer atomic
+// maximum of its complement: the least mark wins, the CPU's rule. A face reached through
+// another seed's faces is never won by the seed that walked through them (that seed's
+// steps there are no fewer), so the winners' faces are the CPU's. `cs_fit` then sums, per
+// seed, the moments of the faces it won (each workgroup reduces its own: WebGPU has no
+// float atomics) and fits the ellipse. Nothing mesh-sized is read back: one `RegionFit`
+// per seed.
+
+// Frame-wide values.
+struct RegionParams {
+    world_from_object: mat4x4<f32>,
+    // M⁻ᵀ, the object's normal map (upper 3×3 in the columns' xyz).
+    normal_from_object: mat4x4<f32>,
+    // xyz: the light's position (w = 1) or the direction towards it (w = 0).
+    light: vec4<f32>,
+    // xyz: the eye's position or the direction towards it.
+    eye: vec4<f32>,
+    seed_count: u32,
+    face_count: u32,
+    // Visited words per face: one bit per seed.
+    words: u32,
+    // Queue entries per seed; faces past it are dropped and the seed marked overflowed.
+    capacity: u32,
+}
+
+// One seed (`grow::Part`): its centre (world; w: σ), its projector frame (the axis n,
+// w: 1 when the centre has a frame; e_u = e_max, e_v = e_min), its start face (x; y: 1
+// when an earlier seed starts on the same face, so it is covered).
+struct Seed {
+    origin: vec4<f32>,
+    n: vec4<f32>,
+    e_u: vec4<f32>,
+    e_v: vec4<f32>,
+    start: vec4<u32>,
+}
+
+// One welded vertex: object-space position and the unit normal the regions use.
+struct RegionVertex {
+    position: vec4<f32>,
+    normal: vec4<f32>,
+}
+
+// One face: vertices (w: 1 when degenerate) and its object-space face normal.
+struct RegionFace {
+    tri: vec4<u32>,
+    normal: vec4<f32>,
+}
+
+// One seed's result: the moments of the faces it won on its projector's plane (area, the
+// first moments, the second (uu, uv, vv) about the centre), the smallest cos of their
+// normals with the axis, the ellipse (half extents, offset, rotation), and flags (status:
+// 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed).
+struct RegionFit {
+    moments: vec4<f32>,
+    second: vec4<f32>,
+    ellipse: vec4<f32>,
+    fit: vec4<f32>,
+    flags: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> params: RegionParams;
+@group(0) @binding(1) var<storage, read> seeds: array<Seed>;
+@group(0) @binding(2) var<storage, read> vertices: array<RegionVertex>;
+@group(0) @binding(3) var<storage, read> faces: array<RegionFace>;
+// Face adjacency: `face_count + 1` offsets, then the neighbour list.
+@group(0) @binding(4) var<storage, read> adjacency: array<u32>;
+@group(0) @binding(5) var<storage, read_write> visited: array<atomic<u32>>;
+// Per face the complement of the least `(steps << SEED_BITS) | seed` that took it (0:
+// none).
+@group(0) @binding(6) var<storage, read_write> owner: array<atomic<u32>>;
+// Per seed `capacity` entries: (face, steps) of each face it took.
+@group(0) @binding(7) var<storage, read_write> work: array<vec2<u32>>;
+@group(0) @binding(8) var<storage, read_write> fits: array<RegionFit>;
+
+const WORKGROUP: u32 = 256u;
+const SEED_BITS: u32 = 12u;
+// `classify::SUB`, `EXACT_H_TURN`, `LINEAR_TOLERANCE`.
+const SUB: u32 = 4u;
+const EXACT_H_TURN: f32 = 0.05;
+const LINEAR_TOLERANCE: f32 = 0.05;
+const INFINITE: f32 = 3.0e38;
+
+var<workgroup> wg_tail: atomic<u32>;
+var<workgroup> wg_overflow: atomic<u32>;
+var<workgroup> wg_level_end: u32;
+// `cs_fit`'s reduction: area, first (2), second (3), faces; the cone apart (a minimum).
+var<workgroup> wg_sum: array<array<f32, 7>, 256>;
+var<workgroup> wg_cone: array<f32, 256>;
+
+fn finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    if l > 0.0 && finite(1.0 / l) {
+        return v / l;
+    }
+    return vec3<f32>(0.0);
+}
+
+// `LightEye::half_vector`.
+fn half_vector(p: vec3<f32>) -> vec3<f32> {
+    if params.light.w == 0.0 {
+        return normalize_or_zero(normalize_or_zero(params.light.xyz) + normalize_or_zero(params.eye.xyz));
+    }
+    return normalize_or_zero(normalize_or_zero(params.light.xyz - p) + normalize_or_zero(params.eye.xyz - p));
+}
+
+// A vertex's values this frame (`measure::VertexCache`).
+struct Values {
+    world: vec3<f32>,
+    normal: vec3<f32>,
+    h: vec3<f32>,
+    // Distances to the light and the eye and |L̂ + V̂| (zero for directions).
+    dist: vec3<f32>,
+    nh: f32,
+}
+
+// `RegionGrower::compute_vertex`.
+fn vertex_values(v: u32) -> Values {
+    var out: Values;
+    let r = vertices[v];
+    let p = (params.world_from_object * vec4<f32>(r.position.xyz, 1.0)).xyz;
+    out.world = p;
+    out.normal = normalize_or_zero((params.normal_from_object * vec4<f32>(r.normal.xyz, 0.0)).xyz);
+    out.dist = vec3<f32>(0.0);
+    if params.light.w != 0.0 {
+        let l = params.light.xyz - p;
+        let e = params.eye.xyz - p;
+        let dl = length(l);
+        let de = length(e);
+        let s = l / dl + e / de;
+        let ds = length(s);
+        if dl > 0.0 && de > 0.0 && ds > 0.0 && finite(ds) {
+            out.h = s / ds;
+        } else {
+            out.h = half_vector(p);
+        }
+        out.dist = vec3<f32>(dl, de, ds);
+    } else {
+        out.h = half_vector(p);
+    }
+    let nh = dot(out.normal, out.h);
+    out.nh = select(-1.0, nh, finite(nh));
+    return out;
+}
+
+// Area moments of a planar region (`fit::Moments`): area, first (x, y), second (xx, xy,
+// yy).
+struct Moments {
+    area: f32,
+    first: vec2<f32>,
+    second: vec3<f32>,
+}
+
+// `Moments::add_triangle` (functions return the sum: naga's SPIR-V writer fails on a
+// pointer to a struct's member passed to a function).
+fn add_triangle(m_in: Moments, a: vec2<f32>, b: vec2<f32>, c: vec2<f32>) -> Moments {
+    var m = m_in;
+    let ab = b - a;
+    let ac = c - a;
+    let area = 0.5 * (ab.x * ac.y - ab.y * ac.x);
+    let s = a + b + c;
+    m.area += area;
+    m.first += area * s / 3.0;
+    let k = area / 12.0;
+    m.second += k * vec3<f32>(
+        a.x * a.x + b.x * b.x + c.x * c.x + s.x * s.x,
+        a.x * a.y + b.x * b.y + c.x * c.y + s.x * s.y,
+        a.y * a.y + b.y * b.y + c.y * c.y + s.y * s.y,
+    );
+    return m;
+}
+
+// `Moments::add_clipped`: the part of the triangle (plane point xy, value z) where the
+// linear interpolant of the values is ≥ 0.
+fn add_clipped(m_in: Moments, t0: vec3<f32>, t1: vec3<f32>, t2: vec3<f32>) -> Moments {
+    var m = m_in;
+    var tri = array<vec3<f32>, 3>(t0, t1, t2);
+    var poly: array<vec2<f32>, 4>;
+    var len = 0u;
+    for (var k = 0u; k < 3u; k++) {
+        let p = tri[k];
+        let q = tri[(k + 1u) % 3u];
+        if p.z >= 0.0 {
+            poly[len] = p.xy;
+            len += 1u;
+        }
+        if (p.z >= 0.0) != (q.z >= 0.0) && len < 4u {
+            let t = p.z / (p.z - q.z);
+            poly[len] = p.xy + (q.xy - p.xy) * t;
+            len += 1u;
+        }
+    }
+    for (var k = 1u; k + 1u < len; k++) {
+        m = add_triangle(m, poly[0], poly[k], poly[k + 1u]);
+    }
+    return m;
+}
+
+// Index of sub-grid point (i, j) (`classify::grid_index`).
+fn grid_index(steps: u32, i: u32, j: u32) -> u32 {
+    return i * (2u * steps + 3u - i) / 2u + j;
+}
+
+// One face measured against a seed's region (`RegionGrower::measure`).
+struct Measured {
+    taken: bool,
+    m: Moments,
+    cone: f32,
+}
+
+// `classify::classify`: 0 outside, 1 inside, 2 linear, else the sub-grid's steps + 8
+// (with `delta` in `*delta`).
+fn classify(vs: array<Values, 3>, reach: f32, sigma: f32, delta_out: ptr<function, f32>) -> u32 {
+    let lo = min(min(vs[0].nh, vs[1].nh), vs[2].nh);
+    let hi = max(max(vs[0].nh, vs[1].nh), vs[2].nh);
+    var delta = 0.0;
+    if params.light.w != 0.0 {
+        let r = reach;
+        let d0 = min(min(vs[0].dist.x, vs[1].dist.x), vs[2].dist.x);
+        let d1 = min(min(vs[0].dist.y, vs[1].dist.y), vs[2].dist.y);
+        let s = min(min(vs[0].dist.z, vs[1].dist.z), vs[2].dist.z);
+        let ds = select(2.0, r / (d0 - r), d0 > 2.0 * r) + select(2.0, r / (d1 - r), d1 > 2.0 * r);
+        delta = select(2.0, ds / (s - ds), s - ds > 1e-3);
+    }
+    *delta_out = delta;
+    let finest = 8u + SUB;
+    if !finite(delta) || !finite(lo) || !finite(hi) {
+        *delta_out = INFINITE;
+        return finest;
+    }
+    if sigma >= 0.0 && lo - delta >= sigma {
+        return 1u;
+    }
+    let c = min(min(dot(vs[0].normal, vs[1].normal), dot(vs[1].normal, vs[2].normal)), dot(vs[2].normal, vs[0].normal));
+    if !(c > 0.0) {
+        return finest;
+    }
+    let eps = 1.0 / sqrt((1.0 + 2.0 * c) / 3.0) - 1.0
+        + delta * (sqrt(max(2.0 * (1.0 - c), 0.0)) + 2.0 * delta);
+    if hi + eps < sigma {
+        return 0u;
+    }
+    if eps <= LINEAR_TOLERANCE * (hi - lo) {
+        return 2u;
+    }
+    let need = sqrt(eps / max(LINEAR_TOLERANCE * (hi - lo), 1.17549435e-38));
+    if need <= 2.0 {
+        return 8u + 2u;
+    }
+    if need <= 3.0 {
+        return 8u + 3u;
+    }
+    return finest;
+}
+
+// `b`ᵀ m `b` of a symmetric 3×3 given by rows.
+fn quad(m: mat3x3<f32>, b: vec3<f32>) -> f32 {
+    return dot(b, m * b);
+}
+
+// `measure::sample_sub_grid`.
+fn sample_sub_grid(vs: array<Values, 3>, qs: array<vec2<f32>, 3>, s: Seed, steps: u32, delta: f32) -> Measured {
+    var out: Measured;
+    let axis = s.n.xyz;
+    let sigma = s.origin.w;
+    let exact_h = delta > EXACT_H_TURN;
+    let n0 = vs[0].normal;
+    let n1 = vs[1].normal;
+    let n2 = vs[2].normal;
+    // Columns of the matrices whose rows are Nᵢ·Hⱼ and Nᵢ·Nⱼ (symmetric for the second).
+    let nh = transpose(mat3x3<f32>(
+        vec3<f32>(dot(n0, vs[0].h), dot(n0, vs[1].h), dot(n0, vs[2].h)),
+        vec3<f32>(dot(n1, vs[0].h), dot(n1, vs[1].h), dot(n1, vs[2].h)),
+        vec3<f32>(dot(n2, vs[0].h), dot(n2, vs[1].h), dot(n2, vs[2].h)),
+    ));
+    let nn = mat3x3<f32>(
+        vec3<f32>(dot(n0, n0), dot(n0, n1), dot(n2, n0)),
+        vec3<f32>(dot(n0, n1), dot(n1, n1), dot(n1, n2)),
+        vec3<f32>(dot(n2, n0), dot(n1, n2), dot(n2, n2)),
+    );
+    let na = vec3<f32>(dot(n0, axis), dot(n1, axis), dot(n2, axis));
+    var grid: array<vec3<f32>, 15>;
+    var hit = false;
+    var cone = 1.0;
+    let inv = 1.0 / f32(steps);
+    for (var i = 0u; i <= steps; i++) {
+        for (var j = 0u; j + i <= steps; j++) {
+            let b1 = f32(i) * inv;
+            let b2 = f32(j) * inv;
+            let b = vec3<f32>(1.0 - b1 - b2, b1, b2);
+            let len2 = quad(nn, b);
+            let inv_len = select(0.0, 1.0 / sqrt(len2), len2 > 0.0);
+            var d = 0.0;
+            if exact_h {
+                let p = vs[0].world * b.x + vs[1].world * b.y + vs[2].world * b.z;
+                let u = n0 * b.x + n1 * b.y + n2 * b.z;
+                d = dot(u, half_vector(p)) * inv_len - sigma;
+            } else {
+                d = quad(nh, b) * inv_len - sigma;
+            }
+            d = select(-1.0, d, finite(d));
+            if d >= 0.0 {
+                hit = true;
+                cone = min(cone, dot(b, na) * inv_len);
+            }
+            grid[grid_index(steps, i, j)] = vec3<f32>(qs[0] * b.x + qs[1] * b.y + qs[2] * b.z, d);
+        }
+    }
+    if !hit {
+        return out;
+    }
+    // `classify::for_sub_triangles`.
+    for (var i = 0u; i < steps; i++) {
+        for (var j = 0u; j + i < steps; j++) {
+            let a = grid_index(steps, i, j);
+            let b = grid_index(steps, i + 1u, j);
+            let c = grid_index(steps, i, j + 1u);
+            out.m = add_clipped(out.m, grid[a], grid[b], grid[c]);
+            if i + j + 1u < steps {
+                out.m = add_clipped(out.m, grid[b], grid[grid_index(steps, i + 1u, j + 1u)], grid[c]);
+            }
+        }
+    }
+    out.taken = true;
+    out.cone = cone;
+    return out;
+}
+
+// `RegionGrower::measure`: face `fi` against seed `s`'s region.
+fn measure(fi: u32, s: Seed) -> Measured {
+    var out: Measured;
+    let face = faces[fi];
+    let axis = s.n.xyz;
+    if face.tri.w != 0u || dot((params.normal_from_object * vec4<f32>(face.normal.xyz, 0.0)).xyz, axis) <= 0.0 {
+        return out;
+    }
+    let vs = array<Values, 3>(vertex_values(face.tri.x), vertex_values(face.tri.y), vertex_values(face.tri.z));
+    let sigma = s.origin.w;
+    let q0 = vs[0].world - s.origin.xyz;
+    let q1 = vs[1].world - s.origin.xyz;
+    let q2 = vs[2].world - s.origin.xyz;
+    let qs = array<vec2<f32>, 3>(
+        vec2<f32>(dot(q0, s.e_u.xyz), dot(q0, s.e_v.xyz)),
+        vec2<f32>(dot(q1, s.e_u.xyz), dot(q1, s.e_v.xyz)),
+        vec2<f32>(dot(q2, s.e_u.xyz), dot(q2, s.e_v.xyz)),
+    );
+    let e0 = vs[0].world - vs[1].world;
+    let e1 = vs[1].world - vs[2].world;
+    let e2 = vs[2].world - vs[0].world;
+    let reach = sqrt(max(max(dot(e0, e0), dot(e1, e1)), dot(e2, e2)));
+    var delta = 0.0;
+    let kind = classify(vs, reach, sigma, &delta);
+    let vertex_cone = min(min(dot(vs[0].normal, axis), dot(vs[1].normal, axis)), dot(vs[2].normal, axis));
+    if kind == 0u {
+        return out;
+    }
+    if kind == 1u {
+        out.m = add_triangle(out.m, qs[0], qs[1], qs[2]);
+        out.taken = true;
+        out.cone = vertex_cone;
+        return out;
+    }
+    if kind == 2u {
+        let t0 = vec3<f32>(qs[0], vs[0].nh - sigma);
+        let t1 = vec3<f32>(qs[1], vs[1].nh - sigma);
+        let t2 = vec3<f32>(qs[2], vs[2].nh - sigma);
+        if t0.z < 0.0 && t1.z < 0.0 && t2.z < 0.0 {
+            return out;
+        }
+        out.m = add_clipped(out.m, t0, t1, t2);
+        out.taken = true;
+        out.cone = vertex_cone;
+        return out;
+    }
+    return sample_sub_grid(vs, qs, s, kind - 8u, delta);
+}
+
+// Claims face `f` for seed `k`'s walk: true when it had not reached it.
+fn claim(f: u32, k: u32) -> bool {
+    let bit = 1u << (k % 32u);
+    let old = atomicOr(&visited[f * params.words + k / 32u], bit);
+    return (old & bit) == 0u;
+}
+
+// Face `f` taken by seed `k` in `steps` steps: queued, and marked for the least mark.
+fn take(f: u32, k: u32, steps: u32, base: u32) {
+    let slot = atomicAdd(&wg_tail, 1u);
+    if slot < params.capacity {
+        work[base + slot] = vec2<u32>(f, steps);
+        atomicMax(&owner[f], ~((steps << SEED_BITS) | k));
+    } else {
+        atomicStore(&wg_overflow, 1u);
+    }
+}
+
+// `RegionGrower::grow_pass`, one seed: breadth first from its face, one level per round,
+// through the faces its region takes.
+@compute @workgroup_size(256)
+fn cs_grow(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let k = group.x;
+    let s = seeds[k];
+    let base = k * params.capacity;
+    if lane == 0u {
+        atomicStore(&wg_tail, 0u);
+        atomicStore(&wg_overflow, 0u);
+        let start = s.start.x;
+        // (No call on the right of `&&`: naga's SPIR-V writer fails on one.)
+        if start < params.face_count && s.n.w != 0.0 && s.start.y == 0u {
+            if claim(start, k) {
+                let m = measure(start, s);
+                if m.taken {
+                    take(start, k, 0u, base);
+                }
+            }
+        }
+    }
+    var begin = 0u;
+    loop {
+        workgroupBarrier();
+        if lane == 0u {
+            wg_level_end = min(atomicLoad(&wg_tail), params.capacity);
+        }
+        let end = workgroupUniformLoad(&wg_level_end);
+        if end <= begin {
+            break;
+        }
+        for (var i = begin + lane; i < end; i += WORKGROUP) {
+            let entry = work[base + i];
+            let first = adjacency[entry.x];
+            let last = adjacency[entry.x + 1u];
+            for (var j = first; j < last; j++) {
+                let g = adjacency[params.face_count + 1u + j];
+                if !claim(g, k) {
+                    continue;
+                }
+                let m = measure(g, s);
+                if m.taken {
+                    take(g, k, entry.y + 1u, base);
+                }
+            }
+        }
+        begin = end;
+    }
+    workgroupBarrier();
+    if lane == 0u {
+        fits[k].flags = vec4<u32>(0u, 0u, min(atomicLoad(&wg_tail), params.capacity), atomicLoad(&wg_overflow));
+    }
+}
+
+// The turn of the moments' axes (`fit.rs`'s `atan2`, from `atan` of a ratio of magnitude
+// at most 1, as `curvature.wgsl`'s `atan2_reduced`: some compilers' `atan2` is inexact).
+fn atan2_reduced(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    if !(ax > 0.0 || ay > 0.0) {
+        return 0.0;
+    }
+    var a = 0.0;
+    if ay <= ax {
+        a = atan(ay / ax);
+    } else {
+        a = 1.5707963267948966 - atan(ax / ay);
+    }
+    if x < 0.0 {
+        a = 3.141592653589793 - a;
+    }
+    return select(a, -a, y < 0.0);
+}
+
+// `Moments::footprint`: the ellipse with these moments into `fits[k]` (status 2 when the
+// region is empty or degenerate).
+fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
+    var fit = fits[k];
+    fit.moments = vec4<f32>(m.area, m.first, cone);
+    fit.second = vec4<f32>(m.second, 0.0);
+    fit.flags.x = 2u;
+    fit.flags.y = won;
+    if won > 0u && finite(m.area) && m.area > 1e-20 {
+        let mean = m.first / m.area;
+        let cxx = max(m.second.x / m.area - mean.x * mean.x, 0.0);
+        let cxy = m.second.y / m.area - mean.x * mean.y;
+        let cyy = max(m.second.z / m.area - mean.y * mean.y, 0.0);
+        var theta = 0.5 * atan2_reduced(2.0 * cxy, cxx - cyy);
+        let quarter = 1.5707963267948966;
+        if theta > quarter / 2.0 {
+            theta -= quarter;
+        } else if theta < -quarter / 2.0 {
+            theta += quarter;
+        }
+        let spread = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy) / max(cxx + cyy, 1e-30);
+        let t = clamp((spread - 0.05) / 0.15, 0.0, 1.0);
+        theta *= t * t * (3.0 - 2.0 * t);
+        let sn = sin(theta);
+        let cs = cos(theta);
+        let var_u = cxx * cs * cs + 2.0 * cxy * sn * cs + cyy * sn * sn;
+        let var_v = cxx * sn * sn - 2.0 * cxy * sn * cs + cyy * cs * cs;
+        let halves = 2.0 * sqrt(max(vec2<f32>(var_u, var_v), vec2<f32>(0.0)));
+        fit.ellipse = vec4<f32>(halves, mean);
+        fit.fit = vec4<f32>(theta, m.area, cone, 0.0);
+        if min(halves.x, halves.y) > 0.0 && finite(halves.x) && finite(halves.y) && finite(mean.x) && finite(mean.y) {
+            fit.flags.x = 0u;
+        }
+    }
+    fits[k] = fit;
+}
+
+// Seed `group.x`'s moments over the faces it won (`RegionGrower::fit_parts`, before the
+// overlap scale and the split of bent regions, which stay on the CPU).
+@compute @workgroup_size(256)
+fn cs_fit(
+    @builtin(workgroup_id) group: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
+    let k = group.x;
+    let s = seeds[k];
+    let base = k * params.capacity;
+    let walked = fits[k].flags.z;
+    var m: Moments;
+    var cone = 1.0;
+    var won = 0.0;
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if atomicLoad(&owner[entry.x]) != ~((entry.y << SEED_BITS) | k) {
+            continue;
+        }
+        let face = measure(entry.x, s);
+        m.area += face.m.area;
+        m.first += face.m.first;
+        m.second += face.m.second;
+        cone = min(cone, face.cone);
+        won += 1.0;
+    }
+    wg_sum[lane] = array<f32, 7>(m.area, m.first.x, m.first.y, m.second.x, m.second.y, m.second.z, won);
+    wg_cone[lane] = cone;
+    for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
+        workgroupBarrier();
+        if lane < stride {
+            for (var c = 0u; c < 7u; c++) {
+                wg_sum[lane][c] += wg_sum[lane + stride][c];
+            }
+            wg_cone[lane] = min(wg_cone[lane], wg_cone[lane + stride]);
+        }
+    }
+    workgroupBarrier();
+    if lane == 0u {
+        let t = wg_sum[0];
+        var total: Moments;
+        total.area = t[0];
+        total.first = vec2<f32>(t[1], t[2]);
+        total.second = vec3<f32>(t[3], t[4], t[5]);
+        write_fit(k, total, wg_cone[0], u32(t[6]));
+        if s.start.y != 0u {
+            fits[k].flags.x = 1u;
+        }
+    }
+}

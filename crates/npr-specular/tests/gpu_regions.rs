@@ -1,0 +1,179 @@
+//! The regions `N·H ≥ σ` grown and fitted on the GPU ([`RegionPass`], `regions.wgsl`)
+//! against the CPU growth (the reference, [`RegionGrower::grow_all`], what
+//! [`HighlightSet::update`] sizes highlights with) on the same frame and seeds: the same
+//! outcome per seed, the same faces won on at least 99.5 % of the faces, and the same
+//! moment ellipse (within 1e-3 of the bounding radius, areas within 0.5 %), over
+//! directional and point lights, rigid, non-uniformly scaled and sheared transforms,
+//! procedural surfaces and the scanned and CAD fixtures, with seeds that share a region.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat2, Vec2};
+use npr_geometry::{CurvatureOptions, HighlightCentre, Topology};
+use npr_gpu::FrameId;
+use npr_specular::region::{Footprint, Region, RegionFrame, RegionGrower, RegionPatches};
+use npr_specular::{HighlightSet, ProjectorControls, RegionInput, RegionPass};
+
+mod common;
+use common::{bounding_radius, frames, meshes};
+
+/// The face `steps` faces away from `face` (breadth first), or the farthest reached.
+fn face_away(topology: &Topology, face: u32, steps: usize) -> u32 {
+    let mut seen = std::collections::HashSet::from([face]);
+    let mut level = vec![face];
+    for _ in 0..steps {
+        let next: Vec<u32> = level
+            .iter()
+            .flat_map(|&f| topology.face_neighbours(f as usize).iter().copied())
+            .filter(|g| seen.insert(*g))
+            .collect();
+        if next.is_empty() {
+            break;
+        }
+        level = next;
+    }
+    level[0]
+}
+
+/// The ellipse's second-moment matrix `R diag(h²) Rᵀ` (the same for either choice of
+/// axes) and its centre.
+fn ellipse(fp: &Footprint) -> (Mat2, Vec2) {
+    let r = Mat2::from_angle(fp.rotate_rad);
+    let d = Mat2::from_diagonal(fp.half_extent * fp.half_extent);
+    (r * d * r.transpose(), fp.offset)
+}
+
+#[derive(Default)]
+struct Tally {
+    seeds: usize,
+    fitted: usize,
+    faces_cpu: usize,
+    faces_differ: usize,
+    shared: usize,
+}
+
+#[test]
+fn the_gpu_regions_are_the_cpu_regions() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("the_gpu_regions_are_the_cpu_regions") else {
+        return;
+    };
+    let pass = RegionPass::new(&ctx.device);
+    let sigma = ProjectorControls::default().sigma;
+    let mut frame = FrameId(1);
+    let mut all = Tally::default();
+    for (name, mesh) in meshes() {
+        let radius = bounding_radius(&mesh);
+        let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let topology = set.topology();
+        let normals = set.search().normals();
+        let mut grower = RegionGrower::with_patches(RegionPatches::new(topology, normals));
+        let mut object = pass.create_object(&ctx.device, &set).unwrap();
+        let mut tally = Tally::default();
+        for (k, (light_eye, world)) in frames(radius).into_iter().enumerate() {
+            let centres = set.search().find(light_eye, world);
+            let mut seeds: Vec<(HighlightCentre, f32)> =
+                centres.iter().map(|c| (*c, sigma)).collect();
+            // A second seed a few faces from the first, in its region: the two share it.
+            if let Some(&(first, _)) = seeds.first() {
+                let near = HighlightCentre {
+                    face: face_away(topology, first.face, 3),
+                    ..first
+                };
+                seeds.push((near, sigma));
+            }
+            let region_frame = RegionFrame {
+                topology,
+                normals,
+                world_from_object: world,
+                light_eye,
+            };
+            let cpu = grower.grow_all(&region_frame, &seeds);
+            let input = RegionInput {
+                frame,
+                set: &set,
+                seeds: &seeds,
+                light_eye,
+                world_from_object: world,
+            };
+            frame = frame.next();
+            let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            pass.record(&mut encoder, &object, &prepared).unwrap();
+            ctx.queue.submit([encoder.finish()]);
+            let gpu = object.read(&ctx.device, &ctx.queue, &prepared).unwrap();
+            assert_eq!(gpu.len(), seeds.len(), "{name} frame {k}");
+            for (s, (c, g)) in cpu.iter().zip(&gpu).enumerate() {
+                let at = format!("{name} frame {k} seed {s}");
+                assert!(!g.overflowed, "{at}: the growth overflowed");
+                tally.seeds += 1;
+                match (c, &g.region) {
+                    (Region::Fit(a, fa), Region::Fit(b, fb)) => {
+                        tally.fitted += 1;
+                        tally.faces_cpu += fa;
+                        tally.faces_differ += fa.abs_diff(*fb);
+                        if s + 1 == seeds.len() && *fa > 0 {
+                            tally.shared += 1;
+                        }
+                        if fa != fb {
+                            // The faces won differ (a tie the two break apart): the
+                            // count below bounds how often.
+                            continue;
+                        }
+                        let ((ma, ca), (mb, cb)) = (ellipse(a), ellipse(b));
+                        let scale = radius * radius;
+                        let worst = (ma - mb)
+                            .to_cols_array()
+                            .iter()
+                            .fold(0f32, |m, d| m.max(d.abs()));
+                        assert!(
+                            worst <= 2e-3 * scale,
+                            "{at}: ellipse {a:?} against the CPU's {b:?}"
+                        );
+                        assert!(
+                            ca.distance(cb) <= 1e-3 * radius,
+                            "{at}: centre {ca} against {cb}"
+                        );
+                        let area = (a.region_area - b.region_area).abs();
+                        assert!(
+                            area <= 5e-3 * a.region_area.abs() + 1e-7 * scale,
+                            "{at}: area {} against {}",
+                            b.region_area,
+                            a.region_area
+                        );
+                        assert!(
+                            (a.normal_cone_cos - b.normal_cone_cos).abs() <= 1e-3,
+                            "{at}: cone {} against {}",
+                            b.normal_cone_cos,
+                            a.normal_cone_cos
+                        );
+                    }
+                    (c, g) => assert_eq!(c, g, "{at}"),
+                }
+            }
+        }
+        let differ = tally.faces_differ as f64 / tally.faces_cpu.max(1) as f64;
+        eprintln!(
+            "{name}: {} seeds, {} fitted, {} faces, {:.3} % won apart, {} shared seeds",
+            tally.seeds,
+            tally.fitted,
+            tally.faces_cpu,
+            100.0 * differ,
+            tally.shared
+        );
+        assert!(tally.fitted > 0, "{name}: no region fitted in any frame");
+        assert!(
+            differ <= 0.005,
+            "{name}: {:.3} % of faces won apart",
+            100.0 * differ
+        );
+        all.fitted += tally.fitted;
+        all.faces_cpu += tally.faces_cpu;
+        all.shared += tally.shared;
+    }
+    assert!(all.fitted >= 30, "only {} regions fitted", all.fitted);
+    assert!(
+        all.faces_cpu >= 5_000,
+        "only {} region faces",
+        all.faces_cpu
+    );
+    assert!(all.shared >= 5, "only {} seeds shared a region", all.shared);
+}
