@@ -1,6 +1,7 @@
 //! The compute passes in the browser, against the CPU on the same frame: the curvature
-//! tensor (`npr_gpu::CurvaturePass`), the `N = H` search (`npr_specular::CentreSearchPass`)
-//! and the §4.2 receivers (`npr_specular::ReceiverPass`) on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
+//! tensor (`npr_gpu::CurvaturePass`), the `N = H` search (`npr_specular::CentreSearchPass`),
+//! the regions `N·H ≥ σ` and their moment ellipses (`npr_specular::RegionPass`) and the §4.2
+//! receivers (`npr_specular::ReceiverPass`) on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
 //! read back over the next animation frames (a map completes only once control returns
 //! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
 //! check (`cargo xtask web --check`).
@@ -8,9 +9,11 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureField, CurvatureOptions, CurvatureRadius, LightEye, Mesh, generate};
 use npr_gpu::{BufferReadback, CurvatureInput, CurvatureObject, CurvaturePass, FrameId, GpuMesh};
+use npr_specular::region::{Region, RegionFrame, RegionGrower, RegionPatches};
 use npr_specular::{
-    CentreSearchPass, HighlightPass, HighlightSet, PendingReceivers, PendingSolutions,
-    ReceiverInput, ReceiverPass, ReceiverReadback, SearchInput,
+    CentreSearchPass, GpuRegion, HighlightPass, HighlightSet, PendingReceivers, PendingRegions,
+    PendingSolutions, ProjectorControls, ReceiverInput, ReceiverPass, ReceiverReadback,
+    RegionInput, RegionPass, SearchInput,
 };
 use std::collections::HashSet;
 
@@ -34,9 +37,12 @@ pub struct ComputeCheck {
     field: BufferReadback,
     search: PendingSolutions,
     receivers: PendingReceivers,
+    regions: PendingRegions,
+    seeds: Vec<(npr_geometry::HighlightCentre, f32)>,
     field_bytes: Option<Vec<u8>>,
     solutions: Option<Vec<npr_geometry::FaceSolution>>,
     walked: Option<ReceiverReadback>,
+    grown: Option<Vec<GpuRegion>>,
 }
 
 impl ComputeCheck {
@@ -85,6 +91,28 @@ impl ComputeCheck {
         let walked = walk_pass
             .prepare(queue, &mut walk, &walk_input)
             .map_err(|e| e.to_string())?;
+        // The regions of the CPU search's centres, at the default σ.
+        let sigma = ProjectorControls::default().sigma;
+        let seeds: Vec<_> = set
+            .search()
+            .find(light_eye, world_from_object)
+            .into_iter()
+            .map(|c| (c, sigma))
+            .collect();
+        let region_pass = RegionPass::new(device);
+        let mut regions = region_pass
+            .create_object(device, &set)
+            .map_err(|e| e.to_string())?;
+        let region_input = RegionInput {
+            frame,
+            set: &set,
+            seeds: &seeds,
+            light_eye,
+            world_from_object,
+        };
+        let grown = region_pass
+            .prepare(queue, &mut regions, &region_input)
+            .map_err(|e| e.to_string())?;
         let mut encoder = device.create_command_encoder(&Default::default());
         pass.record(&mut encoder, &curvature, &prepared)
             .map_err(|e| e.to_string())?;
@@ -93,6 +121,9 @@ impl ComputeCheck {
             .map_err(|e| e.to_string())?;
         walk_pass
             .record(&mut encoder, &walk, &walked)
+            .map_err(|e| e.to_string())?;
+        region_pass
+            .record(&mut encoder, &regions, &grown)
             .map_err(|e| e.to_string())?;
         let size = curvature.output().size();
         let copy = device.create_buffer(&wgpu::BufferDescriptor {
@@ -107,6 +138,9 @@ impl ComputeCheck {
         let receivers = walk
             .map(device, queue, &walked)
             .map_err(|e| e.to_string())?;
+        let regions = regions
+            .map(device, queue, &grown)
+            .map_err(|e| e.to_string())?;
         Ok(Self {
             mesh,
             set,
@@ -114,9 +148,12 @@ impl ComputeCheck {
             field: BufferReadback::map(copy),
             search: pending,
             receivers,
+            regions,
+            seeds,
             field_bytes: None,
             solutions: None,
             walked: None,
+            grown: None,
         })
     }
 
@@ -148,8 +185,13 @@ impl ComputeCheck {
                 self.walked = Some(walked.map_err(|e| e.to_string())?);
             }
         }
-        let (Some(bytes), Some(solutions), Some(walked)) =
-            (&self.field_bytes, &self.solutions, &self.walked)
+        if self.grown.is_none() {
+            if let Some(grown) = self.regions.try_take() {
+                self.grown = Some(grown.map_err(|e| e.to_string())?);
+            }
+        }
+        let (Some(bytes), Some(solutions), Some(walked), Some(grown)) =
+            (&self.field_bytes, &self.solutions, &self.walked, &self.grown)
         else {
             return Ok(None);
         };
@@ -182,6 +224,7 @@ impl ComputeCheck {
         let gpu_faces = faces(&walked.stream);
         let both = cpu_faces.intersection(&gpu_faces).count();
         let either = cpu_faces.union(&gpu_faces).count();
+        let regions = self.compare_regions(grown, light_eye, world_from_object, radius);
         Ok(Some(serde_json::json!({
             "curvature_kappa_error": field.kappa,
             "curvature_direction_error_deg": field.direction_deg,
@@ -195,6 +238,48 @@ impl ComputeCheck {
             "receivers_gpu_faces": gpu_faces.len(),
             "receivers_agreement": both as f64 / either.max(1) as f64,
             "receivers_overflowed": walked.counts.iter().filter(|c| c.overflowed).count(),
+            "regions_seeds": self.seeds.len(),
+            "regions_cpu_fitted": regions.0,
+            "regions_outcomes_differ": regions.1,
+            "regions_centre_error_of_radius": regions.2,
+            "regions_area_error": regions.3,
+            "regions_overflowed": grown.iter().filter(|g| g.overflowed).count(),
         })))
+    }
+
+    /// The GPU's regions against the CPU growth of the same seeds: regions the CPU
+    /// fitted, seeds whose outcome or faces differ, and the worst ellipse centre (of the
+    /// radius) and relative area of the others.
+    fn compare_regions(
+        &self,
+        grown: &[GpuRegion],
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        radius: f32,
+    ) -> (usize, usize, f32, f32) {
+        let (topology, normals) = (self.set.topology(), self.set.search().normals());
+        let mut grower = RegionGrower::with_patches(RegionPatches::new(topology, normals));
+        let frame = RegionFrame {
+            topology,
+            normals,
+            world_from_object,
+            light_eye,
+        };
+        let cpu = grower.grow_all(&frame, &self.seeds);
+        let (mut fitted, mut differ, mut centre, mut area) = (0, 0, 0f32, 0f32);
+        for (k, c) in cpu.iter().enumerate() {
+            let g = grown.get(k).map(|g| g.region);
+            match (c, g) {
+                (Region::Fit(a, fa), Some(Region::Fit(b, fb))) if *fa == fb => {
+                    fitted += 1;
+                    centre = centre.max(a.offset.distance(b.offset) / radius);
+                    let rel = (a.region_area - b.region_area).abs() / a.region_area.abs().max(1e-12);
+                    area = area.max(rel);
+                }
+                (c, Some(g)) if *c == g => {}
+                _ => differ += 1,
+            }
+        }
+        (fitted, differ, centre, area)
     }
 }

@@ -1,5 +1,5 @@
-//! The browser check's compute step: the curvature, `N = H` and §4.2 receiver compute
-//! passes run on the page's own WebGPU device and compared with the CPU in the page.
+//! The browser check's compute step: the curvature, `N = H`, region and §4.2 receiver
+//! compute passes run on the page's own WebGPU device and compared with the CPU in the page.
 
 use super::Driver;
 use anyhow::{Context as _, bail};
@@ -9,7 +9,9 @@ use anyhow::{Context as _, bail};
 /// frames and compared with the CPU in the page. The search must give the CPU's centres
 /// within 1e-4 of the bounding radius, the curvature the CPU's within the native bounds
 /// (1e-3 of the robust largest |κ|, 0.5° for directions and normals, the same validity),
-/// and the receivers the CPU's on at least 99.5 % of the faces either received.
+/// the receivers the CPU's on at least 99.5 % of the faces either received, and the
+/// regions of the CPU's centres the CPU's outcomes, faces and moment ellipses (centres
+/// within 1e-3 of the radius, areas within 0.5 %).
 pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let result = driver.script_async(
         session,
@@ -52,11 +54,20 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("receivers_agreement")?,
         num("receivers_overflowed")?,
     );
+    let (fitted, differ) = (num("regions_cpu_fitted")?, num("regions_outcomes_differ")?);
+    let (region_centre, region_area) = (
+        num("regions_centre_error_of_radius")?,
+        num("regions_area_error")?,
+    );
+    let region_overflow = num("regions_overflowed")?;
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
          {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
-         within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces",
-        100.0 * agreement
+         within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces; \
+         {fitted} regions fitted as the CPU's, {differ} apart, ellipse centres within \
+         {region_centre:.2e} of the radius, areas within {:.3} %",
+        100.0 * agreement,
+        100.0 * region_area
     );
     if vertices < 1.0 {
         bail!("the page measured no curvature: {result}");
@@ -74,6 +85,15 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     // The native bound of `npr-specular/tests/gpu_receivers.rs`.
     if walked < 1.0 || agreement < 0.995 || overflowed > 0.0 {
         bail!("the page's GPU receivers differ from the CPU's: {result}");
+    }
+    // The native bounds of `npr-specular/tests/gpu_regions.rs`.
+    if fitted < 1.0
+        || differ > 0.0
+        || region_overflow > 0.0
+        || region_centre > 1e-3
+        || region_area > 5e-3
+    {
+        bail!("the page's GPU regions differ from the CPU's: {result}");
     }
     Ok(())
 }
