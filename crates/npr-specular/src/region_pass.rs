@@ -32,8 +32,10 @@ use npr_geometry::{HighlightCentre, LightEye};
 use npr_gpu::compute::{buffer_init, check_bindings, group_entry, layout_entry, pipeline};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 
-/// Faces one seed's growth may take by default (its queue's length).
-pub const DEFAULT_REGION_CAPACITY: usize = 16_384;
+/// Faces one seed's growth may take by default (its queue's length, 8 bytes a face); a
+/// frame of more seeds than the storage binding limit holds at this length gets shorter
+/// queues ([`RegionObject::capacity`]).
+pub const DEFAULT_REGION_CAPACITY: usize = 65_536;
 
 /// Most seeds one frame grows (the faces' marks hold the seed in 12 bits).
 pub const MAX_REGION_SEEDS: usize = 4096;
@@ -72,7 +74,8 @@ pub struct RegionObject {
     normals_id: u64,
     faces: usize,
     vertices: usize,
-    capacity: usize,
+    /// The queue length asked for at creation.
+    max_capacity: usize,
     vertex_records: wgpu::Buffer,
     face_records: wgpu::Buffer,
     adjacency: wgpu::Buffer,
@@ -81,9 +84,10 @@ pub struct RegionObject {
     words: usize,
     /// Per face the least mark of the seeds that took it.
     owner: wgpu::Buffer,
-    /// Per seed its queue; room for `work_seeds`.
+    /// Per seed its queue of `work_capacity` entries; room for `work_seeds`.
     work: wgpu::Buffer,
     work_seeds: usize,
+    work_capacity: usize,
     slots: Slots<Slot>,
 }
 
@@ -314,7 +318,7 @@ impl RegionPass {
             normals_id: set.normals_id(),
             faces: faces.len(),
             vertices: vertices.len(),
-            capacity,
+            max_capacity: capacity,
             vertex_records: buffer_init(device, "npr region vertices", &vertices, STORAGE),
             face_records: buffer_init(device, "npr region faces", &faces, STORAGE),
             adjacency: buffer_init(device, "npr region adjacency", &adjacency, STORAGE),
@@ -333,6 +337,7 @@ impl RegionPass {
             ),
             work: buffer_init(device, "npr region work", &[0u32; 2], STORAGE),
             work_seeds: 0,
+            work_capacity: capacity,
             slots: Slots::new(self.id),
         })
     }
@@ -380,7 +385,7 @@ impl RegionPass {
         let device = &self.device;
         let limit = device.limits().max_storage_buffer_binding_size;
         let words = count.div_ceil(32).max(1);
-        let (faces, capacity) = (object.faces, object.capacity);
+        let (faces, capacity) = (object.faces, object.max_capacity);
         if words > object.words {
             let bytes = (faces.max(1) * words * 4) as u64;
             check_bindings(&[("region visited", bytes)], limit)?;
@@ -388,11 +393,14 @@ impl RegionPass {
             object.words = words;
         }
         if count > object.work_seeds {
+            // As long a queue per seed as the binding holds, at most the capacity.
             let room = count.next_power_of_two();
-            let bytes = (room * capacity * 8) as u64;
+            let per_seed = capacity.min((limit / (8 * room as u64)) as usize).max(1);
+            let bytes = (room * per_seed * 8) as u64;
             check_bindings(&[("region work", bytes)], limit)?;
             object.work = storage(device, "npr region work", bytes);
             object.work_seeds = room;
+            object.work_capacity = per_seed;
         }
         let (prepared, slot) = object
             .slots
@@ -405,7 +413,7 @@ impl RegionPass {
         }
         let mut params = params_of(input, faces);
         params.words = object.words as u32;
-        params.capacity = capacity as u32;
+        params.capacity = object.work_capacity as u32;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         let seeds = seed_records(input.seeds, faces);
         if !seeds.is_empty() {
@@ -481,9 +489,11 @@ fn make_slot(device: &wgpu::Device) -> Slot {
 }
 
 impl RegionObject {
-    /// Faces one seed's growth may take.
+    /// Faces one seed's growth may take: the object's capacity, or less once a frame
+    /// has had so many seeds that their queues at that length would exceed the storage
+    /// binding limit.
     pub fn capacity(&self) -> usize {
-        self.capacity
+        self.work_capacity
     }
 
     /// Reads back the seeds' regions of `prepared`, after the submission that holds its

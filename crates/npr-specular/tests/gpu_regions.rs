@@ -177,3 +177,58 @@ fn the_gpu_regions_are_the_cpu_regions() {
     );
     assert!(all.shared >= 5, "only {} seeds shared a region", all.shared);
 }
+
+#[test]
+fn a_growth_past_its_capacity_stops_there_and_says_so() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("a_growth_past_its_capacity_stops_there_and_says_so")
+    else {
+        return;
+    };
+    let pass = RegionPass::new(&ctx.device);
+    let mesh = npr_geometry::generate::ellipsoid(0.7, 1.4, 1.0, 24);
+    let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+    let (light_eye, world) = frames(bounding_radius(&mesh))[0];
+    let sigma = ProjectorControls::default().sigma;
+    let seeds: Vec<_> = set
+        .search()
+        .find(light_eye, world)
+        .into_iter()
+        .map(|c| (c, sigma))
+        .collect();
+    let input = RegionInput {
+        frame: FrameId(1),
+        set: &set,
+        seeds: &seeds,
+        light_eye,
+        world_from_object: world,
+    };
+    let grow = |capacity| {
+        let mut object = pass
+            .create_object_with_capacity(&ctx.device, &set, capacity)
+            .unwrap();
+        let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        pass.record(&mut encoder, &object, &prepared).unwrap();
+        ctx.queue.submit([encoder.finish()]);
+        object.read(&ctx.device, &ctx.queue, &prepared).unwrap()
+    };
+    let whole = grow(usize::MAX);
+    let (k, faces) = whole
+        .iter()
+        .enumerate()
+        .filter_map(|(k, g)| match g.region {
+            Region::Fit(_, n) => Some((k, n)),
+            _ => None,
+        })
+        .max_by_key(|(_, n)| *n)
+        .expect("a region");
+    assert!(!whole[k].overflowed && faces > 40, "{faces} faces");
+    let cut = grow(faces / 4);
+    assert!(cut[k].overflowed, "{:?}", cut[k]);
+    assert!(cut[k].walked as usize <= faces / 4, "{:?}", cut[k]);
+    match cut[k].region {
+        Region::Fit(_, n) => assert!(n <= faces / 4, "{n} faces won"),
+        other => panic!("{other:?}"),
+    }
+}

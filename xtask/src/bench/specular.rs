@@ -21,6 +21,11 @@
 //! prepare, record, submit and the wait for its list, which on a software adapter is CPU
 //! work too); the `gpu` row's GPU frame includes the walk. Its receiver count is read
 //! back after the timed frame. The one-core columns are the CPU path's.
+//!
+//! A second table, from the same run, times the regions `N·H ≥ σ` of each frame's centres
+//! grown on the CPU and as a compute pass (`npr_specular::RegionPass`): see `regions.rs`.
+
+mod regions;
 
 use super::table::{Cell, Table, emit};
 use glam::{Mat4, Vec3};
@@ -44,6 +49,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     let one_core = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
     let renderer = Renderer::new(&ctx.device, &ctx.queue, WIDTH, HEIGHT)?;
     let mut table = new_table(&adapter);
+    let mut region_table = regions::new_table(&adapter);
     for (name, file_mesh) in &meshes {
         let reordered = npr_geometry::locality::reorder_for_locality(file_mesh).mesh;
         let mesh = &reordered;
@@ -54,6 +60,9 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             world_from_normalized,
             to_light: Vec3::new(0.4, 0.7, 1.0).normalize(),
         };
+        // The region table's row first: measured after this mesh's frames below, the
+        // region pass read 20–50 times slower on lavapipe (cause not found).
+        region_table.push(regions::row(&ctx, mesh, &view, name, &adapter)?);
         let (setup_1core, setup_1core_file_order) =
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
         // The GPU walks' capacity: twice the CPU row's longest walk (it runs first), so
@@ -90,7 +99,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             ]);
         }
     }
-    emit(&[table], json)
+    emit(&[table, region_table], json)
 }
 
 /// Where a row's `N = H` search runs.
