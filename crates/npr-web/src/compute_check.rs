@@ -190,9 +190,12 @@ impl ComputeCheck {
                 self.grown = Some(grown.map_err(|e| e.to_string())?);
             }
         }
-        let (Some(bytes), Some(solutions), Some(walked), Some(grown)) =
-            (&self.field_bytes, &self.solutions, &self.walked, &self.grown)
-        else {
+        let (Some(bytes), Some(solutions), Some(walked), Some(grown)) = (
+            &self.field_bytes,
+            &self.solutions,
+            &self.walked,
+            &self.grown,
+        ) else {
             return Ok(None);
         };
         let (_, _, cpu) = CurvatureField::for_mesh(&self.mesh, &CurvatureOptions::default());
@@ -273,7 +276,8 @@ impl ComputeCheck {
                 (Region::Fit(a, fa), Some(Region::Fit(b, fb))) if *fa == fb => {
                     fitted += 1;
                     centre = centre.max(a.offset.distance(b.offset) / radius);
-                    let rel = (a.region_area - b.region_area).abs() / a.region_area.abs().max(1e-12);
+                    let rel =
+                        (a.region_area - b.region_area).abs() / a.region_area.abs().max(1e-12);
                     area = area.max(rel);
                 }
                 (c, Some(g)) if *c == g => {}
