@@ -54,32 +54,7 @@ fn invocation(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
     return gid.x + gid.y * groups.x * WORKGROUP;
 }
 
-// atan2(y, x) from `atan` of a ratio of magnitude at most 1, then the quadrant. WGSL's
-// own `atan2` is only bounded to 4096 ULP, and Chromium's software adapter (SwiftShader)
-// returns dihedral angles far outside that on a few edges of a plain torus (curvature up
-// to 1.5× the CPU's around them); this form agrees with the CPU's `f64::atan2` on every
-// adapter the tests run.
-fn atan2_reduced(y: f32, x: f32) -> f32 {
-    let ax = abs(x);
-    let ay = abs(y);
-    if !(ax > 0.0 || ay > 0.0) {
-        return 0.0;
-    }
-    var a = 0.0;
-    if ay <= ax {
-        a = atan(ay / ax);
-    } else {
-        a = 1.5707963267948966 - atan(ax / ay);
-    }
-    if x < 0.0 {
-        a = 3.141592653589793 - a;
-    }
-    return select(a, -a, y < 0.0);
-}
-
-fn finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
+// `finite` and `atan2_reduced` are in `numeric.wgsl`, composed before this file.
 
 fn finite3(v: vec3<f32>) -> bool {
     return finite(v.x) && finite(v.y) && finite(v.z);

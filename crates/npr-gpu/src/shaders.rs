@@ -22,6 +22,8 @@ pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
 /// Posing: morph targets and linear blend skinning into the mesh's vertex buffer, and
 /// the posed area-weighted normals (compute).
 pub const POSING: &str = include_str!("../shaders/posing.wgsl");
+/// Numeric helpers the compute shaders share (`finite`, `atan2_reduced`).
+pub const NUMERIC: &str = include_str!("../shaders/numeric.wgsl");
 /// Curvature: the per-vertex tensor of Lee & Choi Eq. (1) (corrected form), principal
 /// curvatures and directions (compute).
 pub const CURVATURE: &str = include_str!("../shaders/curvature.wgsl");
@@ -90,11 +92,18 @@ pub const POSING_FILE: ShaderFile = ShaderFile {
     prelude: &[],
 };
 
-/// `curvature.wgsl` (compute; no shared snippet).
+/// `numeric.wgsl` itself (validated alone: it declares only functions).
+pub const NUMERIC_FILE: ShaderFile = ShaderFile {
+    name: "numeric.wgsl",
+    source: NUMERIC,
+    prelude: &[],
+};
+
+/// `curvature.wgsl` (compute) after `numeric.wgsl`.
 pub const CURVATURE_FILE: ShaderFile = ShaderFile {
     name: "curvature.wgsl",
     source: CURVATURE,
-    prelude: &[],
+    prelude: &[NUMERIC],
 };
 
 /// Every shader file of this crate. A test checks that it names every `.wgsl` file in the
@@ -105,5 +114,6 @@ pub const ALL: &[ShaderFile] = &[
     BASE_SHADING_FILE,
     OUTLINE_FILE,
     POSING_FILE,
+    NUMERIC_FILE,
     CURVATURE_FILE,
 ];

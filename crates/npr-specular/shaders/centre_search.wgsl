@@ -103,9 +103,7 @@ const RESIDUAL_FLOOR: f32 = 1e-7;
 const JACOBIAN_TOLERANCE: f32 = 1e-7;
 const STEP_FLOOR: f32 = 1e-7;
 
-fn finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
+// `finite` is in npr-gpu's `numeric.wgsl`, composed before this file.
 
 fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);

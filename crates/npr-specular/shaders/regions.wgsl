@@ -96,9 +96,7 @@ var<workgroup> wg_level_end: u32;
 var<workgroup> wg_sum: array<array<f32, 7>, 256>;
 var<workgroup> wg_cone: array<f32, 256>;
 
-fn finite(x: f32) -> bool {
-    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
-}
+// `finite` and `atan2_reduced` are in npr-gpu's `numeric.wgsl`, composed before this file.
 
 fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
@@ -462,26 +460,6 @@ fn cs_grow(
     }
 }
 
-// The turn of the moments' axes (`fit.rs`'s `atan2`, from `atan` of a ratio of magnitude
-// at most 1, as `curvature.wgsl`'s `atan2_reduced`: some compilers' `atan2` is inexact).
-fn atan2_reduced(y: f32, x: f32) -> f32 {
-    let ax = abs(x);
-    let ay = abs(y);
-    if !(ax > 0.0 || ay > 0.0) {
-        return 0.0;
-    }
-    var a = 0.0;
-    if ay <= ax {
-        a = atan(ay / ax);
-    } else {
-        a = 1.5707963267948966 - atan(ax / ay);
-    }
-    if x < 0.0 {
-        a = 3.141592653589793 - a;
-    }
-    return select(a, -a, y < 0.0);
-}
-
 // `Moments::footprint`: the ellipse with these moments into `fits[k]` (status 2 when the
 // region is empty or degenerate).
 fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
@@ -495,6 +473,7 @@ fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
         let cxx = max(m.second.x / m.area - mean.x * mean.x, 0.0);
         let cxy = m.second.y / m.area - mean.x * mean.y;
         let cyy = max(m.second.z / m.area - mean.y * mean.y, 0.0);
+        // `fit.rs`'s `atan2`, by `atan2_reduced` (some compilers' `atan2` is inexact).
         var theta = 0.5 * atan2_reduced(2.0 * cxy, cxx - cyy);
         let quarter = 1.5707963267948966;
         if theta > quarter / 2.0 {

@@ -3,7 +3,7 @@
 //! [`ShaderFile::full_source`]; the naga validation and uniform-layout tests read the same
 //! text.
 
-use npr_gpu::shaders::{COMMON, ShaderFile};
+use npr_gpu::shaders::{COMMON, NUMERIC, ShaderFile};
 
 /// The highlight pass (Eq. (9), §5), after `common.wgsl`.
 pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
@@ -12,12 +12,12 @@ pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
     prelude: &[COMMON],
 };
 
-/// The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass, one face per invocation
-/// (no shared snippet).
+/// The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass, one face per invocation,
+/// after `numeric.wgsl`.
 pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
     name: "centre_search.wgsl",
     source: include_str!("../shaders/centre_search.wgsl"),
-    prelude: &[],
+    prelude: &[NUMERIC],
 };
 
 /// The §4.2 receivers as a compute pass, one workgroup per highlight's walk (no shared
@@ -29,11 +29,11 @@ pub const RECEIVERS: ShaderFile = ShaderFile {
 };
 
 /// The regions `N·H ≥ σ` grown and fitted with their moment ellipses as a compute pass,
-/// one workgroup per seed (no shared snippet).
+/// one workgroup per seed, after `numeric.wgsl`.
 pub const REGIONS: ShaderFile = ShaderFile {
     name: "regions.wgsl",
     source: include_str!("../shaders/regions.wgsl"),
-    prelude: &[],
+    prelude: &[NUMERIC],
 };
 
 /// Every shader file of this crate.
