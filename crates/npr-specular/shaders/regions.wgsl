@@ -12,7 +12,8 @@
 // another seed's faces is never won by the seed that walked through them (that seed's
 // steps there are no fewer), so the winners' faces are the CPU's. `cs_fit` then sums, per
 // seed, the moments of the faces it won (each workgroup reduces its own: WebGPU has no
-// float atomics) and fits the ellipse. Nothing mesh-sized is read back: one `RegionFit`
+// float atomics), fits the ellipse and the scale of it that fits the region best (radial
+// bins in fixed point, integer atomics). Nothing mesh-sized is read back: one `RegionFit`
 // per seed.
 
 // Frame-wide values.
@@ -58,7 +59,8 @@ struct RegionFace {
 // One seed's result: the moments of the faces it won on its projector's plane (area, the
 // first moments, the second (uu, uv, vv) about the centre), the smallest cos of their
 // normals with the axis, the ellipse (half extents, offset, rotation), and flags (status:
-// 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed).
+// 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed); `fit` holds the
+// rotation, the region's area, the cone and the ellipse's overlap scale.
 struct RegionFit {
     moments: vec4<f32>,
     second: vec4<f32>,
@@ -92,9 +94,12 @@ const INFINITE: f32 = 3.0e38;
 var<workgroup> wg_tail: atomic<u32>;
 var<workgroup> wg_overflow: atomic<u32>;
 var<workgroup> wg_level_end: u32;
-// `cs_fit`'s reduction: area, first (2), second (3), faces; the cone apart (a minimum).
-var<workgroup> wg_sum: array<array<f32, 7>, 256>;
+// `cs_fit`'s reduction: area, first (2), second (3), faces, the positive areas; the cone
+// apart (a minimum); the seed's fit once written; the overlap scale's radial bins.
+var<workgroup> wg_sum: array<array<f32, 8>, 256>;
 var<workgroup> wg_cone: array<f32, 256>;
+var<workgroup> wg_fitted: RegionFit;
+var<workgroup> wg_bins: array<atomic<u32>, 128>;
 
 // `finite` and `atan2_reduced` are in npr-gpu's `numeric.wgsl`, composed before this file.
 
@@ -490,7 +495,7 @@ fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
         let var_v = cxx * sn * sn - 2.0 * cxy * sn * cs + cyy * cs * cs;
         let halves = 2.0 * sqrt(max(vec2<f32>(var_u, var_v), vec2<f32>(0.0)));
         fit.ellipse = vec4<f32>(halves, mean);
-        fit.fit = vec4<f32>(theta, m.area, cone, 0.0);
+        fit.fit = vec4<f32>(theta, m.area, cone, 1.0);
         if min(halves.x, halves.y) > 0.0 && finite(halves.x) && finite(halves.y) && finite(mean.x) && finite(mean.y) {
             fit.flags.x = 0u;
         }
@@ -498,8 +503,106 @@ fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
     fits[k] = fit;
 }
 
-// Seed `group.x`'s moments over the faces it won (`RegionGrower::fit_parts`, before the
-// overlap scale and the split of bent regions, which stay on the CPU).
+// The bins of `best_overlap_scale` (`fit.rs`) over the moment ellipse's normalised radius.
+const OVERLAP_BINS: u32 = 128u;
+// Fixed-point units of a bin per whole region area: the bins are integer atomics.
+const BIN_UNITS: f32 = 1073741824.0;
+
+// Whether the won face at `entry` is seed `k`'s.
+fn won_by(entry: vec2<u32>, k: u32) -> bool {
+    return atomicLoad(&owner[entry.x]) == ~((entry.y << SEED_BITS) | k);
+}
+
+// One won face's moments `m` spread over the radial bins of the ellipse `fp` (half
+// extents xy, centre zw; `turn`: sin, cos of its rotation), by its own extent along the
+// radius (`best_overlap_scale`'s loop body), in units of `unit` per area.
+fn bin_face(m: Moments, fp: vec4<f32>, turn: vec2<f32>, unit: f32) {
+    if !(m.area > 0.0) {
+        return;
+    }
+    let n = f32(OVERLAP_BINS);
+    let h = fp.xy;
+    let sn = turn.x;
+    let cs = turn.y;
+    let c = m.first / m.area;
+    let d = c - fp.zw;
+    let q = vec2<f32>(d.x * cs + d.y * sn, d.y * cs - d.x * sn) / h;
+    let r = length(q);
+    var g = vec2<f32>(0.0);
+    if r > 0.0 && finite(1.0 / r) {
+        g = q / r / h;
+    }
+    g = vec2<f32>(g.x * cs - g.y * sn, g.x * sn + g.y * cs);
+    let cxx = m.second.x / m.area - c.x * c.x;
+    let cxy = m.second.y / m.area - c.x * c.y;
+    let cyy = m.second.z / m.area - c.y * c.y;
+    let var_r = max(g.x * g.x * cxx + 2.0 * g.x * g.y * cxy + g.y * g.y * cyy, 0.0);
+    let half = sqrt(3.0) * sqrt(var_r);
+    let lo = (r - half) * n;
+    let hi = (r + half) * n;
+    if !(hi - lo > 1e-9) {
+        if r < 1.0 {
+            let b = min(u32(r * n), OVERLAP_BINS - 1u);
+            atomicAdd(&wg_bins[b], u32(round(m.area * unit)));
+        }
+        return;
+    }
+    let density = m.area / (hi - lo);
+    var first = 0u;
+    if lo > 0.0 {
+        first = u32(lo);
+    }
+    for (var b = first; b < OVERLAP_BINS; b++) {
+        let a = f32(b);
+        if a >= hi {
+            break;
+        }
+        // What falls below radius 0 lies on the other side of the centre, at −r.
+        let folded = max(min(a + 1.0, -lo) - a, 0.0);
+        let part = density * (max(min(a + 1.0, hi) - max(a, lo), 0.0) + folded);
+        atomicAdd(&wg_bins[b], u32(round(part * unit)));
+    }
+}
+
+// `best_overlap_scale` from the filled bins (`unit` per area), the region's area `total`
+// and the ellipse's half extents `h`.
+fn overlap_scale(total: f32, h: vec2<f32>, unit: f32) -> f32 {
+    let ellipse = 3.141592653589793 * h.x * h.y;
+    if !(total > 0.0) || !finite(ellipse) {
+        return 1.0;
+    }
+    let s_area = min(sqrt(total / ellipse), 1.0);
+    let x = s_area * f32(OVERLAP_BINS);
+    let full = min(u32(x), OVERLAP_BINS);
+    var within = 0.0;
+    for (var b = 0u; b < full; b++) {
+        within += f32(atomicLoad(&wg_bins[b])) / unit;
+    }
+    if full < OVERLAP_BINS {
+        within += f32(atomicLoad(&wg_bins[full])) / unit * (x - f32(full));
+    }
+    if within >= 0.25 * total {
+        return s_area;
+    }
+    var best = -1.0;
+    var best_s = 1.0;
+    var inside = 0.0;
+    for (var b = 0u; b < OVERLAP_BINS; b++) {
+        inside += f32(atomicLoad(&wg_bins[b])) / unit;
+        let s = f32(b + 1u) / f32(OVERLAP_BINS);
+        let held = min(inside, total);
+        let iou = held / (total + ellipse * s * s - held);
+        if iou > best {
+            best = iou;
+            best_s = s;
+        }
+    }
+    return best_s;
+}
+
+// Seed `group.x`'s moments over the faces it won, its moment ellipse, and the scale of
+// that ellipse that fits the region best (`RegionGrower::fit_parts` with
+// `best_overlap_scale`, face by face); the split of bent regions stays on the CPU.
 @compute @workgroup_size(256)
 fn cs_fit(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -512,9 +615,10 @@ fn cs_fit(
     var m: Moments;
     var cone = 1.0;
     var won = 0.0;
+    var positive = 0.0;
     for (var i = lane; i < walked; i += WORKGROUP) {
         let entry = work[base + i];
-        if atomicLoad(&owner[entry.x]) != ~((entry.y << SEED_BITS) | k) {
+        if !won_by(entry, k) {
             continue;
         }
         let face = measure(entry.x, s);
@@ -523,13 +627,17 @@ fn cs_fit(
         m.second += face.m.second;
         cone = min(cone, face.cone);
         won += 1.0;
+        positive += max(face.m.area, 0.0);
     }
-    wg_sum[lane] = array<f32, 7>(m.area, m.first.x, m.first.y, m.second.x, m.second.y, m.second.z, won);
+    wg_sum[lane] = array<f32, 8>(m.area, m.first.x, m.first.y, m.second.x, m.second.y, m.second.z, won, positive);
     wg_cone[lane] = cone;
+    if lane < OVERLAP_BINS {
+        atomicStore(&wg_bins[lane], 0u);
+    }
     for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
         workgroupBarrier();
         if lane < stride {
-            for (var c = 0u; c < 7u; c++) {
+            for (var c = 0u; c < 8u; c++) {
                 wg_sum[lane][c] += wg_sum[lane + stride][c];
             }
             wg_cone[lane] = min(wg_cone[lane], wg_cone[lane + stride]);
@@ -546,5 +654,25 @@ fn cs_fit(
         if s.start.y != 0u {
             fits[k].flags.x = 1u;
         }
+        wg_fitted = fits[k];
+    }
+    let fitted = workgroupUniformLoad(&wg_fitted);
+    if fitted.flags.x != 0u {
+        return;
+    }
+    // The won faces again, spread over the ellipse's radial bins.
+    let positive_total = wg_sum[0][7];
+    let unit = BIN_UNITS / max(positive_total, 1e-30);
+    let turn = vec2<f32>(sin(fitted.fit.x), cos(fitted.fit.x));
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if won_by(entry, k) {
+            bin_face(measure(entry.x, s).m, fitted.ellipse, turn, unit);
+        }
+    }
+    workgroupBarrier();
+    if lane == 0u {
+        let total = min(fitted.fit.y, positive_total);
+        fits[k].fit.w = overlap_scale(total, fitted.ellipse.xy, unit);
     }
 }

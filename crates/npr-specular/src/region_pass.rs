@@ -20,8 +20,8 @@
 //!
 //! The CPU growth ([`RegionGrower::grow_all`](crate::region::RegionGrower::grow_all)) is
 //! the reference: `tests/gpu_regions.rs` compares the two on the same frame. The moment
-//! ellipse is fitted here; its overlap scale and the split of long bent regions into
-//! pieces stay on the CPU. A growth longer than the object's capacity stops there and
+//! ellipse and the scale of it that fits the region best ([`GpuRegion::overlap_scale`])
+//! are fitted here; the split of long bent regions into pieces stays on the CPU. A growth longer than the object's capacity stops there and
 //! says so ([`GpuRegion::overflowed`]).
 
 use crate::receiver_pass::{adjacency, storage};
@@ -115,6 +115,10 @@ pub struct GpuRegion {
     pub walked: u32,
     /// Whether the walk stopped at the object's capacity (then the region is cut short).
     pub overflowed: bool,
+    /// The scale (≤ 1) of the moment ellipse that fits the region best
+    /// ([`RegionGrower::overlap_scale`](crate::region::RegionGrower::overlap_scale),
+    /// from the faces won one by one); 1 when the region is not fitted.
+    pub overlap_scale: f32,
 }
 
 /// `RegionParams` of `regions.wgsl`.
@@ -583,10 +587,15 @@ fn decode(bytes: &[u8], seeds: usize) -> Vec<GpuRegion> {
                 1 => Region::Covered,
                 _ => Region::Empty,
             };
+            let overlap_scale = match region {
+                Region::Fit(..) if r.fit[3] > 0.0 && r.fit[3] <= 1.0 => r.fit[3],
+                _ => 1.0,
+            };
             GpuRegion {
                 region,
                 walked: r.flags[2],
                 overflowed: r.flags[3] != 0,
+                overlap_scale,
             }
         })
         .collect()

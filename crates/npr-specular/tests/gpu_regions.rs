@@ -1,8 +1,9 @@
 //! The regions `N·H ≥ σ` grown and fitted on the GPU ([`RegionPass`], `regions.wgsl`)
 //! against the CPU growth (the reference, [`RegionGrower::grow_all`], what
 //! [`HighlightSet::update`] sizes highlights with) on the same frame and seeds: the same
-//! outcome per seed, the same faces won on at least 99.5 % of the faces, and the same
-//! moment ellipse (within 1e-3 of the bounding radius, areas within 0.5 %), over
+//! outcome per seed, the same faces won on at least 99.5 % of the faces, the same
+//! moment ellipse (within 1e-3 of the bounding radius, areas within 0.5 %) and overlap
+//! scale (within 0.02), over
 //! directional and point lights, rigid, non-uniformly scaled and sheared transforms,
 //! procedural surfaces and the scanned and CAD fixtures, with seeds that share a region.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -42,6 +43,12 @@ fn ellipse(fp: &Footprint) -> (Mat2, Vec2) {
     (r * d * r.transpose(), fp.offset)
 }
 
+/// How far the overlap scale may differ: the CPU's takes whole patches of faces as one
+/// piece where it can (the scale, from the pieces taken, then moves by a fraction of a
+/// per cent), the GPU's every face apart; and the largest intersection over union is
+/// found at one of 128 radii.
+const SCALE_TOLERANCE: f32 = 2e-3;
+
 #[derive(Default)]
 struct Tally {
     seeds: usize,
@@ -49,6 +56,7 @@ struct Tally {
     faces_cpu: usize,
     faces_differ: usize,
     shared: usize,
+    worst_scale: f32,
 }
 
 #[test]
@@ -145,6 +153,12 @@ fn the_gpu_regions_are_the_cpu_regions() {
                             b.normal_cone_cos,
                             a.normal_cone_cos
                         );
+                        let (cs, gs) = (grower.overlap_scale(s, None), g.overlap_scale);
+                        tally.worst_scale = tally.worst_scale.max((cs - gs).abs());
+                        assert!(
+                            (cs - gs).abs() <= SCALE_TOLERANCE,
+                            "{at}: overlap scale {gs} against the CPU's {cs}"
+                        );
                     }
                     (c, g) => assert_eq!(c, g, "{at}"),
                 }
@@ -152,12 +166,14 @@ fn the_gpu_regions_are_the_cpu_regions() {
         }
         let differ = tally.faces_differ as f64 / tally.faces_cpu.max(1) as f64;
         eprintln!(
-            "{name}: {} seeds, {} fitted, {} faces, {:.3} % won apart, {} shared seeds",
+            "{name}: {} seeds, {} fitted, {} faces, {:.3} % won apart, {} shared seeds, \
+             overlap scales within {:.2e}",
             tally.seeds,
             tally.fitted,
             tally.faces_cpu,
             100.0 * differ,
-            tally.shared
+            tally.shared,
+            tally.worst_scale
         );
         assert!(tally.fitted > 0, "{name}: no region fitted in any frame");
         assert!(
@@ -231,4 +247,68 @@ fn a_growth_past_its_capacity_stops_there_and_says_so() {
         Region::Fit(_, n) => assert!(n <= faces / 4, "{n} faces won"),
         other => panic!("{other:?}"),
     }
+}
+
+/// A ring: the top of a torus (axis y) lit and seen about along its axis, grown from one
+/// centre,
+/// is a region whose centroid lies in the hole. Its moment ellipse is fitted at the scale
+/// of the largest intersection over union, from the radial bins, the same on the GPU.
+#[test]
+fn a_ring_region_is_fitted_as_the_cpu_fits_it() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("a_ring_region_is_fitted_as_the_cpu_fits_it")
+    else {
+        return;
+    };
+    let mesh = npr_geometry::generate::torus(1.0, 0.35, 96, 32);
+    let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+    let light_eye = npr_geometry::LightEye::Directions {
+        // Off the axis (`H` 8.5° from it): along it, `N = H` holds on the whole top circle,
+        // a parabolic line, and the search finds no isolated centre.
+        to_light: glam::Vec3::new(0.3, 1.0, 0.0).normalize(),
+        to_eye: glam::Vec3::Y,
+    };
+    let world = glam::Mat4::IDENTITY;
+    let first = set.search().find(light_eye, world)[0];
+    let seeds = [(first, ProjectorControls::default().sigma)];
+    let (topology, normals) = (set.topology(), set.search().normals());
+    let mut grower = RegionGrower::with_patches(RegionPatches::new(topology, normals));
+    let frame = RegionFrame {
+        topology,
+        normals,
+        world_from_object: world,
+        light_eye,
+    };
+    let cpu = grower.grow_all(&frame, &seeds);
+    let pass = RegionPass::new(&ctx.device);
+    let mut object = pass.create_object(&ctx.device, &set).unwrap();
+    let input = RegionInput {
+        frame: FrameId(1),
+        set: &set,
+        seeds: &seeds,
+        light_eye,
+        world_from_object: world,
+    };
+    let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    pass.record(&mut encoder, &object, &prepared).unwrap();
+    ctx.queue.submit([encoder.finish()]);
+    let gpu = object.read(&ctx.device, &ctx.queue, &prepared).unwrap();
+    let (Region::Fit(a, fa), Region::Fit(b, fb)) = (cpu[0], gpu[0].region) else {
+        panic!("{:?} against {:?}", cpu[0], gpu[0]);
+    };
+    eprintln!(
+        "ring: {fa} faces, offset {}, scale {} on the CPU, {} on the GPU",
+        a.offset.length(),
+        grower.overlap_scale(0, None),
+        gpu[0].overlap_scale
+    );
+    assert_eq!(fa, fb);
+    // The centroid in the hole, a major radius from the centre.
+    assert!(a.offset.length() > 0.8, "{a:?}");
+    assert!(b.offset.distance(a.offset) < 1e-3);
+    let (cs, gs) = (grower.overlap_scale(0, None), gpu[0].overlap_scale);
+    assert!(
+        (cs - gs).abs() <= 1.0 / 128.0 + 1e-3,
+        "{gs} against the CPU's {cs}"
+    );
 }
