@@ -60,13 +60,23 @@ struct RegionFace {
 // first moments, the second (uu, uv, vv) about the centre), the smallest cos of their
 // normals with the axis, the ellipse (half extents, offset, rotation), and flags (status:
 // 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed); `fit` holds the
-// rotation, the region's area, the cone and the ellipse's overlap scale.
+// rotation, the region's area, the cone and the ellipse's overlap scale. A long bent
+// region is also cut into `piece_count.x` pieces along its length (`split.rs`).
 struct RegionFit {
     moments: vec4<f32>,
     second: vec4<f32>,
     ellipse: vec4<f32>,
     fit: vec4<f32>,
     flags: vec4<u32>,
+    piece_count: vec4<u32>,
+    pieces: array<RegionPiece, 6>,
+}
+
+// One piece of a bent region: its ellipse (half extents, offset) and its rotation, area
+// and overlap scale (w unused).
+struct RegionPiece {
+    ellipse: vec4<f32>,
+    fit: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> params: RegionParams;
@@ -99,7 +109,18 @@ var<workgroup> wg_level_end: u32;
 var<workgroup> wg_sum: array<array<f32, 8>, 256>;
 var<workgroup> wg_cone: array<f32, 256>;
 var<workgroup> wg_fitted: RegionFit;
-var<workgroup> wg_bins: array<atomic<u32>, 128>;
+// The overlap scale's radial bins (the first 128), or the cut's bins along the axis.
+var<workgroup> wg_bins: array<atomic<u32>, 1024>;
+// The won faces' range along the cut's axis (ordered bits: least, greatest).
+var<workgroup> wg_range: array<atomic<u32>, 2>;
+// Per cut: the bin along the axis the piece before it ends in, the area of the bins
+// before that one, and the running area at which the piece closes; then the won faces
+// of those bins (`CUT_LIST` at most, kept in `wg_bins`, four words each), which are
+// ordered one by one as `split_bent` orders them.
+var<workgroup> wg_cuts: array<u32, 6>;
+var<workgroup> wg_cut_before: array<f32, 6>;
+var<workgroup> wg_cut_target: array<f32, 6>;
+var<workgroup> wg_list_len: atomic<u32>;
 
 // `finite` and `atan2_reduced` are in npr-gpu's `numeric.wgsl`, composed before this file.
 
@@ -465,40 +486,59 @@ fn cs_grow(
     }
 }
 
-// `Moments::footprint`: the ellipse with these moments into `fits[k]` (status 2 when the
-// region is empty or degenerate).
+// The ellipse with the same moments (`Moments::footprint`): half extents and centre in
+// `ellipse`, rotation in `theta`; `ok` when it is not degenerate.
+struct Ellipse {
+    ellipse: vec4<f32>,
+    theta: f32,
+    ok: bool,
+}
+
+fn fit_ellipse(m: Moments) -> Ellipse {
+    var out: Ellipse;
+    if !(finite(m.area) && m.area > 1e-20) {
+        return out;
+    }
+    let mean = m.first / m.area;
+    let cxx = max(m.second.x / m.area - mean.x * mean.x, 0.0);
+    let cxy = m.second.y / m.area - mean.x * mean.y;
+    let cyy = max(m.second.z / m.area - mean.y * mean.y, 0.0);
+    // `fit.rs`'s `atan2`, by `atan2_reduced` (some compilers' `atan2` is inexact).
+    var theta = 0.5 * atan2_reduced(2.0 * cxy, cxx - cyy);
+    let quarter = 1.5707963267948966;
+    if theta > quarter / 2.0 {
+        theta -= quarter;
+    } else if theta < -quarter / 2.0 {
+        theta += quarter;
+    }
+    let spread = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy) / max(cxx + cyy, 1e-30);
+    let t = clamp((spread - 0.05) / 0.15, 0.0, 1.0);
+    theta *= t * t * (3.0 - 2.0 * t);
+    let sn = sin(theta);
+    let cs = cos(theta);
+    let var_u = cxx * cs * cs + 2.0 * cxy * sn * cs + cyy * sn * sn;
+    let var_v = cxx * sn * sn - 2.0 * cxy * sn * cs + cyy * cs * cs;
+    let halves = 2.0 * sqrt(max(vec2<f32>(var_u, var_v), vec2<f32>(0.0)));
+    out.ellipse = vec4<f32>(halves, mean);
+    out.theta = theta;
+    out.ok = min(halves.x, halves.y) > 0.0 && finite(halves.x) && finite(halves.y) && finite(mean.x) && finite(mean.y);
+    return out;
+}
+
+// The seed's moments and their ellipse into `fits[k]` (status 2 when the region is empty
+// or degenerate).
 fn write_fit(k: u32, m: Moments, cone: f32, won: u32) {
     var fit = fits[k];
     fit.moments = vec4<f32>(m.area, m.first, cone);
     fit.second = vec4<f32>(m.second, 0.0);
     fit.flags.x = 2u;
     fit.flags.y = won;
-    if won > 0u && finite(m.area) && m.area > 1e-20 {
-        let mean = m.first / m.area;
-        let cxx = max(m.second.x / m.area - mean.x * mean.x, 0.0);
-        let cxy = m.second.y / m.area - mean.x * mean.y;
-        let cyy = max(m.second.z / m.area - mean.y * mean.y, 0.0);
-        // `fit.rs`'s `atan2`, by `atan2_reduced` (some compilers' `atan2` is inexact).
-        var theta = 0.5 * atan2_reduced(2.0 * cxy, cxx - cyy);
-        let quarter = 1.5707963267948966;
-        if theta > quarter / 2.0 {
-            theta -= quarter;
-        } else if theta < -quarter / 2.0 {
-            theta += quarter;
-        }
-        let spread = sqrt((cxx - cyy) * (cxx - cyy) + 4.0 * cxy * cxy) / max(cxx + cyy, 1e-30);
-        let t = clamp((spread - 0.05) / 0.15, 0.0, 1.0);
-        theta *= t * t * (3.0 - 2.0 * t);
-        let sn = sin(theta);
-        let cs = cos(theta);
-        let var_u = cxx * cs * cs + 2.0 * cxy * sn * cs + cyy * sn * sn;
-        let var_v = cxx * sn * sn - 2.0 * cxy * sn * cs + cyy * cs * cs;
-        let halves = 2.0 * sqrt(max(vec2<f32>(var_u, var_v), vec2<f32>(0.0)));
-        fit.ellipse = vec4<f32>(halves, mean);
-        fit.fit = vec4<f32>(theta, m.area, cone, 1.0);
-        if min(halves.x, halves.y) > 0.0 && finite(halves.x) && finite(halves.y) && finite(mean.x) && finite(mean.y) {
-            fit.flags.x = 0u;
-        }
+    fit.piece_count = vec4<u32>(0u);
+    let e = fit_ellipse(m);
+    if won > 0u && e.ok {
+        fit.ellipse = e.ellipse;
+        fit.fit = vec4<f32>(e.theta, m.area, cone, 1.0);
+        fit.flags.x = 0u;
     }
     fits[k] = fit;
 }
@@ -600,9 +640,82 @@ fn overlap_scale(total: f32, h: vec2<f32>, unit: f32) -> f32 {
     return best_s;
 }
 
-// Seed `group.x`'s moments over the faces it won, its moment ellipse, and the scale of
-// that ellipse that fits the region best (`RegionGrower::fit_parts` with
-// `best_overlap_scale`, face by face); the split of bent regions stays on the CPU.
+// `split.rs`'s `SPLIT_AREA_RATIO`, `SPLIT_ELONGATION` and `MAX_PIECES`; the bins a bent
+// region's won faces are counted in along its axis to place the cuts.
+const SPLIT_AREA_RATIO: f32 = 1.3;
+const SPLIT_ELONGATION: f32 = 2.5;
+const MAX_PIECES: u32 = 6u;
+const CUT_BINS: u32 = 1024u;
+const CUT_LIST: u32 = CUT_BINS / 4u;
+
+// A float's bits, ordered as the floats are (for integer atomic minima and maxima).
+fn ordered(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    if (b & 0x80000000u) != 0u {
+        return ~b;
+    }
+    return b | 0x80000000u;
+}
+
+fn from_ordered(u: u32) -> f32 {
+    if (u & 0x80000000u) != 0u {
+        return bitcast<f32>(u & 0x7fffffffu);
+    }
+    return bitcast<f32>(~u);
+}
+
+// Sums `wg_sum` (and the least of `wg_cone`) into lane 0's; every lane calls it.
+fn reduce(lane: u32) {
+    for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
+        workgroupBarrier();
+        if lane < stride {
+            for (var c = 0u; c < 8u; c++) {
+                wg_sum[lane][c] += wg_sum[lane + stride][c];
+            }
+            wg_cone[lane] = min(wg_cone[lane], wg_cone[lane + stride]);
+        }
+    }
+    workgroupBarrier();
+}
+
+// The overlap scale of the ellipse `fp` (half extents, centre; rotation `theta`) over the
+// faces seed `k` won, for a region of area `total` (`best_overlap_scale`); every lane
+// calls it and gets it.
+fn overlap_over_won(k: u32, walked: u32, lane: u32, fp: vec4<f32>, theta: f32, total: f32, unit: f32) -> f32 {
+    let s = seeds[k];
+    let base = k * params.capacity;
+    if lane < OVERLAP_BINS {
+        atomicStore(&wg_bins[lane], 0u);
+    }
+    workgroupBarrier();
+    let turn = vec2<f32>(sin(theta), cos(theta));
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if won_by(entry, k) {
+            bin_face(measure(entry.x, s).m, fp, turn, unit);
+        }
+    }
+    workgroupBarrier();
+    let scale = overlap_scale(total, fp.xy, unit);
+    workgroupBarrier();
+    return scale;
+}
+
+// Where a won face's centroid lies along the axis from the ellipse's centre.
+fn along(m: Moments, centre: vec2<f32>, axis: vec2<f32>) -> f32 {
+    return dot(m.first / m.area - centre, axis);
+}
+
+// The bin along the axis of a position `t` on it, over `lo` and `width`.
+fn cut_bin(t: f32, lo: f32, width: f32) -> u32 {
+    return min(u32(max((t - lo) / width * f32(CUT_BINS), 0.0)), CUT_BINS - 1u);
+}
+
+// Seed `group.x`'s moments over the faces it won, its moment ellipse and the scale of it
+// that fits the region best (`RegionGrower::fit_parts` with `best_overlap_scale`, face by
+// face), and a long bent region's pieces (`split_bent`): cut at equal area along the
+// ellipse's long axis, placed by the won faces' areas in `CUT_BINS` bins along it, each
+// piece fitted to its own faces and scaled against all of them.
 @compute @workgroup_size(256)
 fn cs_fit(
     @builtin(workgroup_id) group: vec3<u32>,
@@ -631,19 +744,7 @@ fn cs_fit(
     }
     wg_sum[lane] = array<f32, 8>(m.area, m.first.x, m.first.y, m.second.x, m.second.y, m.second.z, won, positive);
     wg_cone[lane] = cone;
-    if lane < OVERLAP_BINS {
-        atomicStore(&wg_bins[lane], 0u);
-    }
-    for (var stride = WORKGROUP / 2u; stride > 0u; stride /= 2u) {
-        workgroupBarrier();
-        if lane < stride {
-            for (var c = 0u; c < 8u; c++) {
-                wg_sum[lane][c] += wg_sum[lane + stride][c];
-            }
-            wg_cone[lane] = min(wg_cone[lane], wg_cone[lane + stride]);
-        }
-    }
-    workgroupBarrier();
+    reduce(lane);
     if lane == 0u {
         let t = wg_sum[0];
         var total: Moments;
@@ -655,24 +756,193 @@ fn cs_fit(
             fits[k].flags.x = 1u;
         }
         wg_fitted = fits[k];
+        wg_fitted.fit.w = t[7];
     }
     let fitted = workgroupUniformLoad(&wg_fitted);
     if fitted.flags.x != 0u {
         return;
     }
-    // The won faces again, spread over the ellipse's radial bins.
-    let positive_total = wg_sum[0][7];
+    // The overlap scale of the whole; `fit.w` holds the positive areas' sum meanwhile.
+    let positive_total = fitted.fit.w;
     let unit = BIN_UNITS / max(positive_total, 1e-30);
-    let turn = vec2<f32>(sin(fitted.fit.x), cos(fitted.fit.x));
+    let region_area = fitted.fit.y;
+    let scale = overlap_over_won(k, walked, lane, fitted.ellipse, fitted.fit.x, min(region_area, positive_total), unit);
+    if lane == 0u {
+        fits[k].fit.w = scale;
+    }
+    // A long bent band (`needs_split`)?
+    let h = fitted.ellipse.xy;
+    let elongation = max(h.x, h.y) / max(min(h.x, h.y), 1.17549435e-38);
+    if !(3.141592653589793 * h.x * h.y > SPLIT_AREA_RATIO * region_area && elongation >= SPLIT_ELONGATION) {
+        return;
+    }
+    let count = clamp(u32(round(elongation / 1.5)), 2u, MAX_PIECES);
+    let sn = sin(fitted.fit.x);
+    let cs = cos(fitted.fit.x);
+    var axis = vec2<f32>(cs, sn);
+    if h.x < h.y {
+        axis = vec2<f32>(-sn, cs);
+    }
+    let centre = fitted.ellipse.zw;
+    // The won faces' range along the axis, then their areas in bins along it.
+    if lane < 2u {
+        atomicStore(&wg_range[lane], select(0u, 0xffffffffu, lane == 0u));
+    }
+    for (var b = lane; b < CUT_BINS; b += WORKGROUP) {
+        atomicStore(&wg_bins[b], 0u);
+    }
+    workgroupBarrier();
     for (var i = lane; i < walked; i += WORKGROUP) {
         let entry = work[base + i];
         if won_by(entry, k) {
-            bin_face(measure(entry.x, s).m, fitted.ellipse, turn, unit);
+            let face = measure(entry.x, s).m;
+            if face.area > 0.0 {
+                let t = along(face, centre, axis);
+                atomicMin(&wg_range[0], ordered(t));
+                atomicMax(&wg_range[1], ordered(t));
+            }
         }
     }
     workgroupBarrier();
+    let lo = from_ordered(atomicLoad(&wg_range[0]));
+    let width = max(from_ordered(atomicLoad(&wg_range[1])) - lo, 1e-30);
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if won_by(entry, k) {
+            let face = measure(entry.x, s).m;
+            if face.area > 0.0 {
+                let b = cut_bin(along(face, centre, axis), lo, width);
+                atomicAdd(&wg_bins[b], u32(round(face.area * unit)));
+            }
+        }
+    }
+    workgroupBarrier();
+    // The cuts: after the bin in which the running area reaches each `j / count` of the
+    // whole (`split_bent` closes a piece with the face that reaches it, and a bin holds
+    // about one face of a region of a few thousand).
     if lane == 0u {
-        let total = min(fitted.fit.y, positive_total);
-        fits[k].fit.w = overlap_scale(total, fitted.ellipse.xy, unit);
+        var cum = 0.0;
+        var j = 1u;
+        for (var b = 0u; b < CUT_BINS; b++) {
+            let a = f32(atomicLoad(&wg_bins[b])) / unit;
+            loop {
+                if j >= count {
+                    break;
+                }
+                let target_area = positive_total * f32(j) / f32(count);
+                if cum + a < target_area - 1e-12 * positive_total {
+                    break;
+                }
+                wg_cuts[j - 1u] = b;
+                wg_cut_before[j - 1u] = cum;
+                wg_cut_target[j - 1u] = target_area - 1e-12 * positive_total;
+                j += 1u;
+            }
+            cum += a;
+        }
+        for (; j < count; j++) {
+            wg_cuts[j - 1u] = CUT_BINS;
+        }
+        atomicStore(&wg_list_len, 0u);
+    }
+    workgroupBarrier();
+    // The won faces in the cut bins, listed (the bins' counts are no longer needed).
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if won_by(entry, k) {
+            let face = measure(entry.x, s).m;
+            if face.area > 0.0 {
+                let t = along(face, centre, axis);
+                let b = cut_bin(t, lo, width);
+                var at_cut = false;
+                for (var j = 0u; j + 1u < count; j++) {
+                    at_cut = at_cut || b == wg_cuts[j];
+                }
+                if at_cut {
+                    let slot = atomicAdd(&wg_list_len, 1u);
+                    if slot < CUT_LIST {
+                        atomicStore(&wg_bins[4u * slot], bitcast<u32>(t));
+                        atomicStore(&wg_bins[4u * slot + 1u], bitcast<u32>(face.area));
+                        atomicStore(&wg_bins[4u * slot + 2u], i);
+                        atomicStore(&wg_bins[4u * slot + 3u], b);
+                    }
+                }
+            }
+        }
+    }
+    workgroupBarrier();
+    let listed = atomicLoad(&wg_list_len);
+    // Each piece's moments, its faces being those between its cuts.
+    var acc: array<Moments, 6>;
+    for (var i = lane; i < walked; i += WORKGROUP) {
+        let entry = work[base + i];
+        if won_by(entry, k) {
+            let face = measure(entry.x, s).m;
+            if face.area > 0.0 {
+                let t = along(face, centre, axis);
+                let b = cut_bin(t, lo, width);
+                var p = 0u;
+                for (var j = 0u; j + 1u < count; j++) {
+                    if b > wg_cuts[j] {
+                        p += 1u;
+                    } else if b == wg_cuts[j] && listed <= CUT_LIST {
+                        // In the cut's bin: after the cut when the faces before this one
+                        // (by position, then by queue order) already reach the piece's
+                        // share. (Past `CUT_LIST` faces, a cut bin's faces all stay before
+                        // the cut.)
+                        var before = wg_cut_before[j];
+                        for (var e = 0u; e < listed; e++) {
+                            let t2 = bitcast<f32>(atomicLoad(&wg_bins[4u * e]));
+                            let i2 = atomicLoad(&wg_bins[4u * e + 2u]);
+                            let earlier = t2 < t || (t2 == t && i2 < i);
+                            if atomicLoad(&wg_bins[4u * e + 3u]) == b && earlier {
+                                before += bitcast<f32>(atomicLoad(&wg_bins[4u * e + 1u]));
+                            }
+                        }
+                        if before >= wg_cut_target[j] {
+                            p += 1u;
+                        }
+                    }
+                }
+                acc[p].area += face.area;
+                acc[p].first += face.first;
+                acc[p].second += face.second;
+            }
+        }
+    }
+    for (var p = 0u; p < count; p++) {
+        let a = acc[p];
+        wg_sum[lane] = array<f32, 8>(a.area, a.first.x, a.first.y, a.second.x, a.second.y, a.second.z, 0.0, 0.0);
+        wg_cone[lane] = 1.0;
+        reduce(lane);
+        if lane == 0u {
+            let t = wg_sum[0];
+            var piece: Moments;
+            piece.area = t[0];
+            piece.first = vec2<f32>(t[1], t[2]);
+            piece.second = vec3<f32>(t[3], t[4], t[5]);
+            let e = fit_ellipse(piece);
+            // Degenerate pieces are left out, the others keep their order.
+            let n = wg_fitted.piece_count.x;
+            if e.ok {
+                wg_fitted.pieces[n] = RegionPiece(e.ellipse, vec4<f32>(e.theta, piece.area, 1.0, 0.0));
+                wg_fitted.piece_count.x = n + 1u;
+            }
+        }
+    }
+    let split = workgroupUniformLoad(&wg_fitted);
+    let pieces = split.piece_count.x;
+    if pieces < 2u {
+        return;
+    }
+    for (var p = 0u; p < pieces; p++) {
+        let piece = split.pieces[p];
+        let piece_scale = overlap_over_won(k, walked, lane, piece.ellipse, piece.fit.x, min(piece.fit.y, positive_total), unit);
+        if lane == 0u {
+            fits[k].pieces[p] = RegionPiece(piece.ellipse, vec4<f32>(piece.fit.xy, piece_scale, 0.0));
+        }
+    }
+    if lane == 0u {
+        fits[k].piece_count = vec4<u32>(pieces, 0u, 0u, 0u);
     }
 }

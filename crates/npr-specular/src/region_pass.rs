@@ -3,7 +3,7 @@
 //! workgroup per seed, the faces shared out between seeds as the CPU shares them (fewest
 //! steps, then the lower seed), and each seed's area moments summed and fitted with the
 //! ellipse of the same moments ([`Footprint`]). Nothing mesh-sized is read back: one
-//! 80-byte record per seed.
+//! 288-byte record per seed.
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
 //!
@@ -20,12 +20,12 @@
 //!
 //! The CPU growth ([`RegionGrower::grow_all`](crate::region::RegionGrower::grow_all)) is
 //! the reference: `tests/gpu_regions.rs` compares the two on the same frame. The moment
-//! ellipse and the scale of it that fits the region best ([`GpuRegion::overlap_scale`])
-//! are fitted here; the split of long bent regions into pieces stays on the CPU. A growth longer than the object's capacity stops there and
+//! ellipse, the scale of it that fits the region best ([`GpuRegion::overlap_scale`]) and
+//! a long bent region's pieces ([`GpuRegion::pieces`]) are fitted here. A growth longer than the object's capacity stops there and
 //! says so ([`GpuRegion::overflowed`]).
 
 use crate::receiver_pass::{adjacency, storage};
-use crate::region::{Footprint, Region};
+use crate::region::{Footprint, MAX_PIECES, Region};
 use crate::{HighlightSet, SpecularError};
 use glam::{Mat3, Mat4, Vec2};
 use npr_geometry::{HighlightCentre, LightEye};
@@ -119,6 +119,21 @@ pub struct GpuRegion {
     /// ([`RegionGrower::overlap_scale`](crate::region::RegionGrower::overlap_scale),
     /// from the faces won one by one); 1 when the region is not fitted.
     pub overlap_scale: f32,
+    /// How many of [`GpuRegion::pieces`] hold a piece: 0, or 2 to [`MAX_PIECES`] for a
+    /// long bent region cut along its length
+    /// ([`RegionGrower::pieces`](crate::region::RegionGrower::pieces)).
+    pub piece_count: usize,
+    /// The pieces' footprints (the whole's normal cone), the first `piece_count`.
+    pub pieces: [Footprint; MAX_PIECES],
+    /// Each piece's overlap scale, against all the faces the seed won.
+    pub piece_scales: [f32; MAX_PIECES],
+}
+
+impl GpuRegion {
+    /// The pieces of a long bent region (empty for one its ellipse fits).
+    pub fn pieces(&self) -> &[Footprint] {
+        &self.pieces[..self.piece_count.min(MAX_PIECES)]
+    }
 }
 
 /// `RegionParams` of `regions.wgsl`.
@@ -162,6 +177,14 @@ struct FaceRecord {
     normal: [f32; 4],
 }
 
+/// `RegionPiece` of `regions.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct PieceRecord {
+    ellipse: [f32; 4],
+    fit: [f32; 4],
+}
+
 /// `RegionFit` of `regions.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
@@ -171,7 +194,12 @@ struct FitRecord {
     ellipse: [f32; 4],
     fit: [f32; 4],
     flags: [u32; 4],
+    piece_count: [u32; 4],
+    pieces: [PieceRecord; MAX_PIECES],
 }
+
+/// Bytes of one seed's `RegionFit`.
+const FIT_BYTES: usize = std::mem::size_of::<FitRecord>();
 
 const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);
 
@@ -412,7 +440,7 @@ impl RegionPass {
         if count > slot.room {
             let room = count.next_power_of_two();
             slot.seeds = storage(device, "npr region seeds", (room * 80) as u64);
-            slot.fits = storage(device, "npr region fits", (room * 80) as u64);
+            slot.fits = storage(device, "npr region fits", (room * FIT_BYTES) as u64);
             slot.room = room;
         }
         let mut params = params_of(input, faces);
@@ -485,7 +513,7 @@ fn make_slot(device: &wgpu::Device) -> Slot {
             wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         ),
         seeds: storage(device, "npr region seeds", 80),
-        fits: storage(device, "npr region fits", 80),
+        fits: storage(device, "npr region fits", FIT_BYTES as u64),
         group: None,
         room: 0,
         count: 0,
@@ -501,7 +529,7 @@ impl RegionObject {
     }
 
     /// Reads back the seeds' regions of `prepared`, after the submission that holds its
-    /// [`RegionPass::record`]: copies them (80 bytes a seed), waits for the GPU and
+    /// [`RegionPass::record`]: copies them (288 bytes a seed), waits for the GPU and
     /// decodes. Native only (in the browser use [`RegionObject::map`] and poll); for
     /// tests, picking or a panel, never on the frame's path.
     ///
@@ -531,7 +559,7 @@ impl RegionObject {
         prepared: &Prepared,
     ) -> Result<PendingRegions, SpecularError> {
         let slot = self.slots.get(self.slots.pass(), prepared)?;
-        let bytes = (80 * slot.count.max(1)) as u64;
+        let bytes = (FIT_BYTES * slot.count.max(1)) as u64;
         let to = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("npr region readback"),
             size: bytes,
@@ -565,7 +593,7 @@ impl PendingRegions {
 /// The seeds' `RegionFit` records.
 fn decode(bytes: &[u8], seeds: usize) -> Vec<GpuRegion> {
     let records: Vec<FitRecord> = bytes
-        .chunks_exact(80)
+        .chunks_exact(FIT_BYTES)
         .take(seeds)
         .map(bytemuck::pod_read_unaligned)
         .collect();
@@ -587,15 +615,36 @@ fn decode(bytes: &[u8], seeds: usize) -> Vec<GpuRegion> {
                 1 => Region::Covered,
                 _ => Region::Empty,
             };
-            let overlap_scale = match region {
-                Region::Fit(..) if r.fit[3] > 0.0 && r.fit[3] <= 1.0 => r.fit[3],
-                _ => 1.0,
+            let scale = |s: f32| if s > 0.0 && s <= 1.0 { s } else { 1.0 };
+            let (overlap_scale, cone, piece_count) = match region {
+                Region::Fit(fp, _) => (
+                    scale(r.fit[3]),
+                    fp.normal_cone_cos,
+                    (r.piece_count[0] as usize).min(MAX_PIECES),
+                ),
+                _ => (1.0, -1.0, 0),
             };
+            let mut pieces = [Footprint::default(); MAX_PIECES];
+            let mut piece_scales = [1.0; MAX_PIECES];
+            for (i, p) in r.pieces.iter().take(piece_count).enumerate() {
+                pieces[i] = Footprint {
+                    half_extent: Vec2::new(p.ellipse[0], p.ellipse[1]),
+                    offset: Vec2::new(p.ellipse[2], p.ellipse[3]),
+                    rotate_rad: p.fit[0],
+                    region_area: p.fit[1],
+                    normal_cone_cos: cone,
+                    fit_scale: 1.0,
+                };
+                piece_scales[i] = scale(p.fit[2]);
+            }
             GpuRegion {
                 region,
                 walked: r.flags[2],
                 overflowed: r.flags[3] != 0,
                 overlap_scale,
+                piece_count,
+                pieces,
+                piece_scales,
             }
         })
         .collect()
@@ -639,8 +688,11 @@ mod tests {
             crate::shaders::ALL,
             FitRecord,
             "RegionFit",
-            [moments, second, ellipse, fit, flags]
+            [moments, second, ellipse, fit, flags, piece_count, pieces]
         );
+        // `RegionPiece` is bound only inside `RegionFit`: its array's offset and size are
+        // checked there, its two fields here.
+        assert_eq!(std::mem::size_of::<PieceRecord>(), 32);
     }
 
     #[test]

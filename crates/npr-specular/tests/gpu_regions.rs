@@ -2,8 +2,8 @@
 //! against the CPU growth (the reference, [`RegionGrower::grow_all`], what
 //! [`HighlightSet::update`] sizes highlights with) on the same frame and seeds: the same
 //! outcome per seed, the same faces won on at least 99.5 % of the faces, the same
-//! moment ellipse (within 1e-3 of the bounding radius, areas within 0.5 %) and overlap
-//! scale (within 0.02), over
+//! moment ellipse (within 1e-3 of the bounding radius, areas within 0.5 %), overlap
+//! scale (within 2e-3) and pieces of long bent regions, over
 //! directional and point lights, rigid, non-uniformly scaled and sheared transforms,
 //! procedural surfaces and the scanned and CAD fixtures, with seeds that share a region.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -43,11 +43,61 @@ fn ellipse(fp: &Footprint) -> (Mat2, Vec2) {
     (r * d * r.transpose(), fp.offset)
 }
 
-/// How far the overlap scale may differ: the CPU's takes whole patches of faces as one
-/// piece where it can (the scale, from the pieces taken, then moves by a fraction of a
-/// per cent), the GPU's every face apart; and the largest intersection over union is
-/// found at one of 128 radii.
+/// How far the overlap scale may differ: both bin the same faces over 128 radii, the
+/// CPU in `f64`, the GPU in `f32` and fixed point.
 const SCALE_TOLERANCE: f32 = 2e-3;
+
+/// How far a piece may lie from the CPU's, as a fraction of the bounding radius. The CPU
+/// cuts between faces sorted along the axis; the GPU finds each cut's bin of 1,024 along
+/// it from their areas, then orders that bin's faces one by one, so the pieces hold the
+/// same faces and differ by rounding alone.
+const PIECE_TOLERANCE: f32 = 1e-4;
+
+/// The GPU's pieces of seed `s` against the CPU's: the same count, each piece's ellipse
+/// (`R diag(h²) Rᵀ`, relative to r²) and centre (relative to r) within
+/// [`PIECE_TOLERANCE`], areas within 0.5 % and scales within [`SCALE_TOLERANCE`]; the
+/// worst distance,
+/// or `None` when the CPU did not split the region.
+fn compare_pieces(
+    at: &str,
+    radius: f32,
+    grower: &RegionGrower,
+    s: usize,
+    g: &npr_specular::GpuRegion,
+) -> Option<f32> {
+    let cpu = grower.pieces(s);
+    assert_eq!(cpu.len(), g.pieces().len(), "{at}: pieces");
+    if cpu.is_empty() {
+        return None;
+    }
+    let mut worst = 0f32;
+    for (p, (a, b)) in cpu.iter().zip(g.pieces()).enumerate() {
+        let ((ma, ca), (mb, cb)) = (ellipse(a), ellipse(b));
+        let shape = (ma - mb)
+            .to_cols_array()
+            .iter()
+            .fold(0f32, |m, d| m.max(d.abs()))
+            / (radius * radius);
+        let centre = ca.distance(cb) / radius;
+        worst = worst.max(shape).max(centre);
+        assert!(
+            shape <= PIECE_TOLERANCE && centre <= PIECE_TOLERANCE,
+            "{at} piece {p}: {b:?} against the CPU's {a:?}"
+        );
+        assert!(
+            (a.region_area - b.region_area).abs() <= 5e-3 * a.region_area,
+            "{at} piece {p}: area {} against {}",
+            b.region_area,
+            a.region_area
+        );
+        let (cs, gs) = (grower.overlap_scale(s, Some(p)), g.piece_scales[p]);
+        assert!(
+            (cs - gs).abs() <= SCALE_TOLERANCE,
+            "{at} piece {p}: scale {gs} against {cs}"
+        );
+    }
+    Some(worst)
+}
 
 #[derive(Default)]
 struct Tally {
@@ -57,6 +107,8 @@ struct Tally {
     faces_differ: usize,
     shared: usize,
     worst_scale: f32,
+    split: usize,
+    worst_piece: f32,
 }
 
 #[test]
@@ -73,7 +125,10 @@ fn the_gpu_regions_are_the_cpu_regions() {
         let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
         let topology = set.topology();
         let normals = set.search().normals();
-        let mut grower = RegionGrower::with_patches(RegionPatches::new(topology, normals));
+        // Face by face, as the GPU grows: the set's grower takes whole patches where it can,
+        // with the same faces and ellipse (`region::tests`), but it cuts bent regions and
+        // bins their radii a patch at a time.
+        let mut grower = RegionGrower::default();
         let mut object = pass.create_object(&ctx.device, &set).unwrap();
         let mut tally = Tally::default();
         for (k, (light_eye, world)) in frames(radius).into_iter().enumerate() {
@@ -153,6 +208,11 @@ fn the_gpu_regions_are_the_cpu_regions() {
                             b.normal_cone_cos,
                             a.normal_cone_cos
                         );
+                        let piece = compare_pieces(&at, radius, &grower, s, g);
+                        if let Some(worst) = piece {
+                            tally.split += 1;
+                            tally.worst_piece = tally.worst_piece.max(worst);
+                        }
                         let (cs, gs) = (grower.overlap_scale(s, None), g.overlap_scale);
                         tally.worst_scale = tally.worst_scale.max((cs - gs).abs());
                         assert!(
@@ -167,13 +227,15 @@ fn the_gpu_regions_are_the_cpu_regions() {
         let differ = tally.faces_differ as f64 / tally.faces_cpu.max(1) as f64;
         eprintln!(
             "{name}: {} seeds, {} fitted, {} faces, {:.3} % won apart, {} shared seeds, \
-             overlap scales within {:.2e}",
+             overlap scales within {:.2e}, {} split (pieces within {:.2e} of the radius)",
             tally.seeds,
             tally.fitted,
             tally.faces_cpu,
             100.0 * differ,
             tally.shared,
-            tally.worst_scale
+            tally.worst_scale,
+            tally.split,
+            tally.worst_piece
         );
         assert!(tally.fitted > 0, "{name}: no region fitted in any frame");
         assert!(
@@ -184,7 +246,13 @@ fn the_gpu_regions_are_the_cpu_regions() {
         all.fitted += tally.fitted;
         all.faces_cpu += tally.faces_cpu;
         all.shared += tally.shared;
+        all.split += tally.split;
     }
+    assert!(
+        all.split >= 5,
+        "only {} regions split into pieces",
+        all.split
+    );
     assert!(all.fitted >= 30, "only {} regions fitted", all.fitted);
     assert!(
         all.faces_cpu >= 5_000,

@@ -57,10 +57,15 @@ pub(super) fn split_bent(
     let start = out.len();
     let mut piece = Moments::default();
     let mut cut = 1;
+    // The area of the band up to and with this face: a piece closes where it reaches the
+    // next `cut / count` of the whole (the piece's own area would make each piece longer
+    // than the last).
+    let mut done = 0.0;
     for &(_, i) in along.iter() {
         let m = &taken[i as usize].2;
         piece.add(m);
-        if piece.area >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
+        done += m.area;
+        if done >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
             out.extend(piece.footprint());
             piece = Moments::default();
             cut += 1;
