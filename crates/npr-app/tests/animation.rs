@@ -400,7 +400,10 @@ fn projector_frames_do_not_flip_on_the_moving_model() {
     preset.output.height = size.1;
     let view = npr_app::view::View::new(&preset, &animated.framing(), size, 0.0);
     let mut r = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size).unwrap();
-    let mut last: HashMap<u64, (glam::Vec3, glam::Vec3)> = HashMap::new();
+    // Keyed by the highlight, its piece and how many pieces it has: a long bent highlight
+    // is drawn as pieces (`Highlight::piece`), each with its own projector, and a piece
+    // is the same part of the band only while the count stays.
+    let mut last: HashMap<(u64, u8, u8), (glam::Vec3, glam::Vec3)> = HashMap::new();
     let (mut pairs, mut worst) = (0usize, 0.0f64);
     for i in 0..45 {
         if i > 0 {
@@ -414,12 +417,13 @@ fn projector_frames_do_not_flip_on_the_moving_model() {
                 continue;
             }
             let (u, n) = (h.projector.axis_u, h.projector.normal);
-            if let Some(&(u0, n0)) = last.get(&h.id) {
+            let key = (h.id, h.piece, h.pieces);
+            if let Some(&(u0, n0)) = last.get(&key) {
                 let angle = npr_geometry::line_angle_deg(u0, u, n0 + n).unwrap_or(0.0);
                 worst = worst.max(angle);
                 pairs += 1;
             }
-            now.insert(h.id, (u, n));
+            now.insert(key, (u, n));
         }
         last = now;
     }
