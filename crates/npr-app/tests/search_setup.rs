@@ -1,5 +1,6 @@
 //! `[specular] search`: the highlights' `N = H` search on the GPU (`CentreSearchPass`),
-//! with the receivers walked there (`ReceiverPass`, drawn indirectly), draws the frames
+//! with the regions grown (`RegionPass`) and the receivers walked there (`ReceiverPass`,
+//! drawn indirectly), draws the frames
 //! the CPU's setup draws, on a walking Fox, frame by frame with its
 //! tracking (ids, fades), and the frame's statistics say where it ran.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -57,6 +58,10 @@ fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
         assert!(
             !c.receivers_on_gpu && g.receivers_on_gpu,
             "frame {i}: where the receivers were walked"
+        );
+        assert!(
+            !c.regions_on_gpu && g.regions_on_gpu,
+            "frame {i}: where the regions were grown"
         );
         // The GPU walk's count arrives one frame late: the CPU's of the frame before.
         if i > 0 {

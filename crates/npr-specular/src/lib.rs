@@ -55,6 +55,6 @@ pub use search_pass::{
 };
 pub use set::{
     DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,
-    UpdateStats,
+    RegionsOnGpu, UpdateStats,
 };
 pub use textures::HighlightShape;

@@ -470,6 +470,29 @@ impl RegionPass {
         Ok(prepared)
     }
 
+    /// One frame's growth at once (native; the browser maps and polls instead): prepare,
+    /// record in an encoder of its own, submit, and read the seeds' regions back, waiting
+    /// for the GPU. For callers whose frame waits on the regions anyway (the app's GPU
+    /// setup, benches, measures).
+    ///
+    /// # Errors
+    /// As [`RegionPass::prepare`] and [`RegionObject::read`].
+    pub fn grow_now(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        object: &mut RegionObject,
+        input: &RegionInput<'_>,
+    ) -> Result<Vec<GpuRegion>, SpecularError> {
+        let prepared = self.prepare(queue, object, input)?;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("npr regions"),
+        });
+        self.record(&mut encoder, object, &prepared)?;
+        queue.submit([encoder.finish()]);
+        object.read(device, queue, &prepared)
+    }
+
     /// Records the growth: the faces' marks cleared, one workgroup per seed walking its
     /// region, then one per seed summing and fitting the faces it won.
     ///

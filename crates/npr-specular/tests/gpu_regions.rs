@@ -158,11 +158,9 @@ fn the_gpu_regions_are_the_cpu_regions() {
                 world_from_object: world,
             };
             frame = frame.next();
-            let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
-            let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            pass.record(&mut encoder, &object, &prepared).unwrap();
-            ctx.queue.submit([encoder.finish()]);
-            let gpu = object.read(&ctx.device, &ctx.queue, &prepared).unwrap();
+            let gpu = pass
+                .grow_now(&ctx.device, &ctx.queue, &mut object, &input)
+                .unwrap();
             assert_eq!(gpu.len(), seeds.len(), "{name} frame {k}");
             for (s, (c, g)) in cpu.iter().zip(&gpu).enumerate() {
                 let at = format!("{name} frame {k} seed {s}");
@@ -291,11 +289,8 @@ fn a_growth_past_its_capacity_stops_there_and_says_so() {
         let mut object = pass
             .create_object_with_capacity(&ctx.device, &set, capacity)
             .unwrap();
-        let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        pass.record(&mut encoder, &object, &prepared).unwrap();
-        ctx.queue.submit([encoder.finish()]);
-        object.read(&ctx.device, &ctx.queue, &prepared).unwrap()
+        pass.grow_now(&ctx.device, &ctx.queue, &mut object, &input)
+            .unwrap()
     };
     let whole = grow(usize::MAX);
     let (k, faces) = whole
@@ -356,11 +351,9 @@ fn a_ring_region_is_fitted_as_the_cpu_fits_it() {
         light_eye,
         world_from_object: world,
     };
-    let prepared = pass.prepare(&ctx.queue, &mut object, &input).unwrap();
-    let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    pass.record(&mut encoder, &object, &prepared).unwrap();
-    ctx.queue.submit([encoder.finish()]);
-    let gpu = object.read(&ctx.device, &ctx.queue, &prepared).unwrap();
+    let gpu = pass
+        .grow_now(&ctx.device, &ctx.queue, &mut object, &input)
+        .unwrap();
     let (Region::Fit(a, fa), Region::Fit(b, fb)) = (cpu[0], gpu[0].region) else {
         panic!("{:?} against {:?}", cpu[0], gpu[0]);
     };

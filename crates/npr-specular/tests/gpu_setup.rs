@@ -1,6 +1,7 @@
 //! The whole highlight setup on the GPU (`fidelity::GpuSetup`: the `N = H` search as a
-//! compute pass feeding `HighlightSet::update_from_solutions`, the §4.2 receivers walked
-//! by `ReceiverPass` and drawn indirectly) against the CPU setup on the same frames: the
+//! compute pass feeding `HighlightSet::update_from_solutions_and_regions`, the regions
+//! grown by `RegionPass`, the §4.2 receivers walked by `ReceiverPass` and drawn
+//! indirectly) against the CPU setup on the same frames: the
 //! highlight images within the FLIP bound the browser check holds the page to against the
 //! native frame (mean 0.05 over the object's pixels), on procedural surfaces and the
 //! scanned and CAD fixtures, for two lights each.
@@ -56,6 +57,10 @@ fn frames_set_up_on_the_gpu_are_the_cpu_frames_within_flip() {
             assert!(
                 gpu_set.receiver_faces().is_empty(),
                 "{name}: the GPU setup walked on the CPU"
+            );
+            assert!(
+                gpu_set.stats().regions_on_gpu,
+                "{name}: the GPU setup grew its regions on the CPU"
             );
             // A grey Phong base under the highlights, the background transparent, so that
             // FLIP is taken over the object's pixels.

@@ -61,6 +61,9 @@ pub struct FrameStats {
     /// runs there). Then `receiver_faces` is the previous GPU walk's, read back one frame
     /// late (0 before the first arrives).
     pub receivers_on_gpu: bool,
+    /// Whether the highlights' regions were grown and fitted on the GPU (specular; where
+    /// the search runs there, `npr_specular::RegionPass`).
+    pub regions_on_gpu: bool,
     /// Highlights drawn (specular).
     pub highlights: usize,
     /// Receiver faces of all highlights (specular).

@@ -1,9 +1,10 @@
 //! Where the engine's per-frame `N = H` search runs (`[specular] search`): on the CPU
 //! (`HighlightSet::update`), or as a compute pass (`npr_specular::CentreSearchPass`,
-//! its compact list read back, then `HighlightSet::update_from_solutions`), or the faster
-//! of the two for the model, timed on its first frame (`auto`, the default). The GPU path
-//! falls back to the CPU's where the device's limits are too small for the mesh or a
-//! frame's list overflows. In the browser a readback completes only between frames, so
+//! its compact list read back, then `HighlightSet::update_from_solutions_and_regions`
+//! with the regions grown by `npr_specular::RegionPass`), or the faster of the two for
+//! the model, timed on its first frame (`auto`, the default). The GPU path falls back to
+//! the CPU's where the device's limits are too small for the mesh or a frame's list or a
+//! region overflows. In the browser a readback completes only between frames, so
 //! the search runs on the CPU there.
 
 use crate::AppError;
@@ -76,7 +77,7 @@ impl SearchSetup {
             if on_gpu
                 && let Some(faces) = self.gpu_faces(gpu, set, (light_eye, world_from_object))?
             {
-                set.update_from_solutions(light_eye, world_from_object, &faces);
+                self.update_on_gpu(gpu, set, (light_eye, world_from_object), &faces)?;
                 return Ok(true);
             }
             set.update(light_eye, world_from_object);
@@ -92,18 +93,70 @@ mod native {
     use glam::Mat4;
     use npr_geometry::{FaceSolution, LightEye};
     use npr_gpu::FrameId;
-    use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchObject, SpecularError};
+    use npr_specular::{
+        CentreSearchPass, HighlightSet, RegionInput, RegionObject, RegionPass, SearchInput,
+        SearchObject, SpecularError,
+    };
     use std::time::Instant;
 
-    /// The compute pass and the set's tables on the GPU; `None` in `object` where the
-    /// device's limits are too small for the mesh.
+    /// The compute passes and the set's tables on the GPU; `None` in `object` or
+    /// `regions` where the device's limits are too small for the mesh.
     pub(super) struct GpuSearch {
         pass: CentreSearchPass,
         object: Option<SearchObject>,
+        region_pass: RegionPass,
+        regions: Option<RegionObject>,
         frame: FrameId,
     }
 
+    /// `RegionPass::create_object`, `None` where the mesh is too large for the device.
+    fn region_object(
+        device: &wgpu::Device,
+        pass: &RegionPass,
+        set: &HighlightSet,
+    ) -> Result<Option<RegionObject>, AppError> {
+        match pass.create_object(device, set) {
+            Ok(o) => Ok(Some(o)),
+            Err(SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge { .. })) => Ok(None),
+            Err(e) => Err(e.into()),
+        }
+    }
+
     impl SearchSetup {
+        /// Updates `set` from the GPU search's `faces`, its regions grown on the GPU too
+        /// (on the CPU where the mesh does not fit the device's limits).
+        pub(super) fn update_on_gpu(
+            &mut self,
+            (device, queue): (&wgpu::Device, &wgpu::Queue),
+            set: &mut HighlightSet,
+            (light_eye, world_from_object): (LightEye, Mat4),
+            faces: &[FaceSolution],
+        ) -> Result<(), AppError> {
+            let Some(gpu) = self.gpu.as_mut() else {
+                set.update_from_solutions(light_eye, world_from_object, faces);
+                return Ok(());
+            };
+            let Some(object) = gpu.regions.as_mut() else {
+                set.update_from_solutions(light_eye, world_from_object, faces);
+                return Ok(());
+            };
+            let (pass, frame) = (&gpu.region_pass, gpu.frame);
+            let mut grow = |set: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
+                let input = RegionInput {
+                    frame,
+                    set,
+                    seeds,
+                    light_eye,
+                    world_from_object,
+                };
+                // The CPU grows a frame whose pass fails or whose growth overflowed.
+                let grown = pass.grow_now(device, queue, object, &input).ok()?;
+                grown.iter().all(|g| !g.overflowed).then_some(grown)
+            };
+            set.update_from_solutions_and_regions(light_eye, world_from_object, faces, &mut grow);
+            Ok(())
+        }
+
         /// The faces the GPU search accepts for this frame; `None` where the CPU must run
         /// it (the mesh does not fit the device's limits, or the list overflowed).
         pub(super) fn gpu_faces(
@@ -119,9 +172,13 @@ mod native {
                     Err(SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge { .. })) => None,
                     Err(e) => return Err(e.into()),
                 };
+                let region_pass = RegionPass::new(device);
+                let regions = region_object(device, &region_pass, set)?;
                 self.gpu = Some(GpuSearch {
                     pass,
                     object,
+                    region_pass,
+                    regions,
                     frame: FrameId::default(),
                 });
             }

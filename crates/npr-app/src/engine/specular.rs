@@ -156,6 +156,7 @@ impl SpecularEffect {
         let st = set.stats();
         stats.highlights = st.highlights;
         stats.receivers_on_gpu = walked.is_some();
+        stats.regions_on_gpu = st.regions_on_gpu;
         stats.receiver_faces = if walked.is_some() {
             gpu_faces
         } else {

@@ -5,22 +5,25 @@
 use super::stretch_over;
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
 use crate::{
-    CentreSearchPass, HighlightSet, ReceiverObject, ReceiverPass, SearchInput, SearchObject,
-    SpecularError,
+    CentreSearchPass, HighlightSet, ReceiverObject, ReceiverPass, RegionInput, RegionObject,
+    RegionPass, SearchInput, SearchObject, SpecularError,
 };
 use glam::Mat4;
 use npr_geometry::LightEye;
 
 /// The GPU setup of the measured frames: the `N = H` search as a compute pass
-/// ([`CentreSearchPass`], its list fed to [`HighlightSet::update_from_solutions`]) and
-/// the §4.2 receivers walked by [`ReceiverPass`] in each highlight frame's submission and
-/// drawn from their stream. One per set and render mesh.
+/// ([`CentreSearchPass`], its list fed to
+/// [`HighlightSet::update_from_solutions_and_regions`]), the regions grown and fitted by
+/// [`RegionPass`], and the §4.2 receivers walked by [`ReceiverPass`] in each highlight
+/// frame's submission and drawn from their stream. One per set and render mesh.
 #[derive(Debug)]
 pub struct GpuSetup {
     search_pass: CentreSearchPass,
     search: SearchObject,
     walk_pass: ReceiverPass,
     walk: ReceiverObject,
+    region_pass: RegionPass,
+    regions: RegionObject,
     /// The render triangles' face ids, to read the walk's stream back as faces.
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
@@ -39,13 +42,16 @@ impl GpuSetup {
     ) -> Result<Self, SpecularError> {
         let search_pass = CentreSearchPass::new(device);
         let walk_pass = ReceiverPass::new(device);
+        let region_pass = RegionPass::new(device);
         // Walks of up to four times the default capacity (the whole mesh where smaller).
         let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
         Ok(Self {
             search: search_pass.create_object(device, set.search())?,
             walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
+            regions: region_pass.create_object(device, set)?,
             search_pass,
             walk_pass,
+            region_pass,
             face_of: indices
                 .chunks_exact(3)
                 .enumerate()
@@ -80,7 +86,27 @@ impl GpuSetup {
             .search_now(device, queue, &mut self.search, &input)?;
         set.receivers_on_gpu = true;
         if solved.complete() {
-            set.update_from_solutions(light_eye, world_from_object, &solved.faces);
+            // The regions grown on the GPU too, in a submission of their own once the
+            // matching has ordered the seeds (the CPU grows a frame whose pass fails or
+            // overflows).
+            let (pass, object, frame) = (&self.region_pass, &mut self.regions, self.frame);
+            let mut grow = |set: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
+                let input = RegionInput {
+                    frame,
+                    set,
+                    seeds,
+                    light_eye,
+                    world_from_object,
+                };
+                let grown = pass.grow_now(device, queue, object, &input).ok()?;
+                grown.iter().all(|g| !g.overflowed).then_some(grown)
+            };
+            set.update_from_solutions_and_regions(
+                light_eye,
+                world_from_object,
+                &solved.faces,
+                &mut grow,
+            );
         } else {
             set.update(light_eye, world_from_object);
         }

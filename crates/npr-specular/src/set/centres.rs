@@ -23,6 +23,34 @@ impl HighlightSet {
         world_from_object: Mat4,
         solutions: &[npr_geometry::FaceSolution],
     ) -> &[Highlight] {
+        let centres = self.solution_centres(light_eye, world_from_object, solutions);
+        self.update_with(light_eye, world_from_object, centres, None)
+    }
+
+    /// [`HighlightSet::update_from_solutions`] with the regions grown by `regions` (the
+    /// GPU: [`crate::RegionPass`] on the seeds it is given) in place of the CPU's grower:
+    /// the same matching, fades and controls, the footprints, overlap scales and pieces
+    /// of its regions. Where `regions` gives `None` (or not one region per seed), the CPU
+    /// grows them for that frame.
+    pub fn update_from_solutions_and_regions(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        solutions: &[npr_geometry::FaceSolution],
+        regions: super::RegionsOnGpu<'_>,
+    ) -> &[Highlight] {
+        let centres = self.solution_centres(light_eye, world_from_object, solutions);
+        self.update_with(light_eye, world_from_object, centres, Some(regions))
+    }
+
+    /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`]) and the
+    /// time the merge took, microseconds: none for non-finite or zero light/eye input.
+    fn solution_centres(
+        &self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        solutions: &[npr_geometry::FaceSolution],
+    ) -> (Vec<HighlightCentre>, f64) {
         let start = Instant::now();
         let centres = if valid_input(light_eye, world_from_object) {
             self.search
@@ -30,8 +58,7 @@ impl HighlightSet {
         } else {
             Vec::new()
         };
-        let search_us = start.elapsed().as_secs_f64() * 1e6;
-        self.update_with(light_eye, world_from_object, centres, search_us)
+        (centres, start.elapsed().as_secs_f64() * 1e6)
     }
 
     /// The search of this set's mesh: what [`crate::CentreSearchPass`] uploads and solves.

@@ -98,6 +98,12 @@ pub const NO_FALLOFF: glam::Vec2 = glam::Vec2::new(-3.0, -2.0);
 /// index).
 type Entry = (u64, HighlightCentre, bool, Option<usize>);
 
+/// Grows an update's regions elsewhere (the GPU, [`crate::RegionPass`]): given the set
+/// and the seeds (centre, σ) in the order [`RegionGrower::grow_all`] would take them, one
+/// [`crate::GpuRegion`] per seed, or `None` to leave them to the CPU.
+pub type RegionsOnGpu<'a> =
+    &'a mut dyn FnMut(&HighlightSet, &[(HighlightCentre, f32)]) -> Option<Vec<crate::GpuRegion>>;
+
 /// Where a highlight's drawn boundary comes from, besides its texture's own edge.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HighlightBoundary {
@@ -148,8 +154,12 @@ pub struct UpdateStats {
     /// Wall time of the region growth and fit ([`HighlightSizing::Region`]),
     /// microseconds (0 for the paper's sizing).
     pub region_us: f64,
-    /// How the region growth classified the faces it looked at.
+    /// How the region growth classified the faces it looked at (all zero when the GPU
+    /// grew the regions).
     pub region_faces: RegionCounts,
+    /// Whether the regions were grown on the GPU
+    /// ([`HighlightSet::update_from_solutions_and_regions`]).
+    pub regions_on_gpu: bool,
 }
 
 /// How projectors are sized.
@@ -228,6 +238,9 @@ pub struct HighlightSet {
     scratch: VisibilityScratch,
     /// Region growth; its face patches serve the §4.2 search too.
     grower: RegionGrower,
+    /// This update's regions when grown on the GPU (by the caller's
+    /// [`RegionsOnGpu`]), in the seeds' order; empty when `grower` grew them.
+    gpu_regions: Vec<crate::GpuRegion>,
     radius_bound: f32,
     next_id: u64,
     /// Whether an update has run since the set was made or reset: from then on a new
@@ -411,6 +424,7 @@ impl HighlightSet {
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
             grower,
+            gpu_regions: Vec::new(),
             radius_bound,
             next_id: 0,
             tracking: false,
@@ -496,15 +510,15 @@ impl HighlightSet {
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
         let (centres, search_us) = self.search_centres(light_eye, world_from_object);
-        self.update_with(light_eye, world_from_object, centres, search_us)
+        self.update_with(light_eye, world_from_object, (centres, search_us), None)
     }
 
     fn update_with(
         &mut self,
         light_eye: LightEye,
         world_from_object: Mat4,
-        mut centres: Vec<HighlightCentre>,
-        search_us: f64,
+        (mut centres, search_us): (Vec<HighlightCentre>, f64),
+        regions_on_gpu: Option<RegionsOnGpu<'_>>,
     ) -> &[Highlight] {
         let found = centres.len();
         let peaks_start = Instant::now();
@@ -526,7 +540,7 @@ impl HighlightSet {
             world_from_object,
         );
         let region_start = Instant::now();
-        let regions = self.grow_regions(&next, light_eye, world_from_object);
+        let regions = self.grow_regions(&next, light_eye, world_from_object, regions_on_gpu);
         let region_us = region_start.elapsed().as_secs_f64() * 1e6;
         let (mut kept, merged) = self.footprints(
             next,
@@ -551,7 +565,12 @@ impl HighlightSet {
             search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,
-            region_faces: self.grower.counts(),
+            region_faces: if self.gpu_regions.is_empty() {
+                self.grower.counts()
+            } else {
+                RegionCounts::default()
+            },
+            regions_on_gpu: !self.gpu_regions.is_empty(),
         };
         self.highlights = kept;
         self.tracking = true;
@@ -559,13 +578,16 @@ impl HighlightSet {
     }
 
     /// The regions of the found centres in `next` ([`HighlightSizing::Region`]; none for
-    /// the paper's sizing), grown all at once in `next`'s order.
+    /// the paper's sizing), grown all at once in `next`'s order: by `on_gpu` when given
+    /// and it returns one region per seed, else by the CPU's grower.
     fn grow_regions(
         &mut self,
         next: &[Entry],
         light_eye: LightEye,
         world_from_object: Mat4,
+        on_gpu: Option<RegionsOnGpu<'_>>,
     ) -> Vec<Region> {
+        self.gpu_regions.clear();
         match self.sizing {
             HighlightSizing::Paper => Vec::new(),
             HighlightSizing::Region => {
@@ -574,6 +596,13 @@ impl HighlightSet {
                     .filter(|e| e.2)
                     .map(|e| (e.1, self.controls_of(e.0).sigma))
                     .collect();
+                if let Some(grow) = on_gpu
+                    && let Some(grown) = grow(self, &seeds).filter(|g| g.len() == seeds.len())
+                {
+                    let regions = grown.iter().map(|g| g.region).collect();
+                    self.gpu_regions = grown;
+                    return regions;
+                }
                 let frame = RegionFrame {
                     topology: &self.topology,
                     normals: self.search.normals(),
@@ -582,6 +611,25 @@ impl HighlightSet {
                 };
                 self.grower.grow_all(&frame, &seeds)
             }
+        }
+    }
+
+    /// The overlap scale of seed `k`'s region (or of its `piece`-th piece) this update:
+    /// the GPU's where it grew them, else the grower's.
+    fn region_scale(&self, k: usize, piece: Option<usize>) -> f32 {
+        match self.gpu_regions.get(k) {
+            Some(g) => piece.map_or(g.overlap_scale, |i| {
+                g.piece_scales.get(i).copied().unwrap_or(1.0)
+            }),
+            None => self.grower.overlap_scale(k, piece),
+        }
+    }
+
+    /// The pieces of seed `k`'s region this update (see [`RegionGrower::pieces`]).
+    fn region_pieces(&self, k: usize) -> &[crate::Footprint] {
+        match self.gpu_regions.get(k) {
+            Some(g) => g.pieces(),
+            None => self.grower.pieces(k),
         }
     }
 
@@ -620,7 +668,7 @@ impl HighlightSet {
                 (true, HighlightSizing::Region) => match regions.next() {
                     Some((k, Region::Fit(fp, _))) => {
                         seed = Some(k);
-                        let fp = fp.scaled(self.grower.overlap_scale(k, None));
+                        let fp = fp.scaled(self.region_scale(k, None));
                         (fp.region_area >= min_area).then_some(fp)
                     }
                     _ => None,
@@ -681,14 +729,12 @@ impl HighlightSet {
                 before.is_some_and(|b| b.peak)
             };
             let pieces = match seed {
-                Some(k) if found => self.grower.pieces(k),
+                Some(k) if found => self.region_pieces(k),
                 _ => &[],
             };
             let mut drawn = Vec::with_capacity(pieces.len());
             for (i, piece) in pieces.iter().enumerate() {
-                let piece = seed.map_or(*piece, |k| {
-                    piece.scaled(self.grower.overlap_scale(k, Some(i)))
-                });
+                let piece = seed.map_or(*piece, |k| piece.scaled(self.region_scale(k, Some(i))));
                 let edited = group_edit(&footprint, &piece, &controls);
                 if let Some(mut p) = self.make(id, centre, controls, edited, opacity, found) {
                     p.footprint = piece;

@@ -80,11 +80,7 @@ pub(super) fn row(
             world_from_object,
         };
         let t = Instant::now();
-        let prepared = pass.prepare(&ctx.queue, &mut object, &input)?;
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        pass.record(&mut encoder, &object, &prepared)?;
-        ctx.queue.submit([encoder.finish()]);
-        let gpu = object.read(&ctx.device, &ctx.queue, &prepared)?;
+        let gpu = pass.grow_now(&ctx.device, &ctx.queue, &mut object, &input)?;
         let gpu_time = t.elapsed().as_secs_f64() * 1e6;
         bar.inc(1);
         let won = |r: &Region| match r {
