@@ -79,8 +79,15 @@ struct RegionPiece {
     fit: vec4<f32>,
 }
 
-@group(0) @binding(0) var<uniform> params: RegionParams;
-@group(0) @binding(1) var<storage, read> seeds: array<Seed>;
+// The frame's values and seeds. A storage buffer, not a uniform one: lavapipe inlines
+// a uniform buffer's values into the shader and compiles it again whenever they change,
+// which the object's transform does every frame of a moving model (0.4–0.65 s a frame).
+struct RegionFrameData {
+    params: RegionParams,
+    seeds: array<Seed>,
+}
+
+@group(0) @binding(0) var<storage, read> frame_data: RegionFrameData;
 @group(0) @binding(2) var<storage, read> vertices: array<RegionVertex>;
 @group(0) @binding(3) var<storage, read> faces: array<RegionFace>;
 // Face adjacency: `face_count + 1` offsets, then the neighbour list.
@@ -134,10 +141,10 @@ fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
 
 // `LightEye::half_vector`.
 fn half_vector(p: vec3<f32>) -> vec3<f32> {
-    if params.light.w == 0.0 {
-        return normalize_or_zero(normalize_or_zero(params.light.xyz) + normalize_or_zero(params.eye.xyz));
+    if frame_data.params.light.w == 0.0 {
+        return normalize_or_zero(normalize_or_zero(frame_data.params.light.xyz) + normalize_or_zero(frame_data.params.eye.xyz));
     }
-    return normalize_or_zero(normalize_or_zero(params.light.xyz - p) + normalize_or_zero(params.eye.xyz - p));
+    return normalize_or_zero(normalize_or_zero(frame_data.params.light.xyz - p) + normalize_or_zero(frame_data.params.eye.xyz - p));
 }
 
 // A vertex's values this frame (`measure::VertexCache`).
@@ -154,13 +161,13 @@ struct Values {
 fn vertex_values(v: u32) -> Values {
     var out: Values;
     let r = vertices[v];
-    let p = (params.world_from_object * vec4<f32>(r.position.xyz, 1.0)).xyz;
+    let p = (frame_data.params.world_from_object * vec4<f32>(r.position.xyz, 1.0)).xyz;
     out.world = p;
-    out.normal = normalize_or_zero((params.normal_from_object * vec4<f32>(r.normal.xyz, 0.0)).xyz);
+    out.normal = normalize_or_zero((frame_data.params.normal_from_object * vec4<f32>(r.normal.xyz, 0.0)).xyz);
     out.dist = vec3<f32>(0.0);
-    if params.light.w != 0.0 {
-        let l = params.light.xyz - p;
-        let e = params.eye.xyz - p;
+    if frame_data.params.light.w != 0.0 {
+        let l = frame_data.params.light.xyz - p;
+        let e = frame_data.params.eye.xyz - p;
         let dl = length(l);
         let de = length(e);
         let s = l / dl + e / de;
@@ -250,7 +257,7 @@ fn classify(vs: array<Values, 3>, reach: f32, sigma: f32, delta_out: ptr<functio
     let lo = min(min(vs[0].nh, vs[1].nh), vs[2].nh);
     let hi = max(max(vs[0].nh, vs[1].nh), vs[2].nh);
     var delta = 0.0;
-    if params.light.w != 0.0 {
+    if frame_data.params.light.w != 0.0 {
         let r = reach;
         let d0 = min(min(vs[0].dist.x, vs[1].dist.x), vs[2].dist.x);
         let d1 = min(min(vs[0].dist.y, vs[1].dist.y), vs[2].dist.y);
@@ -367,7 +374,7 @@ fn measure(fi: u32, s: Seed) -> Measured {
     var out: Measured;
     let face = faces[fi];
     let axis = s.n.xyz;
-    if face.tri.w != 0u || dot((params.normal_from_object * vec4<f32>(face.normal.xyz, 0.0)).xyz, axis) <= 0.0 {
+    if face.tri.w != 0u || dot((frame_data.params.normal_from_object * vec4<f32>(face.normal.xyz, 0.0)).xyz, axis) <= 0.0 {
         return out;
     }
     let vs = array<Values, 3>(vertex_values(face.tri.x), vertex_values(face.tri.y), vertex_values(face.tri.z));
@@ -414,14 +421,14 @@ fn measure(fi: u32, s: Seed) -> Measured {
 // Claims face `f` for seed `k`'s walk: true when it had not reached it.
 fn claim(f: u32, k: u32) -> bool {
     let bit = 1u << (k % 32u);
-    let old = atomicOr(&visited[f * params.words + k / 32u], bit);
+    let old = atomicOr(&visited[f * frame_data.params.words + k / 32u], bit);
     return (old & bit) == 0u;
 }
 
 // Face `f` taken by seed `k` in `steps` steps: queued, and marked for the least mark.
 fn take(f: u32, k: u32, steps: u32, base: u32) {
     let slot = atomicAdd(&wg_tail, 1u);
-    if slot < params.capacity {
+    if slot < frame_data.params.capacity {
         work[base + slot] = vec2<u32>(f, steps);
         atomicMax(&owner[f], ~((steps << SEED_BITS) | k));
     } else {
@@ -437,14 +444,14 @@ fn cs_grow(
     @builtin(local_invocation_index) lane: u32,
 ) {
     let k = group.x;
-    let s = seeds[k];
-    let base = k * params.capacity;
+    let s = frame_data.seeds[k];
+    let base = k * frame_data.params.capacity;
     if lane == 0u {
         atomicStore(&wg_tail, 0u);
         atomicStore(&wg_overflow, 0u);
         let start = s.start.x;
         // (No call on the right of `&&`: naga's SPIR-V writer fails on one.)
-        if start < params.face_count && s.n.w != 0.0 && s.start.y == 0u {
+        if start < frame_data.params.face_count && s.n.w != 0.0 && s.start.y == 0u {
             if claim(start, k) {
                 let m = measure(start, s);
                 if m.taken {
@@ -457,7 +464,7 @@ fn cs_grow(
     loop {
         workgroupBarrier();
         if lane == 0u {
-            wg_level_end = min(atomicLoad(&wg_tail), params.capacity);
+            wg_level_end = min(atomicLoad(&wg_tail), frame_data.params.capacity);
         }
         let end = workgroupUniformLoad(&wg_level_end);
         if end <= begin {
@@ -468,7 +475,7 @@ fn cs_grow(
             let first = adjacency[entry.x];
             let last = adjacency[entry.x + 1u];
             for (var j = first; j < last; j++) {
-                let g = adjacency[params.face_count + 1u + j];
+                let g = adjacency[frame_data.params.face_count + 1u + j];
                 if !claim(g, k) {
                     continue;
                 }
@@ -482,7 +489,7 @@ fn cs_grow(
     }
     workgroupBarrier();
     if lane == 0u {
-        fits[k].flags = vec4<u32>(0u, 0u, min(atomicLoad(&wg_tail), params.capacity), atomicLoad(&wg_overflow));
+        fits[k].flags = vec4<u32>(0u, 0u, min(atomicLoad(&wg_tail), frame_data.params.capacity), atomicLoad(&wg_overflow));
     }
 }
 
@@ -682,8 +689,8 @@ fn reduce(lane: u32) {
 // faces seed `k` won, for a region of area `total` (`best_overlap_scale`); every lane
 // calls it and gets it.
 fn overlap_over_won(k: u32, walked: u32, lane: u32, fp: vec4<f32>, theta: f32, total: f32, unit: f32) -> f32 {
-    let s = seeds[k];
-    let base = k * params.capacity;
+    let s = frame_data.seeds[k];
+    let base = k * frame_data.params.capacity;
     if lane < OVERLAP_BINS {
         atomicStore(&wg_bins[lane], 0u);
     }
@@ -722,8 +729,8 @@ fn cs_fit(
     @builtin(local_invocation_index) lane: u32,
 ) {
     let k = group.x;
-    let s = seeds[k];
-    let base = k * params.capacity;
+    let s = frame_data.seeds[k];
+    let base = k * frame_data.params.capacity;
     let walked = fits[k].flags.z;
     var m: Moments;
     var cone = 1.0;

@@ -91,10 +91,9 @@ pub struct RegionObject {
     slots: Slots<Slot>,
 }
 
-/// One prepare's params, seeds and results.
+/// One prepare's params and seeds (one buffer: `RegionFrameData`) and results.
 #[derive(Debug)]
 struct Slot {
-    params: wgpu::Buffer,
     seeds: wgpu::Buffer,
     fits: wgpu::Buffer,
     group: Option<wgpu::BindGroup>,
@@ -148,6 +147,19 @@ struct Params {
     face_count: u32,
     words: u32,
     capacity: u32,
+}
+
+/// Bytes of `RegionParams`: the seeds follow them in `RegionFrameData`'s buffer.
+const PARAMS_BYTES: usize = std::mem::size_of::<Params>();
+
+/// `RegionFrameData` of `regions.wgsl` with one seed: the frame's values and the seeds
+/// in one storage buffer (see the shader for why not a uniform buffer).
+#[cfg(test)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct FrameData {
+    params: Params,
+    seeds: [SeedRecord; 1],
 }
 
 /// `Seed` of `regions.wgsl`.
@@ -292,10 +304,10 @@ impl RegionPass {
     /// The growth's pipelines (a compute pass draws into no target).
     pub fn new(device: &wgpu::Device) -> Self {
         let module = crate::shaders::REGIONS.module(device);
-        let mut entries = vec![layout_entry(0, wgpu::BufferBindingType::Uniform)];
-        entries.extend(
-            (1..9).map(|b| layout_entry(b, wgpu::BufferBindingType::Storage { read_only: b < 5 })),
-        );
+        let entries: Vec<_> = [0, 2, 3, 4, 5, 6, 7, 8]
+            .into_iter()
+            .map(|b| layout_entry(b, wgpu::BufferBindingType::Storage { read_only: b < 5 }))
+            .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr regions"),
             entries: &entries,
@@ -439,24 +451,31 @@ impl RegionPass {
             .next(self.id, input.frame, || make_slot(device))?;
         if count > slot.room {
             let room = count.next_power_of_two();
-            slot.seeds = storage(device, "npr region seeds", (room * 80) as u64);
+            slot.seeds = storage(
+                device,
+                "npr region seeds",
+                (PARAMS_BYTES + room * 80) as u64,
+            );
             slot.fits = storage(device, "npr region fits", (room * FIT_BYTES) as u64);
             slot.room = room;
         }
         let mut params = params_of(input, faces);
         params.words = object.words as u32;
         params.capacity = object.work_capacity as u32;
-        queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
+        queue.write_buffer(&slot.seeds, 0, bytemuck::bytes_of(&params));
         let seeds = seed_records(input.seeds, faces);
         if !seeds.is_empty() {
-            queue.write_buffer(&slot.seeds, 0, bytemuck::cast_slice(&seeds));
+            queue.write_buffer(
+                &slot.seeds,
+                PARAMS_BYTES as u64,
+                bytemuck::cast_slice(&seeds),
+            );
         }
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr regions"),
             layout: &self.layout,
             entries: &[
-                group_entry(0, &slot.params),
-                group_entry(1, &slot.seeds),
+                group_entry(0, &slot.seeds),
                 group_entry(2, &object.vertex_records),
                 group_entry(3, &object.face_records),
                 group_entry(4, &object.adjacency),
@@ -529,13 +548,7 @@ impl RegionPass {
 
 fn make_slot(device: &wgpu::Device) -> Slot {
     Slot {
-        params: buffer_init(
-            device,
-            "npr region params",
-            &[Params::default()],
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        ),
-        seeds: storage(device, "npr region seeds", 80),
+        seeds: storage(device, "npr region seeds", (PARAMS_BYTES + 80) as u64),
         fits: storage(device, "npr region fits", FIT_BYTES as u64),
         group: None,
         room: 0,
@@ -679,26 +692,31 @@ mod tests {
 
     #[test]
     fn records_match_wgsl() {
+        // `RegionParams` and `Seed` are bound inside `RegionFrameData`: their sizes and
+        // the seeds' offset are checked there, their fields here.
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,
-            Params,
-            "RegionParams",
-            [
-                world_from_object,
-                normal_from_object,
-                light,
-                eye,
-                seed_count,
-                face_count,
-                words,
-                capacity
-            ]
+            FrameData,
+            "RegionFrameData",
+            [params, seeds]
         );
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            SeedRecord,
-            "Seed",
-            [origin, n, e_u, e_v, start]
+        assert_eq!(
+            [
+                std::mem::offset_of!(Params, normal_from_object),
+                std::mem::offset_of!(Params, light),
+                std::mem::offset_of!(Params, eye),
+                std::mem::offset_of!(Params, seed_count),
+                std::mem::offset_of!(Params, capacity),
+            ],
+            [64, 128, 144, 160, 172]
+        );
+        assert_eq!(
+            [
+                std::mem::offset_of!(SeedRecord, n),
+                std::mem::offset_of!(SeedRecord, start),
+                std::mem::size_of::<SeedRecord>(),
+            ],
+            [16, 64, 80]
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,

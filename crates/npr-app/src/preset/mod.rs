@@ -288,8 +288,10 @@ pub enum SearchPreset {
     /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
     Cpu,
     /// As a compute pass (`npr_specular::CentreSearchPass`), its compact list read back,
-    /// and the receivers walked by another (`npr_specular::ReceiverPass`) in the frame's
-    /// submission, drawn from the stream it writes. In the browser, where a readback
+    /// the regions grown and fitted by another (`npr_specular::RegionPass`, one record a
+    /// highlight read back), and the receivers walked by a third
+    /// (`npr_specular::ReceiverPass`) in the frame's submission, drawn from the stream it
+    /// writes. In the browser, where a readback
     /// completes only between frames, the search is the CPU's and the walk the GPU's.
     Gpu,
 }
