@@ -512,6 +512,31 @@ impl RegionPass {
         object.read(device, queue, &prepared)
     }
 
+    /// A [`crate::RegionsOnGpu`] callback for
+    /// [`HighlightSet::update_from_solutions_and_regions`]: each update's regions grown
+    /// at once with this pass ([`RegionPass::grow_now`]) for `frame` and this light, eye
+    /// and transform; `None` (the CPU grows that frame's) where a step fails or a growth
+    /// overflowed.
+    pub fn grower<'a>(
+        &'a self,
+        (device, queue): (&'a wgpu::Device, &'a wgpu::Queue),
+        object: &'a mut RegionObject,
+        frame: FrameId,
+        (light_eye, world_from_object): (LightEye, Mat4),
+    ) -> impl FnMut(&HighlightSet, &[(HighlightCentre, f32)]) -> Option<Vec<GpuRegion>> + 'a {
+        move |set, seeds| {
+            let input = RegionInput {
+                frame,
+                set,
+                seeds,
+                light_eye,
+                world_from_object,
+            };
+            let grown = self.grow_now(device, queue, object, &input).ok()?;
+            grown.iter().all(|g| !g.overflowed).then_some(grown)
+        }
+    }
+
     /// Records the growth: the faces' marks cleared, one workgroup per seed walking its
     /// region, then one per seed summing and fitting the faces it won.
     ///

@@ -14,9 +14,10 @@
 //! Each mesh has two rows from the same run, told apart by `setup`: `"cpu"` (the `N = H`
 //! search on the CPU, `HighlightSet::update`) and `"gpu"` (the search as a compute pass,
 //! `npr_specular::CentreSearchPass`, its compact list read back and the rest of the update
-//! run on it, `HighlightSet::update_from_solutions`, but for the §4.2 receivers, which
-//! `npr_specular::ReceiverPass` walks in the frame's own submission and the highlight
-//! pass draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
+//! run on it, `HighlightSet::update_from_solutions_and_regions`, with the regions grown
+//! and fitted by `npr_specular::RegionPass`, in a submission of their own, and the §4.2
+//! receivers, which `npr_specular::ReceiverPass` walks in the frame's own submission and
+//! the highlight pass draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
 //! frame's start to its submit, matching included (for the `gpu` row: the search's
 //! prepare, record, submit and the wait for its list, which on a software adapter is CPU
 //! work too); the `gpu` row's GPU frame includes the walk. Its receiver count is read
@@ -60,8 +61,6 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             world_from_normalized,
             to_light: Vec3::new(0.4, 0.7, 1.0).normalize(),
         };
-        // The region table's row first: measured after this mesh's frames below, the
-        // region pass read 20–50 times slower on lavapipe (cause not found).
         region_table.push(regions::row(&ctx, mesh, &view, name, &adapter)?);
         let (setup_1core, setup_1core_file_order) =
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
@@ -239,7 +238,8 @@ fn measure_gpu(
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let search_pass = CentreSearchPass::new(&ctx.device);
     let receiver_pass = ReceiverPass::new(&ctx.device);
-    let (mut search, mut walk) = match setup {
+    let region_pass = npr_specular::RegionPass::new(&ctx.device);
+    let (mut search, mut walk, mut regions) = match setup {
         Setup::Gpu => (
             Some(search_pass.create_object(&ctx.device, set.search())?),
             Some(receiver_pass.create_object_with_capacity(
@@ -248,8 +248,9 @@ fn measure_gpu(
                 &mesh.indices,
                 walk_capacity,
             )?),
+            Some(region_pass.create_object(&ctx.device, &set)?),
         ),
-        Setup::Cpu => (None, None),
+        Setup::Cpu => (None, None, None),
     };
     set.receivers_on_gpu = walk.is_some();
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
@@ -287,7 +288,25 @@ fn measure_gpu(
                     frame,
                 )?;
                 let search_us = t.elapsed().as_secs_f64() * 1e6;
-                set.update_from_solutions(le, world_from_object, &faces);
+                match regions.as_mut() {
+                    Some(regions) => {
+                        let mut grow = region_pass.grower(
+                            (&ctx.device, &ctx.queue),
+                            regions,
+                            npr_gpu::FrameId(frame as u64),
+                            (le, world_from_object),
+                        );
+                        set.update_from_solutions_and_regions(
+                            le,
+                            world_from_object,
+                            &faces,
+                            &mut grow,
+                        );
+                    }
+                    None => {
+                        set.update_from_solutions(le, world_from_object, &faces);
+                    }
+                }
                 search_us + set.stats().search_us
             }
         };

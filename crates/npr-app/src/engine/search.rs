@@ -94,8 +94,8 @@ mod native {
     use npr_geometry::{FaceSolution, LightEye};
     use npr_gpu::FrameId;
     use npr_specular::{
-        CentreSearchPass, HighlightSet, RegionInput, RegionObject, RegionPass, SearchInput,
-        SearchObject, SpecularError,
+        CentreSearchPass, HighlightSet, RegionObject, RegionPass, SearchInput, SearchObject,
+        SpecularError,
     };
     use std::time::Instant;
 
@@ -140,19 +140,12 @@ mod native {
                 set.update_from_solutions(light_eye, world_from_object, faces);
                 return Ok(());
             };
-            let (pass, frame) = (&gpu.region_pass, gpu.frame);
-            let mut grow = |set: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
-                let input = RegionInput {
-                    frame,
-                    set,
-                    seeds,
-                    light_eye,
-                    world_from_object,
-                };
-                // The CPU grows a frame whose pass fails or whose growth overflowed.
-                let grown = pass.grow_now(device, queue, object, &input).ok()?;
-                grown.iter().all(|g| !g.overflowed).then_some(grown)
-            };
+            let mut grow = gpu.region_pass.grower(
+                (device, queue),
+                object,
+                gpu.frame,
+                (light_eye, world_from_object),
+            );
             set.update_from_solutions_and_regions(light_eye, world_from_object, faces, &mut grow);
             Ok(())
         }

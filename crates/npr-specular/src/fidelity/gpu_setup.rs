@@ -5,8 +5,8 @@
 use super::stretch_over;
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
 use crate::{
-    CentreSearchPass, HighlightSet, ReceiverObject, ReceiverPass, RegionInput, RegionObject,
-    RegionPass, SearchInput, SearchObject, SpecularError,
+    CentreSearchPass, HighlightSet, ReceiverObject, ReceiverPass, RegionObject, RegionPass,
+    SearchInput, SearchObject, SpecularError,
 };
 use glam::Mat4;
 use npr_geometry::LightEye;
@@ -89,18 +89,12 @@ impl GpuSetup {
             // The regions grown on the GPU too, in a submission of their own once the
             // matching has ordered the seeds (the CPU grows a frame whose pass fails or
             // overflows).
-            let (pass, object, frame) = (&self.region_pass, &mut self.regions, self.frame);
-            let mut grow = |set: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
-                let input = RegionInput {
-                    frame,
-                    set,
-                    seeds,
-                    light_eye,
-                    world_from_object,
-                };
-                let grown = pass.grow_now(device, queue, object, &input).ok()?;
-                grown.iter().all(|g| !g.overflowed).then_some(grown)
-            };
+            let mut grow = self.region_pass.grower(
+                (device, queue),
+                &mut self.regions,
+                self.frame,
+                (light_eye, world_from_object),
+            );
             set.update_from_solutions_and_regions(
                 light_eye,
                 world_from_object,
