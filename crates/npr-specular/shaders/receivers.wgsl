@@ -185,6 +185,9 @@ fn cs_walk(
     }
     var begin = 0u;
     loop {
+        // The level's entries were written to `work` (storage) by other lanes: a
+        // workgroup barrier alone orders workgroup memory only.
+        storageBarrier();
         workgroupBarrier();
         if lane == 0u {
             wg_level_end = min(atomicLoad(&wg_tail), params.capacity);

@@ -10,7 +10,10 @@
 // (`cs_grow`), and marks every face it takes with `(steps, seed)` by an integer atomic
 // maximum of its complement: the least mark wins, the CPU's rule. A face reached through
 // another seed's faces is never won by the seed that walked through them (that seed's
-// steps there are no fewer), so the winners' faces are the CPU's. `cs_fit` then sums, per
+// steps there are no fewer), so the winners' faces are the CPU's where the seeds take
+// the same faces: the same σ (`HighlightSet` grows seeds of different σ on the CPU) and
+// a face facing both axes. (The CPU's queue also keeps a face one seed reached but did
+// not take from the others, which a walk of its own cannot see.) `cs_fit` then sums, per
 // seed, the moments of the faces it won (each workgroup reduces its own: WebGPU has no
 // float atomics), fits the ellipse and the scale of it that fits the region best (radial
 // bins in fixed point, integer atomics). Nothing mesh-sized is read back: one `RegionFit`
@@ -462,6 +465,9 @@ fn cs_grow(
     }
     var begin = 0u;
     loop {
+        // The level's entries were written to `work` (storage) by other lanes: a
+        // workgroup barrier alone orders workgroup memory only.
+        storageBarrier();
         workgroupBarrier();
         if lane == 0u {
             wg_level_end = min(atomicLoad(&wg_tail), frame_data.params.capacity);
@@ -783,7 +789,8 @@ fn cs_fit(
     if !(3.141592653589793 * h.x * h.y > SPLIT_AREA_RATIO * region_area && elongation >= SPLIT_ELONGATION) {
         return;
     }
-    let count = clamp(u32(round(elongation / 1.5)), 2u, MAX_PIECES);
+    // Halves away from zero, as Rust's `round` (WGSL's rounds them to even).
+    let count = clamp(u32(floor(elongation / 1.5 + 0.5)), 2u, MAX_PIECES);
     let sn = sin(fitted.fit.x);
     let cs = cos(fitted.fit.x);
     var axis = vec2<f32>(cs, sn);

@@ -349,7 +349,8 @@ impl RegionPass {
         let vertices = vertex_records(set);
         let faces = face_records(set);
         let adjacency = adjacency(set);
-        let capacity = capacity.clamp(1, faces.len().max(1));
+        // The faces' marks hold a walk's steps in 20 bits.
+        let capacity = capacity.clamp(1, faces.len().clamp(1, 1 << 20));
         check_bindings(
             &[
                 ("region vertices", (vertices.len() * 32) as u64),

@@ -65,7 +65,9 @@ pub(super) fn split_bent(
         let m = &taken[i as usize].2;
         piece.add(m);
         done += m.area;
-        if done >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
+        // An item that reaches two shares (a whole patch in a small band) closes both;
+        // the empty piece has no footprint and is left out.
+        while done >= total * cut as f64 / count as f64 - 1e-12 * total && cut < count {
             out.extend(piece.footprint());
             piece = Moments::default();
             cut += 1;

@@ -241,6 +241,8 @@ pub struct HighlightSet {
     /// This update's regions when grown on the GPU (by the caller's
     /// [`RegionsOnGpu`]), in the seeds' order; empty when `grower` grew them.
     gpu_regions: Vec<crate::GpuRegion>,
+    /// Whether this update's regions were left to the GPU (also a frame without seeds).
+    regions_grown_on_gpu: bool,
     radius_bound: f32,
     next_id: u64,
     /// Whether an update has run since the set was made or reset: from then on a new
@@ -425,6 +427,7 @@ impl HighlightSet {
             scratch: VisibilityScratch::default(),
             grower,
             gpu_regions: Vec::new(),
+            regions_grown_on_gpu: false,
             radius_bound,
             next_id: 0,
             tracking: false,
@@ -565,12 +568,12 @@ impl HighlightSet {
             search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,
-            region_faces: if self.gpu_regions.is_empty() {
-                self.grower.counts()
-            } else {
+            region_faces: if self.regions_grown_on_gpu {
                 RegionCounts::default()
+            } else {
+                self.grower.counts()
             },
-            regions_on_gpu: !self.gpu_regions.is_empty(),
+            regions_on_gpu: self.regions_grown_on_gpu,
         };
         self.highlights = kept;
         self.tracking = true;
@@ -588,6 +591,7 @@ impl HighlightSet {
         on_gpu: Option<RegionsOnGpu<'_>>,
     ) -> Vec<Region> {
         self.gpu_regions.clear();
+        self.regions_grown_on_gpu = false;
         match self.sizing {
             HighlightSizing::Paper => Vec::new(),
             HighlightSizing::Region => {
@@ -596,12 +600,20 @@ impl HighlightSet {
                     .filter(|e| e.2)
                     .map(|e| (e.1, self.controls_of(e.0).sigma))
                     .collect();
-                if let Some(grow) = on_gpu
-                    && let Some(grown) = grow(self, &seeds).filter(|g| g.len() == seeds.len())
-                {
-                    let regions = grown.iter().map(|g| g.region).collect();
-                    self.gpu_regions = grown;
-                    return regions;
+                // Seeds of one σ only: the GPU's walks share faces out as the CPU's single
+                // queue does where every seed takes the same faces (`regions.wgsl`).
+                let one_sigma = seeds.windows(2).all(|w| w[0].1 == w[1].1);
+                if let Some(grow) = on_gpu.filter(|_| one_sigma) {
+                    if seeds.is_empty() {
+                        self.regions_grown_on_gpu = true;
+                        return Vec::new();
+                    }
+                    if let Some(grown) = grow(self, &seeds).filter(|g| g.len() == seeds.len()) {
+                        let regions = grown.iter().map(|g| g.region).collect();
+                        self.gpu_regions = grown;
+                        self.regions_grown_on_gpu = true;
+                        return regions;
+                    }
                 }
                 let frame = RegionFrame {
                     topology: &self.topology,
