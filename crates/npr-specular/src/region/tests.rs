@@ -309,3 +309,45 @@ fn classified_growth_fits_what_the_exact_sub_grid_fits() {
     }
     assert!(fits >= 10, "{fits} regions compared");
 }
+
+/// A band of 30 unit squares along x, fitted by an ellipse 5 × 1 of a region of area 5
+/// (so long and bent enough to split, into `round(5 / 1.5)` = 3 pieces), is cut into
+/// pieces of equal area along its length: 10 squares each. (A piece once closed at its
+/// own area against the band's running share: 10, 20 and none.)
+#[test]
+fn a_bent_band_is_cut_into_pieces_of_equal_area() {
+    use glam::Vec2;
+    let whole = Footprint {
+        half_extent: Vec2::new(5.0, 1.0),
+        region_area: 5.0,
+        ..Footprint::default()
+    };
+    assert!(super::split::needs_split(&whole));
+    let taken: Vec<(u32, u32, Moments)> = (0..30)
+        .map(|i| {
+            let x = i as f32 - 15.0;
+            let mut m = Moments::default();
+            m.add_triangle(
+                Vec2::new(x, 0.0),
+                Vec2::new(x + 1.0, 0.0),
+                Vec2::new(x + 1.0, 1.0),
+            );
+            m.add_triangle(
+                Vec2::new(x, 0.0),
+                Vec2::new(x + 1.0, 1.0),
+                Vec2::new(x, 1.0),
+            );
+            (0, i, m)
+        })
+        .collect();
+    let mut pieces = Vec::new();
+    super::split::split_bent(&whole, 0, &taken, &mut Vec::new(), &mut pieces);
+    let areas: Vec<f32> = pieces.iter().map(|p| p.region_area).collect();
+    assert_eq!(areas.len(), 3, "{areas:?}");
+    assert!(areas.iter().all(|a| (a - 10.0).abs() < 1e-4), "{areas:?}");
+    // In order along the band.
+    assert!(
+        pieces.windows(2).all(|w| w[0].offset.x < w[1].offset.x),
+        "{pieces:?}"
+    );
+}
