@@ -11,8 +11,9 @@
 // solve (`in_cone`, the CPU's per-face rejection, conservative: it never drops a centre),
 // and a whole cluster of faces whose cone cannot (`cluster_may_hold`): `cs_clusters`
 // lists the others, and `cs_search` is dispatched indirectly over that list only.
-// Duplicates of one centre from neighbouring faces are merged on the CPU
-// from the compact list (`HighlightSearch::centres_from_solutions`).
+// `cs_merge` then merges duplicates of one centre from neighbouring faces as the CPU
+// does (`HighlightSearch::centres_from_solutions`): the list in the CPU's visiting order,
+// then one pass over it, keeping the deeper of two solutions within the merge distance.
 
 // One welded vertex (`npr_geometry::highlight::SolveVertex`): position, the normal the
 // search solves on, and the columns of its shape operator S (object space).
@@ -46,10 +47,14 @@ struct SearchParams {
     // The device's `max_compute_workgroups_per_dimension`: the listed clusters' indirect
     // dispatch is folded into rows of this many workgroups.
     max_groups: u32,
+    // `HighlightSearch::merge_distance` (object space).
+    merge_distance: f32,
 }
 
 struct Counter {
     found: atomic<u32>,
+    // The centres `cs_merge` kept, or `NO_MERGE` when it could not merge the list.
+    merged: u32,
 }
 
 // The indirect dispatch of `cs_search`, written by `cs_clusters`: one workgroup per
@@ -77,11 +82,16 @@ struct ClusterRecord {
 // curvature-blended field (`HighlightSearch::face_margins`).
 @group(0) @binding(1) var<storage, read> triangles: array<vec4<u32>>;
 @group(0) @binding(2) var<storage, read_write> counter: Counter;
-// Per accepted face: (face, α and β as bits, 0).
+// Four parts of `params.capacity` entries, then `MAX_MERGED`:
+// - per accepted face: (face, α and β as bits, its slot in `order`), from `cs_search`;
+// - `cs_merge`'s scratch: each entry's visiting rank (x);
+// - the accepted faces in visiting order;
+// - the merged list, as (face, α, β, slot), in the CPU's order.
 @group(0) @binding(3) var<storage, read_write> solutions: array<vec4<u32>>;
 @group(0) @binding(4) var<uniform> params: SearchParams;
-// The face each invocation solves (`triangles` is stored in this order): slot -> face.
-@group(0) @binding(5) var<storage, read> order: array<u32>;
+// The face each invocation solves (`triangles` is stored in this order), slot -> (face,
+// its place in the CPU's merge order: `HighlightSearch::visit_ranks`).
+@group(0) @binding(5) var<storage, read> order: array<vec2<u32>>;
 // One per run of `WORKGROUP` faces.
 @group(0) @binding(6) var<storage, read> clusters: array<ClusterRecord>;
 // The clusters `cs_clusters` kept, each as its index + 1, in no particular order; 0 past
@@ -91,6 +101,13 @@ struct ClusterRecord {
 @group(1) @binding(0) var<storage, read_write> dispatch: Dispatch;
 
 const WORKGROUP: u32 = 64u;
+// Centres `cs_merge` keeps at most (`MAX_MERGED` of `search_pass.rs`), and its
+// workgroup's size.
+const MAX_MERGED: u32 = 256u;
+const MERGE_WORKGROUP: u32 = 256u;
+// `Counter::merged` when the list was not merged (it overflowed, or more than
+// `MAX_MERGED` centres).
+const NO_MERGE: u32 = 0xffffffffu;
 // `BARYCENTRIC_EPSILON` and `RESIDUAL_TOLERANCE` of `solve.rs`.
 const BARYCENTRIC_EPSILON: f32 = 1e-3;
 const RESIDUAL_TOLERANCE: f32 = 1e-3;
@@ -376,7 +393,7 @@ fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_in
     if at >= params.face_count {
         return;
     }
-    let face = order[at];
+    let face = order[at].x;
     let t = triangles[at];
     let nv = arrayLength(&vertices);
     if t.x >= nv || t.y >= nv || t.z >= nv {
@@ -410,6 +427,95 @@ fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_in
     }
     let slot = atomicAdd(&counter.found, 1u);
     if slot < params.capacity {
-        solutions[slot] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), 0u);
+        solutions[slot] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), at);
     }
+}
+
+// `cs_merge`'s kept centres (lane 0 only): object-space point and depth inside its face
+// (w), and the entry.
+var<workgroup> kept_point: array<vec4<f32>, MAX_MERGED>;
+var<workgroup> kept_entry: array<vec4<u32>, MAX_MERGED>;
+var<workgroup> merge_count: u32;
+
+// The object-space point of a solution entry and how deep inside its face it lies
+// (`HighlightSearch::centre_at`'s position; `centres_from_solutions`'s `inner`).
+fn solution_point(e: vec4<u32>) -> vec4<f32> {
+    let t = triangles[e.w];
+    let p0 = vertices[t.x].position.xyz;
+    let p1 = vertices[t.y].position.xyz;
+    let p2 = vertices[t.z].position.xyz;
+    let a = bitcast<f32>(e.y);
+    let b = bitcast<f32>(e.z);
+    let p = p0 + a * (p1 - p0) + b * (p2 - p0);
+    return vec4<f32>(p, min(min(a, b), 1.0 - a - b));
+}
+
+// `HighlightSearch::centres_from_solutions` on the list `cs_search` appended, one
+// workgroup: the entries ordered by their face's visiting rank (each counts the ranks
+// below its own, the ranks being a permutation), then lane 0 walks them in that order,
+// each replacing the first kept centre within `merge_distance` when deeper inside its
+// face, else dropped, or kept when none is that close (`HighlightSearch::merge`). The
+// CPU leaves out, before merging, a face whose centre has no normal; here every accepted
+// face takes part (a face the solve accepts has one).
+@compute @workgroup_size(256)
+fn cs_merge(@builtin(local_invocation_index) lid: u32) {
+    let cap = params.capacity;
+    if lid == 0u {
+        merge_count = atomicLoad(&counter.found);
+    }
+    let n = workgroupUniformLoad(&merge_count);
+    if n > cap {
+        if lid == 0u {
+            counter.merged = NO_MERGE;
+        }
+        return;
+    }
+    for (var i = lid; i < n; i += MERGE_WORKGROUP) {
+        solutions[cap + i] = vec4<u32>(order[solutions[i].w].y, 0u, 0u, 0u);
+    }
+    storageBarrier();
+    workgroupBarrier();
+    for (var i = lid; i < n; i += MERGE_WORKGROUP) {
+        let key = solutions[cap + i].x;
+        var below = 0u;
+        for (var j = 0u; j < n; j += 1u) {
+            below += select(0u, 1u, solutions[cap + j].x < key);
+        }
+        solutions[2u * cap + below] = solutions[i];
+    }
+    storageBarrier();
+    workgroupBarrier();
+    if lid != 0u {
+        return;
+    }
+    var kept = 0u;
+    var overflow = false;
+    for (var k = 0u; k < n; k += 1u) {
+        let e = solutions[2u * cap + k];
+        let c = solution_point(e);
+        var matched = false;
+        for (var m = 0u; m < kept; m += 1u) {
+            if distance(kept_point[m].xyz, c.xyz) <= params.merge_distance {
+                if c.w > kept_point[m].w {
+                    kept_point[m] = c;
+                    kept_entry[m] = e;
+                }
+                matched = true;
+                break;
+            }
+        }
+        if !matched {
+            if kept == MAX_MERGED {
+                overflow = true;
+                break;
+            }
+            kept_point[kept] = c;
+            kept_entry[kept] = e;
+            kept += 1u;
+        }
+    }
+    for (var m = 0u; m < kept; m += 1u) {
+        solutions[3u * cap + m] = kept_entry[m];
+    }
+    counter.merged = select(kept, NO_MERGE, overflow);
 }

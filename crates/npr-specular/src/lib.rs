@@ -51,7 +51,7 @@ pub use region_pass::{
     RegionObject, RegionPass,
 };
 pub use search_pass::{
-    CentreSearchPass, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
+    CentreSearchPass, MAX_MERGED, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
 };
 pub use set::{
     DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,

@@ -4,11 +4,14 @@
 //! the faces of the listed clusters, one workgroup each, dispatched indirectly; the
 //! accepted faces
 //! appended to a compact list by an integer atomic counter (WebGPU has no float
-//! atomics), and only that list read back: at most [`SearchObject::capacity`] entries of
-//! 16 bytes, never a mesh-sized buffer. The list becomes centres on the CPU with
-//! [`HighlightSearch::centres_from_solutions`], which merges duplicates as the CPU
-//! search does, and [`crate::HighlightSet::update_from_solutions`] runs the rest of the
-//! frame's highlight work on them.
+//! atomics), and `cs_merge` merges the list into one entry per centre as the CPU search
+//! does ([`HighlightSearch::centres_from_solutions`]: the faces in the CPU's visiting
+//! order, [`HighlightSearch::visit_ranks`], the deeper of two solutions within
+//! [`HighlightSearch::merge_distance`] kept). Only the lists are read back: at most
+//! [`SearchObject::capacity`] accepted faces and [`MAX_MERGED`] centres of 16 bytes,
+//! never a mesh-sized buffer. [`crate::HighlightSet::update_from_centres`] runs the rest
+//! of the frame's highlight work on the merged list
+//! ([`crate::HighlightSet::update_from_solutions`] merges the accepted faces on the CPU).
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
 //!
@@ -21,7 +24,9 @@
 //! pass.record(&mut encoder, &object, &prepared)?;
 //! queue.submit([encoder.finish()]);
 //! let solutions = object.read(device, &prepared)?;
-//! set.update_from_solutions(light_eye, world_from_object, &solutions.faces);
+//! if let Some(centres) = &solutions.centres {
+//!     set.update_from_centres(light_eye, world_from_object, centres);
+//! }
 //! ```
 //!
 //! The CPU search ([`HighlightSearch::find`]) is the reference: `tests/gpu_search.rs`
@@ -43,6 +48,13 @@ use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
 /// (each centre is found by one to six faces), at 16 bytes each.
 pub const DEFAULT_CAPACITY: usize = 4096;
 
+/// Centres the GPU's merge keeps at most (`MAX_MERGED` of `centre_search.wgsl`): past it
+/// [`SearchSolutions::centres`] is `None` and the CPU merges the accepted faces.
+pub const MAX_MERGED: usize = 256;
+
+/// `NO_MERGE` of `centre_search.wgsl`.
+const NO_MERGE: u32 = u32::MAX;
+
 /// The search's compute pipeline: one per device, shared by every object.
 #[derive(Debug)]
 pub struct CentreSearchPass {
@@ -52,6 +64,8 @@ pub struct CentreSearchPass {
     clusters_pipeline: wgpu::ComputePipeline,
     /// `cs_search`: group 0 only, dispatched indirectly.
     pipeline: wgpu::ComputePipeline,
+    /// `cs_merge`: group 0 only, one workgroup.
+    merge_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     dispatch_layout: wgpu::BindGroupLayout,
     /// Workgroups a row of `cs_search`'s indirect dispatch holds: the device's
@@ -122,6 +136,11 @@ pub struct SearchSolutions {
     /// search solved; the others' normal cones could not hold `N = H` and were skipped
     /// whole ([`SearchObject::cluster_count`] in all).
     pub clusters_solved: usize,
+    /// The accepted faces merged on the GPU into one per centre, in the order
+    /// [`HighlightSearch::centres_from_solutions`] gives them (for
+    /// [`crate::HighlightSet::update_from_centres`]); `None` when the list overflowed or
+    /// held more than [`MAX_MERGED`] centres (then merge `faces` on the CPU).
+    pub centres: Option<Vec<FaceSolution>>,
 }
 
 impl SearchSolutions {
@@ -146,7 +165,8 @@ struct Params {
     capacity: u32,
     angle_margin: f32,
     max_groups: u32,
-    _pad: [u32; 2],
+    merge_distance: f32,
+    _pad: u32,
 }
 
 /// `SolveVertex` of `centre_search.wgsl`: 20 floats.
@@ -186,13 +206,19 @@ fn ordered_triangles(search: &HighlightSearch, margins: &[f32], order: &[u32]) -
         .collect()
 }
 
-fn params_of(frame: Option<SolveFrame>, faces: usize, capacity: usize, max_groups: u32) -> Params {
+fn params_of(
+    frame: Option<SolveFrame>,
+    (faces, capacity): (usize, usize),
+    max_groups: u32,
+    merge_distance: f32,
+) -> Params {
     let four = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
     let mut p = Params {
         face_count: faces as u32,
         capacity: capacity as u32,
         angle_margin: HighlightSearch::angle_margin(),
         max_groups,
+        merge_distance,
         ..Params::default()
     };
     let Some(frame) = frame else {
@@ -250,6 +276,7 @@ impl CentreSearchPass {
                 "cs_clusters",
             ),
             pipeline: pipeline(device, &module, &layout, "cs_search"),
+            merge_pipeline: pipeline(device, &module, &layout, "cs_merge"),
             layout,
             dispatch_layout,
             row: device.limits().max_compute_workgroups_per_dimension,
@@ -287,6 +314,8 @@ impl CentreSearchPass {
         let face_order = search_clusters::face_order(&solve_vertices, search.triangles());
         let margins = search.face_margins();
         let triangles = ordered_triangles(search, &margins, &face_order);
+        let ranks = search.visit_ranks();
+        let order = slot_records(&face_order, &ranks);
         let clusters = search_clusters::cluster_records(
             search.triangles(),
             &margins,
@@ -298,8 +327,8 @@ impl CentreSearchPass {
             &[
                 ("search vertices", (records.len() * 80) as u64),
                 ("search triangles", (triangles.len() * 16) as u64),
-                ("search solutions", (capacity * 16) as u64),
-                ("search order", (face_order.len() * 4) as u64),
+                ("search solutions", (solution_entries(capacity) * 16) as u64),
+                ("search order", (face_order.len() * 8) as u64),
                 (
                     "search clusters",
                     (clusters.len() * std::mem::size_of::<ClusterRecord>()) as u64,
@@ -315,7 +344,7 @@ impl CentreSearchPass {
             capacity,
             vertices: buffer_init(device, "npr search vertices", &records, usage),
             triangles: buffer_init(device, "npr search triangles", &triangles, usage),
-            order: buffer_init(device, "npr search order", &face_order, usage),
+            order: buffer_init(device, "npr search order", &order, usage),
             clusters: buffer_init(device, "npr search clusters", &clusters, usage),
             face_order,
             slots: Slots::new(self.id),
@@ -371,7 +400,12 @@ impl CentreSearchPass {
             object.search_id = search.id();
         }
         let frame = search.solve_frame(input.light_eye, input.world_from_object);
-        let params = params_of(frame, object.faces, object.capacity, self.row);
+        let params = params_of(
+            frame,
+            (object.faces, object.capacity),
+            self.row,
+            search.merge_distance(),
+        );
         let (device, layout) = (&self.device, &self.layout);
         let tables = [
             &object.vertices,
@@ -450,16 +484,22 @@ impl CentreSearchPass {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &slot.group, &[]);
             pass.dispatch_workgroups_indirect(&slot.dispatch, 0);
+            pass.set_pipeline(&self.merge_pipeline);
+            pass.dispatch_workgroups(1, 1, 1);
         }
-        // The header: faces accepted, then clusters listed (`Dispatch::count`).
+        // The header: faces accepted, clusters listed (`Dispatch::count`), centres
+        // merged; then the accepted faces and the merged list.
+        let entries = object.capacity as u64 * 16;
         encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
         encoder.copy_buffer_to_buffer(&slot.dispatch, 12, &slot.readback, 4, 4);
+        encoder.copy_buffer_to_buffer(&slot.counter, 4, &slot.readback, 8, 4);
+        encoder.copy_buffer_to_buffer(&slot.solutions, 0, &slot.readback, 16, entries);
         encoder.copy_buffer_to_buffer(
             &slot.solutions,
-            0,
+            3 * entries,
             &slot.readback,
-            16,
-            slot.solutions.size(),
+            16 + entries,
+            MAX_MERGED as u64 * 16,
         );
         Ok(())
     }
@@ -487,7 +527,7 @@ fn make_slot(
     let solutions = buffer_init(
         device,
         "npr search solutions",
-        &vec![[0u32; 4]; capacity],
+        &vec![[0u32; 4]; solution_entries(capacity)],
         storage,
     );
     let listed = buffer_init(
@@ -504,7 +544,7 @@ fn make_slot(
     );
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("npr search readback"),
-        size: 16 + solutions.size(),
+        size: 16 + (capacity + MAX_MERGED) as u64 * 16,
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
@@ -616,8 +656,23 @@ impl PendingSolutions {
     }
 }
 
-/// The counters (accepted faces, then clusters solved) and the entries after the 16-byte
-/// header.
+/// Entries of the solutions buffer: the list, `cs_merge`'s ranks and ordered copy, and
+/// the merged list (`solutions` of `centre_search.wgsl`).
+fn solution_entries(capacity: usize) -> usize {
+    3 * capacity + MAX_MERGED
+}
+
+/// Per visiting slot, its face and that face's place in the CPU's merge order (`order`
+/// of `centre_search.wgsl`).
+fn slot_records(face_order: &[u32], ranks: &[u32]) -> Vec<[u32; 2]> {
+    face_order
+        .iter()
+        .map(|&f| [f, ranks.get(f as usize).copied().unwrap_or(u32::MAX)])
+        .collect()
+}
+
+/// The counters (accepted faces, clusters solved, centres merged), the `capacity`
+/// accepted faces after the 16-byte header, then the [`MAX_MERGED`] merged ones.
 fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
     let word = |i: usize| {
         bytes
@@ -626,20 +681,26 @@ fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
     };
     let accepted = word(0) as usize;
     let clusters_solved = word(1) as usize;
+    let merged = word(2);
+    let entry = |at: usize| FaceSolution {
+        face: word(at),
+        alpha: f32::from_bits(word(at + 1)),
+        beta: f32::from_bits(word(at + 2)),
+    };
     let faces = (0..accepted.min(capacity))
-        .map(|k| {
-            let at = 4 + 4 * k;
-            FaceSolution {
-                face: word(at),
-                alpha: f32::from_bits(word(at + 1)),
-                beta: f32::from_bits(word(at + 2)),
-            }
-        })
+        .map(|k| entry(4 + 4 * k))
         .collect();
+    let centres = (accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED)
+        .then(|| {
+            (0..merged as usize)
+                .map(|k| entry(4 + 4 * (capacity + k)))
+                .collect()
+        });
     SearchSolutions {
         faces,
         accepted,
         clusters_solved,
+        centres,
     }
 }
 
@@ -664,7 +725,8 @@ mod tests {
                 face_count,
                 capacity,
                 angle_margin,
-                max_groups
+                max_groups,
+                merge_distance
             ]
         );
         npr_gpu::assert_wgsl_layout!(
@@ -721,32 +783,33 @@ mod tests {
 
     #[test]
     fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
-        let mut bytes = vec![0u8; 16];
-        bytes[..4].copy_from_slice(&3u32.to_le_bytes());
-        bytes[4..8].copy_from_slice(&5u32.to_le_bytes());
-        for (face, a, b) in [(7u32, 0.25f32, 0.5f32), (9, 0.1, 0.2)] {
-            for w in [face, a.to_bits(), b.to_bits(), 0] {
-                bytes.extend_from_slice(&w.to_le_bytes());
+        let list = [(7u32, 0.25f32, 0.5f32), (9, 0.1, 0.2)];
+        // Header (accepted, clusters, merged), `capacity` entries, then the merged list.
+        let bytes = |accepted: u32, merged: u32, capacity: usize| {
+            let mut b = Vec::new();
+            for w in [accepted, 5, merged, 0] {
+                b.extend_from_slice(&w.to_le_bytes());
             }
-        }
-        let s = decode(&bytes, 2);
+            for k in 0..capacity + MAX_MERGED {
+                let (face, a, c) = list[k % 2];
+                let face = if k < capacity { face } else { face + 100 };
+                for w in [face, a.to_bits(), c.to_bits(), 0] {
+                    b.extend_from_slice(&w.to_le_bytes());
+                }
+            }
+            b
+        };
+        let s = decode(&bytes(3, 1, 2), 2);
         assert_eq!((s.accepted, s.clusters_solved), (3, 5));
         assert!(!s.complete());
-        assert_eq!(
-            s.faces,
-            vec![
-                FaceSolution {
-                    face: 7,
-                    alpha: 0.25,
-                    beta: 0.5
-                },
-                FaceSolution {
-                    face: 9,
-                    alpha: 0.1,
-                    beta: 0.2
-                }
-            ]
-        );
-        assert!(decode(&bytes[..16], 0).faces.is_empty());
+        assert_eq!(s.centres, None, "an overflowed list is not merged");
+        let whole = |(face, alpha, beta): (u32, f32, f32)| FaceSolution { face, alpha, beta };
+        assert_eq!(s.faces, list.map(whole).to_vec());
+        let s = decode(&bytes(2, 1, 2), 2);
+        assert!(s.complete());
+        assert_eq!(s.centres, Some(vec![whole((107, 0.25, 0.5))]));
+        let s = decode(&bytes(2, NO_MERGE, 2), 2);
+        assert_eq!(s.centres, None, "more centres than the merge keeps");
+        assert!(decode(&bytes(0, 0, 0)[..16], 0).faces.is_empty());
     }
 }

@@ -57,7 +57,7 @@ fn the_gpu_search_finds_the_cpu_centres() {
     let pass = CentreSearchPass::new(&ctx.device);
     let meshes = meshes();
     let mut frame = FrameId(1);
-    let (mut total, mut worst_all) = (0, 0.0f32);
+    let (mut total, mut worst_all, mut merged_pairs) = (0, 0.0f32, 0);
     // Clusters solved and tested under directional lights (where the cluster rejection
     // applies under any transform).
     let (mut solved_clusters, mut tested_clusters) = (0, 0);
@@ -71,6 +71,19 @@ fn the_gpu_search_finds_the_cpu_centres() {
             frame = frame.next();
             assert!(solved.complete(), "{name} frame {k}: list overflowed");
             let gpu = set.search().centres_from_solutions(&solved.faces, world);
+            // The GPU's own merge (`cs_merge`) keeps the very entries the CPU's merge of
+            // the same list keeps, in its order.
+            let merged = solved.centres.as_ref().expect("merged on the GPU");
+            let key = |c: &HighlightCentre| (c.face, c.alpha, c.beta);
+            assert_eq!(
+                merged
+                    .iter()
+                    .map(|s| (s.face, s.alpha, s.beta))
+                    .collect::<Vec<_>>(),
+                gpu.iter().map(key).collect::<Vec<_>>(),
+                "{name} frame {k}: the GPU's merge"
+            );
+            merged_pairs += solved.faces.len() - merged.len();
             let worst = farthest(&cpu, &gpu).max(farthest(&gpu, &cpu)) / radius;
             assert!(
                 gpu.len() == cpu.len() && worst <= 1e-4,
@@ -98,6 +111,11 @@ fn the_gpu_search_finds_the_cpu_centres() {
     assert!(
         total >= 40,
         "only {total} centres over every mesh and frame"
+    );
+    eprintln!("{merged_pairs} accepted faces merged away on the GPU");
+    assert!(
+        merged_pairs > 0,
+        "no frame had a centre found twice to merge"
     );
     // The same centres with most clusters skipped whole: under a directional light a
     // cluster's faces are solved only where its normal cone comes near H.
@@ -147,9 +165,15 @@ fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
         ctx.queue.submit([encoder.finish()]);
         let solved = object.read(&ctx.device, &prepared).unwrap();
         let want = cpu.update(light_eye, world).to_vec();
-        let got = gpu
-            .update_from_solutions(light_eye, world, &solved.faces)
-            .to_vec();
+        // Even frames the GPU's merge, odd the CPU's of the same list.
+        let got = match &solved.centres {
+            Some(centres) if step % 2 == 0 => {
+                gpu.update_from_centres(light_eye, world, centres).to_vec()
+            }
+            _ => gpu
+                .update_from_solutions(light_eye, world, &solved.faces)
+                .to_vec(),
+        };
         assert_eq!(got.len(), want.len(), "frame {step}: highlight counts");
         for (g, w) in got.iter().zip(&want) {
             assert_eq!(
@@ -285,4 +309,130 @@ fn skipped_clusters_never_hold_a_centre() {
         centres >= 100 && skipped > 0,
         "{centres} centres, {skipped} skipped"
     );
+}
+
+/// The GPU's merge where it has most to do: half vectors along vertex normals of a sphere
+/// (every face around the vertex accepts the one centre), and a noisy sphere with more
+/// centres than the merge keeps ([`npr_specular::MAX_MERGED`]), where the list comes back
+/// unmerged for the CPU.
+#[test]
+fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip(
+        "the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot",
+    ) else {
+        return;
+    };
+    let pass = CentreSearchPass::new(&ctx.device);
+    let options = CurvatureOptions::default();
+    let sphere = generate::icosphere(3, 1.0);
+    let set = HighlightSet::new(&sphere, &options).unwrap();
+    let mut object = pass.create_object(&ctx.device, set.search()).unwrap();
+    let key = |c: &HighlightCentre| (c.face, c.alpha, c.beta);
+    let (mut merged_away, mut frame) = (0, FrameId(1));
+    for v in (0..sphere.vertex_count()).step_by(37) {
+        let n = sphere.normals[v].normalize();
+        let light_eye = LightEye::Directions {
+            to_light: n,
+            to_eye: n,
+        };
+        let input = SearchInput {
+            frame,
+            search: set.search(),
+            light_eye,
+            world_from_object: Mat4::IDENTITY,
+        };
+        frame = frame.next();
+        let solved = pass
+            .search_now(&ctx.device, &ctx.queue, &mut object, &input)
+            .unwrap();
+        let cpu = set
+            .search()
+            .centres_from_solutions(&solved.faces, Mat4::IDENTITY);
+        let merged = solved.centres.expect("a few centres merge on the GPU");
+        let merged: Vec<_> = merged.iter().map(|s| (s.face, s.alpha, s.beta)).collect();
+        assert_eq!(
+            merged,
+            cpu.iter().map(key).collect::<Vec<_>>(),
+            "vertex {v}"
+        );
+        merged_away += solved.faces.len() - merged.len();
+    }
+    eprintln!("{merged_away} faces merged away at the sphere's vertices");
+    assert!(merged_away >= 10, "{merged_away} faces merged away");
+
+    // A noisy sphere under a light: hundreds of centres.
+    // An egg-crate height field seen from above: a centre at every crest, trough and
+    // saddle, eight a period². At no abstraction, so that the set's normals keep them.
+    // Five periods a side: 200 centres, merged on the GPU; thirteen: 1,352, more than
+    // the merge keeps.
+    let overhead = LightEye::Directions {
+        to_light: Vec3::Z,
+        to_eye: Vec3::Z,
+    };
+    let mut branches = [false; 2];
+    for periods in [5, 13] {
+        let crate_mesh = egg_crate(periods, 8);
+        let set = HighlightSet::with_abstraction(&crate_mesh, &options, 0.0).unwrap();
+        let mut object = pass
+            .create_object_with_capacity(&ctx.device, set.search(), 1 << 13)
+            .unwrap();
+        let input = SearchInput {
+            frame,
+            search: set.search(),
+            light_eye: overhead,
+            world_from_object: Mat4::IDENTITY,
+        };
+        frame = frame.next();
+        let solved = pass
+            .search_now(&ctx.device, &ctx.queue, &mut object, &input)
+            .unwrap();
+        assert!(solved.complete());
+        let cpu = set
+            .search()
+            .centres_from_solutions(&solved.faces, Mat4::IDENTITY);
+        eprintln!(
+            "egg crate of {periods}²: {} faces, {} centres",
+            solved.faces.len(),
+            cpu.len()
+        );
+        assert!(cpu.len() >= 6 * periods * periods, "{} centres", cpu.len());
+        branches[usize::from(cpu.len() > npr_specular::MAX_MERGED)] = true;
+        if cpu.len() <= npr_specular::MAX_MERGED {
+            let merged = solved.centres.expect("merged on the GPU");
+            let merged: Vec<_> = merged.iter().map(|s| (s.face, s.alpha, s.beta)).collect();
+            assert_eq!(merged, cpu.iter().map(key).collect::<Vec<_>>());
+        } else {
+            assert_eq!(solved.centres, None, "more centres than the merge keeps");
+        }
+    }
+    assert_eq!(
+        branches, [true; 2],
+        "one field under the merge's limit, one over"
+    );
+}
+
+/// `z = 0.3 sin(x) sin(y)` over `periods` periods a side, `per` quads a period.
+fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
+    let n = periods * per;
+    let step = std::f32::consts::TAU / per as f32;
+    let mut mesh = npr_geometry::Mesh::default();
+    for j in 0..=n {
+        for i in 0..=n {
+            // Half a step off, so no crest or saddle sits on a vertex.
+            let (x, y) = ((i as f32 + 0.37) * step, (j as f32 + 0.29) * step);
+            mesh.positions
+                .push(Vec3::new(x, y, 0.3 * x.sin() * y.sin()));
+            mesh.uvs.push(glam::Vec2::ZERO);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            mesh.indices.extend([a, b, c, a, c, d]);
+        }
+    }
+    mesh.normals = vec![Vec3::Z; mesh.positions.len()];
+    mesh.recompute_normals();
+    mesh
 }

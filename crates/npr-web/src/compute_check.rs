@@ -40,7 +40,7 @@ pub struct ComputeCheck {
     regions: PendingRegions,
     seeds: Vec<(npr_geometry::HighlightCentre, f32)>,
     field_bytes: Option<Vec<u8>>,
-    solutions: Option<Vec<npr_geometry::FaceSolution>>,
+    solutions: Option<npr_specular::SearchSolutions>,
     walked: Option<ReceiverReadback>,
     grown: Option<Vec<GpuRegion>>,
 }
@@ -177,7 +177,7 @@ impl ComputeCheck {
                         list.accepted
                     ));
                 }
-                self.solutions = Some(list.faces);
+                self.solutions = Some(list);
             }
         }
         if self.walked.is_none() {
@@ -202,10 +202,21 @@ impl ComputeCheck {
         let field = cpu.difference(&self.curvature.decode(bytes));
         let (light_eye, world_from_object) = light_eye();
         let want = self.set.search().find(light_eye, world_from_object);
-        let got = self
-            .set
-            .search()
-            .centres_from_solutions(solutions, world_from_object);
+        // The centres the GPU merged (`cs_merge`), and the CPU's merge of the same faces,
+        // which they must equal entry for entry.
+        let search = self.set.search();
+        let merged = solutions
+            .centres
+            .as_deref()
+            .ok_or("the search's centres were not merged on the GPU")?;
+        let got = search.centres_at_solutions(merged, world_from_object);
+        let cpu_merge = search.centres_from_solutions(&solutions.faces, world_from_object);
+        let merge_differs = got.len().abs_diff(cpu_merge.len())
+            + got
+                .iter()
+                .zip(&cpu_merge)
+                .filter(|(a, b)| (a.face, a.alpha, a.beta) != (b.face, b.alpha, b.beta))
+                .count();
         let worst = want
             .iter()
             .map(|c| {
@@ -237,6 +248,8 @@ impl ComputeCheck {
             "centres_cpu": want.len(),
             "centres_gpu": got.len(),
             "centre_error_of_radius": worst / radius,
+            "centres_merge_differs": merge_differs,
+            "centres_accepted_faces": solutions.faces.len(),
             "receivers_cpu_faces": cpu_faces.len(),
             "receivers_gpu_faces": gpu_faces.len(),
             "receivers_agreement": both as f64 / either.max(1) as f64,

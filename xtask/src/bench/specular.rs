@@ -296,15 +296,10 @@ fn measure_gpu(
                             npr_gpu::FrameId(frame as u64),
                             (le, world_from_object),
                         );
-                        set.update_from_solutions_and_regions(
-                            le,
-                            world_from_object,
-                            &faces,
-                            &mut grow,
-                        );
+                        set.update_from_search(le, world_from_object, &faces, Some(&mut grow));
                     }
                     None => {
-                        set.update_from_solutions(le, world_from_object, &faces);
+                        set.update_from_search(le, world_from_object, &faces, None);
                     }
                 }
                 search_us + set.stats().search_us
@@ -381,8 +376,8 @@ fn measure_gpu(
     Ok(out)
 }
 
-/// The GPU search of one frame: prepare, record, submit, and the faces it accepted (the
-/// CPU search's where its list overflowed).
+/// The GPU search of one frame: prepare, record, submit, and its list (an error where it
+/// overflowed).
 fn gpu_search(
     ctx: &GpuContext,
     pass: &CentreSearchPass,
@@ -390,7 +385,7 @@ fn gpu_search(
     set: &HighlightSet,
     (light_eye, world_from_object): (LightEye, Mat4),
     frame: usize,
-) -> anyhow::Result<Vec<npr_geometry::FaceSolution>> {
+) -> anyhow::Result<npr_specular::SearchSolutions> {
     let input = npr_specular::SearchInput {
         frame: npr_gpu::FrameId(frame as u64),
         search: set.search(),
@@ -404,7 +399,7 @@ fn gpu_search(
         solved.accepted,
         object.capacity()
     );
-    Ok(solved.faces)
+    Ok(solved)
 }
 
 /// Times the setup alone on one core, as loaded and in the file's order; µs each.

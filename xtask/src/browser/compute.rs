@@ -7,7 +7,8 @@ use anyhow::{Context as _, bail};
 /// The compute passes on the page's own device (`Viewer::compute_check_start`): the
 /// curvature tensor and the `N = H` search on a torus, read back over the next animation
 /// frames and compared with the CPU in the page. The search must give the CPU's centres
-/// within 1e-4 of the bounding radius, the curvature the CPU's within the native bounds
+/// within 1e-4 of the bounding radius, merged on the GPU into the very entries the CPU's
+/// merge of its faces keeps, the curvature the CPU's within the native bounds
 /// (1e-3 of the robust largest |κ|, 0.5° for directions and normals, the same validity),
 /// the receivers the CPU's on at least 99.5 % of the faces either received, and the
 /// regions of the CPU's centres the CPU's outcomes, faces and moment ellipses (centres
@@ -49,6 +50,10 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("centres_gpu")?,
         num("centre_error_of_radius")?,
     );
+    let (merge_differs, accepted) = (
+        num("centres_merge_differs")?,
+        num("centres_accepted_faces")?,
+    );
     let (walked, agreement, overflowed) = (
         num("receivers_cpu_faces")?,
         num("receivers_agreement")?,
@@ -62,8 +67,8 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let region_overflow = num("regions_overflowed")?;
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
-         {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU, \
-         within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces; \
+         {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU \
+         (merged on the GPU from {accepted} faces), within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces; \
          {fitted} regions fitted as the CPU's, {differ} apart, ellipse centres within \
          {region_centre:.2e} of the radius, areas within {:.3} %",
         100.0 * agreement,
@@ -79,7 +84,7 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
              (1e-3 of the largest |κ|, 0.5°): {result}"
         );
     }
-    if cpu < 1.0 || gpu != cpu || centre > 1e-4 {
+    if cpu < 1.0 || gpu != cpu || centre > 1e-4 || merge_differs > 0.0 {
         bail!("the page's GPU N = H search differs from the CPU's: {result}");
     }
     // The native bound of `npr-specular/tests/gpu_receivers.rs`.

@@ -1,7 +1,8 @@
 //! Where the engine's per-frame `N = H` search runs (`[specular] search`): on the CPU
 //! (`HighlightSet::update`), or as a compute pass (`npr_specular::CentreSearchPass`,
-//! its compact list read back, then `HighlightSet::update_from_solutions_and_regions`
-//! with the regions grown by `npr_specular::RegionPass`), or the faster of the two for
+//! its accepted faces merged into centres there and the compact list read back, then
+//! `HighlightSet::update_from_search` with the regions grown by
+//! `npr_specular::RegionPass`), or the faster of the two for
 //! the model, timed on its first frame (`auto`, the default). The GPU path falls back to
 //! the CPU's where the device's limits are too small for the mesh or a frame's list or a
 //! region overflows. In the browser a readback completes only between frames, so
@@ -75,9 +76,9 @@ impl SearchSetup {
                 },
             };
             if on_gpu
-                && let Some(faces) = self.gpu_faces(gpu, set, (light_eye, world_from_object))?
+                && let Some(solved) = self.gpu_faces(gpu, set, (light_eye, world_from_object))?
             {
-                self.update_on_gpu(gpu, set, (light_eye, world_from_object), &faces)?;
+                self.update_on_gpu(gpu, set, (light_eye, world_from_object), &solved)?;
                 return Ok(true);
             }
             set.update(light_eye, world_from_object);
@@ -91,11 +92,11 @@ mod native {
     use super::SearchSetup;
     use crate::AppError;
     use glam::Mat4;
-    use npr_geometry::{FaceSolution, LightEye};
+    use npr_geometry::LightEye;
     use npr_gpu::FrameId;
     use npr_specular::{
         CentreSearchPass, HighlightSet, RegionObject, RegionPass, SearchInput, SearchObject,
-        SpecularError,
+        SearchSolutions, SpecularError,
     };
     use std::time::Instant;
 
@@ -123,21 +124,21 @@ mod native {
     }
 
     impl SearchSetup {
-        /// Updates `set` from the GPU search's `faces`, its regions grown on the GPU too
-        /// (on the CPU where the mesh does not fit the device's limits).
+        /// Updates `set` from the GPU search's list (`solved`, complete), its regions grown
+        /// on the GPU too (on the CPU where the mesh does not fit the device's limits).
         pub(super) fn update_on_gpu(
             &mut self,
             (device, queue): (&wgpu::Device, &wgpu::Queue),
             set: &mut HighlightSet,
             (light_eye, world_from_object): (LightEye, Mat4),
-            faces: &[FaceSolution],
+            solved: &SearchSolutions,
         ) -> Result<(), AppError> {
             let Some(gpu) = self.gpu.as_mut() else {
-                set.update_from_solutions(light_eye, world_from_object, faces);
+                set.update_from_search(light_eye, world_from_object, solved, None);
                 return Ok(());
             };
             let Some(object) = gpu.regions.as_mut() else {
-                set.update_from_solutions(light_eye, world_from_object, faces);
+                set.update_from_search(light_eye, world_from_object, solved, None);
                 return Ok(());
             };
             let mut grow = gpu.region_pass.grower(
@@ -146,18 +147,19 @@ mod native {
                 gpu.frame,
                 (light_eye, world_from_object),
             );
-            set.update_from_solutions_and_regions(light_eye, world_from_object, faces, &mut grow);
+            set.update_from_search(light_eye, world_from_object, solved, Some(&mut grow));
             Ok(())
         }
 
-        /// The faces the GPU search accepts for this frame; `None` where the CPU must run
-        /// it (the mesh does not fit the device's limits, or the list overflowed).
+        /// The GPU search's list for this frame (merged into centres on the GPU where they
+        /// fit its merge); `None` where the CPU must run it (the mesh does not fit the
+        /// device's limits, or the list overflowed).
         pub(super) fn gpu_faces(
             &mut self,
             (device, queue): (&wgpu::Device, &wgpu::Queue),
             set: &HighlightSet,
             (light_eye, world_from_object): (LightEye, Mat4),
-        ) -> Result<Option<Vec<FaceSolution>>, AppError> {
+        ) -> Result<Option<SearchSolutions>, AppError> {
             if self.gpu.is_none() {
                 let pass = CentreSearchPass::new(device);
                 let object = match pass.create_object(device, set.search()) {
@@ -189,7 +191,7 @@ mod native {
                 world_from_object,
             };
             let solved = gpu.pass.search_now(device, queue, object, &input)?;
-            Ok(solved.complete().then_some(solved.faces))
+            Ok(solved.complete().then_some(solved))
         }
 
         /// `auto`: times the CPU search (`HighlightSearch::find`) and the GPU's (with its

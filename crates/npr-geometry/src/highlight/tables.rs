@@ -176,6 +176,46 @@ impl HighlightSearch {
         found.into_iter().map(|(c, _)| c).collect()
     }
 
+    /// The centres of `solutions` as given, one per entry, none merged (entries whose
+    /// face is unknown or has no normal there are left out): for a list already merged
+    /// elsewhere, such as the GPU's (`cs_merge` of the search pass), whose entries are
+    /// in [`HighlightSearch::centres_from_solutions`]'s order and pairs it merged gone.
+    pub fn centres_at_solutions(
+        &self,
+        solutions: &[FaceSolution],
+        world_from_object: Mat4,
+    ) -> Vec<HighlightCentre> {
+        solutions
+            .iter()
+            .filter_map(|s| self.centre_at(s.face, s.alpha, s.beta, world_from_object))
+            .collect()
+    }
+
+    /// Per face, its place in the order [`HighlightSearch::centres_from_solutions`]
+    /// merges solutions in (faces by their smallest vertex, then by their place in that
+    /// vertex's face list): a permutation of `0..face_count`, for a merge elsewhere that
+    /// must visit the faces as the CPU does. A face whose smallest vertex is out of range
+    /// ranks after every valid one.
+    pub fn visit_ranks(&self) -> Vec<u32> {
+        let n = self.triangles.len();
+        let mut keyed: Vec<((u32, usize), u32)> = (0..n as u32)
+            .map(|f| (self.visit_order(f).unwrap_or((u32::MAX, f as usize)), f))
+            .collect();
+        keyed.sort_unstable();
+        let mut ranks = vec![0u32; n];
+        for (rank, (_, f)) in keyed.into_iter().enumerate() {
+            ranks[f as usize] = rank as u32;
+        }
+        ranks
+    }
+
+    /// The distance (object space) within which two centres are one: of two solutions
+    /// that close, [`HighlightSearch::centres_from_solutions`] keeps the one deeper
+    /// inside its face.
+    pub fn merge_distance(&self) -> f32 {
+        self.merge_distance
+    }
+
     /// Where the CPU search solves `face`: its smallest vertex, and its place in that
     /// vertex's face list.
     fn visit_order(&self, face: u32) -> Option<(u32, usize)> {

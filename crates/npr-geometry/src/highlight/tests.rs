@@ -90,3 +90,69 @@ fn every_vertex_that_can_pass_within_the_budget_is_watched() {
     assert!(passing > 0);
     assert!(watch.len() < nv / 2, "{} of {nv} watched", watch.len());
 }
+
+/// `visit_ranks` and `merge_distance` are all a merge elsewhere needs: solutions sorted by
+/// rank and merged one by one (a later one within the distance of a kept one replaces it
+/// when deeper inside its face, else is dropped) give `centres_from_solutions`, on a list
+/// shuffled so that its own order says nothing, and full of pairs that merge.
+#[test]
+fn ranks_and_the_merge_distance_reproduce_the_merge() {
+    let mesh = crate::generate::torus(1.0, 0.4, 24, 12);
+    let welded = crate::weld(&mesh);
+    let topo = Topology::new(&welded);
+    let field = CurvatureField::compute(&topo, &crate::CurvatureOptions::default());
+    let s = HighlightSearch::for_mesh(&mesh, &welded, &topo, &field);
+    let ranks = s.visit_ranks();
+    let mut seen = ranks.clone();
+    seen.sort_unstable();
+    assert!(
+        seen.iter().enumerate().all(|(i, &r)| r == i as u32),
+        "a permutation"
+    );
+    // Points near each face's first corner: the faces around a vertex merge into one.
+    let mut solutions: Vec<FaceSolution> = (0..s.triangles.len() as u32)
+        .map(|f| FaceSolution {
+            face: f,
+            alpha: 1e-4 * (1 + f % 7) as f32,
+            beta: 1e-4 * (1 + f % 5) as f32,
+        })
+        .collect();
+    // A fixed shuffle (multiplicative stride, coprime with the length).
+    let n = solutions.len();
+    let stride = (1..n)
+        .rev()
+        .find(|k| gcd(*k, n) == 1 && *k < n / 2 + 7)
+        .unwrap();
+    solutions = (0..n).map(|i| solutions[i * stride % n]).collect();
+    let world = Mat4::from_rotation_x(0.3);
+    let expected = s.centres_from_solutions(&solutions, world);
+    let mut sorted = solutions.clone();
+    sorted.sort_by_key(|x| ranks[x.face as usize]);
+    let mut kept: Vec<(FaceSolution, Vec3, f32)> = Vec::new();
+    let d = s.merge_distance();
+    for x in sorted {
+        let t = s.triangles[x.face as usize].map(|i| s.positions[i as usize]);
+        let p = t[0] + x.alpha * (t[1] - t[0]) + x.beta * (t[2] - t[0]);
+        let inner = x.alpha.min(x.beta).min(1.0 - x.alpha - x.beta);
+        match kept.iter_mut().find(|k| k.1.distance(p) <= d) {
+            Some(k) if inner > k.2 => *k = (x, p, inner),
+            Some(_) => {}
+            None => kept.push((x, p, inner)),
+        }
+    }
+    assert!(
+        kept.len() * 5 < n * 3,
+        "{} of {n} kept: the list merges",
+        kept.len()
+    );
+    let merged: Vec<FaceSolution> = kept.iter().map(|k| k.0).collect();
+    let got = s.centres_at_solutions(&merged, world);
+    assert_eq!(got.len(), expected.len());
+    for (g, e) in got.iter().zip(&expected) {
+        assert_eq!((g.face, g.alpha, g.beta), (e.face, e.alpha, e.beta));
+    }
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
+}

@@ -95,12 +95,8 @@ impl GpuSetup {
                 self.frame,
                 (light_eye, world_from_object),
             );
-            set.update_from_solutions_and_regions(
-                light_eye,
-                world_from_object,
-                &solved.faces,
-                &mut grow,
-            );
+            // The centres merged on the GPU where they fit its merge, else on the CPU.
+            set.update_from_search(light_eye, world_from_object, &solved, Some(&mut grow));
         } else {
             set.update(light_eye, world_from_object);
         }

@@ -23,8 +23,35 @@ impl HighlightSet {
         world_from_object: Mat4,
         solutions: &[npr_geometry::FaceSolution],
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, solutions);
+        let centres = self.solution_centres(light_eye, world_from_object, (solutions, false));
         self.update_with(light_eye, world_from_object, centres, None)
+    }
+
+    /// [`HighlightSet::update_from_solutions`] on a list merged elsewhere into one face
+    /// per centre (the GPU's, [`crate::SearchSolutions::centres`]), in the order the CPU's
+    /// merge gives: each entry is a centre, none merged again
+    /// ([`HighlightSearch::centres_at_solutions`]).
+    pub fn update_from_centres(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        centres: &[npr_geometry::FaceSolution],
+    ) -> &[Highlight] {
+        let centres = self.solution_centres(light_eye, world_from_object, (centres, true));
+        self.update_with(light_eye, world_from_object, centres, None)
+    }
+
+    /// [`HighlightSet::update_from_centres`] with the regions grown by `regions`, as
+    /// [`HighlightSet::update_from_solutions_and_regions`].
+    pub fn update_from_centres_and_regions(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        centres: &[npr_geometry::FaceSolution],
+        regions: super::RegionsOnGpu<'_>,
+    ) -> &[Highlight] {
+        let centres = self.solution_centres(light_eye, world_from_object, (centres, true));
+        self.update_with(light_eye, world_from_object, centres, Some(regions))
     }
 
     /// [`HighlightSet::update_from_solutions`] with the regions grown by `regions` (the
@@ -40,24 +67,48 @@ impl HighlightSet {
         solutions: &[npr_geometry::FaceSolution],
         regions: super::RegionsOnGpu<'_>,
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, solutions);
+        let centres = self.solution_centres(light_eye, world_from_object, (solutions, false));
         self.update_with(light_eye, world_from_object, centres, Some(regions))
     }
 
-    /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`]) and the
-    /// time the merge took, microseconds: none for non-finite or zero light/eye input.
+    /// The update a GPU search's list (`solved`, complete: see
+    /// [`crate::SearchSolutions::complete`]) asks for: on its centres merged on the GPU
+    /// where it has them ([`HighlightSet::update_from_centres`]), else on its accepted
+    /// faces merged here ([`HighlightSet::update_from_solutions`]); with the regions of
+    /// `regions` where given (the `_and_regions` forms).
+    pub fn update_from_search(
+        &mut self,
+        light_eye: LightEye,
+        world_from_object: Mat4,
+        solved: &crate::SearchSolutions,
+        regions: Option<super::RegionsOnGpu<'_>>,
+    ) -> &[Highlight] {
+        let list = match &solved.centres {
+            Some(centres) => (centres.as_slice(), true),
+            None => (solved.faces.as_slice(), false),
+        };
+        let centres = self.solution_centres(light_eye, world_from_object, list);
+        self.update_with(light_eye, world_from_object, centres, regions)
+    }
+
+    /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`], or one
+    /// per entry where `merged`) and the time that took, microseconds: none for
+    /// non-finite or zero light/eye input.
     fn solution_centres(
         &self,
         light_eye: LightEye,
         world_from_object: Mat4,
-        solutions: &[npr_geometry::FaceSolution],
+        (solutions, merged): (&[npr_geometry::FaceSolution], bool),
     ) -> (Vec<HighlightCentre>, f64) {
         let start = Instant::now();
-        let centres = if valid_input(light_eye, world_from_object) {
+        let centres = if !valid_input(light_eye, world_from_object) {
+            Vec::new()
+        } else if merged {
+            self.search
+                .centres_at_solutions(solutions, world_from_object)
+        } else {
             self.search
                 .centres_from_solutions(solutions, world_from_object)
-        } else {
-            Vec::new()
         };
         (centres, start.elapsed().as_secs_f64() * 1e6)
     }
