@@ -5,7 +5,8 @@
 //! `npr_specular::RegionPass`), or the faster of the two for
 //! the model, timed on its first frame (`auto`, the default). The GPU path falls back to
 //! the CPU's where the device's limits are too small for the mesh or a frame's list or a
-//! region overflows. In the browser a readback completes only between frames, so
+//! region overflows. `auto` times the whole update both ways (search, matching, regions,
+//! projectors). In the browser a readback completes only between frames, so
 //! the search runs on the CPU there.
 
 use crate::AppError;
@@ -194,27 +195,30 @@ mod native {
             Ok(solved.complete().then_some(solved))
         }
 
-        /// `auto`: times the CPU search (`HighlightSearch::find`) and the GPU's (with its
-        /// submit and readback) twice each on this frame and keeps the second timings;
-        /// whether the GPU's was faster.
+        /// `auto`: times the whole highlight update of this frame on the CPU
+        /// (`HighlightSet::update`) and on the GPU (the search with its submit and
+        /// readback, then the update on its list with the regions grown on the GPU),
+        /// twice each, and keeps the second timings; whether the GPU's was faster. Both
+        /// update the same frame, so `set` holds a valid update after either.
         pub(super) fn time_both(
             &mut self,
             gpu: (&wgpu::Device, &wgpu::Queue),
-            set: &HighlightSet,
+            set: &mut HighlightSet,
             frame: (LightEye, Mat4),
         ) -> Result<bool, AppError> {
             let mut cpu_s = f64::INFINITY;
             let mut gpu_s = f64::INFINITY;
             for _ in 0..2 {
                 let t = Instant::now();
-                std::hint::black_box(set.search().find(frame.0, frame.1));
+                set.update(frame.0, frame.1);
                 cpu_s = t.elapsed().as_secs_f64();
                 let t = Instant::now();
-                let found = self.gpu_faces(gpu, set, frame)?;
-                gpu_s = if found.is_some() {
-                    t.elapsed().as_secs_f64()
-                } else {
-                    f64::INFINITY
+                gpu_s = match self.gpu_faces(gpu, set, frame)? {
+                    Some(solved) => {
+                        self.update_on_gpu(gpu, set, frame, &solved)?;
+                        t.elapsed().as_secs_f64()
+                    }
+                    None => f64::INFINITY,
                 };
             }
             Ok(gpu_s < cpu_s)

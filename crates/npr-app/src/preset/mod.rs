@@ -276,18 +276,20 @@ impl Default for SpecularPreset {
 /// Where the per-frame `N = H` search of the highlights runs ([`SpecularPreset::search`]),
 /// and with it the §4.2 receivers. Both give the same centres (the GPU solves in `f32`;
 /// `npr-specular`'s `tests/gpu_search.rs`) and the same receivers
-/// (`tests/gpu_receivers.rs`); matching, regions and projectors stay on the CPU either
-/// way.
+/// (`tests/gpu_receivers.rs`); on the GPU the regions are grown there too
+/// (`tests/gpu_regions.rs`), while matching and projectors stay on the CPU either way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SearchPreset {
-    /// The faster of the two for the model, timed on its first frame (each path twice,
-    /// the second timing kept) and again when the model or its highlight set changes.
+    /// The faster of the two for the model, timed on its first frame (the whole
+    /// highlight update each way twice, the second timing kept) and again when the model
+    /// or its highlight set changes.
     #[default]
     Auto,
     /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
     Cpu,
-    /// As a compute pass (`npr_specular::CentreSearchPass`), its compact list read back,
+    /// As a compute pass (`npr_specular::CentreSearchPass`), its list merged into centres
+    /// there and read back,
     /// the regions grown and fitted by another (`npr_specular::RegionPass`, one record a
     /// highlight read back), and the receivers walked by a third
     /// (`npr_specular::ReceiverPass`) in the frame's submission, drawn from the stream it
