@@ -13,7 +13,9 @@
 // lists the others, and `cs_search` is dispatched indirectly over that list only.
 // `cs_merge` then merges duplicates of one centre from neighbouring faces as the CPU
 // does (`HighlightSearch::centres_from_solutions`): the list in the CPU's visiting order,
-// then one pass over it, keeping the deeper of two solutions within the merge distance.
+// then one pass over it, keeping the deeper of two solutions within the merge distance;
+// and `cs_centres` computes each kept centre (`HighlightSearch::centre_at`): its point,
+// normals, principal direction and curvatures, from the field it interpolates.
 
 // One welded vertex (`npr_geometry::highlight::SolveVertex`): position, the normal the
 // search solves on, and the columns of its shape operator S (object space).
@@ -26,10 +28,14 @@ struct SolveVertex {
 }
 
 struct SearchParams {
-    // kind 2: the object's map to world space, for the world-space half vector.
+    // The object's map to world space (kind 2: for the world-space half vector; every
+    // kind: `cs_centres`).
     world_from_object: mat4x4<f32>,
     // kind 2: the transpose of its linear part (upper 3×3), taking H to object space.
     object_from_world_normal: mat4x4<f32>,
+    // `cs_centres`: the inverse transpose of that linear part, taking normals to world
+    // space.
+    normal_world_from_object: mat4x4<f32>,
     // kind 1: object space; kind 2: world space.
     light: vec4<f32>,
     eye: vec4<f32>,
@@ -49,6 +55,13 @@ struct SearchParams {
     max_groups: u32,
     // `HighlightSearch::merge_distance` (object space).
     merge_distance: f32,
+    // `cs_centres`: 1 / the transform's mean scale `|det|^(1/3)` (1 for a zero scale).
+    inv_scale: f32,
+    // `cs_centres`: 1 when the centre's normal is the field's (`NormalSource::Field`),
+    // 0 for the mesh's interpolated normals first.
+    field_normals: u32,
+    // `cs_centres`: 1 when the normal transform is finite (else no centre, as the CPU).
+    transform_ok: u32,
 }
 
 struct Counter {
@@ -518,4 +531,166 @@ fn cs_merge(@builtin(local_invocation_index) lid: u32) {
         solutions[3u * cap + m] = kept_entry[m];
     }
     counter.merged = select(kept, NO_MERGE, overflow);
+}
+
+// One welded vertex of the curvature field the centres interpolate, in `CurvaturePass`'s
+// output layout: (normal, κmax), (dir κmax, κmin), (dir κmin, valid ? 1 : 0).
+struct FieldVertex {
+    normal_kmax: vec4<f32>,
+    dir_kmin: vec4<f32>,
+    dir_min_valid: vec4<f32>,
+}
+
+// One merged centre (`npr_geometry::HighlightCentre`): w of `position_object` is 1 where
+// the CPU would have one (`HighlightSearch::centre_at`), 0 where not.
+struct CentreRecord {
+    position_object: vec4<f32>,
+    position_world: vec4<f32>,
+    normal_object: vec4<f32>,
+    normal_world: vec4<f32>,
+    dir_kappa_max: vec4<f32>,
+    // (κmax, κmin) in 1/world unit.
+    curvature: vec4<f32>,
+    // (face, α and β as bits, 0).
+    solution: vec4<u32>,
+}
+
+// `cs_centres` only, beside group 0's tables.
+@group(1) @binding(1) var<storage, read> centre_field: array<FieldVertex>;
+@group(1) @binding(2) var<storage, read_write> centres: array<CentreRecord>;
+
+// glam's `Vec3::try_normalize`: the unit vector, w = 1, or w = 0 where the length's
+// reciprocal is not finite and positive.
+fn try_normalize(v: vec3<f32>) -> vec4<f32> {
+    let r = 1.0 / length(v);
+    if !finite(r) || r <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(v * r, 1.0);
+}
+
+// glam's `Vec3::any_orthonormal_vector` (Duff et al.'s branchless basis): sign of z as
+// Rust's `signum`, which is −1 for −0.
+fn any_orthonormal(n: vec3<f32>) -> vec3<f32> {
+    let s = select(1.0, -1.0, (bitcast<u32>(n.z) & 0x80000000u) != 0u);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    return vec3<f32>(b, s + n.y * n.y * a, -n.y);
+}
+
+// `CurvatureField::interpolate`: the principal frame at (α, β) of triangle `t`, invalid
+// vertices left out, directions flipped to agree with the first valid one. `ok` is 0
+// where it has none.
+struct Axes {
+    normal: vec3<f32>,
+    dir_kappa_max: vec3<f32>,
+    kappa_max: f32,
+    kappa_min: f32,
+    ok: bool,
+}
+
+fn interpolate_axes(t: vec3<u32>, a: f32, b: f32) -> Axes {
+    let w = vec3<f32>(1.0 - a - b, a, b);
+    var n = vec3<f32>(0.0);
+    var d = vec3<f32>(0.0);
+    var kmax = 0.0;
+    var kmin = 0.0;
+    var wsum = 0.0;
+    var d0 = vec3<f32>(0.0);
+    var first = true;
+    let nf = arrayLength(&centre_field);
+    for (var k = 0u; k < 3u; k += 1u) {
+        let i = t[k];
+        if i >= nf || centre_field[i].dir_min_valid.w != 1.0 {
+            continue;
+        }
+        let f = centre_field[i];
+        var di = f.dir_kmin.xyz;
+        if first {
+            d0 = di;
+            first = false;
+        } else if dot(d0, di) < 0.0 {
+            di = -di;
+        }
+        n += w[k] * f.normal_kmax.xyz;
+        d += w[k] * di;
+        kmax += w[k] * f.normal_kmax.w;
+        kmin += w[k] * f.dir_kmin.w;
+        wsum += w[k];
+    }
+    var out = Axes(vec3<f32>(0.0), vec3<f32>(0.0), 0.0, 0.0, false);
+    let nn = try_normalize(n);
+    if abs(wsum) < 1e-12 || nn.w == 0.0 {
+        return out;
+    }
+    let dm = try_normalize(d - nn.xyz * dot(nn.xyz, d));
+    out.normal = nn.xyz;
+    out.dir_kappa_max = select(any_orthonormal(nn.xyz), dm.xyz, dm.w == 1.0);
+    out.kappa_max = kmax / wsum;
+    out.kappa_min = kmin / wsum;
+    out.ok = true;
+    return out;
+}
+
+// `HighlightSearch::centre_at` for each centre `cs_merge` kept, one invocation each: the
+// point, its normals (the mesh's interpolated normal or the field's, as the search's
+// `NormalSource` says), the principal direction in world space and the curvatures at the
+// transform's scale.
+@compute @workgroup_size(64)
+fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x;
+    let kept = counter.merged;
+    if kept == NO_MERGE || k >= kept || k >= MAX_MERGED {
+        return;
+    }
+    let e = solutions[3u * params.capacity + k];
+    var r: CentreRecord;
+    r.solution = vec4<u32>(e.x, e.y, e.z, 0u);
+    let t = triangles[e.w].xyz;
+    let nv = arrayLength(&vertices);
+    if params.transform_ok == 0u || t.x >= nv || t.y >= nv || t.z >= nv {
+        centres[k] = r;
+        return;
+    }
+    let a = bitcast<f32>(e.y);
+    let b = bitcast<f32>(e.z);
+    let p0 = vertices[t.x].position.xyz;
+    let p = p0 + a * (vertices[t.y].position.xyz - p0) + b * (vertices[t.z].position.xyz - p0);
+    let axes = interpolate_axes(t, a, b);
+    let w = vec3<f32>(1.0 - a - b, a, b);
+    let solved = try_normalize(
+        w.x * vertices[t.x].normal.xyz + w.y * vertices[t.y].normal.xyz + w.z * vertices[t.z].normal.xyz,
+    );
+    var n_obj = vec4<f32>(0.0);
+    if params.field_normals == 1u {
+        n_obj = select(solved, vec4<f32>(axes.normal, 1.0), axes.ok);
+    } else {
+        n_obj = select(vec4<f32>(axes.normal, select(0.0, 1.0, axes.ok)), solved, solved.w == 1.0);
+    }
+    if n_obj.w == 0.0 {
+        centres[k] = r;
+        return;
+    }
+    let nw = try_normalize((params.normal_world_from_object * vec4<f32>(n_obj.xyz, 0.0)).xyz);
+    if nw.w == 0.0 {
+        centres[k] = r;
+        return;
+    }
+    let m = params.world_from_object;
+    let lin = mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz);
+    var dmax = any_orthonormal(nw.xyz);
+    var curv = vec2<f32>(0.0);
+    if axes.ok {
+        let d = lin * axes.dir_kappa_max;
+        let dt = try_normalize(d - nw.xyz * dot(nw.xyz, d));
+        dmax = select(dmax, dt.xyz, dt.w == 1.0);
+        curv = vec2<f32>(axes.kappa_max, axes.kappa_min);
+    }
+    r.position_object = vec4<f32>(p, 1.0);
+    r.position_world = vec4<f32>((m * vec4<f32>(p, 1.0)).xyz, 1.0);
+    r.normal_object = vec4<f32>(n_obj.xyz, 0.0);
+    r.normal_world = vec4<f32>(nw.xyz, 0.0);
+    r.dir_kappa_max = vec4<f32>(dmax, 0.0);
+    r.curvature = vec4<f32>(curv * params.inv_scale, 0.0, 0.0);
+    centres[k] = r;
 }

@@ -58,6 +58,7 @@ fn the_gpu_search_finds_the_cpu_centres() {
     let meshes = meshes();
     let mut frame = FrameId(1);
     let (mut total, mut worst_all, mut merged_pairs) = (0, 0.0f32, 0);
+    let mut worst_gap = CentreGap::default();
     // Clusters solved and tested under directional lights (where the cluster rejection
     // applies under any transform).
     let (mut solved_clusters, mut tested_clusters) = (0, 0);
@@ -72,17 +73,23 @@ fn the_gpu_search_finds_the_cpu_centres() {
             assert!(solved.complete(), "{name} frame {k}: list overflowed");
             let gpu = set.search().centres_from_solutions(&solved.faces, world);
             // The GPU's own merge (`cs_merge`) keeps the very entries the CPU's merge of
-            // the same list keeps, in its order.
+            // the same list keeps, in its order, and its centres (`cs_centres`) are the
+            // CPU's at those points.
             let merged = solved.centres.as_ref().expect("merged on the GPU");
             let key = |c: &HighlightCentre| (c.face, c.alpha, c.beta);
             assert_eq!(
-                merged
-                    .iter()
-                    .map(|s| (s.face, s.alpha, s.beta))
-                    .collect::<Vec<_>>(),
+                merged.iter().map(key).collect::<Vec<_>>(),
                 gpu.iter().map(key).collect::<Vec<_>>(),
                 "{name} frame {k}: the GPU's merge"
             );
+            for (g, c) in merged.iter().zip(&gpu) {
+                let gap = centre_gap(g, c, radius, &set);
+                worst_gap = worst_gap.max(gap);
+                assert!(
+                    gap.le(&CENTRE_BOUNDS),
+                    "{name} frame {k}: a GPU centre off the CPU's at its point: {gap:?}"
+                );
+            }
             merged_pairs += solved.faces.len() - merged.len();
             let worst = farthest(&cpu, &gpu).max(farthest(&gpu, &cpu)) / radius;
             assert!(
@@ -112,7 +119,7 @@ fn the_gpu_search_finds_the_cpu_centres() {
         total >= 40,
         "only {total} centres over every mesh and frame"
     );
-    eprintln!("{merged_pairs} accepted faces merged away on the GPU");
+    eprintln!("{merged_pairs} accepted faces merged away on the GPU; centres within {worst_gap:?}");
     assert!(
         merged_pairs > 0,
         "no frame had a centre found twice to merge"
@@ -349,7 +356,7 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
             .search()
             .centres_from_solutions(&solved.faces, Mat4::IDENTITY);
         let merged = solved.centres.expect("a few centres merge on the GPU");
-        let merged: Vec<_> = merged.iter().map(|s| (s.face, s.alpha, s.beta)).collect();
+        let merged: Vec<_> = merged.iter().map(key).collect();
         assert_eq!(
             merged,
             cpu.iter().map(key).collect::<Vec<_>>(),
@@ -399,7 +406,7 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
         branches[usize::from(cpu.len() > npr_specular::MAX_MERGED)] = true;
         if cpu.len() <= npr_specular::MAX_MERGED {
             let merged = solved.centres.expect("merged on the GPU");
-            let merged: Vec<_> = merged.iter().map(|s| (s.face, s.alpha, s.beta)).collect();
+            let merged: Vec<_> = merged.iter().map(key).collect();
             assert_eq!(merged, cpu.iter().map(key).collect::<Vec<_>>());
         } else {
             assert_eq!(solved.centres, None, "more centres than the merge keeps");
@@ -435,4 +442,78 @@ fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
     mesh.normals = vec![Vec3::Z; mesh.positions.len()];
     mesh.recompute_normals();
     mesh
+}
+
+/// How far a GPU centre is from the CPU's at the same point: position (of the bounding
+/// radius), normal and principal direction (degrees; the direction only where the
+/// principal curvatures differ by 1 % of the mesh's largest |κ|), curvatures (of the
+/// mesh's largest |κ|).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct CentreGap {
+    position: f32,
+    normal_deg: f32,
+    direction_deg: f32,
+    kappa: f32,
+}
+
+impl CentreGap {
+    fn max(self, o: Self) -> Self {
+        Self {
+            position: self.position.max(o.position),
+            normal_deg: self.normal_deg.max(o.normal_deg),
+            direction_deg: self.direction_deg.max(o.direction_deg),
+            kappa: self.kappa.max(o.kappa),
+        }
+    }
+
+    /// Every part within `bound`'s.
+    fn le(&self, bound: &Self) -> bool {
+        self.position <= bound.position
+            && self.normal_deg <= bound.normal_deg
+            && self.direction_deg <= bound.direction_deg
+            && self.kappa <= bound.kappa
+    }
+}
+
+/// The bounds the issue sets the GPU's geometry: 1e-4 of the radius, 0.5°, 1e-3 of the
+/// largest |κ|.
+const CENTRE_BOUNDS: CentreGap = CentreGap {
+    position: 1e-4,
+    normal_deg: 0.5,
+    direction_deg: 0.5,
+    kappa: 1e-3,
+};
+
+fn centre_gap(
+    g: &HighlightCentre,
+    c: &HighlightCentre,
+    radius: f32,
+    set: &HighlightSet,
+) -> CentreGap {
+    let deg = |a: Vec3, b: Vec3| a.dot(b).clamp(-1.0, 1.0).acos().to_degrees();
+    let kmax = set
+        .search()
+        .field_floats()
+        .iter()
+        .filter(|f| f[11] == 1.0)
+        .map(|f| f[3].abs().max(f[7].abs()))
+        .fold(1e-12f32, f32::max);
+    let distinct = (c.kappa_max - c.kappa_min).abs() > 1e-2 * kmax;
+    let position = g
+        .position_world
+        .distance(c.position_world)
+        .max(g.position_object.distance(c.position_object));
+    CentreGap {
+        position: position / radius,
+        normal_deg: deg(g.normal_world, c.normal_world).max(deg(g.normal_object, c.normal_object)),
+        direction_deg: if distinct {
+            deg(g.dir_kappa_max, c.dir_kappa_max)
+        } else {
+            0.0
+        },
+        kappa: (g.kappa_max - c.kappa_max)
+            .abs()
+            .max((g.kappa_min - c.kappa_min).abs())
+            / kmax,
+    }
 }

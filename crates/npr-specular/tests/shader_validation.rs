@@ -28,6 +28,8 @@ fn every_bound_struct_has_a_layout_test() {
         "Projector",
         "SearchParams",
         "SolveVertex",
+        "FieldVertex",
+        "CentreRecord",
         "ClusterRecord",
         "Counter",
         "Dispatch",

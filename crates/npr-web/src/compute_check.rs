@@ -202,14 +202,14 @@ impl ComputeCheck {
         let field = cpu.difference(&self.curvature.decode(bytes));
         let (light_eye, world_from_object) = light_eye();
         let want = self.set.search().find(light_eye, world_from_object);
-        // The centres the GPU merged (`cs_merge`), and the CPU's merge of the same faces,
-        // which they must equal entry for entry.
+        // The centres the GPU merged and computed (`cs_merge`, `cs_centres`), and the
+        // CPU's merge of the same faces, which they must equal entry for entry.
         let search = self.set.search();
         let merged = solutions
             .centres
             .as_deref()
             .ok_or("the search's centres were not merged on the GPU")?;
-        let got = search.centres_at_solutions(merged, world_from_object);
+        let got = merged.to_vec();
         let cpu_merge = search.centres_from_solutions(&solutions.faces, world_from_object);
         let merge_differs = got.len().abs_diff(cpu_merge.len())
             + got

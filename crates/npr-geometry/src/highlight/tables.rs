@@ -106,6 +106,33 @@ impl HighlightSearch {
             .collect()
     }
 
+    /// The curvature field the search interpolates at a centre
+    /// ([`HighlightSearch::centre_at`]), per welded vertex as twelve floats: `(normal,
+    /// kappa_max)`, `(dir_kappa_max, kappa_min)`, `(dir_kappa_min, valid ? 1 : 0)` (the
+    /// layout of `npr-gpu`'s curvature pass output), for a centre computed elsewhere.
+    pub fn field_floats(&self) -> Vec<[f32; 12]> {
+        let f = &self.field;
+        (0..f.len())
+            .map(|v| {
+                let (n, d, e) = (f.normal[v], f.dir_kappa_max[v], f.dir_kappa_min[v]);
+                [
+                    n.x,
+                    n.y,
+                    n.z,
+                    f.kappa_max[v],
+                    d.x,
+                    d.y,
+                    d.z,
+                    f.kappa_min[v],
+                    e.x,
+                    e.y,
+                    e.z,
+                    if f.valid[v] { 1.0 } else { 0.0 },
+                ]
+            })
+            .collect()
+    }
+
     /// The triangles the search solves (welded vertex indices).
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles

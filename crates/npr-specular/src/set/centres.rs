@@ -23,21 +23,20 @@ impl HighlightSet {
         world_from_object: Mat4,
         solutions: &[npr_geometry::FaceSolution],
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, (solutions, false));
+        let centres = self.solution_centres(light_eye, world_from_object, solutions);
         self.update_with(light_eye, world_from_object, centres, None)
     }
 
-    /// [`HighlightSet::update_from_solutions`] on a list merged elsewhere into one face
-    /// per centre (the GPU's, [`crate::SearchSolutions::centres`]), in the order the CPU's
-    /// merge gives: each entry is a centre, none merged again
-    /// ([`HighlightSearch::centres_at_solutions`]).
+    /// [`HighlightSet::update`] on centres found elsewhere (the GPU's, merged and computed
+    /// there: [`crate::SearchSolutions::centres`]) for this light, eye and transform, in
+    /// the order the CPU's merge gives them ([`HighlightSearch::centres_from_solutions`]).
     pub fn update_from_centres(
         &mut self,
         light_eye: LightEye,
         world_from_object: Mat4,
-        centres: &[npr_geometry::FaceSolution],
+        centres: &[HighlightCentre],
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, (centres, true));
+        let centres = given_centres(light_eye, world_from_object, centres);
         self.update_with(light_eye, world_from_object, centres, None)
     }
 
@@ -47,10 +46,10 @@ impl HighlightSet {
         &mut self,
         light_eye: LightEye,
         world_from_object: Mat4,
-        centres: &[npr_geometry::FaceSolution],
+        centres: &[HighlightCentre],
         regions: super::RegionsOnGpu<'_>,
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, (centres, true));
+        let centres = given_centres(light_eye, world_from_object, centres);
         self.update_with(light_eye, world_from_object, centres, Some(regions))
     }
 
@@ -67,7 +66,7 @@ impl HighlightSet {
         solutions: &[npr_geometry::FaceSolution],
         regions: super::RegionsOnGpu<'_>,
     ) -> &[Highlight] {
-        let centres = self.solution_centres(light_eye, world_from_object, (solutions, false));
+        let centres = self.solution_centres(light_eye, world_from_object, solutions);
         self.update_with(light_eye, world_from_object, centres, Some(regions))
     }
 
@@ -83,32 +82,27 @@ impl HighlightSet {
         solved: &crate::SearchSolutions,
         regions: Option<super::RegionsOnGpu<'_>>,
     ) -> &[Highlight] {
-        let list = match &solved.centres {
-            Some(centres) => (centres.as_slice(), true),
-            None => (solved.faces.as_slice(), false),
+        let centres = match &solved.centres {
+            Some(centres) => given_centres(light_eye, world_from_object, centres),
+            None => self.solution_centres(light_eye, world_from_object, &solved.faces),
         };
-        let centres = self.solution_centres(light_eye, world_from_object, list);
         self.update_with(light_eye, world_from_object, centres, regions)
     }
 
-    /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`], or one
-    /// per entry where `merged`) and the time that took, microseconds: none for
-    /// non-finite or zero light/eye input.
+    /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`]) and the
+    /// time the merge took, microseconds: none for non-finite or zero light/eye input.
     fn solution_centres(
         &self,
         light_eye: LightEye,
         world_from_object: Mat4,
-        (solutions, merged): (&[npr_geometry::FaceSolution], bool),
+        solutions: &[npr_geometry::FaceSolution],
     ) -> (Vec<HighlightCentre>, f64) {
         let start = Instant::now();
-        let centres = if !valid_input(light_eye, world_from_object) {
-            Vec::new()
-        } else if merged {
-            self.search
-                .centres_at_solutions(solutions, world_from_object)
-        } else {
+        let centres = if valid_input(light_eye, world_from_object) {
             self.search
                 .centres_from_solutions(solutions, world_from_object)
+        } else {
+            Vec::new()
         };
         (centres, start.elapsed().as_secs_f64() * 1e6)
     }
@@ -134,5 +128,19 @@ impl HighlightSet {
         };
         let search_us = search_start.elapsed().as_secs_f64() * 1e6;
         (centres, search_us)
+    }
+}
+
+/// Centres found elsewhere, as an update takes them (none for non-finite or zero
+/// light/eye input, as the CPU search finds), with no search time of the CPU's own.
+fn given_centres(
+    light_eye: LightEye,
+    world_from_object: Mat4,
+    centres: &[HighlightCentre],
+) -> (Vec<HighlightCentre>, f64) {
+    if valid_input(light_eye, world_from_object) {
+        (centres.to_vec(), 0.0)
+    } else {
+        (Vec::new(), 0.0)
     }
 }

@@ -7,10 +7,11 @@
 //! atomics), and `cs_merge` merges the list into one entry per centre as the CPU search
 //! does ([`HighlightSearch::centres_from_solutions`]: the faces in the CPU's visiting
 //! order, [`HighlightSearch::visit_ranks`], the deeper of two solutions within
-//! [`HighlightSearch::merge_distance`] kept). Only the lists are read back: at most
-//! [`SearchObject::capacity`] accepted faces and [`MAX_MERGED`] centres of 16 bytes,
-//! never a mesh-sized buffer. [`crate::HighlightSet::update_from_centres`] runs the rest
-//! of the frame's highlight work on the merged list
+//! [`HighlightSearch::merge_distance`] kept), and `cs_centres` computes each kept centre
+//! as [`HighlightSearch::centre_at`] does. Only the lists are read back: at most
+//! [`SearchObject::capacity`] accepted faces of 16 bytes and [`MAX_MERGED`] centres of
+//! 112, never a mesh-sized buffer. [`crate::HighlightSet::update_from_centres`] runs the
+//! rest of the frame's highlight work on the centres
 //! ([`crate::HighlightSet::update_from_solutions`] merges the accepted faces on the CPU).
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
@@ -34,7 +35,7 @@
 //! where the CPU's runs in `f64`; the shader's header says which tolerances change.
 
 use glam::Mat4;
-use npr_geometry::{FaceSolution, HighlightSearch, LightEye, SolveFrame, SolveHalfVector};
+use npr_geometry::{FaceSolution, HighlightSearch, LightEye};
 use npr_gpu::compute::{
     buffer_init, check_bindings, dispatch_size, group_entry, layout_entry, pipeline, pipeline_over,
     storage_layout_entry,
@@ -43,6 +44,12 @@ use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 
 use crate::SpecularError;
 use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
+
+mod readback;
+mod tables;
+pub use readback::PendingSolutions;
+use readback::{slot_records, solution_entries};
+use tables::{Params, field_records, ordered_triangles, params_of, vertex_records};
 
 /// Accepted faces one frame keeps by default: far more than a frame has highlights
 /// (each centre is found by one to six faces), at 16 bytes each.
@@ -66,6 +73,10 @@ pub struct CentreSearchPass {
     pipeline: wgpu::ComputePipeline,
     /// `cs_merge`: group 0 only, one workgroup.
     merge_pipeline: wgpu::ComputePipeline,
+    /// `cs_centres`: group 0's tables, list and params ([`centres_layouts`]'s first),
+    /// and group 1's field and records (its second).
+    centres_pipeline: wgpu::ComputePipeline,
+    centres_layouts: [wgpu::BindGroupLayout; 2],
     layout: wgpu::BindGroupLayout,
     dispatch_layout: wgpu::BindGroupLayout,
     /// Workgroups a row of `cs_search`'s indirect dispatch holds: the device's
@@ -103,6 +114,9 @@ pub struct SearchObject {
     /// One [`search_clusters::ClusterRecord`] per workgroup of faces, for the pose of
     /// `search_id`.
     clusters: wgpu::Buffer,
+    /// The curvature field the centres interpolate ([`HighlightSearch::field_floats`]),
+    /// for the pose of `search_id`.
+    field: wgpu::Buffer,
     slots: Slots<Slot>,
 }
 
@@ -120,6 +134,9 @@ struct Slot {
     readback: wgpu::Buffer,
     group: wgpu::BindGroup,
     dispatch_group: wgpu::BindGroup,
+    /// `cs_centres`'s output, [`MAX_MERGED`] records, and its two groups.
+    records: wgpu::Buffer,
+    centres_groups: [wgpu::BindGroup; 2],
     /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
     active: bool,
 }
@@ -136,11 +153,11 @@ pub struct SearchSolutions {
     /// search solved; the others' normal cones could not hold `N = H` and were skipped
     /// whole ([`SearchObject::cluster_count`] in all).
     pub clusters_solved: usize,
-    /// The accepted faces merged on the GPU into one per centre, in the order
-    /// [`HighlightSearch::centres_from_solutions`] gives them (for
+    /// The centres, merged and computed on the GPU (`cs_merge`, `cs_centres`): those
+    /// [`HighlightSearch::centres_from_solutions`] gives for `faces`, in its order (for
     /// [`crate::HighlightSet::update_from_centres`]); `None` when the list overflowed or
     /// held more than [`MAX_MERGED`] centres (then merge `faces` on the CPU).
-    pub centres: Option<Vec<FaceSolution>>,
+    pub centres: Option<Vec<npr_geometry::HighlightCentre>>,
 }
 
 impl SearchSolutions {
@@ -148,106 +165,6 @@ impl SearchSolutions {
     pub fn complete(&self) -> bool {
         self.accepted == self.faces.len()
     }
-}
-
-/// `SearchParams` of `centre_search.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    world_from_object: [[f32; 4]; 4],
-    object_from_world_normal: [[f32; 4]; 4],
-    light: [f32; 4],
-    eye: [f32; 4],
-    half_vector: [f32; 4],
-    kind: u32,
-    curved: u32,
-    face_count: u32,
-    capacity: u32,
-    angle_margin: f32,
-    max_groups: u32,
-    merge_distance: f32,
-    _pad: u32,
-}
-
-/// `SolveVertex` of `centre_search.wgsl`: 20 floats.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct VertexRecord {
-    position: [f32; 4],
-    normal: [f32; 4],
-    shape_x: [f32; 4],
-    shape_y: [f32; 4],
-    shape_z: [f32; 4],
-}
-
-fn vertex_records(solve_vertices: &[npr_geometry::SolveVertex]) -> Vec<VertexRecord> {
-    solve_vertices
-        .iter()
-        .map(|v| VertexRecord {
-            position: v.position,
-            normal: v.normal,
-            shape_x: v.shape[0],
-            shape_y: v.shape[1],
-            shape_z: v.shape[2],
-        })
-        .collect()
-}
-
-/// The search's triangles in `order`, each with its cone test's slack (`margins`, per
-/// face; in `w` as bits).
-fn ordered_triangles(search: &HighlightSearch, margins: &[f32], order: &[u32]) -> Vec<[u32; 4]> {
-    order
-        .iter()
-        .map(|&f| {
-            let t = search.triangles()[f as usize];
-            let m = margins.get(f as usize).copied().unwrap_or(2.0);
-            [t[0], t[1], t[2], m.to_bits()]
-        })
-        .collect()
-}
-
-fn params_of(
-    frame: Option<SolveFrame>,
-    (faces, capacity): (usize, usize),
-    max_groups: u32,
-    merge_distance: f32,
-) -> Params {
-    let four = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
-    let mut p = Params {
-        face_count: faces as u32,
-        capacity: capacity as u32,
-        angle_margin: HighlightSearch::angle_margin(),
-        max_groups,
-        merge_distance,
-        ..Params::default()
-    };
-    let Some(frame) = frame else {
-        return p;
-    };
-    p.curved = u32::from(frame.curved);
-    match frame.half_vector {
-        SolveHalfVector::Constant(h) => {
-            p.kind = 0;
-            p.half_vector = four(h);
-        }
-        SolveHalfVector::ObjectPositions { light, eye } => {
-            p.kind = 1;
-            (p.light, p.eye) = (four(light), four(eye));
-        }
-        SolveHalfVector::WorldPositions {
-            light,
-            eye,
-            world_from_object,
-            object_from_world_normal,
-        } => {
-            p.kind = 2;
-            (p.light, p.eye) = (four(light), four(eye));
-            p.world_from_object = world_from_object.to_cols_array_2d();
-            p.object_from_world_normal =
-                Mat4::from_mat3(object_from_world_normal).to_cols_array_2d();
-        }
-    }
-    p
 }
 
 impl CentreSearchPass {
@@ -266,6 +183,23 @@ impl CentreSearchPass {
             label: Some("npr centre search dispatch"),
             entries: &[storage_layout_entry(0, false)],
         });
+        // `cs_centres` reads group 0's vertices, triangles, counter, list and params
+        // (writing none), and group 1's field; it writes group 1's records.
+        let mut tables: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
+        tables.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
+        let centres_layouts = [
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("npr centre search centres tables"),
+                entries: &tables,
+            }),
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("npr centre search centres"),
+                entries: &[
+                    storage_layout_entry(1, true),
+                    storage_layout_entry(2, false),
+                ],
+            }),
+        ];
         Self {
             id: PassId::fresh(),
             device: device.clone(),
@@ -277,6 +211,13 @@ impl CentreSearchPass {
             ),
             pipeline: pipeline(device, &module, &layout, "cs_search"),
             merge_pipeline: pipeline(device, &module, &layout, "cs_merge"),
+            centres_pipeline: pipeline_over(
+                device,
+                &module,
+                &[&centres_layouts[0], &centres_layouts[1]],
+                "cs_centres",
+            ),
+            centres_layouts,
             layout,
             dispatch_layout,
             row: device.limits().max_compute_workgroups_per_dimension,
@@ -333,6 +274,7 @@ impl CentreSearchPass {
                     "search clusters",
                     (clusters.len() * std::mem::size_of::<ClusterRecord>()) as u64,
                 ),
+                ("search field", (records.len() * 48) as u64),
             ],
             device.limits().max_storage_buffer_binding_size,
         )?;
@@ -346,6 +288,7 @@ impl CentreSearchPass {
             triangles: buffer_init(device, "npr search triangles", &triangles, usage),
             order: buffer_init(device, "npr search order", &order, usage),
             clusters: buffer_init(device, "npr search clusters", &clusters, usage),
+            field: buffer_init(device, "npr search field", &field_records(search), usage),
             face_order,
             slots: Slots::new(self.id),
         })
@@ -396,6 +339,10 @@ impl CentreSearchPass {
                 if !clusters.is_empty() {
                     queue.write_buffer(&object.clusters, 0, bytemuck::cast_slice(&clusters));
                 }
+                let field = field_records(search);
+                if field.len() == object.vertex_count {
+                    queue.write_buffer(&object.field, 0, bytemuck::cast_slice(&field));
+                }
             }
             object.search_id = search.id();
         }
@@ -404,7 +351,7 @@ impl CentreSearchPass {
             frame,
             (object.faces, object.capacity),
             self.row,
-            search.merge_distance(),
+            (search, input.world_from_object),
         );
         let (device, layout) = (&self.device, &self.layout);
         let tables = [
@@ -412,11 +359,19 @@ impl CentreSearchPass {
             &object.triangles,
             &object.order,
             &object.clusters,
+            &object.field,
         ];
         let sizes = (object.capacity, object.faces.div_ceil(CLUSTER_FACES));
         let dispatch_layout = &self.dispatch_layout;
+        let centres_layouts = [&self.centres_layouts[0], &self.centres_layouts[1]];
         let (prepared, slot) = object.slots.next(self.id, input.frame, || {
-            make_slot(device, [layout, dispatch_layout], tables, sizes)
+            make_slot(
+                device,
+                [layout, dispatch_layout],
+                centres_layouts,
+                tables,
+                sizes,
+            )
         })?;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
@@ -486,20 +441,24 @@ impl CentreSearchPass {
             pass.dispatch_workgroups_indirect(&slot.dispatch, 0);
             pass.set_pipeline(&self.merge_pipeline);
             pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.centres_pipeline);
+            pass.set_bind_group(0, &slot.centres_groups[0], &[]);
+            pass.set_bind_group(1, &slot.centres_groups[1], &[]);
+            pass.dispatch_workgroups(MAX_MERGED.div_ceil(64) as u32, 1, 1);
         }
         // The header: faces accepted, clusters listed (`Dispatch::count`), centres
-        // merged; then the accepted faces and the merged list.
+        // merged; then the accepted faces and the centres' records.
         let entries = object.capacity as u64 * 16;
         encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
         encoder.copy_buffer_to_buffer(&slot.dispatch, 12, &slot.readback, 4, 4);
         encoder.copy_buffer_to_buffer(&slot.counter, 4, &slot.readback, 8, 4);
         encoder.copy_buffer_to_buffer(&slot.solutions, 0, &slot.readback, 16, entries);
         encoder.copy_buffer_to_buffer(
-            &slot.solutions,
-            3 * entries,
+            &slot.records,
+            0,
             &slot.readback,
             16 + entries,
-            MAX_MERGED as u64 * 16,
+            slot.records.size(),
         );
         Ok(())
     }
@@ -508,7 +467,8 @@ impl CentreSearchPass {
 fn make_slot(
     device: &wgpu::Device,
     [layout, dispatch_layout]: [&wgpu::BindGroupLayout; 2],
-    [vertices, triangles, order, clusters]: [&wgpu::Buffer; 4],
+    centres_layouts: [&wgpu::BindGroupLayout; 2],
+    [vertices, triangles, order, clusters, field]: [&wgpu::Buffer; 5],
     (capacity, cluster_count): (usize, usize),
 ) -> Slot {
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
@@ -544,7 +504,7 @@ fn make_slot(
     );
     let readback = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("npr search readback"),
-        size: 16 + (capacity + MAX_MERGED) as u64 * 16,
+        size: readback::readback_bytes(capacity),
         usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
         mapped_at_creation: false,
     });
@@ -567,6 +527,30 @@ fn make_slot(
         layout: dispatch_layout,
         entries: &[group_entry(0, &dispatch)],
     });
+    let records = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("npr search centres"),
+        size: (readback::CENTRE_RECORD_BYTES * MAX_MERGED) as u64,
+        usage: storage,
+        mapped_at_creation: false,
+    });
+    let centres_groups = [
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr centre search centres tables"),
+            layout: centres_layouts[0],
+            entries: &[
+                group_entry(0, vertices),
+                group_entry(1, triangles),
+                group_entry(2, &counter),
+                group_entry(3, &solutions),
+                group_entry(4, &params),
+            ],
+        }),
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr centre search centres"),
+            layout: centres_layouts[1],
+            entries: &[group_entry(1, field), group_entry(2, &records)],
+        }),
+    ];
     Slot {
         params,
         counter,
@@ -576,6 +560,8 @@ fn make_slot(
         readback,
         group,
         dispatch_group,
+        records,
+        centres_groups,
         active: false,
     }
 }
@@ -633,183 +619,5 @@ impl SearchObject {
     }
 }
 
-/// A search's list on its way to the CPU ([`SearchObject::map`]).
-#[derive(Debug)]
-pub struct PendingSolutions {
-    map: npr_gpu::BufferReadback,
-    capacity: usize,
-}
-
-impl PendingSolutions {
-    /// The accepted faces once the map has completed; `None` while it has not.
-    pub fn try_take(&self) -> Option<Result<SearchSolutions, npr_gpu::GpuError>> {
-        Some(self.map.try_take()?.map(|b| decode(&b, self.capacity)))
-    }
-
-    /// Blocks until the map has completed (native: polls `device`) and decodes the list.
-    ///
-    /// # Errors
-    /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
-    pub fn wait(self, device: &wgpu::Device) -> Result<SearchSolutions, npr_gpu::GpuError> {
-        let capacity = self.capacity;
-        Ok(decode(&self.map.wait(device)?, capacity))
-    }
-}
-
-/// Entries of the solutions buffer: the list, `cs_merge`'s ranks and ordered copy, and
-/// the merged list (`solutions` of `centre_search.wgsl`).
-fn solution_entries(capacity: usize) -> usize {
-    3 * capacity + MAX_MERGED
-}
-
-/// Per visiting slot, its face and that face's place in the CPU's merge order (`order`
-/// of `centre_search.wgsl`).
-fn slot_records(face_order: &[u32], ranks: &[u32]) -> Vec<[u32; 2]> {
-    face_order
-        .iter()
-        .map(|&f| [f, ranks.get(f as usize).copied().unwrap_or(u32::MAX)])
-        .collect()
-}
-
-/// The counters (accepted faces, clusters solved, centres merged), the `capacity`
-/// accepted faces after the 16-byte header, then the [`MAX_MERGED`] merged ones.
-fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
-    let word = |i: usize| {
-        bytes
-            .get(4 * i..4 * i + 4)
-            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    };
-    let accepted = word(0) as usize;
-    let clusters_solved = word(1) as usize;
-    let merged = word(2);
-    let entry = |at: usize| FaceSolution {
-        face: word(at),
-        alpha: f32::from_bits(word(at + 1)),
-        beta: f32::from_bits(word(at + 2)),
-    };
-    let faces = (0..accepted.min(capacity))
-        .map(|k| entry(4 + 4 * k))
-        .collect();
-    let centres = (accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED)
-        .then(|| {
-            (0..merged as usize)
-                .map(|k| entry(4 + 4 * (capacity + k)))
-                .collect()
-        });
-    SearchSolutions {
-        faces,
-        accepted,
-        clusters_solved,
-        centres,
-    }
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn params_layout_matches_wgsl() {
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            Params,
-            "SearchParams",
-            [
-                world_from_object,
-                object_from_world_normal,
-                light,
-                eye,
-                half_vector,
-                kind,
-                curved,
-                face_count,
-                capacity,
-                angle_margin,
-                max_groups,
-                merge_distance
-            ]
-        );
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            ClusterRecord,
-            "ClusterRecord",
-            [axis, sphere, margin]
-        );
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            VertexRecord,
-            "SolveVertex",
-            [position, normal, shape_x, shape_y, shape_z]
-        );
-    }
-
-    /// More listed clusters than a row of the indirect dispatch holds (over 4.19M faces at
-    /// the default limit) fold into more rows: rows of 3 here, on a torus under a light
-    /// whose highlights fall in several clusters, give the centres of one row.
-    #[test]
-    fn listed_clusters_fold_into_rows() {
-        let Some(ctx) = npr_gpu::testing::context_or_skip("listed_clusters_fold_into_rows") else {
-            return;
-        };
-        let mesh = npr_geometry::generate::torus(1.0, 0.35, 64, 32);
-        let set = crate::HighlightSet::new(&mesh, &npr_geometry::CurvatureOptions::default())
-            .expect("a torus");
-        let light_eye = npr_geometry::LightEye::Directions {
-            to_light: glam::Vec3::new(0.3, 0.8, 0.5).normalize(),
-            to_eye: glam::Vec3::Z,
-        };
-        let search = |row: u32| {
-            let mut pass = CentreSearchPass::new(&ctx.device);
-            pass.row = row;
-            let mut object = pass.create_object(&ctx.device, set.search()).expect("fits");
-            let input = SearchInput {
-                frame: FrameId(1),
-                search: set.search(),
-                light_eye,
-                world_from_object: Mat4::IDENTITY,
-            };
-            let solved = pass
-                .search_now(&ctx.device, &ctx.queue, &mut object, &input)
-                .expect("searched");
-            let mut faces: Vec<u32> = solved.faces.iter().map(|f| f.face).collect();
-            faces.sort_unstable();
-            (faces, solved.clusters_solved)
-        };
-        let (folded, listed) = search(3);
-        let (whole, listed_whole) = search(65_535);
-        assert!(listed > 3, "{listed} clusters listed: fewer than a row");
-        assert_eq!((folded, listed), (whole, listed_whole));
-    }
-
-    #[test]
-    fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
-        let list = [(7u32, 0.25f32, 0.5f32), (9, 0.1, 0.2)];
-        // Header (accepted, clusters, merged), `capacity` entries, then the merged list.
-        let bytes = |accepted: u32, merged: u32, capacity: usize| {
-            let mut b = Vec::new();
-            for w in [accepted, 5, merged, 0] {
-                b.extend_from_slice(&w.to_le_bytes());
-            }
-            for k in 0..capacity + MAX_MERGED {
-                let (face, a, c) = list[k % 2];
-                let face = if k < capacity { face } else { face + 100 };
-                for w in [face, a.to_bits(), c.to_bits(), 0] {
-                    b.extend_from_slice(&w.to_le_bytes());
-                }
-            }
-            b
-        };
-        let s = decode(&bytes(3, 1, 2), 2);
-        assert_eq!((s.accepted, s.clusters_solved), (3, 5));
-        assert!(!s.complete());
-        assert_eq!(s.centres, None, "an overflowed list is not merged");
-        let whole = |(face, alpha, beta): (u32, f32, f32)| FaceSolution { face, alpha, beta };
-        assert_eq!(s.faces, list.map(whole).to_vec());
-        let s = decode(&bytes(2, 1, 2), 2);
-        assert!(s.complete());
-        assert_eq!(s.centres, Some(vec![whole((107, 0.25, 0.5))]));
-        let s = decode(&bytes(2, NO_MERGE, 2), 2);
-        assert_eq!(s.centres, None, "more centres than the merge keeps");
-        assert!(decode(&bytes(0, 0, 0)[..16], 0).faces.is_empty());
-    }
-}
+mod tests;
