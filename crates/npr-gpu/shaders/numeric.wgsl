@@ -29,3 +29,13 @@ fn atan2_reduced(y: f32, x: f32) -> f32 {
     }
     return select(a, -a, y < 0.0);
 }
+
+// glam's `Vec3::try_normalize`: the unit vector, w = 1, or w = 0 where the length's
+// reciprocal is not finite and positive.
+fn try_normalize(v: vec3<f32>) -> vec4<f32> {
+    let r = 1.0 / length(v);
+    if !finite(r) || r <= 0.0 {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(v * r, 1.0);
+}

@@ -22,7 +22,7 @@ pub const OUTLINE: &str = include_str!("../shaders/outline.wgsl");
 /// Posing: morph targets and linear blend skinning into the mesh's vertex buffer, and
 /// the posed area-weighted normals (compute).
 pub const POSING: &str = include_str!("../shaders/posing.wgsl");
-/// Numeric helpers the compute shaders share (`finite`, `atan2_reduced`).
+/// Numeric helpers the compute shaders share (`finite`, `atan2_reduced`, `try_normalize`).
 pub const NUMERIC: &str = include_str!("../shaders/numeric.wgsl");
 /// Curvature: the per-vertex tensor of Lee & Choi Eq. (1) (corrected form), principal
 /// curvatures and directions (compute).

@@ -133,7 +133,7 @@ const RESIDUAL_FLOOR: f32 = 1e-7;
 const JACOBIAN_TOLERANCE: f32 = 1e-7;
 const STEP_FLOOR: f32 = 1e-7;
 
-// `finite` is in npr-gpu's `numeric.wgsl`, composed before this file.
+// `finite` and `try_normalize` are in npr-gpu's `numeric.wgsl`, composed before this file.
 
 fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
@@ -541,33 +541,9 @@ struct FieldVertex {
     dir_min_valid: vec4<f32>,
 }
 
-// One merged centre (`npr_geometry::HighlightCentre`): w of `position_object` is 1 where
-// the CPU would have one (`HighlightSearch::centre_at`), 0 where not.
-struct CentreRecord {
-    position_object: vec4<f32>,
-    position_world: vec4<f32>,
-    normal_object: vec4<f32>,
-    normal_world: vec4<f32>,
-    dir_kappa_max: vec4<f32>,
-    // (κmax, κmin) in 1/world unit.
-    curvature: vec4<f32>,
-    // (face, α and β as bits, 0).
-    solution: vec4<u32>,
-}
-
 // `cs_centres` only, beside group 0's tables.
 @group(1) @binding(1) var<storage, read> centre_field: array<FieldVertex>;
 @group(1) @binding(2) var<storage, read_write> centres: array<CentreRecord>;
-
-// glam's `Vec3::try_normalize`: the unit vector, w = 1, or w = 0 where the length's
-// reciprocal is not finite and positive.
-fn try_normalize(v: vec3<f32>) -> vec4<f32> {
-    let r = 1.0 / length(v);
-    if !finite(r) || r <= 0.0 {
-        return vec4<f32>(0.0);
-    }
-    return vec4<f32>(v * r, 1.0);
-}
 
 // glam's `Vec3::any_orthonormal_vector` (Duff et al.'s branchless basis): sign of z as
 // Rust's `signum`, which is −1 for −0.

@@ -19,34 +19,6 @@
 // bins in fixed point, integer atomics). Nothing mesh-sized is read back: one `RegionFit`
 // per seed.
 
-// Frame-wide values.
-struct RegionParams {
-    world_from_object: mat4x4<f32>,
-    // M⁻ᵀ, the object's normal map (upper 3×3 in the columns' xyz).
-    normal_from_object: mat4x4<f32>,
-    // xyz: the light's position (w = 1) or the direction towards it (w = 0).
-    light: vec4<f32>,
-    // xyz: the eye's position or the direction towards it.
-    eye: vec4<f32>,
-    seed_count: u32,
-    face_count: u32,
-    // Visited words per face: one bit per seed.
-    words: u32,
-    // Queue entries per seed; faces past it are dropped and the seed marked overflowed.
-    capacity: u32,
-}
-
-// One seed (`grow::Part`): its centre (world; w: σ), its projector frame (the axis n,
-// w: 1 when the centre has a frame; e_u = e_max, e_v = e_min), its start face (x; y: 1
-// when an earlier seed starts on the same face, so it is covered).
-struct Seed {
-    origin: vec4<f32>,
-    n: vec4<f32>,
-    e_u: vec4<f32>,
-    e_v: vec4<f32>,
-    start: vec4<u32>,
-}
-
 // One welded vertex: object-space position and the unit normal the regions use.
 struct RegionVertex {
     position: vec4<f32>,
@@ -80,14 +52,6 @@ struct RegionFit {
 struct RegionPiece {
     ellipse: vec4<f32>,
     fit: vec4<f32>,
-}
-
-// The frame's values and seeds. A storage buffer, not a uniform one: lavapipe inlines
-// a uniform buffer's values into the shader and compiles it again whenever they change,
-// which the object's transform does every frame of a moving model (0.4–0.65 s a frame).
-struct RegionFrameData {
-    params: RegionParams,
-    seeds: array<Seed>,
 }
 
 @group(0) @binding(0) var<storage, read> frame_data: RegionFrameData;

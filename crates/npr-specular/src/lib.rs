@@ -28,6 +28,7 @@ pub mod region_pass;
 mod search_clusters;
 pub mod search_pass;
 pub mod set;
+pub mod setup_gpu;
 pub mod shaders;
 #[cfg(any(test, feature = "test-support"))]
 pub mod snapshot;
@@ -47,8 +48,9 @@ pub use receiver_pass::{
 };
 pub use region::Footprint;
 pub use region_pass::{
-    DEFAULT_REGION_CAPACITY, GpuRegion, MAX_REGION_SEEDS, PendingRegions, RegionInput,
-    RegionObject, RegionPass,
+    DEFAULT_REGION_CAPACITY, GpuRegion, MAX_REGION_SEEDS, MAX_TRACKED, PendingRegions,
+    PendingTracked, RegionInput, RegionObject, RegionPass, TRACKED_SEEDS, TrackStatus,
+    TrackedInput, TrackedRegions, TrackedSeed,
 };
 pub use search_pass::{
     CentreSearchPass, MAX_MERGED, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
@@ -57,4 +59,5 @@ pub use set::{
     DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,
     RegionsOnGpu, UpdateStats,
 };
+pub use setup_gpu::SetupOnGpu;
 pub use textures::HighlightShape;

@@ -5,6 +5,27 @@
 
 use npr_gpu::shaders::{COMMON, NUMERIC, ShaderFile};
 
+/// `CentreRecord`, one centre as the GPU search computes it: composed before the search
+/// and the tracking.
+const CENTRE_RECORD_WGSL: &str = include_str!("../shaders/centre_record.wgsl");
+/// `RegionFrameData`, the region growth's values and seeds: composed before the growth
+/// and the tracking.
+const REGION_FRAME_WGSL: &str = include_str!("../shaders/region_frame.wgsl");
+
+/// `centre_record.wgsl` itself (structs only, validated alone).
+pub const CENTRE_RECORD: ShaderFile = ShaderFile {
+    name: "centre_record.wgsl",
+    source: CENTRE_RECORD_WGSL,
+    prelude: &[],
+};
+
+/// `region_frame.wgsl` itself (structs only, validated alone).
+pub const REGION_FRAME: ShaderFile = ShaderFile {
+    name: "region_frame.wgsl",
+    source: REGION_FRAME_WGSL,
+    prelude: &[],
+};
+
 /// The highlight pass (Eq. (9), §5), after `common.wgsl`.
 pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
     name: "specular_highlight.wgsl",
@@ -13,11 +34,11 @@ pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
 };
 
 /// The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass, one face per invocation,
-/// after `numeric.wgsl`.
+/// its merge and its centres, after `numeric.wgsl` and `centre_record.wgsl`.
 pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
     name: "centre_search.wgsl",
     source: include_str!("../shaders/centre_search.wgsl"),
-    prelude: &[NUMERIC],
+    prelude: &[NUMERIC, CENTRE_RECORD_WGSL],
 };
 
 /// The §4.2 receivers as a compute pass, one workgroup per highlight's walk (no shared
@@ -29,12 +50,29 @@ pub const RECEIVERS: ShaderFile = ShaderFile {
 };
 
 /// The regions `N·H ≥ σ` grown and fitted with their moment ellipses as a compute pass,
-/// one workgroup per seed, after `numeric.wgsl`.
+/// one workgroup per seed, after `numeric.wgsl` and `region_frame.wgsl`.
 pub const REGIONS: ShaderFile = ShaderFile {
     name: "regions.wgsl",
     source: include_str!("../shaders/regions.wgsl"),
-    prelude: &[NUMERIC],
+    prelude: &[NUMERIC, REGION_FRAME_WGSL],
+};
+
+/// The search's centres matched with the last update's highlights and written as the
+/// region growth's seeds on the GPU, after `numeric.wgsl`, `centre_record.wgsl` and
+/// `region_frame.wgsl`.
+pub const TRACKING: ShaderFile = ShaderFile {
+    name: "tracking.wgsl",
+    source: include_str!("../shaders/tracking.wgsl"),
+    prelude: &[NUMERIC, CENTRE_RECORD_WGSL, REGION_FRAME_WGSL],
 };
 
 /// Every shader file of this crate.
-pub const ALL: &[ShaderFile] = &[SPECULAR_HIGHLIGHT, CENTRE_SEARCH, RECEIVERS, REGIONS];
+pub const ALL: &[ShaderFile] = &[
+    SPECULAR_HIGHLIGHT,
+    CENTRE_SEARCH,
+    RECEIVERS,
+    REGIONS,
+    TRACKING,
+    CENTRE_RECORD,
+    REGION_FRAME,
+];

@@ -378,7 +378,7 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
     };
     let mut branches = [false; 2];
     for periods in [5, 13] {
-        let crate_mesh = egg_crate(periods, 8);
+        let crate_mesh = common::egg_crate(periods, 8);
         let set = HighlightSet::with_abstraction(&crate_mesh, &options, 0.0).unwrap();
         let mut object = pass
             .create_object_with_capacity(&ctx.device, set.search(), 1 << 13)
@@ -416,32 +416,6 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
         branches, [true; 2],
         "one field under the merge's limit, one over"
     );
-}
-
-/// `z = 0.3 sin(x) sin(y)` over `periods` periods a side, `per` quads a period.
-fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
-    let n = periods * per;
-    let step = std::f32::consts::TAU / per as f32;
-    let mut mesh = npr_geometry::Mesh::default();
-    for j in 0..=n {
-        for i in 0..=n {
-            // Half a step off, so no crest or saddle sits on a vertex.
-            let (x, y) = ((i as f32 + 0.37) * step, (j as f32 + 0.29) * step);
-            mesh.positions
-                .push(Vec3::new(x, y, 0.3 * x.sin() * y.sin()));
-            mesh.uvs.push(glam::Vec2::ZERO);
-        }
-    }
-    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
-    for j in 0..n {
-        for i in 0..n {
-            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-            mesh.indices.extend([a, b, c, a, c, d]);
-        }
-    }
-    mesh.normals = vec![Vec3::Z; mesh.positions.len()];
-    mesh.recompute_normals();
-    mesh
 }
 
 /// How far a GPU centre is from the CPU's at the same point: position (of the bounding

@@ -41,6 +41,7 @@ fn every_bound_struct_has_a_layout_test() {
         "RegionVertex",
         "RegionFace",
         "RegionFit",
+        "TrackData",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

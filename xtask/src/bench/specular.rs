@@ -12,16 +12,20 @@
 //! glTF).
 //!
 //! Each mesh has two rows from the same run, told apart by `setup`: `"cpu"` (the `N = H`
-//! search on the CPU, `HighlightSet::update`) and `"gpu"` (the search as a compute pass,
-//! `npr_specular::CentreSearchPass`, its compact list read back and the rest of the update
-//! run on it, `HighlightSet::update_from_solutions_and_regions`, with the regions grown
-//! and fitted by `npr_specular::RegionPass`, in a submission of their own, and the §4.2
-//! receivers, which `npr_specular::ReceiverPass` walks in the frame's own submission and
-//! the highlight pass draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
-//! frame's start to its submit, matching included (for the `gpu` row: the search's
-//! prepare, record, submit and the wait for its list, which on a software adapter is CPU
-//! work too); the `gpu` row's GPU frame includes the walk. Its receiver count is read
-//! back after the timed frame. The one-core columns are the CPU path's.
+//! search on the CPU, `HighlightSet::update`) and `"gpu"` (`npr_specular::SetupOnGpu`: the
+//! search as a compute pass, its centres merged and computed there, and the regions
+//! grown and fitted by `npr_specular::RegionPass` from seeds the GPU matched, in the same
+//! submission; the rest of the update on what comes back, a frame whose seeds hold a
+//! peak grown again in a second submission; and the §4.2 receivers, which
+//! `npr_specular::ReceiverPass` walks in the frame's own submission and the highlight pass
+//! draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
+//! frame's start to its submit, matching included (for the `gpu` row: the passes'
+//! prepare, record, submit and the wait for their results, which on a software adapter
+//! is CPU work too); the `gpu` row's GPU frame includes the walk, its `search_us_median`
+//! the submission and its wait (the setup less the update's own regions, peaks and
+//! visibility), and `gpu_waits_mean` the submissions a frame's setup waited on (1, or 2
+//! with a peak). Its receiver count is read back after the timed frame. The one-core
+//! columns are the CPU path's.
 //!
 //! A second table, from the same run, times the regions `N·H ≥ σ` of each frame's centres
 //! grown on the CPU and as a compute pass (`npr_specular::RegionPass`): see `regions.rs`.
@@ -29,12 +33,13 @@
 mod regions;
 
 use super::table::{Cell, Table, emit};
+use anyhow::Context as _;
 use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use npr_specular::{CentreSearchPass, HighlightSet, ReceiverPass};
+use npr_specular::{HighlightSet, ReceiverPass, SetupOnGpu};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -94,6 +99,13 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(f, 3),
                 Cell::Num(w / b, 3),
                 Cell::Num(f / b, 3),
+                match setup {
+                    Setup::Cpu => Cell::Empty,
+                    Setup::Gpu => Cell::Num(
+                        gpu.waits.iter().sum::<usize>() as f64 / gpu.waits.len().max(1) as f64,
+                        2,
+                    ),
+                },
                 adapter.as_str().into(),
             ]);
         }
@@ -106,7 +118,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
 enum Setup {
     /// `HighlightSet::update`.
     Cpu,
-    /// `CentreSearchPass`, then `HighlightSet::update_from_solutions`.
+    /// `SetupOnGpu`: the search and the regions in one submission.
     Gpu,
 }
 
@@ -172,6 +184,7 @@ fn new_table(adapter: &str) -> Table {
             "frame_with_setup_ms_median",
             "highlight_cost_ratio_gpu",
             "highlight_cost_ratio_frame",
+            "gpu_waits_mean",
             "adapter",
         ],
     )
@@ -224,6 +237,8 @@ struct GpuSamples {
     hmin: usize,
     /// Most highlights in a frame.
     hmax: usize,
+    /// Submissions each frame's GPU setup waited on.
+    waits: Vec<usize>,
 }
 
 /// Times the setup and the GPU frame without and with the highlight pass, frame by frame.
@@ -236,21 +251,18 @@ fn measure_gpu(
     (setup, walk_capacity): (Setup, usize),
 ) -> anyhow::Result<GpuSamples> {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-    let search_pass = CentreSearchPass::new(&ctx.device);
     let receiver_pass = ReceiverPass::new(&ctx.device);
-    let region_pass = npr_specular::RegionPass::new(&ctx.device);
-    let (mut search, mut walk, mut regions) = match setup {
+    let (mut on_gpu, mut walk) = match setup {
         Setup::Gpu => (
-            Some(search_pass.create_object(&ctx.device, set.search())?),
+            Some(SetupOnGpu::new(&ctx.device, &set)?),
             Some(receiver_pass.create_object_with_capacity(
                 &ctx.device,
                 &set,
                 &mesh.indices,
                 walk_capacity,
             )?),
-            Some(region_pass.create_object(&ctx.device, &set)?),
         ),
-        Setup::Cpu => (None, None, None),
+        Setup::Cpu => (None, None),
     };
     set.receivers_on_gpu = walk.is_some();
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
@@ -268,41 +280,25 @@ fn measure_gpu(
         longest_walk: 0,
         hmin: usize::MAX,
         hmax: 0,
+        waits: Vec::new(),
     };
     let bar = super::progress(FRAMES as u64 + 3, name);
     for frame in 0..FRAMES + 3 {
         let (world_from_object, le) = view.frame(frame);
         let t = Instant::now();
-        let search_us = match search.as_mut() {
+        let mut waits = 0;
+        let search_us = match on_gpu.as_mut() {
             None => {
                 set.update(le, world_from_object);
                 set.stats().search_us
             }
-            Some(object) => {
-                let faces = gpu_search(
-                    ctx,
-                    &search_pass,
-                    object,
-                    &set,
-                    (le, world_from_object),
-                    frame,
-                )?;
-                let search_us = t.elapsed().as_secs_f64() * 1e6;
-                match regions.as_mut() {
-                    Some(regions) => {
-                        let mut grow = region_pass.grower(
-                            (&ctx.device, &ctx.queue),
-                            regions,
-                            npr_gpu::FrameId(frame as u64),
-                            (le, world_from_object),
-                        );
-                        set.update_from_search(le, world_from_object, &faces, Some(&mut grow));
-                    }
-                    None => {
-                        set.update_from_search(le, world_from_object, &faces, None);
-                    }
-                }
-                search_us + set.stats().search_us
+            Some(on_gpu) => {
+                let frame = (le, world_from_object);
+                waits = on_gpu
+                    .update((&ctx.device, &ctx.queue), &mut set, frame)?
+                    .with_context(|| format!("{name}: the GPU search's list overflowed"))?;
+                let st = set.stats();
+                t.elapsed().as_secs_f64() * 1e6 - st.region_us - st.peaks_us - st.visibility_us
             }
         };
         let setup_us = t.elapsed().as_secs_f64() * 1e6;
@@ -369,37 +365,14 @@ fn measure_gpu(
             out.receivers.push(receivers as f64);
             out.hmin = out.hmin.min(set.highlights().len());
             out.hmax = out.hmax.max(set.highlights().len());
+            if setup == Setup::Gpu {
+                out.waits.push(waits);
+            }
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
     Ok(out)
-}
-
-/// The GPU search of one frame: prepare, record, submit, and its list (an error where it
-/// overflowed).
-fn gpu_search(
-    ctx: &GpuContext,
-    pass: &CentreSearchPass,
-    object: &mut npr_specular::SearchObject,
-    set: &HighlightSet,
-    (light_eye, world_from_object): (LightEye, Mat4),
-    frame: usize,
-) -> anyhow::Result<npr_specular::SearchSolutions> {
-    let input = npr_specular::SearchInput {
-        frame: npr_gpu::FrameId(frame as u64),
-        search: set.search(),
-        light_eye,
-        world_from_object,
-    };
-    let solved = pass.search_now(&ctx.device, &ctx.queue, object, &input)?;
-    anyhow::ensure!(
-        solved.complete(),
-        "the GPU search accepted {} faces, over its list of {}",
-        solved.accepted,
-        object.capacity()
-    );
-    Ok(solved)
 }
 
 /// Times the setup alone on one core, as loaded and in the file's order; µs each.

@@ -11,8 +11,9 @@
 //!
 //! Every score row and every turn is measured twice, told apart by `setup`: `"cpu"`
 //! (`HighlightSet::update`) and `"gpu"` (`npr_specular::fidelity::GpuSetup`: the `N = H`
-//! search as a compute pass, `HighlightSet::update_from_solutions` on its list, and the
-//! §4.2 receivers walked on the GPU and drawn from its stream). The clips run on the CPU.
+//! search and the regions on the GPU in one submission, `npr_specular::SetupOnGpu`, and
+//! the §4.2 receivers walked on the GPU and drawn from its stream). The clips run on the
+//! CPU.
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;

@@ -157,6 +157,7 @@ impl SpecularEffect {
         stats.highlights = st.highlights;
         stats.receivers_on_gpu = walked.is_some();
         stats.regions_on_gpu = st.regions_on_gpu;
+        stats.gpu_waits = self.search.waits();
         stats.receiver_faces = if walked.is_some() {
             gpu_faces
         } else {

@@ -4,26 +4,19 @@
 
 use super::stretch_over;
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
-use crate::{
-    CentreSearchPass, HighlightSet, ReceiverObject, ReceiverPass, RegionObject, RegionPass,
-    SearchInput, SearchObject, SpecularError,
-};
+use crate::{HighlightSet, ReceiverObject, ReceiverPass, SetupOnGpu, SpecularError};
 use glam::Mat4;
 use npr_geometry::LightEye;
 
-/// The GPU setup of the measured frames: the `N = H` search as a compute pass
-/// ([`CentreSearchPass`], its list fed to
-/// [`HighlightSet::update_from_solutions_and_regions`]), the regions grown and fitted by
-/// [`RegionPass`], and the §4.2 receivers walked by [`ReceiverPass`] in each highlight
-/// frame's submission and drawn from their stream. One per set and render mesh.
+/// The GPU setup of the measured frames: the `N = H` search and the regions on the GPU
+/// in one submission ([`SetupOnGpu`]), and the §4.2 receivers walked by [`ReceiverPass`]
+/// in each highlight frame's submission and drawn from their stream. One per set and
+/// render mesh.
 #[derive(Debug)]
 pub struct GpuSetup {
-    search_pass: CentreSearchPass,
-    search: SearchObject,
+    setup: SetupOnGpu,
     walk_pass: ReceiverPass,
     walk: ReceiverObject,
-    region_pass: RegionPass,
-    regions: RegionObject,
     /// The render triangles' face ids, to read the walk's stream back as faces.
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
@@ -40,18 +33,13 @@ impl GpuSetup {
         set: &HighlightSet,
         indices: &[u32],
     ) -> Result<Self, SpecularError> {
-        let search_pass = CentreSearchPass::new(device);
         let walk_pass = ReceiverPass::new(device);
-        let region_pass = RegionPass::new(device);
         // Walks of up to four times the default capacity (the whole mesh where smaller).
         let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
         Ok(Self {
-            search: search_pass.create_object(device, set.search())?,
+            setup: SetupOnGpu::new(device, set)?,
             walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
-            regions: region_pass.create_object(device, set)?,
-            search_pass,
             walk_pass,
-            region_pass,
             face_of: indices
                 .chunks_exact(3)
                 .enumerate()
@@ -62,11 +50,12 @@ impl GpuSetup {
         })
     }
 
-    /// Updates `set` for this light, eye and transform from the GPU search's faces, the
-    /// receivers left to the GPU walk (the CPU search's where the list overflowed).
+    /// Updates `set` for this light, eye and transform on the GPU ([`SetupOnGpu::update`]),
+    /// the receivers left to the GPU walk (the CPU search's where the list overflowed or
+    /// the mesh does not fit).
     ///
     /// # Errors
-    /// The search pass's, or its readback's.
+    /// The passes', or their readbacks'.
     pub fn update(
         &mut self,
         device: &wgpu::Device,
@@ -74,30 +63,9 @@ impl GpuSetup {
         set: &mut HighlightSet,
         (light_eye, world_from_object): (LightEye, Mat4),
     ) -> Result<(), SpecularError> {
-        self.frame = self.frame.next();
-        let input = SearchInput {
-            frame: self.frame,
-            search: set.search(),
-            light_eye,
-            world_from_object,
-        };
-        let solved = self
-            .search_pass
-            .search_now(device, queue, &mut self.search, &input)?;
         set.receivers_on_gpu = true;
-        if solved.complete() {
-            // The regions grown on the GPU too, in a submission of their own once the
-            // matching has ordered the seeds (the CPU grows a frame whose pass fails or
-            // overflows).
-            let mut grow = self.region_pass.grower(
-                (device, queue),
-                &mut self.regions,
-                self.frame,
-                (light_eye, world_from_object),
-            );
-            // The centres merged on the GPU where they fit its merge, else on the CPU.
-            set.update_from_search(light_eye, world_from_object, &solved, Some(&mut grow));
-        } else {
+        let frame = (light_eye, world_from_object);
+        if self.setup.update((device, queue), set, frame)?.is_none() {
             set.update(light_eye, world_from_object);
         }
         Ok(())

@@ -567,6 +567,16 @@ fn make_slot(
 }
 
 impl SearchObject {
+    /// The counter and centre records of `prepared`'s slot, for the tracking that reads
+    /// them in the same submission (`tracking.wgsl`).
+    pub(crate) fn centre_buffers(
+        &self,
+        prepared: &Prepared,
+    ) -> Result<(&wgpu::Buffer, &wgpu::Buffer), SpecularError> {
+        let slot = self.slots.get(self.slots.pass(), prepared)?;
+        Ok((&slot.counter, &slot.records))
+    }
+
     /// Accepted faces a frame keeps.
     pub fn capacity(&self) -> usize {
         self.capacity

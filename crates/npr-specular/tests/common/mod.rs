@@ -87,3 +87,29 @@ pub fn meshes() -> Vec<(&'static str, Mesh)> {
         ("hammer", fixture("hammer.obj")),
     ]
 }
+
+/// `z = 0.3 sin(x) sin(y)` over `periods` periods a side, `per` quads a period.
+pub fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
+    let n = periods * per;
+    let step = std::f32::consts::TAU / per as f32;
+    let mut mesh = npr_geometry::Mesh::default();
+    for j in 0..=n {
+        for i in 0..=n {
+            // Half a step off, so no crest or saddle sits on a vertex.
+            let (x, y) = ((i as f32 + 0.37) * step, (j as f32 + 0.29) * step);
+            mesh.positions
+                .push(Vec3::new(x, y, 0.3 * x.sin() * y.sin()));
+            mesh.uvs.push(glam::Vec2::ZERO);
+        }
+    }
+    let at = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+            mesh.indices.extend([a, b, c, a, c, d]);
+        }
+    }
+    mesh.normals = vec![Vec3::Z; mesh.positions.len()];
+    mesh.recompute_normals();
+    mesh
+}

@@ -27,10 +27,20 @@
 use crate::receiver_pass::{adjacency, storage};
 use crate::region::{Footprint, MAX_PIECES, Region};
 use crate::{HighlightSet, SpecularError};
-use glam::{Mat3, Mat4, Vec2};
+use glam::{Mat3, Mat4};
 use npr_geometry::{HighlightCentre, LightEye};
 use npr_gpu::compute::{buffer_init, check_bindings, group_entry, layout_entry, pipeline};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
+
+mod records;
+mod tracked;
+use records::{
+    FIT_BYTES, PARAMS_BYTES, Params, STORAGE, SeedRecord, decode, face_records, vertex_records,
+};
+pub use tracked::{
+    MAX_TRACKED, PendingTracked, TRACKED_SEEDS, TrackStatus, TrackedInput, TrackedRegions,
+    TrackedSeed,
+};
 
 /// Faces one seed's growth may take by default (its queue's length, 8 bytes a face); a
 /// frame of more seeds than the storage binding limit holds at this length gets shorter
@@ -48,6 +58,9 @@ pub struct RegionPass {
     layout: wgpu::BindGroupLayout,
     grow: wgpu::ComputePipeline,
     fit: wgpu::ComputePipeline,
+    /// `cs_track` of `tracking.wgsl` and its group's layout.
+    track: wgpu::ComputePipeline,
+    track_layout: wgpu::BindGroupLayout,
 }
 
 /// One frame's growth: the set whose mesh and normals the object holds, the seeds
@@ -99,8 +112,10 @@ struct Slot {
     group: Option<wgpu::BindGroup>,
     /// Seeds the buffers have room for.
     room: usize,
-    /// Seeds this frame grows.
+    /// Seeds this frame grows (a frame seeded on the GPU: the most it may).
     count: usize,
+    /// A frame seeded on the GPU ([`RegionPass::prepare_tracked`]).
+    tracked: Option<tracked::TrackedSlot>,
 }
 
 /// One seed's region as the GPU grew and fitted it.
@@ -133,117 +148,6 @@ impl GpuRegion {
     pub fn pieces(&self) -> &[Footprint] {
         &self.pieces[..self.piece_count.min(MAX_PIECES)]
     }
-}
-
-/// `RegionParams` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    world_from_object: [[f32; 4]; 4],
-    normal_from_object: [[f32; 4]; 4],
-    light: [f32; 4],
-    eye: [f32; 4],
-    seed_count: u32,
-    face_count: u32,
-    words: u32,
-    capacity: u32,
-}
-
-/// Bytes of `RegionParams`: the seeds follow them in `RegionFrameData`'s buffer.
-const PARAMS_BYTES: usize = std::mem::size_of::<Params>();
-
-/// `RegionFrameData` of `regions.wgsl` with one seed: the frame's values and the seeds
-/// in one storage buffer (see the shader for why not a uniform buffer).
-#[cfg(test)]
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct FrameData {
-    params: Params,
-    seeds: [SeedRecord; 1],
-}
-
-/// `Seed` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct SeedRecord {
-    origin: [f32; 4],
-    n: [f32; 4],
-    e_u: [f32; 4],
-    e_v: [f32; 4],
-    start: [u32; 4],
-}
-
-/// `RegionVertex` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct VertexRecord {
-    position: [f32; 4],
-    normal: [f32; 4],
-}
-
-/// `RegionFace` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct FaceRecord {
-    tri: [u32; 4],
-    normal: [f32; 4],
-}
-
-/// `RegionPiece` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct PieceRecord {
-    ellipse: [f32; 4],
-    fit: [f32; 4],
-}
-
-/// `RegionFit` of `regions.wgsl`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct FitRecord {
-    moments: [f32; 4],
-    second: [f32; 4],
-    ellipse: [f32; 4],
-    fit: [f32; 4],
-    flags: [u32; 4],
-    piece_count: [u32; 4],
-    pieces: [PieceRecord; MAX_PIECES],
-}
-
-/// Bytes of one seed's `RegionFit`.
-const FIT_BYTES: usize = std::mem::size_of::<FitRecord>();
-
-const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);
-
-fn vertex_records(set: &HighlightSet) -> Vec<VertexRecord> {
-    let normals = set.search().normals();
-    set.topology()
-        .positions
-        .iter()
-        .enumerate()
-        .map(|(v, p)| VertexRecord {
-            position: p.extend(1.0).to_array(),
-            normal: normals
-                .get(v)
-                .copied()
-                .unwrap_or_default()
-                .extend(0.0)
-                .to_array(),
-        })
-        .collect()
-}
-
-fn face_records(set: &HighlightSet) -> Vec<FaceRecord> {
-    let topo = set.topology();
-    (0..topo.face_count())
-        .map(|f| {
-            let t = topo.triangles[f];
-            FaceRecord {
-                tri: [t[0], t[1], t[2], u32::from(topo.is_degenerate(f))],
-                normal: topo.face_normals[f].extend(0.0).to_array(),
-            }
-        })
-        .collect()
 }
 
 /// The seeds' records: a seed whose start face an earlier seed (with a frame) starts on
@@ -312,12 +216,25 @@ impl RegionPass {
             label: Some("npr regions"),
             entries: &entries,
         });
+        let track_module = crate::shaders::TRACKING.module(device);
+        let track_entries: Vec<_> = (0..5)
+            .map(|b| {
+                let read_only = (1..4).contains(&b);
+                layout_entry(b, wgpu::BufferBindingType::Storage { read_only })
+            })
+            .collect();
+        let track_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr region track"),
+            entries: &track_entries,
+        });
         Self {
             id: PassId::fresh(),
             device: device.clone(),
             grow: pipeline(device, &module, &layout, "cs_grow"),
             fit: pipeline(device, &module, &layout, "cs_fit"),
             layout,
+            track: pipeline(device, &track_module, &track_layout, "cs_track"),
+            track_layout,
         }
     }
 
@@ -402,6 +319,58 @@ impl RegionPass {
         object: &mut RegionObject,
         input: &RegionInput<'_>,
     ) -> Result<Prepared, SpecularError> {
+        self.prepare_with(queue, object, input, None)
+    }
+
+    /// [`RegionPass::prepare`] for a frame whose seeds the GPU writes (`tracking.wgsl`)
+    /// from the centres of `input.search`, recorded before this growth in the same
+    /// submission, matched with `input.set`'s last update as its matching does: the
+    /// growth is dispatched over them indirectly, with room for [`TRACKED_SEEDS`]. Read it
+    /// with [`RegionObject::map_tracked`]; an update takes its regions through
+    /// [`TrackedRegions::for_seeds`].
+    ///
+    /// # Errors
+    /// As [`RegionPass::prepare`]; [`SpecularError::Pass`] for a search prepare of
+    /// another pass, object or frame; [`SpecularError::Mismatch`] when the set has more
+    /// than [`MAX_TRACKED`] highlights.
+    pub fn prepare_tracked(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut RegionObject,
+        input: &TrackedInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        let table = tracked::track_data(input.set, input.world_from_object).ok_or_else(|| {
+            SpecularError::Mismatch(format!(
+                "more than {MAX_TRACKED} highlights to match on the GPU"
+            ))
+        })?;
+        let (search, searched) = input.search;
+        if searched.frame() != input.frame {
+            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+                prepared: searched.frame().0,
+                current: input.frame.0,
+            }));
+        }
+        let outputs = search.centre_buffers(searched)?;
+        let cpu_input = RegionInput {
+            frame: input.frame,
+            set: input.set,
+            seeds: &[],
+            light_eye: input.light_eye,
+            world_from_object: input.world_from_object,
+        };
+        self.prepare_with(queue, object, &cpu_input, Some((&table, outputs)))
+    }
+
+    /// [`RegionPass::prepare`], its seeds written by the CPU (`tracked` `None`) or by
+    /// `cs_track` from the table and the search's counter and centres.
+    fn prepare_with(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut RegionObject,
+        input: &RegionInput<'_>,
+        tracked: Option<(&[u8], (&wgpu::Buffer, &wgpu::Buffer))>,
+    ) -> Result<Prepared, SpecularError> {
         object.slots.check_pass(self.id)?;
         let set = input.set;
         let topo = set.topology();
@@ -414,7 +383,11 @@ impl RegionPass {
                 topo.face_count()
             )));
         }
-        let count = input.seeds.len();
+        let count = if tracked.is_some() {
+            TRACKED_SEEDS
+        } else {
+            input.seeds.len()
+        };
         if count > MAX_REGION_SEEDS {
             return Err(SpecularError::Mismatch(format!(
                 "{count} seeds in one frame (at most {MAX_REGION_SEEDS})"
@@ -487,6 +460,9 @@ impl RegionPass {
             ],
         }));
         slot.count = count;
+        slot.tracked = tracked.map(|(table, outputs)| {
+            tracked::tracked_slot(device, &self.track_layout, (&slot.seeds, table), outputs)
+        });
         Ok(prepared)
     }
 
@@ -559,6 +535,29 @@ impl RegionPass {
         }
         encoder.clear_buffer(&object.visited, 0, None);
         encoder.clear_buffer(&object.owner, 0, None);
+        if let Some(tracked) = &slot.tracked {
+            // Two passes: the dispatch buffer is written as storage by the first and read
+            // as the second's indirect arguments.
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("npr region track"),
+                    timestamp_writes: None,
+                });
+                pass.set_bind_group(0, &tracked.group, &[]);
+                pass.set_pipeline(&self.track);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("npr regions"),
+                timestamp_writes: None,
+            });
+            pass.set_bind_group(0, group, &[]);
+            pass.set_pipeline(&self.grow);
+            pass.dispatch_workgroups_indirect(&tracked.dispatch, 0);
+            pass.set_pipeline(&self.fit);
+            pass.dispatch_workgroups_indirect(&tracked.dispatch, 0);
+            return Ok(());
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("npr regions"),
             timestamp_writes: None,
@@ -579,6 +578,7 @@ fn make_slot(device: &wgpu::Device) -> Slot {
         group: None,
         room: 0,
         count: 0,
+        tracked: None,
     }
 }
 
@@ -652,143 +652,5 @@ impl PendingRegions {
     }
 }
 
-/// The seeds' `RegionFit` records.
-fn decode(bytes: &[u8], seeds: usize) -> Vec<GpuRegion> {
-    let records: Vec<FitRecord> = bytes
-        .chunks_exact(FIT_BYTES)
-        .take(seeds)
-        .map(bytemuck::pod_read_unaligned)
-        .collect();
-    records
-        .iter()
-        .map(|r| {
-            let region = match r.flags[0] {
-                0 => Region::Fit(
-                    Footprint {
-                        half_extent: Vec2::new(r.ellipse[0], r.ellipse[1]),
-                        offset: Vec2::new(r.ellipse[2], r.ellipse[3]),
-                        rotate_rad: r.fit[0],
-                        region_area: r.fit[1],
-                        normal_cone_cos: r.fit[2],
-                        fit_scale: 1.0,
-                    },
-                    r.flags[1] as usize,
-                ),
-                1 => Region::Covered,
-                _ => Region::Empty,
-            };
-            let scale = |s: f32| if s > 0.0 && s <= 1.0 { s } else { 1.0 };
-            let (overlap_scale, cone, piece_count) = match region {
-                Region::Fit(fp, _) => (
-                    scale(r.fit[3]),
-                    fp.normal_cone_cos,
-                    (r.piece_count[0] as usize).min(MAX_PIECES),
-                ),
-                _ => (1.0, -1.0, 0),
-            };
-            let mut pieces = [Footprint::default(); MAX_PIECES];
-            let mut piece_scales = [1.0; MAX_PIECES];
-            for (i, p) in r.pieces.iter().take(piece_count).enumerate() {
-                pieces[i] = Footprint {
-                    half_extent: Vec2::new(p.ellipse[0], p.ellipse[1]),
-                    offset: Vec2::new(p.ellipse[2], p.ellipse[3]),
-                    rotate_rad: p.fit[0],
-                    region_area: p.fit[1],
-                    normal_cone_cos: cone,
-                    fit_scale: 1.0,
-                };
-                piece_scales[i] = scale(p.fit[2]);
-            }
-            GpuRegion {
-                region,
-                walked: r.flags[2],
-                overflowed: r.flags[3] != 0,
-                overlap_scale,
-                piece_count,
-                pieces,
-                piece_scales,
-            }
-        })
-        .collect()
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn records_match_wgsl() {
-        // `RegionParams` and `Seed` are bound inside `RegionFrameData`: their sizes and
-        // the seeds' offset are checked there, their fields here.
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            FrameData,
-            "RegionFrameData",
-            [params, seeds]
-        );
-        assert_eq!(
-            [
-                std::mem::offset_of!(Params, normal_from_object),
-                std::mem::offset_of!(Params, light),
-                std::mem::offset_of!(Params, eye),
-                std::mem::offset_of!(Params, seed_count),
-                std::mem::offset_of!(Params, capacity),
-            ],
-            [64, 128, 144, 160, 172]
-        );
-        assert_eq!(
-            [
-                std::mem::offset_of!(SeedRecord, n),
-                std::mem::offset_of!(SeedRecord, start),
-                std::mem::size_of::<SeedRecord>(),
-            ],
-            [16, 64, 80]
-        );
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            VertexRecord,
-            "RegionVertex",
-            [position, normal]
-        );
-        npr_gpu::assert_wgsl_layout!(crate::shaders::ALL, FaceRecord, "RegionFace", [tri, normal]);
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            FitRecord,
-            "RegionFit",
-            [moments, second, ellipse, fit, flags, piece_count, pieces]
-        );
-        // `RegionPiece` is bound only inside `RegionFit`: its array's offset and size are
-        // checked there, its two fields here.
-        assert_eq!(std::mem::size_of::<PieceRecord>(), 32);
-    }
-
-    #[test]
-    fn a_seed_on_an_earlier_seeds_face_is_covered() {
-        use glam::Vec3;
-        let centre = |face| HighlightCentre {
-            face,
-            alpha: 0.3,
-            beta: 0.3,
-            position_object: Vec3::ZERO,
-            position_world: Vec3::ZERO,
-            normal_object: Vec3::Z,
-            normal_world: Vec3::Z,
-            dir_kappa_max: Vec3::X,
-            dir_kappa_min: Vec3::Y,
-            kappa_max: 1.0,
-            kappa_min: 0.5,
-        };
-        let seeds = [(centre(3), 0.9), (centre(5), 0.9), (centre(3), 0.9)];
-        let records = seed_records(&seeds, 10);
-        let covered: Vec<u32> = records.iter().map(|r| r.start[1]).collect();
-        assert_eq!(covered, [0, 0, 1]);
-        // A seed with no frame grows nothing and covers nothing.
-        let flat = HighlightCentre {
-            normal_world: Vec3::ZERO,
-            ..centre(7)
-        };
-        let records = seed_records(&[(flat, 0.9), (centre(7), 0.9)], 10);
-        assert_eq!(records[0].start[0], u32::MAX);
-        assert_eq!(records[1].start[1], 0);
-    }
-}
+mod tests;

@@ -1,0 +1,18 @@
+// One highlight centre as the GPU search computes it (`cs_centres` of
+// `centre_search.wgsl`), composed before the shaders that read or write it (the search,
+// the tracking of `tracking.wgsl`).
+
+// One merged centre (`npr_geometry::HighlightCentre`): w of `position_object` is 1 where
+// the CPU would have one (`HighlightSearch::centre_at`), 0 where not.
+struct CentreRecord {
+    position_object: vec4<f32>,
+    position_world: vec4<f32>,
+    normal_object: vec4<f32>,
+    normal_world: vec4<f32>,
+    dir_kappa_max: vec4<f32>,
+    // (κmax, κmin) in 1/world unit.
+    curvature: vec4<f32>,
+    // (face, α and β as bits, 0).
+    solution: vec4<u32>,
+}
+

@@ -1,0 +1,198 @@
+// Frame coherence on the GPU (beyond Lee & Choi): this frame's centres, as the search
+// computed them (`cs_centres` of `centre_search.wgsl`), matched with the last update's
+// highlights as the CPU matches them (`HighlightSet::match_centres`: closest pairs
+// first, each highlight within its reach), then written as the region growth's seeds in
+// the order the CPU grows them (the matched centres in their highlights' id order, then
+// the new ones in the search's order, which is the order of the ids they are given), so
+// that a frame's regions are grown in the search's submission, with no readback between
+// (`regions.wgsl`, dispatched indirectly over the seeds written here). The CPU's peaks
+// (bright regions without an `N = H` point) are not seeded here: the caller compares the
+// seeds with its own and grows a frame that differs again.
+
+// One highlight of the last update (its piece 0), in id order: its centre (object space)
+// and its reach (w, `match_centres`'s, at least twice the mean edge), and its σ (x).
+struct TrackedHighlight {
+    position_reach: vec4<f32>,
+    sigma: vec4<f32>,
+}
+
+struct TrackParams {
+    // Highlights in `previous` (at most `MAX_TRACKED` are matched).
+    count: u32,
+    // Seeds the growth has room for: more, and none is seeded (status 1).
+    room: u32,
+    // σ of a new highlight (the global controls').
+    sigma: f32,
+    pad: u32,
+}
+
+// The table and its size in one storage buffer (not a uniform one; see
+// `RegionFrameData`).
+struct TrackData {
+    params: TrackParams,
+    previous: array<TrackedHighlight>,
+}
+
+@group(0) @binding(0) var<storage, read_write> frame: RegionFrameData;
+@group(0) @binding(1) var<storage, read> centres: array<CentreRecord>;
+// The search's `Counter`: (faces accepted, centres merged or `NO_MERGE`).
+@group(0) @binding(2) var<storage, read> search_counts: array<u32>;
+@group(0) @binding(3) var<storage, read> track: TrackData;
+// The growth's indirect dispatch (x, y, z), then the status: 0 seeded, 1 more seeds than
+// the room, 2 no merged list.
+@group(0) @binding(4) var<storage, read_write> dispatch: array<u32>;
+
+const TRACK_WORKGROUP: u32 = 256u;
+// `MAX_MERGED` of the search: its centres.
+const MAX_CENTRES: u32 = 256u;
+// Highlights of the last update matched at most (`MAX_TRACKED` of `tracking.rs`).
+const MAX_TRACKED: u32 = 256u;
+const NONE: u32 = 0xffffffffu;
+
+// Per highlight of the last update, the centre it took (or `NONE`); per centre, 1 once
+// taken; this round's least distance (bits) and least pair; the seeds' centres and σ.
+var<workgroup> centre_of: array<u32, MAX_TRACKED>;
+var<workgroup> taken: array<u32, MAX_CENTRES>;
+var<workgroup> round_distance: atomic<u32>;
+var<workgroup> round_pair: atomic<u32>;
+var<workgroup> round_best: u32;
+var<workgroup> centre_count: u32;
+var<workgroup> seed_centre: array<u32, MAX_CENTRES>;
+var<workgroup> seed_sigma: array<f32, MAX_CENTRES>;
+
+fn centre_valid(j: u32) -> bool {
+    return centres[j].position_object.w == 1.0;
+}
+
+// Highlight `i`'s distance to centre `j` (object space), or −1 where the pair is not
+// free or out of reach.
+fn free_pair(i: u32, j: u32) -> f32 {
+    if centre_of[i] != NONE || taken[j] != 0u || !centre_valid(j) {
+        return -1.0;
+    }
+    let h = track.previous[i].position_reach;
+    let d = length(h.xyz - centres[j].position_object.xyz);
+    if d <= h.w {
+        return d;
+    }
+    return -1.0;
+}
+
+// The seed of centre `j` at σ (`seed_records` of `region_pass.rs`): its frame from the
+// world normal and the direction of κmax, covered when an earlier seed with a frame
+// starts on its face. `k` is its place among the seeds.
+fn write_seed(k: u32, j: u32, sigma: f32) {
+    let c = centres[j];
+    let face = c.solution.x;
+    var s: Seed;
+    // A seed without a frame grows nothing; its centre and σ still say which it is.
+    s.origin = vec4<f32>(c.position_world.xyz, sigma);
+    s.start = vec4<u32>(NONE, 0u, j, face);
+    let n = try_normalize(c.normal_world.xyz);
+    let d = c.dir_kappa_max.xyz;
+    let e_u = try_normalize(d - n.xyz * dot(n.xyz, d));
+    if n.w == 1.0 && e_u.w == 1.0 {
+        var covered = 0u;
+        if face < frame.params.face_count {
+            for (var m = 0u; m < k; m += 1u) {
+                let o = frame.seeds[m].start;
+                if o.x == face && frame.seeds[m].n.w == 1.0 {
+                    covered = 1u;
+                }
+            }
+        }
+        s.n = vec4<f32>(n.xyz, 1.0);
+        s.e_u = vec4<f32>(e_u.xyz, 0.0);
+        s.e_v = vec4<f32>(cross(n.xyz, e_u.xyz), 0.0);
+        s.start = vec4<u32>(face, covered, j, face);
+    }
+    frame.seeds[k] = s;
+}
+
+fn finish(count: u32, status: u32) {
+    frame.params.seed_count = count;
+    dispatch[0] = count;
+    dispatch[1] = 1u;
+    dispatch[2] = 1u;
+    dispatch[3] = status;
+}
+
+// One workgroup: the greedy matching (each round, the closest free pair within its
+// highlight's reach, ties to the lower highlight then the lower centre, as the CPU's
+// stable sort of the pairs), then the seeds.
+@compute @workgroup_size(256)
+fn cs_track(@builtin(local_invocation_index) lid: u32) {
+    if lid == 0u {
+        let merged = search_counts[1];
+        centre_count = select(min(merged, MAX_CENTRES), NONE, merged == NONE);
+    }
+    let c = workgroupUniformLoad(&centre_count);
+    if c == NONE {
+        if lid == 0u {
+            finish(0u, 2u);
+        }
+        return;
+    }
+    let p = min(track.params.count, MAX_TRACKED);
+    centre_of[lid] = NONE;
+    taken[lid] = 0u;
+    workgroupBarrier();
+    loop {
+        if lid == 0u {
+            atomicStore(&round_distance, NONE);
+            atomicStore(&round_pair, NONE);
+        }
+        workgroupBarrier();
+        for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
+            let d = free_pair(k / c, k % c);
+            if d >= 0.0 {
+                atomicMin(&round_distance, bitcast<u32>(d));
+            }
+        }
+        workgroupBarrier();
+        let best = atomicLoad(&round_distance);
+        for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
+            let d = free_pair(k / c, k % c);
+            if d >= 0.0 && bitcast<u32>(d) == best {
+                atomicMin(&round_pair, k);
+            }
+        }
+        workgroupBarrier();
+        if lid == 0u {
+            round_best = atomicLoad(&round_pair);
+            if round_best != NONE {
+                centre_of[round_best / c] = round_best % c;
+                taken[round_best % c] = 1u;
+            }
+        }
+        if workgroupUniformLoad(&round_best) == NONE {
+            break;
+        }
+    }
+    if lid != 0u {
+        return;
+    }
+    var n = 0u;
+    for (var i = 0u; i < p; i += 1u) {
+        if centre_of[i] != NONE {
+            seed_centre[n] = centre_of[i];
+            seed_sigma[n] = track.previous[i].sigma.x;
+            n += 1u;
+        }
+    }
+    for (var j = 0u; j < c; j += 1u) {
+        if taken[j] == 0u && centre_valid(j) {
+            seed_centre[n] = j;
+            seed_sigma[n] = track.params.sigma;
+            n += 1u;
+        }
+    }
+    if n > track.params.room {
+        finish(0u, 1u);
+        return;
+    }
+    for (var k = 0u; k < n; k += 1u) {
+        write_seed(k, seed_centre[k], seed_sigma[k]);
+    }
+    finish(n, 0u);
+}

@@ -1,0 +1,288 @@
+//! A frame's regions seeded on the GPU (`shaders/tracking.wgsl`): the search's centres
+//! ([`crate::SearchSolutions::centres`], computed by `cs_centres`) matched with the last
+//! update's highlights as [`HighlightSet`]'s matching does, and written as the growth's
+//! seeds in the order the CPU grows them, so that the search and the regions run in one
+//! submission and the frame waits once. The CPU then checks that the seeds are the ones
+//! its own matching gives ([`TrackedRegions::for_seeds`]): they differ only where its
+//! update adds a peak (a bright region without an `N = H` point) to the seeds, and such a
+//! frame is grown again.
+
+use super::records::{FIT_BYTES, PARAMS_BYTES, SeedRecord, decode};
+use super::{GpuRegion, RegionObject};
+use crate::{HighlightSet, SearchObject, SpecularError};
+use glam::{Mat4, Vec3};
+use npr_geometry::{HighlightCentre, LightEye};
+use npr_gpu::compute::{buffer_init, group_entry};
+use npr_gpu::pass::{FrameId, Prepared};
+
+/// Seeds a frame seeded on the GPU has room for: more, and it grows none
+/// ([`TrackedRegions::status`]); the scratch of a [`RegionObject`] is sized for them.
+pub const TRACKED_SEEDS: usize = 64;
+
+/// Highlights of the last update the GPU's matching takes at most (`MAX_TRACKED` of
+/// `tracking.wgsl`); past them a frame is not seeded on the GPU.
+pub const MAX_TRACKED: usize = 256;
+
+/// `TrackedHighlight` of `tracking.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct TrackedRecord {
+    pub(super) position_reach: [f32; 4],
+    pub(super) sigma: [f32; 4],
+}
+
+/// `TrackParams` of `tracking.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct TrackParams {
+    pub(super) count: u32,
+    pub(super) room: u32,
+    pub(super) sigma: f32,
+    pub(super) pad: u32,
+}
+
+/// `TrackData` of `tracking.wgsl` with one highlight.
+#[cfg(test)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct TrackData {
+    pub(super) params: TrackParams,
+    pub(super) previous: [TrackedRecord; 1],
+}
+
+/// One frame's growth seeded on the GPU: the set (its mesh, normals, and the last
+/// update's highlights the centres are matched with), the frame, its light, eye and
+/// transform, and the search recorded before it in the same submission.
+#[derive(Clone, Copy, Debug)]
+pub struct TrackedInput<'a> {
+    /// The caller's submission (the search's too).
+    pub frame: FrameId,
+    /// The highlight set, not yet updated for this frame.
+    pub set: &'a HighlightSet,
+    /// Light and eye, world space.
+    pub light_eye: LightEye,
+    /// The object's transform.
+    pub world_from_object: Mat4,
+    /// The search whose centres seed the growth, and its prepare for this frame.
+    pub search: (&'a SearchObject, &'a Prepared),
+}
+
+/// How a frame seeded on the GPU went (`dispatch[3]` of `tracking.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackStatus {
+    /// Seeded and grown.
+    Seeded,
+    /// More seeds than [`TRACKED_SEEDS`] (or highlights than [`MAX_TRACKED`]): none grown.
+    TooMany,
+    /// The search's centres were not merged on the GPU (an overflowed list, or more than
+    /// [`crate::MAX_MERGED`]): none grown.
+    Unmerged,
+}
+
+/// One seed the GPU wrote: its centre (world), σ, and whether it has a frame to grow.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrackedSeed {
+    /// The centre, world space (bit for bit the search's [`HighlightCentre::position_world`]).
+    pub position_world: Vec3,
+    /// The σ it was grown at.
+    pub sigma: f32,
+    /// Its face ([`HighlightCentre::face`]).
+    pub face: u32,
+}
+
+/// A frame's regions seeded on the GPU, read back with its seeds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrackedRegions {
+    /// How the seeding went.
+    pub status: TrackStatus,
+    /// The seeds, in the order grown.
+    pub seeds: Vec<TrackedSeed>,
+    /// One region per seed.
+    pub regions: Vec<GpuRegion>,
+}
+
+impl TrackedRegions {
+    /// The regions for an update's `seeds` (its centres and σ in the order it grows
+    /// them: a [`crate::RegionsOnGpu`] callback's argument) where the GPU seeded exactly
+    /// these, in this order; else `None` (then grow them otherwise: the update has a peak,
+    /// a bright region without an `N = H` point, among its seeds, which the GPU does not
+    /// seed). A region cut short by the object's capacity counts as not grown.
+    pub fn for_seeds(&self, seeds: &[(HighlightCentre, f32)]) -> Option<Vec<GpuRegion>> {
+        let same = self.status == TrackStatus::Seeded
+            && seeds.len() == self.seeds.len()
+            && seeds.iter().zip(&self.seeds).all(|((c, sigma), g)| {
+                c.face == g.face
+                    && c.position_world.to_array().map(f32::to_bits)
+                        == g.position_world.to_array().map(f32::to_bits)
+                    && sigma.to_bits() == g.sigma.to_bits()
+            })
+            && self.regions.iter().all(|r| !r.overflowed);
+        same.then(|| self.regions.clone())
+    }
+}
+
+/// A frame's tracked regions on their way to the CPU ([`RegionObject::map_tracked`]).
+#[derive(Debug)]
+pub struct PendingTracked {
+    map: npr_gpu::BufferReadback,
+    room: usize,
+}
+
+impl PendingTracked {
+    /// The regions once the map has completed; `None` while it has not.
+    pub fn try_take(&self) -> Option<Result<TrackedRegions, npr_gpu::GpuError>> {
+        Some(self.map.try_take()?.map(|b| decode_tracked(&b, self.room)))
+    }
+
+    /// Blocks until the map has completed (native: polls `device`) and decodes.
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
+    pub fn wait(self, device: &wgpu::Device) -> Result<TrackedRegions, npr_gpu::GpuError> {
+        let room = self.room;
+        Ok(decode_tracked(&self.map.wait(device)?, room))
+    }
+}
+
+/// A tracked frame's own buffers: the table of the last update's highlights, the
+/// growth's indirect dispatch (and status), and `cs_track`'s group.
+#[derive(Debug)]
+pub(super) struct TrackedSlot {
+    pub(super) dispatch: wgpu::Buffer,
+    pub(super) group: wgpu::BindGroup,
+}
+
+/// The table `cs_track` reads (`TrackData`): the last update's highlights of `set` for
+/// this transform; `None` when there are more than [`MAX_TRACKED`].
+pub(super) fn track_data(set: &HighlightSet, world_from_object: Mat4) -> Option<Vec<u8>> {
+    let (table, sigma) = set.tracking_table(world_from_object);
+    if table.len() > MAX_TRACKED {
+        return None;
+    }
+    let params = TrackParams {
+        count: table.len() as u32,
+        room: TRACKED_SEEDS as u32,
+        sigma,
+        pad: 0,
+    };
+    let mut bytes = bytemuck::bytes_of(&params).to_vec();
+    for t in table.iter() {
+        let r = TrackedRecord {
+            position_reach: [t[0], t[1], t[2], t[3]],
+            sigma: [t[4], 0.0, 0.0, 0.0],
+        };
+        bytes.extend_from_slice(bytemuck::bytes_of(&r));
+    }
+    if table.is_empty() {
+        bytes.extend_from_slice(bytemuck::bytes_of(&TrackedRecord::default()));
+    }
+    Some(bytes)
+}
+
+/// `cs_track`'s buffers and group for one frame: the growth's frame data (`seeds`), the
+/// search's counter and centres, the table and a fresh dispatch.
+pub(super) fn tracked_slot(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    (seeds, table): (&wgpu::Buffer, &[u8]),
+    (counter, centres): (&wgpu::Buffer, &wgpu::Buffer),
+) -> TrackedSlot {
+    let track = buffer_init(
+        device,
+        "npr region track",
+        table,
+        wgpu::BufferUsages::STORAGE,
+    );
+    let dispatch = buffer_init(
+        device,
+        "npr region dispatch",
+        &[0u32; 4],
+        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+    );
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("npr region track"),
+        layout,
+        entries: &[
+            group_entry(0, seeds),
+            group_entry(1, centres),
+            group_entry(2, counter),
+            group_entry(3, &track),
+            group_entry(4, &dispatch),
+        ],
+    });
+    TrackedSlot { dispatch, group }
+}
+
+impl RegionObject {
+    /// Copies a frame seeded on the GPU (its status, seeds and regions: about 400 bytes a
+    /// seed) and asks for the map without waiting; after the submission that holds its
+    /// [`super::RegionPass::record`].
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a stale or foreign `prepared`, or one not seeded on the
+    /// GPU ([`super::RegionPass::prepare_tracked`]).
+    pub fn map_tracked(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        prepared: &Prepared,
+    ) -> Result<PendingTracked, SpecularError> {
+        let slot = self.slots.get(self.slots.pass(), prepared)?;
+        let Some(tracked) = &slot.tracked else {
+            return Err(SpecularError::Pass(npr_gpu::PassError::ForeignPrepared));
+        };
+        let room = slot.count;
+        let frame = (PARAMS_BYTES + room * 80) as u64;
+        let fits = (room * FIT_BYTES) as u64;
+        let to = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr region tracked readback"),
+            size: 16 + frame + fits,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&tracked.dispatch, 0, &to, 0, 16);
+        encoder.copy_buffer_to_buffer(&slot.seeds, 0, &to, 16, frame);
+        encoder.copy_buffer_to_buffer(&slot.fits, 0, &to, 16 + frame, fits);
+        queue.submit([encoder.finish()]);
+        Ok(PendingTracked {
+            map: npr_gpu::BufferReadback::map(to),
+            room,
+        })
+    }
+}
+
+/// The dispatch (count, 1, 1, status), the frame data (params, `room` seeds) and the
+/// fits of a tracked frame.
+fn decode_tracked(bytes: &[u8], room: usize) -> TrackedRegions {
+    let word = |i: usize| {
+        bytes
+            .get(4 * i..4 * i + 4)
+            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let status = match word(3) {
+        0 => TrackStatus::Seeded,
+        1 => TrackStatus::TooMany,
+        _ => TrackStatus::Unmerged,
+    };
+    let count = (word(0) as usize).min(room);
+    let seeds_at = 16 + PARAMS_BYTES;
+    let seeds = (0..count)
+        .filter_map(|k| {
+            let at = seeds_at + 80 * k;
+            let s: SeedRecord = bytemuck::pod_read_unaligned(bytes.get(at..at + 80)?);
+            Some(TrackedSeed {
+                position_world: Vec3::new(s.origin[0], s.origin[1], s.origin[2]),
+                sigma: s.origin[3],
+                face: s.start[3],
+            })
+        })
+        .collect();
+    let fits_at = 16 + PARAMS_BYTES + 80 * room;
+    let regions = decode(bytes.get(fits_at..).unwrap_or(&[]), count);
+    TrackedRegions {
+        status,
+        seeds,
+        regions,
+    }
+}

@@ -1,0 +1,219 @@
+//! A frame's regions seeded on the GPU (`RegionPass::prepare_tracked`, `tracking.wgsl`):
+//! the search's centres matched with the last update's highlights and grown in the
+//! search's submission, against the CPU's own update (its search, matching and growth)
+//! on the same frames: the GPU seeds exactly the CPU's seeds, in its order, on every
+//! frame without a peak among them, and the highlights are the CPU's, ids, fades and
+//! footprints, with one wait a frame.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat4, Vec3};
+use npr_geometry::{CurvatureOptions, LightEye};
+use npr_gpu::{FrameId, GpuContext};
+use npr_specular::{
+    CentreSearchPass, HighlightSet, RegionPass, SearchInput, TrackStatus, TrackedInput,
+    TrackedRegions,
+};
+
+mod common;
+use common::{bounding_radius, fixture};
+
+/// One frame on the GPU path: the search and the tracked growth recorded in one encoder,
+/// one submission, both read back; then the update on them.
+struct GpuFrames {
+    search_pass: CentreSearchPass,
+    region_pass: RegionPass,
+    search: npr_specular::SearchObject,
+    regions: npr_specular::RegionObject,
+    frame: FrameId,
+}
+
+impl GpuFrames {
+    fn new(ctx: &GpuContext, set: &HighlightSet) -> Self {
+        let search_pass = CentreSearchPass::new(&ctx.device);
+        let region_pass = RegionPass::new(&ctx.device);
+        let search = search_pass
+            .create_object(&ctx.device, set.search())
+            .unwrap();
+        let regions = region_pass.create_object(&ctx.device, set).unwrap();
+        Self {
+            search_pass,
+            region_pass,
+            search,
+            regions,
+            frame: FrameId::default(),
+        }
+    }
+
+    /// The frame's search and tracked regions, read back after one submission.
+    fn run(
+        &mut self,
+        ctx: &GpuContext,
+        set: &HighlightSet,
+        (light_eye, world_from_object): (LightEye, Mat4),
+    ) -> (npr_specular::SearchSolutions, TrackedRegions) {
+        self.frame = self.frame.next();
+        let input = SearchInput {
+            frame: self.frame,
+            search: set.search(),
+            light_eye,
+            world_from_object,
+        };
+        let searched = self
+            .search_pass
+            .prepare(&ctx.queue, &mut self.search, &input)
+            .unwrap();
+        let tracked = TrackedInput {
+            frame: self.frame,
+            set,
+            light_eye,
+            world_from_object,
+            search: (&self.search, &searched),
+        };
+        let grown = self
+            .region_pass
+            .prepare_tracked(&ctx.queue, &mut self.regions, &tracked)
+            .unwrap();
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        self.search_pass
+            .record(&mut encoder, &self.search, &searched)
+            .unwrap();
+        self.region_pass
+            .record(&mut encoder, &self.regions, &grown)
+            .unwrap();
+        ctx.queue.submit([encoder.finish()]);
+        let pending = self
+            .regions
+            .map_tracked(&ctx.device, &ctx.queue, &grown)
+            .unwrap();
+        let solved = self.search.read(&ctx.device, &searched).unwrap();
+        (solved, pending.wait(&ctx.device).unwrap())
+    }
+}
+
+/// A light turning over the object while it turns too, eye fixed.
+fn turn(radius: f32, step: usize) -> (LightEye, Mat4) {
+    let a = step as f32 * 0.12;
+    let light_eye = LightEye::Positions {
+        light: Vec3::new(
+            2.0 * radius * a.cos(),
+            1.5 * radius,
+            2.0 * radius * a.sin() + radius,
+        ),
+        eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
+    };
+    (light_eye, Mat4::from_rotation_y(0.1 * a))
+}
+
+#[test]
+fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("regions_seeded_on_the_gpu_are_the_cpu_updates_regions")
+    else {
+        return;
+    };
+    let options = CurvatureOptions::default();
+    let meshes = [
+        ("spot", fixture("spot.obj")),
+        ("bunny", fixture("stanford-bunny.obj")),
+        ("torus", npr_geometry::generate::torus(1.0, 0.35, 64, 32)),
+    ];
+    let (mut seeded, mut with_peaks, mut shown) = (0, 0, 0);
+    for (name, mesh) in &meshes {
+        let mut cpu = HighlightSet::new(mesh, &options).unwrap();
+        let mut gpu = HighlightSet::new(mesh, &options).unwrap();
+        let radius = bounding_radius(mesh);
+        let mut frames = GpuFrames::new(ctx, &gpu);
+        for step in 0..14 {
+            let (light_eye, world) = turn(radius, step);
+            let (solved, tracked) = frames.run(ctx, &gpu, (light_eye, world));
+            assert!(
+                solved.complete(),
+                "{name} frame {step}: the list overflowed"
+            );
+            let want = cpu.update(light_eye, world).to_vec();
+            let mut take = |_: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
+                tracked.for_seeds(seeds)
+            };
+            let got = gpu
+                .update_from_search(light_eye, world, &solved, Some(&mut take))
+                .to_vec();
+            let stats = gpu.stats();
+            // The GPU's seeds are the update's wherever no peak joins them: the frames
+            // it leaves to the CPU have one.
+            if stats.regions_on_gpu {
+                seeded += 1;
+            } else {
+                assert!(
+                    stats.peaks > 0,
+                    "{name} frame {step}: the GPU's seeds {:?} ({:?}) are not the update's, with no peak",
+                    tracked.seeds,
+                    tracked.status
+                );
+                with_peaks += 1;
+            }
+            assert_eq!(
+                got.len(),
+                want.len(),
+                "{name} frame {step}: highlight counts"
+            );
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(
+                    (g.id, g.found, g.piece, g.pieces),
+                    (w.id, w.found, w.piece, w.pieces),
+                    "{name} frame {step}"
+                );
+                let d = g.centre.position_world.distance(w.centre.position_world) / radius;
+                assert!(
+                    d <= 1e-4,
+                    "{name} frame {step}: highlight {} moved {d:.2e}",
+                    g.id
+                );
+                let e = (g.projector.half_extent - w.projector.half_extent)
+                    .abs()
+                    .max_element();
+                assert!(
+                    e <= 1e-3 * radius,
+                    "{name} frame {step}: highlight {}'s footprint differs by {e}",
+                    g.id
+                );
+                assert!(
+                    (g.opacity - w.opacity).abs() <= 1e-6,
+                    "{name} frame {step}: fades"
+                );
+            }
+            shown += got.len();
+        }
+    }
+    eprintln!(
+        "{seeded} frames grown from the GPU's seeds, {with_peaks} with a peak grown on the CPU; {shown} highlights"
+    );
+    assert!(shown >= 30, "only {shown} highlights");
+    assert!(
+        seeded >= 20,
+        "only {seeded} of {} frames grown from the GPU's seeds",
+        seeded + with_peaks
+    );
+}
+
+/// More centres than a tracked frame has room for: none grown, and the status says so.
+#[test]
+fn a_frame_of_too_many_centres_is_not_seeded() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("a_frame_of_too_many_centres_is_not_seeded")
+    else {
+        return;
+    };
+    // A field of bumps seen from above: each crest, trough and saddle one centre, 200 of
+    // them (see `gpu_search.rs`).
+    let mesh = common::egg_crate(5, 8);
+    let set = HighlightSet::with_abstraction(&mesh, &CurvatureOptions::default(), 0.0).unwrap();
+    let mut frames = GpuFrames::new(ctx, &set);
+    let overhead = LightEye::Directions {
+        to_light: Vec3::Z,
+        to_eye: Vec3::Z,
+    };
+    let (solved, tracked) = frames.run(ctx, &set, (overhead, Mat4::IDENTITY));
+    let centres = solved.centres.expect("merged").len();
+    assert!(centres > npr_specular::TRACKED_SEEDS, "{centres} centres");
+    assert_eq!(tracked.status, TrackStatus::TooMany);
+    assert!(tracked.seeds.is_empty() && tracked.regions.is_empty());
+}
