@@ -100,10 +100,10 @@ fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
         shown += c.highlights;
     }
     assert!(shown >= 6, "only {shown} highlights over the walk");
-    // The walking Fox has peaks (bright facets without an `N = H` point) in every
-    // frame, so its regions are grown again: `npr-specular`'s `tests/gpu_tracking.rs`
-    // holds the frames that wait once.
+    // The search, its peaks (the walking Fox has four bright facets without an `N = H`
+    // point in every frame) and the regions in one submission.
     eprintln!("{one_wait} of {} GPU frames waited once", gpu.len());
+    assert_eq!(one_wait, gpu.len(), "GPU frames that waited twice");
     // `auto` keeps one path for the model, whichever it timed faster.
     let on_gpu = auto[0].0.search_on_gpu;
     assert!(auto.iter().all(|(s, _)| s.search_on_gpu == on_gpu));

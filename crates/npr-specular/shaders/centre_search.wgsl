@@ -62,12 +62,25 @@ struct SearchParams {
     field_normals: u32,
     // `cs_centres`: 1 when the normal transform is finite (else no centre, as the CPU).
     transform_ok: u32,
+    // Peaks: σ of the bright regions (≤ 0: none looked for); 1 when the transform is a
+    // similarity (`N·H` tested in object space, with the light and eye there).
+    peak_sigma: f32,
+    peak_similar: u32,
+    // Peaks: the light and eye in world space and in object space (w = 1: positions,
+    // w = 0: directions towards them).
+    peak_light: vec4<f32>,
+    peak_eye: vec4<f32>,
+    peak_object_light: vec4<f32>,
+    peak_object_eye: vec4<f32>,
 }
 
 struct Counter {
     found: atomic<u32>,
     // The centres `cs_merge` kept, or `NO_MERGE` when it could not merge the list.
     merged: u32,
+    // The peaks `cs_peaks` appended after them, or `NO_MERGE` when it found none to give
+    // (no merged list, too many, or a list of bright vertices that overflowed).
+    peaks: u32,
 }
 
 // The indirect dispatch of `cs_search`, written by `cs_clusters`: one workgroup per
@@ -608,28 +621,19 @@ fn interpolate_axes(t: vec3<u32>, a: f32, b: f32) -> Axes {
     return out;
 }
 
-// `HighlightSearch::centre_at` for each centre `cs_merge` kept, one invocation each: the
-// point, its normals (the mesh's interpolated normal or the field's, as the search's
+// `HighlightSearch::centre_at` at (α, β) of `face` (its triangle at visiting `slot`):
+// the point, its normals (the mesh's interpolated normal or the field's, as the search's
 // `NormalSource` says), the principal direction in world space and the curvatures at the
-// transform's scale.
-@compute @workgroup_size(64)
-fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k = gid.x;
-    let kept = counter.merged;
-    if kept == NO_MERGE || k >= kept || k >= MAX_MERGED {
-        return;
-    }
-    let e = solutions[3u * params.capacity + k];
+// transform's scale; w of `position_object` 0 where the CPU has none. `solution` holds
+// (face, α, β, slot).
+fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
     var r: CentreRecord;
-    r.solution = vec4<u32>(e.x, e.y, e.z, 0u);
-    let t = triangles[e.w].xyz;
+    r.solution = vec4<u32>(face, bitcast<u32>(a), bitcast<u32>(b), slot);
+    let t = triangles[slot].xyz;
     let nv = arrayLength(&vertices);
     if params.transform_ok == 0u || t.x >= nv || t.y >= nv || t.z >= nv {
-        centres[k] = r;
-        return;
+        return r;
     }
-    let a = bitcast<f32>(e.y);
-    let b = bitcast<f32>(e.z);
     let p0 = vertices[t.x].position.xyz;
     let p = p0 + a * (vertices[t.y].position.xyz - p0) + b * (vertices[t.z].position.xyz - p0);
     let axes = interpolate_axes(t, a, b);
@@ -644,13 +648,11 @@ fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
         n_obj = select(vec4<f32>(axes.normal, select(0.0, 1.0, axes.ok)), solved, solved.w == 1.0);
     }
     if n_obj.w == 0.0 {
-        centres[k] = r;
-        return;
+        return r;
     }
     let nw = try_normalize((params.normal_world_from_object * vec4<f32>(n_obj.xyz, 0.0)).xyz);
     if nw.w == 0.0 {
-        centres[k] = r;
-        return;
+        return r;
     }
     let m = params.world_from_object;
     let lin = mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz);
@@ -668,5 +670,292 @@ fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
     r.normal_world = vec4<f32>(nw.xyz, 0.0);
     r.dir_kappa_max = vec4<f32>(dmax, 0.0);
     r.curvature = vec4<f32>(curv * params.inv_scale, 0.0, 0.0);
-    centres[k] = r;
+    return r;
+}
+
+// `HighlightSearch::centre_at` for each centre `cs_merge` kept, one invocation each.
+@compute @workgroup_size(64)
+fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x;
+    let kept = counter.merged;
+    if kept == NO_MERGE || k >= kept || k >= MAX_MERGED {
+        return;
+    }
+    let e = solutions[3u * params.capacity + k];
+    centres[k] = centre_record(e.x, e.w, bitcast<f32>(e.y), bitcast<f32>(e.z));
+}
+
+// ---- Peaks: bright regions without an `N = H` point (`set::peaks` of the crate) ----
+//
+// `cs_bright` marks the vertices with `N·H ≥ σ` (`bright_vertices`) and lists them;
+// `cs_peaks` (one invocation) fills the parts of the bright vertices (sharing a face)
+// that hold an `N = H` centre, then each other part's brightest vertex is a peak, the
+// parts in order of their lowest vertex, its centre at the maximum of `N̂·Ĥ` over the
+// faces around it (`centre_at_vertex`, by `ascend`), appended to `centres` after the
+// merged ones (`curvature.z` = 1) and counted in `Counter::peaks`.
+
+// The vertices' neighbours and faces: `nv + 1` offsets into this array, the neighbours,
+// then `nv + 1` offsets (the first at `peak_adjacency[nv]`) and, per face around a
+// vertex in the order of `Topology::vertex_faces`, (face, slot | corner << 29 |
+// degenerate << 31).
+@group(1) @binding(3) var<storage, read> peak_adjacency: array<u32>;
+
+// `cs_bright`'s and `cs_peaks`' scratch (cleared every frame): the bright vertices
+// listed, whether the list overflowed; per vertex its `N·H` bits where bright (0 where
+// not), then per vertex its fill mark, then the list (`list_room` entries) and the
+// fill's stack (as many).
+struct PeakScratch {
+    listed: atomic<u32>,
+    overflowed: atomic<u32>,
+    list_room: u32,
+    pad: u32,
+    data: array<u32>,
+}
+@group(1) @binding(4) var<storage, read_write> peak_scratch: PeakScratch;
+
+// Not a peak: `curvature.z` of a merged centre; a peak's is 1.
+const PEAK: f32 = 1.0;
+
+// glam's `LightEye::half_vector` at `p` for light and eye `l`, `e` (w = 1: positions,
+// w = 0: directions towards them).
+fn half_at(p: vec3<f32>, l: vec4<f32>, e: vec4<f32>) -> vec3<f32> {
+    var a = l.xyz;
+    var b = e.xyz;
+    if l.w == 1.0 {
+        a = l.xyz - p;
+        b = e.xyz - p;
+    }
+    return try_normalize(try_normalize(a).xyz + try_normalize(b).xyz).xyz;
+}
+
+// The vertex's `N·H` and the unit normal and half vector that give it: in object space
+// under a similarity (angles kept), else in world space (`bright_vertices`).
+fn vertex_nh(v: u32) -> f32 {
+    let q = vertices[v];
+    var n = vec3<f32>(0.0);
+    var h = vec3<f32>(0.0);
+    if params.peak_similar == 1u {
+        n = try_normalize(q.normal.xyz).xyz;
+        h = half_at(q.position.xyz, params.peak_object_light, params.peak_object_eye);
+    } else {
+        n = try_normalize((params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
+        let p = (params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
+        h = half_at(p, params.peak_light, params.peak_eye);
+    }
+    let zero = vec3<f32>(0.0);
+    if all(n == zero) || all(h == zero) {
+        return -2.0;
+    }
+    return dot(n, h);
+}
+
+@compute @workgroup_size(64)
+fn cs_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let v = gid.x + gid.y * groups.x * 64u;
+    let nv = arrayLength(&vertices);
+    if v >= nv {
+        return;
+    }
+    let d = vertex_nh(v);
+    if !(d >= params.peak_sigma) {
+        return;
+    }
+    peak_scratch.data[v] = bitcast<u32>(d);
+    let k = atomicAdd(&peak_scratch.listed, 1u);
+    if k < peak_scratch.list_room {
+        peak_scratch.data[2u * nv + k] = v;
+    } else {
+        atomicStore(&peak_scratch.overflowed, 1u);
+    }
+}
+
+// `fill_part`: marks the part of the bright vertices holding `start`; its lowest vertex
+// and its brightest (the lowest index on ties).
+fn fill_part(start: u32) -> vec2<u32> {
+    let nv = arrayLength(&vertices);
+    let stack = 2u * nv + peak_scratch.list_room;
+    peak_scratch.data[nv + start] = 1u;
+    peak_scratch.data[stack] = start;
+    var top = 1u;
+    var low = start;
+    var best = start;
+    while top > 0u {
+        top -= 1u;
+        let v = peak_scratch.data[stack + top];
+        low = min(low, v);
+        let d = bitcast<f32>(peak_scratch.data[v]);
+        let db = bitcast<f32>(peak_scratch.data[best]);
+        if d > db || (d == db && v < best) {
+            best = v;
+        }
+        for (var k = peak_adjacency[v]; k < peak_adjacency[v + 1u]; k += 1u) {
+            let u = peak_adjacency[k];
+            if peak_scratch.data[nv + u] == 0u && peak_scratch.data[u] != 0u && top < peak_scratch.list_room {
+                peak_scratch.data[nv + u] = 1u;
+                peak_scratch.data[stack + top] = u;
+                top += 1u;
+            }
+        }
+    }
+    return vec2<u32>(low, best);
+}
+
+// `centre_at_vertex`'s `value`: `N̂·Ĥ` at (α, β) of a face, both interpolated linearly
+// from its corners' world normals and half vectors.
+fn peak_value(n: array<vec3<f32>, 3>, h: array<vec3<f32>, 3>, a: f32, b: f32) -> f32 {
+    let nn = n[0] + a * (n[1] - n[0]) + b * (n[2] - n[0]);
+    let hh = h[0] + a * (h[1] - h[0]) + b * (h[2] - h[0]);
+    return dot(try_normalize(nn).xyz, try_normalize(hh).xyz);
+}
+
+// `ascend`'s projection onto the triangle (α, β ≥ 0, α + β ≤ 1).
+fn onto_triangle(a0: f32, b0: f32) -> vec2<f32> {
+    let a = max(a0, 0.0);
+    let b = max(b0, 0.0);
+    let over = a + b - 1.0;
+    if over > 0.0 {
+        return vec2<f32>(clamp(a - 0.5 * over, 0.0, 1.0), clamp(b - 0.5 * over, 0.0, 1.0));
+    }
+    return vec2<f32>(a, b);
+}
+
+// `ascend`: the point of the face where `peak_value` is largest, by projected gradient
+// ascent from `start` (central differences, the step halved when it does not climb);
+// (α, β, value).
+fn ascend(n: array<vec3<f32>, 3>, h: array<vec3<f32>, 3>, start: vec2<f32>) -> vec3<f32> {
+    var a = start.x;
+    var b = start.y;
+    var g = peak_value(n, h, a, b);
+    var step = 0.25;
+    let e = 1e-3;
+    for (var i = 0; i < 40; i += 1) {
+        let da = peak_value(n, h, a + e, b) - peak_value(n, h, a - e, b);
+        let db = peak_value(n, h, a, b + e) - peak_value(n, h, a, b - e);
+        let len = sqrt(da * da + db * db);
+        if !finite(len) || len <= 1e-9 || step < 1e-4 {
+            break;
+        }
+        let q = onto_triangle(a + step * da / len, b + step * db / len);
+        let ng = peak_value(n, h, q.x, q.y);
+        if ng > g {
+            a = q.x;
+            b = q.y;
+            g = ng;
+        } else {
+            step *= 0.5;
+        }
+    }
+    return vec3<f32>(a, b, g);
+}
+
+// `centre_at_vertex`: the centre at the largest `N̂·Ĥ` over the faces around `v`
+// (degenerate ones left out), the first face on ties.
+fn peak_centre(v: u32) -> CentreRecord {
+    let nv = arrayLength(&vertices);
+    let faces_at = peak_adjacency[nv];
+    var found = false;
+    var best = vec3<f32>(0.0);
+    var best_face = 0u;
+    var best_slot = 0u;
+    for (var k = peak_adjacency[faces_at + v]; k < peak_adjacency[faces_at + v + 1u]; k += 2u) {
+        let face = peak_adjacency[k];
+        let word = peak_adjacency[k + 1u];
+        if (word >> 31u) == 1u {
+            continue;
+        }
+        let slot = word & 0x1fffffffu;
+        let corner = (word >> 29u) & 3u;
+        let t = triangles[slot].xyz;
+        var n: array<vec3<f32>, 3>;
+        var h: array<vec3<f32>, 3>;
+        for (var c = 0u; c < 3u; c += 1u) {
+            let q = vertices[t[c]];
+            n[c] = try_normalize((params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
+            let p = (params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
+            h[c] = half_at(p, params.peak_light, params.peak_eye);
+        }
+        var start = vec2<f32>(0.0, 0.0);
+        if corner == 1u {
+            start = vec2<f32>(1.0, 0.0);
+        } else if corner == 2u {
+            start = vec2<f32>(0.0, 1.0);
+        }
+        let r = ascend(n, h, start);
+        if !found || r.z > best.z {
+            found = true;
+            best = r;
+            best_face = face;
+            best_slot = slot;
+        }
+    }
+    var r: CentreRecord;
+    if found {
+        r = centre_record(best_face, best_slot, best.x, best.y);
+        r.curvature.z = PEAK;
+    }
+    return r;
+}
+
+// The parts found (lowest vertex, brightest vertex), at most `MAX_MERGED`.
+var<private> parts: array<vec2<u32>, MAX_MERGED>;
+
+@compute @workgroup_size(1)
+fn cs_peaks() {
+    let merged = counter.merged;
+    let nv = arrayLength(&vertices);
+    let listed = atomicLoad(&peak_scratch.listed);
+    if merged == NO_MERGE || atomicLoad(&peak_scratch.overflowed) != 0u || params.peak_sigma <= 0.0 {
+        counter.peaks = NO_MERGE;
+        return;
+    }
+    if params.transform_ok == 0u {
+        counter.peaks = 0u;
+        return;
+    }
+    // The parts an `N = H` centre lies in (through its face's bright vertices) need no
+    // peak.
+    for (var k = 0u; k < merged; k += 1u) {
+        let c = centres[k];
+        if c.position_object.w != 1.0 {
+            continue;
+        }
+        let t = triangles[c.solution.w].xyz;
+        for (var i = 0u; i < 3u; i += 1u) {
+            let v = t[i];
+            if v < nv && peak_scratch.data[nv + v] == 0u && peak_scratch.data[v] != 0u {
+                fill_part(v);
+            }
+        }
+    }
+    var count = 0u;
+    for (var i = 0u; i < min(listed, peak_scratch.list_room); i += 1u) {
+        let v = peak_scratch.data[2u * nv + i];
+        if peak_scratch.data[nv + v] == 0u {
+            if count + merged == MAX_MERGED {
+                counter.peaks = NO_MERGE;
+                return;
+            }
+            parts[count] = fill_part(v);
+            count += 1u;
+        }
+    }
+    // In order of their lowest vertex (insertion sort: a frame has few).
+    for (var i = 1u; i < count; i += 1u) {
+        let p = parts[i];
+        var j = i;
+        while j > 0u && parts[j - 1u].x > p.x {
+            parts[j] = parts[j - 1u];
+            j -= 1u;
+        }
+        parts[j] = p;
+    }
+    var n = 0u;
+    for (var i = 0u; i < count; i += 1u) {
+        let r = peak_centre(parts[i].y);
+        if r.position_object.w == 1.0 {
+            centres[merged + n] = r;
+            n += 1u;
+        }
+    }
+    counter.peaks = n;
 }

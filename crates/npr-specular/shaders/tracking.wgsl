@@ -5,9 +5,11 @@
 // the order the CPU grows them (the matched centres in their highlights' id order, then
 // the new ones in the search's order, which is the order of the ids they are given), so
 // that a frame's regions are grown in the search's submission, with no readback between
-// (`regions.wgsl`, dispatched indirectly over the seeds written here). The CPU's peaks
-// (bright regions without an `N = H` point) are not seeded here: the caller compares the
-// seeds with its own and grows a frame that differs again.
+// (`regions.wgsl`, dispatched indirectly over the seeds written here). The centres are
+// the merged ones, then the peaks (bright regions without an `N = H` point) where the
+// search found them (`cs_peaks`); the merged ones are matched first, as the CPU's sort
+// puts their pairs first. Where the search found no peaks the update finds its own, and
+// the caller compares the seeds with its own and grows a frame that differs again.
 
 // One highlight of the last update (its piece 0), in id order: its centre (object space)
 // and its reach (w, `match_centres`'s, at least twice the mean edge), and its σ (x).
@@ -35,7 +37,8 @@ struct TrackData {
 
 @group(0) @binding(0) var<storage, read_write> frame: RegionFrameData;
 @group(0) @binding(1) var<storage, read> centres: array<CentreRecord>;
-// The search's `Counter`: (faces accepted, centres merged or `NO_MERGE`).
+// The search's `Counter`: (faces accepted, centres merged or `NO_MERGE`, peaks after them
+// or `NO_MERGE`).
 @group(0) @binding(2) var<storage, read> search_counts: array<u32>;
 @group(0) @binding(3) var<storage, read> track: TrackData;
 // The growth's indirect dispatch (x, y, z), then the status: 0 seeded, 1 more seeds than
@@ -57,6 +60,7 @@ var<workgroup> round_distance: atomic<u32>;
 var<workgroup> round_pair: atomic<u32>;
 var<workgroup> round_best: u32;
 var<workgroup> centre_count: u32;
+var<workgroup> merged_count: u32;
 var<workgroup> seed_centre: array<u32, MAX_CENTRES>;
 var<workgroup> seed_sigma: array<f32, MAX_CENTRES>;
 
@@ -65,9 +69,12 @@ fn centre_valid(j: u32) -> bool {
 }
 
 // Highlight `i`'s distance to centre `j` (object space), or −1 where the pair is not
-// free or out of reach.
-fn free_pair(i: u32, j: u32) -> f32 {
+// free, out of reach, or of the other phase (`peaks`: 0 the merged centres, 1 the peaks).
+fn free_pair(i: u32, j: u32, peaks: u32) -> f32 {
     if centre_of[i] != NONE || taken[j] != 0u || !centre_valid(j) {
+        return -1.0;
+    }
+    if (j >= merged_count) != (peaks == 1u) {
         return -1.0;
     }
     let h = track.previous[i].position_reach;
@@ -119,12 +126,15 @@ fn finish(count: u32, status: u32) {
 
 // One workgroup: the greedy matching (each round, the closest free pair within its
 // highlight's reach, ties to the lower highlight then the lower centre, as the CPU's
-// stable sort of the pairs), then the seeds.
+// stable sort of the pairs; the merged centres' pairs first, then the peaks'), then the
+// seeds.
 @compute @workgroup_size(256)
 fn cs_track(@builtin(local_invocation_index) lid: u32) {
     if lid == 0u {
         let merged = search_counts[1];
-        centre_count = select(min(merged, MAX_CENTRES), NONE, merged == NONE);
+        let peaks = select(search_counts[2], 0u, search_counts[2] == NONE);
+        centre_count = select(min(merged + peaks, MAX_CENTRES), NONE, merged == NONE);
+        merged_count = merged;
     }
     let c = workgroupUniformLoad(&centre_count);
     if c == NONE {
@@ -137,36 +147,38 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
     centre_of[lid] = NONE;
     taken[lid] = 0u;
     workgroupBarrier();
-    loop {
-        if lid == 0u {
-            atomicStore(&round_distance, NONE);
-            atomicStore(&round_pair, NONE);
-        }
-        workgroupBarrier();
-        for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
-            let d = free_pair(k / c, k % c);
-            if d >= 0.0 {
-                atomicMin(&round_distance, bitcast<u32>(d));
+    for (var phase = 0u; phase < 2u; phase += 1u) {
+        loop {
+            if lid == 0u {
+                atomicStore(&round_distance, NONE);
+                atomicStore(&round_pair, NONE);
             }
-        }
-        workgroupBarrier();
-        let best = atomicLoad(&round_distance);
-        for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
-            let d = free_pair(k / c, k % c);
-            if d >= 0.0 && bitcast<u32>(d) == best {
-                atomicMin(&round_pair, k);
+            workgroupBarrier();
+            for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
+                let d = free_pair(k / c, k % c, phase);
+                if d >= 0.0 {
+                    atomicMin(&round_distance, bitcast<u32>(d));
+                }
             }
-        }
-        workgroupBarrier();
-        if lid == 0u {
-            round_best = atomicLoad(&round_pair);
-            if round_best != NONE {
-                centre_of[round_best / c] = round_best % c;
-                taken[round_best % c] = 1u;
+            workgroupBarrier();
+            let best = atomicLoad(&round_distance);
+            for (var k = lid; k < p * c; k += TRACK_WORKGROUP) {
+                let d = free_pair(k / c, k % c, phase);
+                if d >= 0.0 && bitcast<u32>(d) == best {
+                    atomicMin(&round_pair, k);
+                }
             }
-        }
-        if workgroupUniformLoad(&round_best) == NONE {
-            break;
+            workgroupBarrier();
+            if lid == 0u {
+                round_best = atomicLoad(&round_pair);
+                if round_best != NONE {
+                    centre_of[round_best / c] = round_best % c;
+                    taken[round_best % c] = 1u;
+                }
+            }
+            if workgroupUniformLoad(&round_best) == NONE {
+                break;
+            }
         }
     }
     if lid != 0u {

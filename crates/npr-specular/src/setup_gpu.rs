@@ -2,9 +2,11 @@
 //! ([`CentreSearchPass`], its centres merged and computed there) and the regions
 //! ([`RegionPass`]) seeded from those centres on the GPU
 //! ([`RegionPass::prepare_tracked`]), so that the frame waits once; then the update
-//! ([`HighlightSet::update_from_search`]) on the centres and regions read back. A frame
-//! whose update adds a peak (a bright region without an `N = H` point) to the seeds has
-//! its regions grown in a second submission ([`RegionPass::grower`]).
+//! ([`HighlightSet::update_from_search`]) on the centres and regions read back. The
+//! search also finds the peaks (bright regions without an `N = H` point,
+//! [`crate::SearchSolutions::peaks`]), which are seeded with the centres; a frame whose
+//! peaks it could not find (too many bright vertices or centres) has the update find
+//! its own and its regions grown in a second submission ([`RegionPass::grower`]).
 //!
 //! ```ignore
 //! let mut setup = SetupOnGpu::new(device, &set)?;
@@ -54,7 +56,7 @@ impl SetupOnGpu {
         let search_pass = CentreSearchPass::new(device);
         let region_pass = RegionPass::new(device);
         Ok(Self {
-            search: fits(search_pass.create_object(device, set.search()))?,
+            search: fits(search_pass.create_object_with_peaks(device, set))?,
             regions: fits(region_pass.create_object(device, set))?,
             search_pass,
             region_pass,
@@ -69,8 +71,8 @@ impl SetupOnGpu {
 
     /// Updates `set` for this light, eye and transform on the GPU: the search and its
     /// regions seeded from its centres on the GPU in one submission, then the update on
-    /// what comes back, a frame whose seeds are not the GPU's (a peak among them) grown
-    /// again in a second submission (on the CPU where the mesh does not fit the region
+    /// what comes back, a frame whose seeds are not the GPU's (the search could not give
+    /// its peaks) grown again in a second submission (on the CPU where the mesh does not fit the region
     /// pass). Returns the submissions waited on; `None` where the CPU must run the
     /// search (the mesh does not fit the device's limits, or the list overflowed), and
     /// then `set` is unchanged.
@@ -94,7 +96,11 @@ impl SetupOnGpu {
             light_eye,
             world_from_object,
         };
-        let searched = self.search_pass.prepare(queue, search, &input)?;
+        // The peaks too, where the update sizes highlights by their regions.
+        let sigma = (set.sizing == crate::HighlightSizing::Region).then_some(set.global.sigma);
+        let searched = self
+            .search_pass
+            .prepare_with_peaks(queue, search, &input, sigma)?;
         // The regions seeded on the GPU, where the mesh fits and the last update's
         // highlights are few enough to match there.
         let grown = match self.regions.as_mut() {

@@ -1,9 +1,9 @@
 //! A frame's regions seeded on the GPU (`RegionPass::prepare_tracked`, `tracking.wgsl`):
 //! the search's centres matched with the last update's highlights and grown in the
-//! search's submission, against the CPU's own update (its search, matching and growth)
-//! on the same frames: the GPU seeds exactly the CPU's seeds, in its order, on every
-//! frame without a peak among them, and the highlights are the CPU's, ids, fades and
-//! footprints, with one wait a frame.
+//! search's submission, against the CPU's own update (its search, peaks, matching and
+//! growth) on the same frames: the GPU seeds exactly the update's seeds (the GPU's peaks
+//! adopted), in its order, on every frame, and the highlights are the CPU's, ids, fades
+//! and footprints, with one wait a frame.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
@@ -32,7 +32,7 @@ impl GpuFrames {
         let search_pass = CentreSearchPass::new(&ctx.device);
         let region_pass = RegionPass::new(&ctx.device);
         let search = search_pass
-            .create_object(&ctx.device, set.search())
+            .create_object_with_peaks(&ctx.device, set)
             .unwrap();
         let regions = region_pass.create_object(&ctx.device, set).unwrap();
         Self {
@@ -60,7 +60,7 @@ impl GpuFrames {
         };
         let searched = self
             .search_pass
-            .prepare(&ctx.queue, &mut self.search, &input)
+            .prepare_with_peaks(&ctx.queue, &mut self.search, &input, Some(set.global.sigma))
             .unwrap();
         let tracked = TrackedInput {
             frame: self.frame,
@@ -118,6 +118,7 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
         ("torus", npr_geometry::generate::torus(1.0, 0.35, 64, 32)),
     ];
     let (mut seeded, mut with_peaks, mut shown) = (0, 0, 0);
+    let mut worst_footprint = 0.0f32;
     for (name, mesh) in &meshes {
         let mut cpu = HighlightSet::new(mesh, &options).unwrap();
         let mut gpu = HighlightSet::new(mesh, &options).unwrap();
@@ -138,19 +139,19 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
                 .update_from_search(light_eye, world, &solved, Some(&mut take))
                 .to_vec();
             let stats = gpu.stats();
-            // The GPU's seeds are the update's wherever no peak joins them: the frames
-            // it leaves to the CPU have one.
-            if stats.regions_on_gpu {
-                seeded += 1;
-            } else {
-                assert!(
-                    stats.peaks > 0,
-                    "{name} frame {step}: the GPU's seeds {:?} ({:?}) are not the update's, with no peak",
-                    tracked.seeds,
-                    tracked.status
-                );
-                with_peaks += 1;
-            }
+            // The GPU's seeds, peaks included, are the update's on every frame.
+            assert!(
+                stats.regions_on_gpu || stats.centres + stats.peaks == 0,
+                "{name} frame {step}: the GPU's seeds {:?} ({:?}) are not the update's",
+                tracked.seeds,
+                tracked.status
+            );
+            assert!(
+                solved.peaks.is_some(),
+                "{name} frame {step}: no peaks looked for"
+            );
+            seeded += 1;
+            with_peaks += usize::from(stats.peaks > 0);
             assert_eq!(
                 got.len(),
                 want.len(),
@@ -158,8 +159,8 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
             );
             for (g, w) in got.iter().zip(&want) {
                 assert_eq!(
-                    (g.id, g.found, g.piece, g.pieces),
-                    (w.id, w.found, w.piece, w.pieces),
+                    (g.id, g.found, g.piece, g.pieces, g.peak),
+                    (w.id, w.found, w.piece, w.pieces, w.peak),
                     "{name} frame {step}"
                 );
                 let d = g.centre.position_world.distance(w.centre.position_world) / radius;
@@ -171,10 +172,18 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
                 let e = (g.projector.half_extent - w.projector.half_extent)
                     .abs()
                     .max_element();
+                // The GPU's walks do not see a face another seed reached and did not
+                // take (`regions.wgsl`), so a region sharing faces with a peak's can
+                // take a few faces more: 1.5e-3 of the radius on the bunny.
+                worst_footprint = worst_footprint.max(e / radius);
                 assert!(
-                    e <= 1e-3 * radius,
-                    "{name} frame {step}: highlight {}'s footprint differs by {e}",
-                    g.id
+                    e <= 3e-3 * radius,
+                    "{name} frame {step}: highlight {}'s footprint differs by {e}: {:?} against {:?}, peak {}, centres {:.3e} apart",
+                    g.id,
+                    g.projector.half_extent,
+                    w.projector.half_extent,
+                    w.peak,
+                    g.centre.position_world.distance(w.centre.position_world) / radius
                 );
                 assert!(
                     (g.opacity - w.opacity).abs() <= 1e-6,
@@ -185,14 +194,10 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
         }
     }
     eprintln!(
-        "{seeded} frames grown from the GPU's seeds, {with_peaks} with a peak grown on the CPU; {shown} highlights"
+        "{seeded} frames grown from the GPU's seeds, {with_peaks} of them with peaks; {shown} highlights, footprints within {worst_footprint:.2e} of the radius"
     );
     assert!(shown >= 30, "only {shown} highlights");
-    assert!(
-        seeded >= 20,
-        "only {seeded} of {} frames grown from the GPU's seeds",
-        seeded + with_peaks
-    );
+    assert!(with_peaks >= 10, "only {with_peaks} frames with peaks");
 }
 
 /// More centres than a tracked frame has room for: none grown, and the status says so.

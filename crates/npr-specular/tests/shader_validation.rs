@@ -42,6 +42,7 @@ fn every_bound_struct_has_a_layout_test() {
         "RegionFace",
         "RegionFit",
         "TrackData",
+        "PeakScratch",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

@@ -45,6 +45,7 @@ use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use crate::SpecularError;
 use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
 
+mod peaks;
 mod readback;
 mod tables;
 pub use readback::PendingSolutions;
@@ -74,8 +75,11 @@ pub struct CentreSearchPass {
     /// `cs_merge`: group 0 only, one workgroup.
     merge_pipeline: wgpu::ComputePipeline,
     /// `cs_centres`: group 0's tables, list and params ([`centres_layouts`]'s first),
-    /// and group 1's field and records (its second).
+    /// and group 1's field, records and the peaks' tables (its second); `cs_bright` and
+    /// `cs_peaks` over the same groups.
     centres_pipeline: wgpu::ComputePipeline,
+    bright_pipeline: wgpu::ComputePipeline,
+    peaks_pipeline: wgpu::ComputePipeline,
     centres_layouts: [wgpu::BindGroupLayout; 2],
     layout: wgpu::BindGroupLayout,
     dispatch_layout: wgpu::BindGroupLayout,
@@ -117,6 +121,10 @@ pub struct SearchObject {
     /// The curvature field the centres interpolate ([`HighlightSearch::field_floats`]),
     /// for the pose of `search_id`.
     field: wgpu::Buffer,
+    /// The peaks' tables ([`CentreSearchPass::create_object_with_peaks`]); `None`: no
+    /// peaks looked for, and `empty` bound in their place (two: one is bound writable).
+    peaks: Option<peaks::PeakTables>,
+    empty: [wgpu::Buffer; 2],
     slots: Slots<Slot>,
 }
 
@@ -139,6 +147,8 @@ struct Slot {
     centres_groups: [wgpu::BindGroup; 2],
     /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
     active: bool,
+    /// Whether this frame looks for peaks ([`CentreSearchPass::prepare_with_peaks`]).
+    peaks: bool,
 }
 
 /// The faces one frame's search accepted.
@@ -158,6 +168,13 @@ pub struct SearchSolutions {
     /// [`crate::HighlightSet::update_from_centres`]); `None` when the list overflowed or
     /// held more than [`MAX_MERGED`] centres (then merge `faces` on the CPU).
     pub centres: Option<Vec<npr_geometry::HighlightCentre>>,
+    /// The peaks, found on the GPU where asked for
+    /// ([`CentreSearchPass::prepare_with_peaks`]): the bright regions `N·H ≥ σ` that hold
+    /// no `N = H` centre, each with a centre at its maximum of `N̂·Ĥ`, in the order
+    /// [`crate::HighlightSet`]'s update finds them; `None` where not asked for or not
+    /// found (no merged centres, more than [`MAX_MERGED`] in all, or more bright vertices
+    /// than the scratch lists), and then the update finds its own.
+    pub peaks: Option<Vec<npr_geometry::HighlightCentre>>,
 }
 
 impl SearchSolutions {
@@ -197,6 +214,8 @@ impl CentreSearchPass {
                 entries: &[
                     storage_layout_entry(1, true),
                     storage_layout_entry(2, false),
+                    storage_layout_entry(3, true),
+                    storage_layout_entry(4, false),
                 ],
             }),
         ];
@@ -216,6 +235,18 @@ impl CentreSearchPass {
                 &module,
                 &[&centres_layouts[0], &centres_layouts[1]],
                 "cs_centres",
+            ),
+            bright_pipeline: pipeline_over(
+                device,
+                &module,
+                &[&centres_layouts[0], &centres_layouts[1]],
+                "cs_bright",
+            ),
+            peaks_pipeline: pipeline_over(
+                device,
+                &module,
+                &[&centres_layouts[0], &centres_layouts[1]],
+                "cs_peaks",
             ),
             centres_layouts,
             layout,
@@ -289,9 +320,41 @@ impl CentreSearchPass {
             order: buffer_init(device, "npr search order", &order, usage),
             clusters: buffer_init(device, "npr search clusters", &clusters, usage),
             field: buffer_init(device, "npr search field", &field_records(search), usage),
+            peaks: None,
+            empty: [0, 1].map(|_| buffer_init(device, "npr search no peaks", &[0u32; 4], usage)),
             face_order,
             slots: Slots::new(self.id),
         })
+    }
+
+    /// [`CentreSearchPass::create_object`] for `set`'s search, with the tables its
+    /// peaks need (the vertices' neighbours and faces, 4 bytes a corner and 8 a vertex,
+    /// and a scratch of 8 bytes a vertex), for [`CentreSearchPass::prepare_with_peaks`].
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::create_object`].
+    pub fn create_object_with_peaks(
+        &self,
+        device: &wgpu::Device,
+        set: &crate::HighlightSet,
+    ) -> Result<SearchObject, SpecularError> {
+        let mut object = self.create_object(device, set.search())?;
+        let [adjacency, scratch] = peaks::PeakTables::sizes(set);
+        check_bindings(
+            &[
+                ("search peak adjacency", adjacency),
+                ("search peak scratch", scratch),
+            ],
+            device.limits().max_storage_buffer_binding_size,
+        )?;
+        let mut slot_of = vec![0u32; object.face_order.len()];
+        for (slot, &f) in object.face_order.iter().enumerate() {
+            if let Some(s) = slot_of.get_mut(f as usize) {
+                *s = slot as u32;
+            }
+        }
+        object.peaks = Some(peaks::PeakTables::new(device, set, &slot_of));
+        Ok(object)
     }
 
     /// Takes a slot for `input.frame` and writes its params. When `input.search` is not
@@ -308,6 +371,22 @@ impl CentreSearchPass {
         queue: &wgpu::Queue,
         object: &mut SearchObject,
         input: &SearchInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        self.prepare_with_peaks(queue, object, input, None)
+    }
+
+    /// [`CentreSearchPass::prepare`] that also looks for the peaks at `peak_sigma` (an
+    /// object of [`CentreSearchPass::create_object_with_peaks`]; `None`, or an object
+    /// without the peaks' tables, looks for none): [`SearchSolutions::peaks`].
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::prepare`].
+    pub fn prepare_with_peaks(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut SearchObject,
+        input: &SearchInput<'_>,
+        peak_sigma: Option<f32>,
     ) -> Result<Prepared, SpecularError> {
         object.slots.check_pass(self.id)?;
         let search = input.search;
@@ -347,19 +426,30 @@ impl CentreSearchPass {
             object.search_id = search.id();
         }
         let frame = search.solve_frame(input.light_eye, input.world_from_object);
+        let peaks = peak_sigma
+            .filter(|s| *s > 0.0 && object.peaks.is_some())
+            .map(|s| peaks::peak_params(s, input.light_eye, input.world_from_object));
+        let looks = peaks.is_some();
         let params = params_of(
             frame,
             (object.faces, object.capacity),
             self.row,
             (search, input.world_from_object),
+            peaks,
         );
         let (device, layout) = (&self.device, &self.layout);
+        let (adjacency, scratch) = match &object.peaks {
+            Some(t) => (&t.adjacency, &t.scratch),
+            None => (&object.empty[0], &object.empty[1]),
+        };
         let tables = [
             &object.vertices,
             &object.triangles,
             &object.order,
             &object.clusters,
             &object.field,
+            adjacency,
+            scratch,
         ];
         let sizes = (object.capacity, object.faces.div_ceil(CLUSTER_FACES));
         let dispatch_layout = &self.dispatch_layout;
@@ -375,6 +465,7 @@ impl CentreSearchPass {
         })?;
         queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
+        slot.peaks = looks;
         Ok(prepared)
     }
 
@@ -445,13 +536,28 @@ impl CentreSearchPass {
             pass.set_bind_group(0, &slot.centres_groups[0], &[]);
             pass.set_bind_group(1, &slot.centres_groups[1], &[]);
             pass.dispatch_workgroups(MAX_MERGED.div_ceil(64) as u32, 1, 1);
+            drop(pass);
+            if let Some(tables) = object.peaks.as_ref().filter(|_| slot.peaks) {
+                tables.clear(encoder);
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("npr centre search peaks"),
+                    timestamp_writes: None,
+                });
+                pass.set_bind_group(0, &slot.centres_groups[0], &[]);
+                pass.set_bind_group(1, &slot.centres_groups[1], &[]);
+                let (x, y) = dispatch_size(tables.vertices, max);
+                pass.set_pipeline(&self.bright_pipeline);
+                pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&self.peaks_pipeline);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
         }
         // The header: faces accepted, clusters listed (`Dispatch::count`), centres
         // merged; then the accepted faces and the centres' records.
         let entries = object.capacity as u64 * 16;
         encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
         encoder.copy_buffer_to_buffer(&slot.dispatch, 12, &slot.readback, 4, 4);
-        encoder.copy_buffer_to_buffer(&slot.counter, 4, &slot.readback, 8, 4);
+        encoder.copy_buffer_to_buffer(&slot.counter, 4, &slot.readback, 8, 8);
         encoder.copy_buffer_to_buffer(&slot.solutions, 0, &slot.readback, 16, entries);
         encoder.copy_buffer_to_buffer(
             &slot.records,
@@ -468,7 +574,15 @@ fn make_slot(
     device: &wgpu::Device,
     [layout, dispatch_layout]: [&wgpu::BindGroupLayout; 2],
     centres_layouts: [&wgpu::BindGroupLayout; 2],
-    [vertices, triangles, order, clusters, field]: [&wgpu::Buffer; 5],
+    [
+        vertices,
+        triangles,
+        order,
+        clusters,
+        field,
+        adjacency,
+        scratch,
+    ]: [&wgpu::Buffer; 7],
     (capacity, cluster_count): (usize, usize),
 ) -> Slot {
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
@@ -548,7 +662,12 @@ fn make_slot(
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr centre search centres"),
             layout: centres_layouts[1],
-            entries: &[group_entry(1, field), group_entry(2, &records)],
+            entries: &[
+                group_entry(1, field),
+                group_entry(2, &records),
+                group_entry(3, adjacency),
+                group_entry(4, scratch),
+            ],
         }),
     ];
     Slot {
@@ -563,6 +682,7 @@ fn make_slot(
         records,
         centres_groups,
         active: false,
+        peaks: false,
     }
 }
 
@@ -625,6 +745,7 @@ impl SearchObject {
         Ok(PendingSolutions {
             map: npr_gpu::BufferReadback::map(slot.readback.clone()),
             capacity: self.capacity,
+            peaks: slot.peaks,
         })
     }
 }

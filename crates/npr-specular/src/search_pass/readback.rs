@@ -34,12 +34,18 @@ pub(super) fn readback_bytes(capacity: usize) -> u64 {
 pub struct PendingSolutions {
     pub(super) map: npr_gpu::BufferReadback,
     pub(super) capacity: usize,
+    /// Whether the search looked for peaks.
+    pub(super) peaks: bool,
 }
 
 impl PendingSolutions {
     /// The accepted faces once the map has completed; `None` while it has not.
     pub fn try_take(&self) -> Option<Result<SearchSolutions, npr_gpu::GpuError>> {
-        Some(self.map.try_take()?.map(|b| decode(&b, self.capacity)))
+        Some(
+            self.map
+                .try_take()?
+                .map(|b| decode(&b, self.capacity, self.peaks)),
+        )
     }
 
     /// Blocks until the map has completed (native: polls `device`) and decodes the list.
@@ -47,8 +53,8 @@ impl PendingSolutions {
     /// # Errors
     /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
     pub fn wait(self, device: &wgpu::Device) -> Result<SearchSolutions, npr_gpu::GpuError> {
-        let capacity = self.capacity;
-        Ok(decode(&self.map.wait(device)?, capacity))
+        let (capacity, peaks) = (self.capacity, self.peaks);
+        Ok(decode(&self.map.wait(device)?, capacity, peaks))
     }
 }
 
@@ -67,10 +73,11 @@ pub(super) fn slot_records(face_order: &[u32], ranks: &[u32]) -> Vec<[u32; 2]> {
         .collect()
 }
 
-/// The counters (accepted faces, clusters solved, centres merged), the `capacity`
-/// accepted faces after the 16-byte header, then the [`MAX_MERGED`] centre records
-/// (those the CPU would not have, `HighlightSearch::centre_at` giving none, left out).
-pub(super) fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
+/// The counters (accepted faces, clusters solved, centres merged, peaks), the `capacity`
+/// accepted faces after the 16-byte header, then the [`MAX_MERGED`] centre records (those
+/// the CPU would not have, `HighlightSearch::centre_at` giving none, left out): the
+/// merged centres, then the peaks where the search `looked` for them.
+pub(super) fn decode(bytes: &[u8], capacity: usize, looked: bool) -> SearchSolutions {
     let word = |i: usize| {
         bytes
             .get(4 * i..4 * i + 4)
@@ -110,12 +117,22 @@ pub(super) fn decode(bytes: &[u8], capacity: usize) -> SearchSolutions {
             kappa_min: r.curvature[1],
         })
     };
-    let centres = (accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED)
-        .then(|| (0..merged as usize).filter_map(record).collect());
+    let merged_ok = accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED;
+    let centres = merged_ok.then(|| (0..merged as usize).filter_map(record).collect());
+    let peaks = word(3);
+    let peaks =
+        (looked && merged_ok && peaks != NO_MERGE && (merged + peaks) as usize <= MAX_MERGED).then(
+            || {
+                (merged..merged + peaks)
+                    .filter_map(|k| record(k as usize))
+                    .collect()
+            },
+        );
     SearchSolutions {
         faces,
         accepted,
         clusters_solved,
         centres,
+        peaks,
     }
 }

@@ -23,7 +23,12 @@ pub(super) struct Params {
     inv_scale: f32,
     field_normals: u32,
     transform_ok: u32,
-    _pad: [u32; 2],
+    peak_sigma: f32,
+    peak_similar: u32,
+    peak_light: [f32; 4],
+    peak_eye: [f32; 4],
+    peak_object_light: [f32; 4],
+    peak_object_eye: [f32; 4],
 }
 
 /// `FieldVertex` of `centre_search.wgsl`: one welded vertex of the field `cs_centres`
@@ -98,6 +103,7 @@ pub(super) fn params_of(
     (faces, capacity): (usize, usize),
     max_groups: u32,
     (search, world_from_object): (&HighlightSearch, Mat4),
+    peaks: Option<super::peaks::PeakParams>,
 ) -> Params {
     let four = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
     let lin = glam::Mat3::from_mat4(world_from_object);
@@ -116,6 +122,14 @@ pub(super) fn params_of(
         transform_ok: u32::from(normal.is_finite()),
         ..Params::default()
     };
+    if let Some(q) = peaks {
+        p.peak_sigma = q.sigma;
+        p.peak_similar = q.similar;
+        p.peak_light = q.light;
+        p.peak_eye = q.eye;
+        p.peak_object_light = q.object_light;
+        p.peak_object_eye = q.object_eye;
+    }
     let Some(frame) = frame else {
         return p;
     };
@@ -172,7 +186,13 @@ mod tests {
                 merge_distance,
                 inv_scale,
                 field_normals,
-                transform_ok
+                transform_ok,
+                peak_sigma,
+                peak_similar,
+                peak_light,
+                peak_eye,
+                peak_object_light,
+                peak_object_eye
             ]
         );
         npr_gpu::assert_wgsl_layout!(
@@ -186,6 +206,12 @@ mod tests {
             VertexRecord,
             "SolveVertex",
             [position, normal, shape_x, shape_y, shape_z]
+        );
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            super::super::peaks::ScratchLayout,
+            "PeakScratch",
+            [listed, overflowed, list_room, pad, data]
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,

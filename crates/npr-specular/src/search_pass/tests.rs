@@ -49,7 +49,7 @@ fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
     let bytes = |accepted: u32, merged: u32, capacity: usize| {
         let mut b = Vec::new();
         let mut put = |w: u32| b.extend_from_slice(&w.to_le_bytes());
-        for w in [accepted, 5, merged, 0] {
+        for w in [accepted, 5, merged, 2] {
             put(w);
         }
         for k in 0..capacity {
@@ -82,14 +82,22 @@ fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
         bytes(0, 0, 2).len() as u64,
         super::readback::readback_bytes(2)
     );
-    let s = decode(&bytes(3, 1, 2), 2);
+    let s = decode(&bytes(3, 1, 2), 2, true);
     assert_eq!((s.accepted, s.clusters_solved), (3, 5));
     assert!(!s.complete());
     assert_eq!(s.centres, None, "an overflowed list is not merged");
     let whole = |(face, alpha, beta): (u32, f32, f32)| FaceSolution { face, alpha, beta };
     assert_eq!(s.faces, list.map(whole).to_vec());
-    let s = decode(&bytes(2, 4, 2), 2);
+    let s = decode(&bytes(2, 4, 2), 2, true);
     assert!(s.complete());
+    // The two records after the merged four are the peaks: the even one valid.
+    let peaks = s.peaks.expect("looked for");
+    assert_eq!(peaks.iter().map(|c| c.face).collect::<Vec<_>>(), [104]);
+    assert_eq!(
+        decode(&bytes(2, 4, 2), 2, false).peaks,
+        None,
+        "not looked for"
+    );
     let centres = s.centres.expect("merged");
     // Records 0 and 2 of 4: the odd ones have no centre.
     assert_eq!(
@@ -115,7 +123,8 @@ fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
         (glam::Vec3::X, -glam::Vec3::Z)
     );
     assert_eq!((c.kappa_max, c.kappa_min), (2.5, -0.5));
-    let s = decode(&bytes(2, NO_MERGE, 2), 2);
+    let s = decode(&bytes(2, NO_MERGE, 2), 2, true);
     assert_eq!(s.centres, None, "more centres than the merge keeps");
-    assert!(decode(&bytes(0, 0, 0)[..16], 0).faces.is_empty());
+    assert_eq!(s.peaks, None, "no peaks without merged centres");
+    assert!(decode(&bytes(0, 0, 0)[..16], 0, false).faces.is_empty());
 }

@@ -24,7 +24,7 @@ impl HighlightSet {
         solutions: &[npr_geometry::FaceSolution],
     ) -> &[Highlight] {
         let centres = self.solution_centres(light_eye, world_from_object, solutions);
-        self.update_with(light_eye, world_from_object, centres, None)
+        self.update_with(light_eye, world_from_object, centres, None, None)
     }
 
     /// [`HighlightSet::update`] on centres found elsewhere (the GPU's, merged and computed
@@ -37,7 +37,7 @@ impl HighlightSet {
         centres: &[HighlightCentre],
     ) -> &[Highlight] {
         let centres = given_centres(light_eye, world_from_object, centres);
-        self.update_with(light_eye, world_from_object, centres, None)
+        self.update_with(light_eye, world_from_object, centres, None, None)
     }
 
     /// [`HighlightSet::update_from_centres`] with the regions grown by `regions`, as
@@ -50,7 +50,7 @@ impl HighlightSet {
         regions: super::RegionsOnGpu<'_>,
     ) -> &[Highlight] {
         let centres = given_centres(light_eye, world_from_object, centres);
-        self.update_with(light_eye, world_from_object, centres, Some(regions))
+        self.update_with(light_eye, world_from_object, centres, Some(regions), None)
     }
 
     /// [`HighlightSet::update_from_solutions`] with the regions grown by `regions` (the
@@ -67,14 +67,16 @@ impl HighlightSet {
         regions: super::RegionsOnGpu<'_>,
     ) -> &[Highlight] {
         let centres = self.solution_centres(light_eye, world_from_object, solutions);
-        self.update_with(light_eye, world_from_object, centres, Some(regions))
+        self.update_with(light_eye, world_from_object, centres, Some(regions), None)
     }
 
     /// The update a GPU search's list (`solved`, complete: see
     /// [`crate::SearchSolutions::complete`]) asks for: on its centres merged on the GPU
-    /// where it has them ([`HighlightSet::update_from_centres`]), else on its accepted
-    /// faces merged here ([`HighlightSet::update_from_solutions`]); with the regions of
-    /// `regions` where given (the `_and_regions` forms).
+    /// where it has them ([`HighlightSet::update_from_centres`]), with its peaks where it
+    /// found them ([`crate::SearchSolutions::peaks`], in place of the update's own search
+    /// for them), else on its accepted faces merged here
+    /// ([`HighlightSet::update_from_solutions`]); with the regions of `regions` where
+    /// given (the `_and_regions` forms).
     pub fn update_from_search(
         &mut self,
         light_eye: LightEye,
@@ -82,11 +84,17 @@ impl HighlightSet {
         solved: &crate::SearchSolutions,
         regions: Option<super::RegionsOnGpu<'_>>,
     ) -> &[Highlight] {
-        let centres = match &solved.centres {
-            Some(centres) => given_centres(light_eye, world_from_object, centres),
-            None => self.solution_centres(light_eye, world_from_object, &solved.faces),
+        let (centres, peaks) = match &solved.centres {
+            Some(centres) => (
+                given_centres(light_eye, world_from_object, centres),
+                solved.peaks.as_deref(),
+            ),
+            None => (
+                self.solution_centres(light_eye, world_from_object, &solved.faces),
+                None,
+            ),
         };
-        self.update_with(light_eye, world_from_object, centres, regions)
+        self.update_with(light_eye, world_from_object, centres, regions, peaks)
     }
 
     /// The centres of `solutions` ([`HighlightSearch::centres_from_solutions`]) and the

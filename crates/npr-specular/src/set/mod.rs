@@ -509,7 +509,13 @@ impl HighlightSet {
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
         let (centres, search_us) = self.search_centres(light_eye, world_from_object);
-        self.update_with(light_eye, world_from_object, (centres, search_us), None)
+        self.update_with(
+            light_eye,
+            world_from_object,
+            (centres, search_us),
+            None,
+            None,
+        )
     }
 
     fn update_with(
@@ -518,12 +524,18 @@ impl HighlightSet {
         world_from_object: Mat4,
         (mut centres, search_us): (Vec<HighlightCentre>, f64),
         regions_on_gpu: Option<RegionsOnGpu<'_>>,
+        given_peaks: Option<&[HighlightCentre]>,
     ) -> &[Highlight] {
         let found = centres.len();
         let peaks_start = Instant::now();
         if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
-            let peaks = self.peak_centres(&centres, light_eye, world_from_object);
-            centres.extend(peaks);
+            match given_peaks {
+                Some(peaks) => centres.extend_from_slice(peaks),
+                None => {
+                    let peaks = self.peak_centres(&centres, light_eye, world_from_object);
+                    centres.extend(peaks);
+                }
+            }
         }
         let peaks_us = peaks_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);

@@ -1,0 +1,154 @@
+//! The search's peaks on the GPU (`cs_bright`, `cs_peaks` of `centre_search.wgsl`): the
+//! bright regions `N·H ≥ σ` without an `N = H` point, each given a centre at its maximum
+//! of `N̂·Ĥ` as `HighlightSet`'s update gives it (`set::peaks`), so that the frame's
+//! regions can be seeded on the GPU with them.
+
+use crate::HighlightSet;
+use glam::{Mat3, Mat4};
+use npr_geometry::LightEye;
+use npr_gpu::compute::buffer_init;
+
+/// The tables the peaks read and their scratch, for one mesh.
+#[derive(Debug)]
+pub(super) struct PeakTables {
+    /// Per vertex its neighbours and its faces (`peak_adjacency` of the shader).
+    pub(super) adjacency: wgpu::Buffer,
+    /// `PeakScratch` of the shader: a header, per vertex `N·H` and a fill mark, the list
+    /// of bright vertices and the fill's stack.
+    pub(super) scratch: wgpu::Buffer,
+    /// Welded vertices.
+    pub(super) vertices: usize,
+}
+
+/// Bright vertices a frame lists at most (the rest of the mesh: a frame with more leaves
+/// its peaks to the CPU).
+const LIST_ROOM: usize = 1 << 16;
+
+impl PeakTables {
+    /// `set`'s vertex neighbours (the other corners of its faces, sorted, once each) and
+    /// faces (in `Topology::vertex_faces`'s order, each with its visiting slot, its
+    /// corner at the vertex and whether it is degenerate), and the scratch.
+    pub(super) fn new(device: &wgpu::Device, set: &HighlightSet, slot_of: &[u32]) -> Self {
+        let topo = set.topology();
+        let nv = topo.vertex_count();
+        let mut neighbours: Vec<u32> = Vec::new();
+        let mut offsets = Vec::with_capacity(nv + 1);
+        let mut faces: Vec<u32> = Vec::new();
+        let mut face_offsets = Vec::with_capacity(nv + 1);
+        for v in 0..nv {
+            offsets.push(neighbours.len() as u32);
+            face_offsets.push(faces.len() as u32);
+            let start = neighbours.len();
+            for &f in topo.vertex_faces(v) {
+                let t = topo.triangles[f as usize];
+                neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
+                let corner = t.iter().position(|&u| u as usize == v).unwrap_or(0) as u32;
+                let slot = slot_of.get(f as usize).copied().unwrap_or(0) & 0x1fff_ffff;
+                let degenerate = u32::from(topo.is_degenerate(f as usize));
+                faces.extend([f, slot | (corner << 29) | (degenerate << 31)]);
+            }
+            neighbours[start..].sort_unstable();
+            let mut end = start;
+            for k in start..neighbours.len() {
+                if k == start || neighbours[k] != neighbours[end - 1] {
+                    neighbours[end] = neighbours[k];
+                    end += 1;
+                }
+            }
+            neighbours.truncate(end);
+        }
+        offsets.push(neighbours.len() as u32);
+        face_offsets.push(faces.len() as u32);
+        // Offsets are absolute: the neighbours follow the first `nv + 1`, the faces' offsets
+        // follow the neighbours, the faces their offsets.
+        let base = (nv + 1) as u32;
+        let faces_at = base + neighbours.len() as u32;
+        let faces_base = faces_at + base;
+        let mut data: Vec<u32> = offsets.iter().map(|o| o + base).collect();
+        data.extend(&neighbours);
+        data.extend(face_offsets.iter().map(|o| o + faces_base));
+        data.extend(&faces);
+        let room = LIST_ROOM.min(nv.max(1));
+        let mut scratch = vec![0u32; 4 + 2 * nv + 2 * room];
+        scratch[2] = room as u32;
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        Self {
+            adjacency: buffer_init(device, "npr search peak adjacency", &data, usage),
+            scratch: buffer_init(device, "npr search peak scratch", &scratch, usage),
+            vertices: nv,
+        }
+    }
+
+    /// Bytes of the tables, for the binding limit.
+    pub(super) fn sizes(set: &HighlightSet) -> [u64; 2] {
+        let topo = set.topology();
+        let nv = topo.vertex_count() as u64;
+        let corners = 3 * topo.face_count() as u64;
+        let room = LIST_ROOM.min(topo.vertex_count().max(1)) as u64;
+        [
+            4 * (2 * (nv + 1) + 3 * corners),
+            4 * (4 + 2 * nv + 2 * room),
+        ]
+    }
+
+    /// Clears the frame's part of the scratch: the header's counts and the per-vertex
+    /// `N·H` and marks.
+    pub(super) fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.scratch, 0, Some(8));
+        encoder.clear_buffer(&self.scratch, 16, Some((8 * self.vertices.max(1)) as u64));
+    }
+}
+
+/// The peaks' parameters: σ, whether the transform is a similarity (then `N·H` is tested
+/// in object space, with the light and eye there, as the CPU tests it), and the light
+/// and eye in world and object space (w = 1 positions, w = 0 directions).
+pub(super) struct PeakParams {
+    pub(super) sigma: f32,
+    pub(super) similar: u32,
+    pub(super) light: [f32; 4],
+    pub(super) eye: [f32; 4],
+    pub(super) object_light: [f32; 4],
+    pub(super) object_eye: [f32; 4],
+}
+
+/// The peaks' parameters for σ, this light, eye and transform (`object_light_eye` of
+/// `set::peaks`).
+pub(super) fn peak_params(sigma: f32, light_eye: LightEye, world_from_object: Mat4) -> PeakParams {
+    let m3 = Mat3::from_mat4(world_from_object);
+    let object_from_world = world_from_object.inverse();
+    let similar = crate::visibility::is_similarity(m3, 1e-6) && object_from_world.is_finite();
+    let (light, eye, object_light, object_eye) = match light_eye {
+        LightEye::Directions { to_light, to_eye } => (
+            to_light.extend(0.0),
+            to_eye.extend(0.0),
+            (m3.transpose() * to_light).extend(0.0),
+            (m3.transpose() * to_eye).extend(0.0),
+        ),
+        LightEye::Positions { light, eye } => (
+            light.extend(1.0),
+            eye.extend(1.0),
+            object_from_world.transform_point3(light).extend(1.0),
+            object_from_world.transform_point3(eye).extend(1.0),
+        ),
+    };
+    PeakParams {
+        sigma,
+        similar: u32::from(similar),
+        light: light.to_array(),
+        eye: eye.to_array(),
+        object_light: object_light.to_array(),
+        object_eye: object_eye.to_array(),
+    }
+}
+
+/// `PeakScratch` of `centre_search.wgsl` with one word of data: its header.
+#[cfg(test)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct ScratchLayout {
+    pub(super) listed: u32,
+    pub(super) overflowed: u32,
+    pub(super) list_room: u32,
+    pub(super) pad: u32,
+    pub(super) data: [u32; 1],
+}
