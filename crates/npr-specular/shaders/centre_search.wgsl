@@ -84,7 +84,7 @@ struct Counter {
 }
 
 // The indirect dispatch of `cs_search`, written by `cs_clusters`: one workgroup per
-// listed cluster, folded into rows of `params.max_groups` (x = at most that, y = rows,
+// listed cluster, folded into rows of `frame.params.max_groups` (x = at most that, y = rows,
 // z = 1); `count` = the clusters listed.
 struct Dispatch {
     x: atomic<u32>,
@@ -107,14 +107,21 @@ struct ClusterRecord {
 // Per face: its three welded vertices, and the bits of its cone test's slack for the
 // curvature-blended field (`HighlightSearch::face_margins`).
 @group(0) @binding(1) var<storage, read> triangles: array<vec4<u32>>;
-@group(0) @binding(2) var<storage, read_write> counter: Counter;
-// Four parts of `params.capacity` entries, then `MAX_MERGED`:
+// The frame's counts and values in one storage buffer (not a uniform one: lavapipe
+// inlines a uniform buffer's values into the shader and compiles it again whenever they
+// change, which a moving object's transform does every frame: 230 ms a frame).
+struct SearchFrame {
+    counter: Counter,
+    params: SearchParams,
+}
+
+@group(0) @binding(2) var<storage, read_write> frame: SearchFrame;
+// Four parts of `frame.params.capacity` entries, then `MAX_MERGED`:
 // - per accepted face: (face, α and β as bits, its slot in `order`), from `cs_search`;
 // - `cs_merge`'s scratch: each entry's visiting rank (x);
 // - the accepted faces in visiting order;
 // - the merged list, as (face, α, β, slot), in the CPU's order.
 @group(0) @binding(3) var<storage, read_write> solutions: array<vec4<u32>>;
-@group(0) @binding(4) var<uniform> params: SearchParams;
 // The face each invocation solves (`triangles` is stored in this order), slot -> (face,
 // its place in the CPU's merge order: `HighlightSearch::visit_ranks`).
 @group(0) @binding(5) var<storage, read> order: array<vec2<u32>>;
@@ -163,23 +170,23 @@ fn shape_of(v: SolveVertex) -> mat3x3<f32> {
 // `test_vertices` (`search.rs`): the unit half vector at object point `p`, in object
 // space; w = 0 where it is undefined.
 fn half_vector_at(p: vec3<f32>) -> vec4<f32> {
-    if params.kind == 0u {
-        return vec4<f32>(params.half_vector.xyz, 1.0);
+    if frame.params.kind == 0u {
+        return vec4<f32>(frame.params.half_vector.xyz, 1.0);
     }
     var q = p;
-    if params.kind == 2u {
-        q = (params.world_from_object * vec4<f32>(p, 1.0)).xyz;
+    if frame.params.kind == 2u {
+        q = (frame.params.world_from_object * vec4<f32>(p, 1.0)).xyz;
     }
-    let l = params.light.xyz - q;
-    let e = params.eye.xyz - q;
+    let l = frame.params.light.xyz - q;
+    let e = frame.params.eye.xyz - q;
     let s = l / length(l) + e / length(e);
     let sl = length(s);
     if !(sl > 1e-6) || !finite(sl) {
         return vec4<f32>(0.0);
     }
     var h = s / sl;
-    if params.kind == 2u {
-        let m = params.object_from_world_normal;
+    if frame.params.kind == 2u {
+        let m = frame.params.object_from_world_normal;
         h = normalize_or_zero(mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz) * h);
         if all(h == vec3<f32>(0.0)) {
             return vec4<f32>(0.0);
@@ -215,7 +222,7 @@ struct Field {
 fn field_at(f: Face, a: f32, b: f32) -> Field {
     let dn1 = f.n1 - f.n0;
     let dn2 = f.n2 - f.n0;
-    if params.curved == 0u {
+    if frame.params.curved == 0u {
         return Field(f.n0 + a * dn1 + b * dn2, dn1, dn2);
     }
     let w0 = 1.0 - a - b;
@@ -273,7 +280,7 @@ fn solve(f: Face) -> vec3<f32> {
     let dh1 = f.h1 - f.h0;
     let dh2 = f.h2 - f.h0;
     var res = 3.0e38;
-    let iterations = select(6u, 10u, params.curved == 1u);
+    let iterations = select(6u, 10u, frame.params.curved == 1u);
     for (var i = 0u; i < iterations; i++) {
         let nf = field_at(f, a, b);
         let hv = f.h0 + a * dh1 + b * dh2;
@@ -354,17 +361,17 @@ fn in_cone(f: Face, margin: f32) -> bool {
 // s moves by at most that and H by asin(|Δs| / |s|).
 fn cluster_may_hold(c: ClusterRecord) -> bool {
     var limit = c.axis.w;
-    if params.curved == 1u {
+    if frame.params.curved == 1u {
         limit += c.margin.x;
     }
-    if params.kind == 2u || !(limit < 3.0) {
+    if frame.params.kind == 2u || !(limit < 3.0) {
         return true;
     }
-    var h = params.half_vector.xyz;
-    if params.kind == 1u {
+    var h = frame.params.half_vector.xyz;
+    if frame.params.kind == 1u {
         let r = c.sphere.w;
-        let l = params.light.xyz - c.sphere.xyz;
-        let e = params.eye.xyz - c.sphere.xyz;
+        let l = frame.params.light.xyz - c.sphere.xyz;
+        let e = frame.params.eye.xyz - c.sphere.xyz;
         let dl = length(l);
         let de = length(e);
         if !(dl > 2.0 * r) || !(de > 2.0 * r) {
@@ -393,7 +400,7 @@ fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     if c == 0u {
         dispatch.z = 1u;
     }
-    if c >= arrayLength(&clusters) || c * WORKGROUP >= params.face_count {
+    if c >= arrayLength(&clusters) || c * WORKGROUP >= frame.params.face_count {
         return;
     }
     if !cluster_may_hold(clusters[c]) {
@@ -401,7 +408,7 @@ fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
     let k = atomicAdd(&dispatch.count, 1u);
     listed[k] = c + 1u;
-    let row = max(params.max_groups, 1u);
+    let row = max(frame.params.max_groups, 1u);
     atomicMax(&dispatch.x, min(k + 1u, row));
     atomicMax(&dispatch.y, k / row + 1u);
 }
@@ -410,13 +417,13 @@ fn cs_clusters(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 // face per invocation, one workgroup per cluster `cs_clusters` listed.
 @compute @workgroup_size(64)
 fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let k = wid.x + wid.y * max(params.max_groups, 1u);
+    let k = wid.x + wid.y * max(frame.params.max_groups, 1u);
     // The last row's workgroups past the count find 0: no cluster.
     if k >= arrayLength(&listed) || listed[k] == 0u {
         return;
     }
     let at = (listed[k] - 1u) * WORKGROUP + lid;
-    if at >= params.face_count {
+    if at >= frame.params.face_count {
         return;
     }
     let face = order[at].x;
@@ -440,8 +447,8 @@ fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_in
         v1.position.xyz - v0.position.xyz, v2.position.xyz - v0.position.xyz,
         shape_of(v0), shape_of(v1), shape_of(v2),
     );
-    var margin = params.angle_margin;
-    if params.curved == 1u {
+    var margin = frame.params.angle_margin;
+    if frame.params.curved == 1u {
         margin += bitcast<f32>(t.w);
     }
     if !in_cone(f, margin) {
@@ -451,8 +458,8 @@ fn cs_search(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_in
     if s.z == 0.0 {
         return;
     }
-    let slot = atomicAdd(&counter.found, 1u);
-    if slot < params.capacity {
+    let slot = atomicAdd(&frame.counter.found, 1u);
+    if slot < frame.params.capacity {
         solutions[slot] = vec4<u32>(face, bitcast<u32>(s.x), bitcast<u32>(s.y), at);
     }
 }
@@ -485,14 +492,14 @@ fn solution_point(e: vec4<u32>) -> vec4<f32> {
 // face takes part (a face the solve accepts has one).
 @compute @workgroup_size(256)
 fn cs_merge(@builtin(local_invocation_index) lid: u32) {
-    let cap = params.capacity;
+    let cap = frame.params.capacity;
     if lid == 0u {
-        merge_count = atomicLoad(&counter.found);
+        merge_count = atomicLoad(&frame.counter.found);
     }
     let n = workgroupUniformLoad(&merge_count);
     if n > cap {
         if lid == 0u {
-            counter.merged = NO_MERGE;
+            frame.counter.merged = NO_MERGE;
         }
         return;
     }
@@ -521,7 +528,7 @@ fn cs_merge(@builtin(local_invocation_index) lid: u32) {
         let c = solution_point(e);
         var matched = false;
         for (var m = 0u; m < kept; m += 1u) {
-            if distance(kept_point[m].xyz, c.xyz) <= params.merge_distance {
+            if distance(kept_point[m].xyz, c.xyz) <= frame.params.merge_distance {
                 if c.w > kept_point[m].w {
                     kept_point[m] = c;
                     kept_entry[m] = e;
@@ -543,7 +550,7 @@ fn cs_merge(@builtin(local_invocation_index) lid: u32) {
     for (var m = 0u; m < kept; m += 1u) {
         solutions[3u * cap + m] = kept_entry[m];
     }
-    counter.merged = select(kept, NO_MERGE, overflow);
+    frame.counter.merged = select(kept, NO_MERGE, overflow);
 }
 
 // One welded vertex of the curvature field the centres interpolate, in `CurvaturePass`'s
@@ -631,7 +638,7 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
     r.solution = vec4<u32>(face, bitcast<u32>(a), bitcast<u32>(b), slot);
     let t = triangles[slot].xyz;
     let nv = arrayLength(&vertices);
-    if params.transform_ok == 0u || t.x >= nv || t.y >= nv || t.z >= nv {
+    if frame.params.transform_ok == 0u || t.x >= nv || t.y >= nv || t.z >= nv {
         return r;
     }
     let p0 = vertices[t.x].position.xyz;
@@ -642,7 +649,7 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
         w.x * vertices[t.x].normal.xyz + w.y * vertices[t.y].normal.xyz + w.z * vertices[t.z].normal.xyz,
     );
     var n_obj = vec4<f32>(0.0);
-    if params.field_normals == 1u {
+    if frame.params.field_normals == 1u {
         n_obj = select(solved, vec4<f32>(axes.normal, 1.0), axes.ok);
     } else {
         n_obj = select(vec4<f32>(axes.normal, select(0.0, 1.0, axes.ok)), solved, solved.w == 1.0);
@@ -650,11 +657,11 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
     if n_obj.w == 0.0 {
         return r;
     }
-    let nw = try_normalize((params.normal_world_from_object * vec4<f32>(n_obj.xyz, 0.0)).xyz);
+    let nw = try_normalize((frame.params.normal_world_from_object * vec4<f32>(n_obj.xyz, 0.0)).xyz);
     if nw.w == 0.0 {
         return r;
     }
-    let m = params.world_from_object;
+    let m = frame.params.world_from_object;
     let lin = mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz);
     var dmax = any_orthonormal(nw.xyz);
     var curv = vec2<f32>(0.0);
@@ -669,7 +676,7 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
     r.normal_object = vec4<f32>(n_obj.xyz, 0.0);
     r.normal_world = vec4<f32>(nw.xyz, 0.0);
     r.dir_kappa_max = vec4<f32>(dmax, 0.0);
-    r.curvature = vec4<f32>(curv * params.inv_scale, 0.0, 0.0);
+    r.curvature = vec4<f32>(curv * frame.params.inv_scale, 0.0, 0.0);
     return r;
 }
 
@@ -677,11 +684,11 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
 @compute @workgroup_size(64)
 fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = gid.x;
-    let kept = counter.merged;
+    let kept = frame.counter.merged;
     if kept == NO_MERGE || k >= kept || k >= MAX_MERGED {
         return;
     }
-    let e = solutions[3u * params.capacity + k];
+    let e = solutions[3u * frame.params.capacity + k];
     centres[k] = centre_record(e.x, e.w, bitcast<f32>(e.y), bitcast<f32>(e.z));
 }
 
@@ -734,13 +741,13 @@ fn vertex_nh(v: u32) -> f32 {
     let q = vertices[v];
     var n = vec3<f32>(0.0);
     var h = vec3<f32>(0.0);
-    if params.peak_similar == 1u {
+    if frame.params.peak_similar == 1u {
         n = try_normalize(q.normal.xyz).xyz;
-        h = half_at(q.position.xyz, params.peak_object_light, params.peak_object_eye);
+        h = half_at(q.position.xyz, frame.params.peak_object_light, frame.params.peak_object_eye);
     } else {
-        n = try_normalize((params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
-        let p = (params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
-        h = half_at(p, params.peak_light, params.peak_eye);
+        n = try_normalize((frame.params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
+        let p = (frame.params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
+        h = half_at(p, frame.params.peak_light, frame.params.peak_eye);
     }
     let zero = vec3<f32>(0.0);
     if all(n == zero) || all(h == zero) {
@@ -757,7 +764,7 @@ fn cs_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         return;
     }
     let d = vertex_nh(v);
-    if !(d >= params.peak_sigma) {
+    if !(d >= frame.params.peak_sigma) {
         return;
     }
     peak_scratch.data[v] = bitcast<u32>(d);
@@ -870,9 +877,9 @@ fn peak_centre(v: u32) -> CentreRecord {
         var h: array<vec3<f32>, 3>;
         for (var c = 0u; c < 3u; c += 1u) {
             let q = vertices[t[c]];
-            n[c] = try_normalize((params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
-            let p = (params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
-            h[c] = half_at(p, params.peak_light, params.peak_eye);
+            n[c] = try_normalize((frame.params.normal_world_from_object * vec4<f32>(q.normal.xyz, 0.0)).xyz).xyz;
+            let p = (frame.params.world_from_object * vec4<f32>(q.position.xyz, 1.0)).xyz;
+            h[c] = half_at(p, frame.params.peak_light, frame.params.peak_eye);
         }
         var start = vec2<f32>(0.0, 0.0);
         if corner == 1u {
@@ -901,15 +908,15 @@ var<private> parts: array<vec2<u32>, MAX_MERGED>;
 
 @compute @workgroup_size(1)
 fn cs_peaks() {
-    let merged = counter.merged;
+    let merged = frame.counter.merged;
     let nv = arrayLength(&vertices);
     let listed = atomicLoad(&peak_scratch.listed);
-    if merged == NO_MERGE || atomicLoad(&peak_scratch.overflowed) != 0u || params.peak_sigma <= 0.0 {
-        counter.peaks = NO_MERGE;
+    if merged == NO_MERGE || atomicLoad(&peak_scratch.overflowed) != 0u || frame.params.peak_sigma <= 0.0 {
+        frame.counter.peaks = NO_MERGE;
         return;
     }
-    if params.transform_ok == 0u {
-        counter.peaks = 0u;
+    if frame.params.transform_ok == 0u {
+        frame.counter.peaks = 0u;
         return;
     }
     // The parts an `N = H` centre lies in (through its face's bright vertices) need no
@@ -932,7 +939,7 @@ fn cs_peaks() {
         let v = peak_scratch.data[2u * nv + i];
         if peak_scratch.data[nv + v] == 0u {
             if count + merged == MAX_MERGED {
-                counter.peaks = NO_MERGE;
+                frame.counter.peaks = NO_MERGE;
                 return;
             }
             parts[count] = fill_part(v);
@@ -957,5 +964,5 @@ fn cs_peaks() {
             n += 1u;
         }
     }
-    counter.peaks = n;
+    frame.counter.peaks = n;
 }

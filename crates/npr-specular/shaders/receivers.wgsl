@@ -60,8 +60,15 @@ struct Meta {
     counts: array<vec4<u32>>,
 }
 
-@group(0) @binding(0) var<uniform> params: ReceiverParams;
-@group(0) @binding(1) var<storage, read> queries: array<Query>;
+// The frame's values, then one query per highlight, in one storage buffer (not a
+// uniform one: lavapipe inlines a uniform buffer's values into the shader and compiles it
+// again whenever they change, which a moving object's transform does every frame).
+struct ReceiverFrame {
+    params: ReceiverParams,
+    queries: array<Query>,
+}
+
+@group(0) @binding(1) var<storage, read> receiver_frame: ReceiverFrame;
 @group(0) @binding(2) var<storage, read> positions: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> faces: array<Face>;
 // Face adjacency: `face_count + 1` offsets, then the neighbour list.
@@ -117,9 +124,9 @@ fn face_state(f: u32, q: Query) -> u32 {
     let d = dot(n, q.n_max.xyz);
     var facing = d > 0.0;
     if min_cos > 0.0 {
-        var floor = min_cos * params.k;
-        if params.similar == 0u {
-            floor = min_cos * length((params.normal_from_object * vec4<f32>(n, 0.0)).xyz);
+        var floor = min_cos * receiver_frame.params.k;
+        if receiver_frame.params.similar == 0u {
+            floor = min_cos * length((receiver_frame.params.normal_from_object * vec4<f32>(n, 0.0)).xyz);
         }
         facing = d > floor;
     }
@@ -142,22 +149,22 @@ fn face_state(f: u32, q: Query) -> u32 {
 // Claims face `f` for highlight `h`: true when no invocation had.
 fn claim(f: u32, h: u32) -> bool {
     let bit = 1u << (h % 32u);
-    let old = atomicOr(&visited[f * params.words + h / 32u], bit);
+    let old = atomicOr(&visited[f * receiver_frame.params.words + h / 32u], bit);
     return (old & bit) == 0u;
 }
 
 // Queues face `f` (crossed, `state` ≥ 1) of the walk whose entries start at `base`.
 fn push(f: u32, state: u32, base: u32) {
     let slot = atomicAdd(&wg_tail, 1u);
-    if slot < params.capacity {
+    if slot < receiver_frame.params.capacity {
         work[base + slot] = f;
     } else {
         atomicStore(&wg_overflow, 1u);
     }
     if state == 2u {
         let r = atomicAdd(&wg_received, 1u);
-        if r < params.capacity {
-            work[base + params.capacity + r] = f;
+        if r < receiver_frame.params.capacity {
+            work[base + receiver_frame.params.capacity + r] = f;
         }
     }
 }
@@ -169,14 +176,14 @@ fn cs_walk(
     @builtin(local_invocation_index) lane: u32,
 ) {
     let h = group.x;
-    let q = queries[h];
-    let base = h * 2u * params.capacity;
+    let q = receiver_frame.queries[h];
+    let base = h * 2u * receiver_frame.params.capacity;
     if lane == 0u {
         atomicStore(&wg_tail, 0u);
         atomicStore(&wg_received, 0u);
         atomicStore(&wg_overflow, 0u);
         let start = q.rule.x;
-        if start < params.face_count && claim(start, h) {
+        if start < receiver_frame.params.face_count && claim(start, h) {
             let state = face_state(start, q);
             if state != 0u {
                 push(start, state, base);
@@ -190,7 +197,7 @@ fn cs_walk(
         storageBarrier();
         workgroupBarrier();
         if lane == 0u {
-            wg_level_end = min(atomicLoad(&wg_tail), params.capacity);
+            wg_level_end = min(atomicLoad(&wg_tail), receiver_frame.params.capacity);
         }
         let end = workgroupUniformLoad(&wg_level_end);
         if end <= begin {
@@ -201,7 +208,7 @@ fn cs_walk(
             let first = adjacency[f];
             let last = adjacency[f + 1u];
             for (var j = first; j < last; j++) {
-                let g = adjacency[params.face_count + 1u + j];
+                let g = adjacency[receiver_frame.params.face_count + 1u + j];
                 if !claim(g, h) {
                     continue;
                 }
@@ -215,8 +222,8 @@ fn cs_walk(
     }
     workgroupBarrier();
     if lane == 0u {
-        let crossed = min(atomicLoad(&wg_tail), params.capacity);
-        let received = min(atomicLoad(&wg_received), params.capacity);
+        let crossed = min(atomicLoad(&wg_tail), receiver_frame.params.capacity);
+        let received = min(atomicLoad(&wg_received), receiver_frame.params.capacity);
         meta_data.counts[h] = vec4<u32>(crossed, received, atomicLoad(&wg_overflow), 0u);
     }
 }
@@ -226,9 +233,9 @@ fn cs_walk(
 @compute @workgroup_size(1)
 fn cs_offsets() {
     var total = 0u;
-    for (var h = 0u; h < params.highlight_count; h++) {
+    for (var h = 0u; h < receiver_frame.params.highlight_count; h++) {
         var c = meta_data.counts[h];
-        let room = params.list_faces - min(total, params.list_faces);
+        let room = receiver_frame.params.list_faces - min(total, receiver_frame.params.list_faces);
         if c.y > room {
             c.y = room;
             c.z = 1u;
@@ -248,7 +255,7 @@ fn cs_scatter(
 ) {
     let h = group.x;
     let c = meta_data.counts[h];
-    let base = h * 2u * params.capacity + params.capacity;
+    let base = h * 2u * receiver_frame.params.capacity + receiver_frame.params.capacity;
     for (var i = lane; i < c.y; i += WORKGROUP) {
         let f = work[base + i];
         let r = faces[f].render;

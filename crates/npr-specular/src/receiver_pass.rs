@@ -77,10 +77,10 @@ pub struct ReceiverObject {
     slots: Slots<Slot>,
 }
 
-/// One prepare's params, queries, counts (with the indirect draw's arguments) and stream.
+/// One prepare's params and queries (one buffer: `ReceiverFrame`), counts (with the
+/// indirect draw's arguments) and stream.
 #[derive(Debug)]
 struct Slot {
-    params: wgpu::Buffer,
     queries: wgpu::Buffer,
     meta: wgpu::Buffer,
     list: wgpu::Buffer,
@@ -128,6 +128,18 @@ struct Params {
     k: f32,
     list_faces: u32,
     _pad: u32,
+}
+
+/// Bytes of `ReceiverParams`: the queries follow them in `ReceiverFrame`'s buffer.
+const PARAMS_BYTES: usize = std::mem::size_of::<Params>();
+
+/// `ReceiverFrame` of `receivers.wgsl` with one query.
+#[cfg(test)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct FrameData {
+    params: Params,
+    queries: [Query; 1],
 }
 
 /// `Query` of `receivers.wgsl`: one highlight's walk.
@@ -241,10 +253,9 @@ impl ReceiverPass {
     /// The walk's pipelines (a compute pass draws into no target).
     pub fn new(device: &wgpu::Device) -> Self {
         let module = crate::shaders::RECEIVERS.module(device);
-        let mut entries = vec![layout_entry(0, wgpu::BufferBindingType::Uniform)];
-        entries.extend(
-            (1..9).map(|b| layout_entry(b, wgpu::BufferBindingType::Storage { read_only: b < 5 })),
-        );
+        let entries: Vec<_> = (1..9)
+            .map(|b| layout_entry(b, wgpu::BufferBindingType::Storage { read_only: b < 5 }))
+            .collect();
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr receivers"),
             entries: &entries,
@@ -380,7 +391,11 @@ impl ReceiverPass {
             .next(self.id, input.frame, || make_slot(device))?;
         if highlights > slot.room || list_faces > slot.list_faces {
             let room = highlights.next_power_of_two().max(slot.room);
-            slot.queries = storage(device, "npr receiver queries", (room.max(1) * 128) as u64);
+            slot.queries = storage(
+                device,
+                "npr receiver queries",
+                (PARAMS_BYTES + room.max(1) * 128) as u64,
+            );
             slot.meta = meta_buffer(device, room);
             slot.room = room;
             let list = list_faces.max(slot.list_faces);
@@ -390,15 +405,18 @@ impl ReceiverPass {
         params.words = object.words as u32;
         params.capacity = capacity as u32;
         params.list_faces = slot.list_faces as u32;
-        queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
+        queue.write_buffer(&slot.queries, 0, bytemuck::bytes_of(&params));
         if !queries.is_empty() {
-            queue.write_buffer(&slot.queries, 0, bytemuck::cast_slice(&queries));
+            queue.write_buffer(
+                &slot.queries,
+                PARAMS_BYTES as u64,
+                bytemuck::cast_slice(&queries),
+            );
         }
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr receivers"),
             layout: &self.layout,
             entries: &[
-                group_entry(0, &slot.params),
                 group_entry(1, &slot.queries),
                 group_entry(2, &object.positions),
                 group_entry(3, &object.face_records),
@@ -473,13 +491,7 @@ fn meta_buffer(device: &wgpu::Device, highlights: usize) -> wgpu::Buffer {
 
 fn make_slot(device: &wgpu::Device) -> Slot {
     Slot {
-        params: buffer_init(
-            device,
-            "npr receiver params",
-            &[Params::default()],
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        ),
-        queries: storage(device, "npr receiver queries", 128),
+        queries: storage(device, "npr receiver queries", (PARAMS_BYTES + 128) as u64),
         meta: meta_buffer(device, 1),
         list: storage(device, "npr receiver stream", 24),
         list_faces: 1,
@@ -666,27 +678,34 @@ mod tests {
 
     #[test]
     fn records_match_wgsl() {
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            Params,
-            "ReceiverParams",
+        // `ReceiverParams` is bound inside `ReceiverFrame` (checked below, with the
+        // queries' offset): its fields' offsets by WGSL's rules.
+        assert_eq!(
             [
-                normal_from_object,
-                highlight_count,
-                face_count,
-                words,
-                capacity,
-                similar,
-                k,
-                list_faces,
-                _pad
-            ]
+                std::mem::offset_of!(Params, highlight_count),
+                std::mem::offset_of!(Params, words),
+                std::mem::offset_of!(Params, similar),
+                std::mem::offset_of!(Params, k),
+                std::mem::offset_of!(Params, list_faces),
+                std::mem::size_of::<Params>(),
+            ],
+            [64, 72, 80, 84, 88, 96]
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,
-            Query,
-            "Query",
-            [ndc_from_object, n_max, walk_lo, walk_hi, rule]
+            FrameData,
+            "ReceiverFrame",
+            [params, queries]
+        );
+        // `Query` is bound inside `ReceiverFrame` (its array's offset and stride there).
+        assert_eq!(
+            [
+                std::mem::offset_of!(Query, n_max),
+                std::mem::offset_of!(Query, walk_hi),
+                std::mem::offset_of!(Query, rule),
+                std::mem::size_of::<Query>(),
+            ],
+            [64, 96, 112, 128]
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,

@@ -19,22 +19,22 @@ fn every_shader_file_is_embedded_and_validates() {
 /// it has one.
 #[test]
 fn every_bound_struct_has_a_layout_test() {
-    // `Counter` is one atomic `u32` and `Dispatch` three (an indirect dispatch), read as
-    // the first two words of the list (`search_pass` tests decode them); `Meta` is the indirect draw's four words and a `vec4<u32>` per
-    // highlight (`ReceiverObject::read` decodes it, `tests/gpu_receivers.rs` checks it).
+    // `Counter` is four `u32` at the head of `SearchFrame` and `Dispatch` four (an
+    // indirect dispatch), read back as words (`search_pass` tests decode them); `Meta` is
+    // the indirect draw's four words and a `vec4<u32>` per highlight
+    // (`ReceiverObject::read` decodes it, `tests/gpu_receivers.rs` checks it). The
+    // structs bound inside a frame buffer (`SearchParams`, `ReceiverParams`, `Query`)
+    // have their fields' offsets checked beside their frame's layout test.
     let covered = [
         "Frame",
         "Object",
         "Projector",
-        "SearchParams",
         "SolveVertex",
         "FieldVertex",
         "CentreRecord",
         "ClusterRecord",
         "Counter",
         "Dispatch",
-        "ReceiverParams",
-        "Query",
         "Face",
         "Meta",
         "RegionFrameData",
@@ -43,6 +43,8 @@ fn every_bound_struct_has_a_layout_test() {
         "RegionFit",
         "TrackData",
         "PeakScratch",
+        "SearchFrame",
+        "ReceiverFrame",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

@@ -1,7 +1,9 @@
 //! The compute passes in the browser, against the CPU on the same frame: the curvature
 //! tensor (`npr_gpu::CurvaturePass`), the `N = H` search (`npr_specular::CentreSearchPass`),
 //! the regions `N·H ≥ σ` and their moment ellipses (`npr_specular::RegionPass`) and the §4.2
-//! receivers (`npr_specular::ReceiverPass`) on a torus, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
+//! receivers (`npr_specular::ReceiverPass`) on a torus, and the one-submission setup
+//! (the search with its peaks and the regions seeded on the GPU,
+//! [`crate::compute_tracking`]) on a knot, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
 //! read back over the next animation frames (a map completes only once control returns
 //! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
 //! check (`cargo xtask web --check`).
@@ -43,6 +45,8 @@ pub struct ComputeCheck {
     solutions: Option<npr_specular::SearchSolutions>,
     walked: Option<ReceiverReadback>,
     grown: Option<Vec<GpuRegion>>,
+    tracking: crate::compute_tracking::TrackingCheck,
+    tracking_report: Option<serde_json::Value>,
 }
 
 impl ComputeCheck {
@@ -141,7 +145,11 @@ impl ComputeCheck {
         let regions = regions
             .map(device, queue, &grown)
             .map_err(|e| e.to_string())?;
+        let tracking =
+            crate::compute_tracking::TrackingCheck::start(device, queue, &generate::paper_knot())?;
         Ok(Self {
+            tracking,
+            tracking_report: None,
             mesh,
             set,
             curvature,
@@ -190,11 +198,15 @@ impl ComputeCheck {
                 self.grown = Some(grown.map_err(|e| e.to_string())?);
             }
         }
-        let (Some(bytes), Some(solutions), Some(walked), Some(grown)) = (
+        if self.tracking_report.is_none() {
+            self.tracking_report = self.tracking.poll()?;
+        }
+        let (Some(bytes), Some(solutions), Some(walked), Some(grown), Some(tracking)) = (
             &self.field_bytes,
             &self.solutions,
             &self.walked,
             &self.grown,
+            &self.tracking_report,
         ) else {
             return Ok(None);
         };
@@ -239,7 +251,7 @@ impl ComputeCheck {
         let both = cpu_faces.intersection(&gpu_faces).count();
         let either = cpu_faces.union(&gpu_faces).count();
         let regions = self.compare_regions(grown, light_eye, world_from_object, radius);
-        Ok(Some(serde_json::json!({
+        let mut report = serde_json::json!({
             "curvature_kappa_error": field.kappa,
             "curvature_direction_error_deg": field.direction_deg,
             "curvature_normal_error_deg": field.normal_deg,
@@ -260,7 +272,11 @@ impl ComputeCheck {
             "regions_centre_error_of_radius": regions.2,
             "regions_area_error": regions.3,
             "regions_overflowed": grown.iter().filter(|g| g.overflowed).count(),
-        })))
+        });
+        if let (Some(all), Some(more)) = (report.as_object_mut(), tracking.as_object()) {
+            all.extend(more.clone());
+        }
+        Ok(Some(report))
     }
 
     /// The GPU's regions against the CPU growth of the same seeds: regions the CPU

@@ -12,7 +12,10 @@ use anyhow::{Context as _, bail};
 /// (1e-3 of the robust largest |κ|, 0.5° for directions and normals, the same validity),
 /// the receivers the CPU's on at least 99.5 % of the faces either received, and the
 /// regions of the CPU's centres the CPU's outcomes, faces and moment ellipses (centres
-/// within 1e-3 of the radius, areas within 0.5 %).
+/// within 1e-3 of the radius, areas within 0.5 %). On a knot, the one-submission setup
+/// (the search with its peaks, the regions seeded from its centres on the GPU) must seed
+/// the update's regions, find the CPU's peaks (the knot has some), and give the CPU update's highlights
+/// (centres within 1e-4 of the radius, footprints within 3e-3: `tests/gpu_tracking.rs`).
 pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let result = driver.script_async(
         session,
@@ -65,12 +68,33 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("regions_area_error")?,
     );
     let region_overflow = num("regions_overflowed")?;
+    let flag = |key: &str| {
+        result[key]
+            .as_bool()
+            .with_context(|| format!("the compute check has no {key}: {result}"))
+    };
+    let (seeded, same) = (
+        flag("tracked_seeded_on_gpu")?,
+        flag("tracked_highlights_same")?,
+    );
+    let (peaks_gpu, peaks_cpu, tracked) = (
+        num("tracked_peaks_gpu")?,
+        num("tracked_peaks_cpu")?,
+        num("tracked_highlights")?,
+    );
+    let (tracked_centre, tracked_footprint) = (
+        num("tracked_centre_error_of_radius")?,
+        num("tracked_footprint_error_of_radius")?,
+    );
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
          {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU \
          (merged on the GPU from {accepted} faces), within {centre:.2e} of the radius; receivers agree on {:.2} % of {walked} faces; \
          {fitted} regions fitted as the CPU's, {differ} apart, ellipse centres within \
-         {region_centre:.2e} of the radius, areas within {:.3} %",
+         {region_centre:.2e} of the radius, areas within {:.3} %; one submission on a knot: \
+         {tracked} highlights ({peaks_gpu} peaks found on the GPU, {peaks_cpu} on the CPU), \
+         seeded on the GPU: {seeded}, the CPU's: {same}, centres within {tracked_centre:.2e} \
+         and footprints within {tracked_footprint:.2e} of the radius",
         100.0 * agreement,
         100.0 * region_area
     );
@@ -99,6 +123,17 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         || region_area > 5e-3
     {
         bail!("the page's GPU regions differ from the CPU's: {result}");
+    }
+    // The native bounds of `npr-specular/tests/gpu_tracking.rs`.
+    if !seeded
+        || !same
+        || tracked < 1.0
+        || peaks_cpu < 1.0
+        || peaks_gpu != peaks_cpu
+        || tracked_centre > 1e-4
+        || tracked_footprint > 3e-3
+    {
+        bail!("the page's one-submission setup differs from the CPU's update: {result}");
     }
     Ok(())
 }

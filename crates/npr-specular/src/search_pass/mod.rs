@@ -37,7 +37,7 @@
 use glam::Mat4;
 use npr_geometry::{FaceSolution, HighlightSearch, LightEye};
 use npr_gpu::compute::{
-    buffer_init, check_bindings, dispatch_size, group_entry, layout_entry, pipeline, pipeline_over,
+    buffer_init, check_bindings, dispatch_size, group_entry, pipeline, pipeline_over,
     storage_layout_entry,
 };
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
@@ -59,6 +59,10 @@ pub const DEFAULT_CAPACITY: usize = 4096;
 /// Centres the GPU's merge keeps at most (`MAX_MERGED` of `centre_search.wgsl`): past it
 /// [`SearchSolutions::centres`] is `None` and the CPU merges the accepted faces.
 pub const MAX_MERGED: usize = 256;
+
+/// Bytes of `Counter` at the head of `SearchFrame` (`centre_search.wgsl`): the params
+/// follow it.
+const COUNTER_BYTES: u64 = 16;
 
 /// `NO_MERGE` of `centre_search.wgsl`.
 const NO_MERGE: u32 = u32::MAX;
@@ -128,11 +132,11 @@ pub struct SearchObject {
     slots: Slots<Slot>,
 }
 
-/// One prepare's params, list, counter and readback copy.
+/// One prepare's counts and params (`SearchFrame`), list and readback copy.
 #[derive(Debug)]
 struct Slot {
-    params: wgpu::Buffer,
-    counter: wgpu::Buffer,
+    /// `SearchFrame` of the shader: the counter (16 bytes), then the params.
+    frame: wgpu::Buffer,
     solutions: wgpu::Buffer,
     /// `cs_search`'s indirect dispatch (`Dispatch` of the shader), written by
     /// `cs_clusters`.
@@ -190,7 +194,6 @@ impl CentreSearchPass {
     pub fn new(device: &wgpu::Device) -> Self {
         let module = crate::shaders::CENTRE_SEARCH.module(device);
         let mut entries: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
-        entries.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
         entries.extend((5..8).map(|b| storage_layout_entry(b, b < 7)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("npr centre search"),
@@ -202,8 +205,7 @@ impl CentreSearchPass {
         });
         // `cs_centres` reads group 0's vertices, triangles, counter, list and params
         // (writing none), and group 1's field; it writes group 1's records.
-        let mut tables: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
-        tables.push(layout_entry(4, wgpu::BufferBindingType::Uniform));
+        let tables: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
         let centres_layouts = [
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("npr centre search centres tables"),
@@ -463,7 +465,7 @@ impl CentreSearchPass {
                 sizes,
             )
         })?;
-        queue.write_buffer(&slot.params, 0, bytemuck::bytes_of(&params));
+        queue.write_buffer(&slot.frame, COUNTER_BYTES, bytemuck::bytes_of(&params));
         slot.active = frame.is_some();
         slot.peaks = looks;
         Ok(prepared)
@@ -505,7 +507,7 @@ impl CentreSearchPass {
         prepared: &Prepared,
     ) -> Result<(), SpecularError> {
         let slot = object.slots.get(self.id, prepared)?;
-        encoder.clear_buffer(&slot.counter, 0, None);
+        encoder.clear_buffer(&slot.frame, 0, Some(COUNTER_BYTES));
         encoder.clear_buffer(&slot.dispatch, 0, None);
         encoder.clear_buffer(&slot.listed, 0, None);
         if slot.active {
@@ -555,9 +557,9 @@ impl CentreSearchPass {
         // The header: faces accepted, clusters listed (`Dispatch::count`), centres
         // merged; then the accepted faces and the centres' records.
         let entries = object.capacity as u64 * 16;
-        encoder.copy_buffer_to_buffer(&slot.counter, 0, &slot.readback, 0, 4);
+        encoder.copy_buffer_to_buffer(&slot.frame, 0, &slot.readback, 0, 4);
         encoder.copy_buffer_to_buffer(&slot.dispatch, 12, &slot.readback, 4, 4);
-        encoder.copy_buffer_to_buffer(&slot.counter, 4, &slot.readback, 8, 8);
+        encoder.copy_buffer_to_buffer(&slot.frame, 4, &slot.readback, 8, 8);
         encoder.copy_buffer_to_buffer(&slot.solutions, 0, &slot.readback, 16, entries);
         encoder.copy_buffer_to_buffer(
             &slot.records,
@@ -586,18 +588,12 @@ fn make_slot(
     (capacity, cluster_count): (usize, usize),
 ) -> Slot {
     let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-    let params = buffer_init(
-        device,
-        "npr search params",
-        &[Params::default()],
-        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-    );
-    let counter = buffer_init(
-        device,
-        "npr search counter",
-        &[[0u32; 4]],
-        storage | wgpu::BufferUsages::COPY_DST,
-    );
+    let frame = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("npr search frame"),
+        size: COUNTER_BYTES + std::mem::size_of::<Params>() as u64,
+        usage: storage | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
     let solutions = buffer_init(
         device,
         "npr search solutions",
@@ -628,9 +624,8 @@ fn make_slot(
         entries: &[
             group_entry(0, vertices),
             group_entry(1, triangles),
-            group_entry(2, &counter),
+            group_entry(2, &frame),
             group_entry(3, &solutions),
-            group_entry(4, &params),
             group_entry(5, order),
             group_entry(6, clusters),
             group_entry(7, &listed),
@@ -654,9 +649,8 @@ fn make_slot(
             entries: &[
                 group_entry(0, vertices),
                 group_entry(1, triangles),
-                group_entry(2, &counter),
+                group_entry(2, &frame),
                 group_entry(3, &solutions),
-                group_entry(4, &params),
             ],
         }),
         device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -671,8 +665,7 @@ fn make_slot(
         }),
     ];
     Slot {
-        params,
-        counter,
+        frame,
         solutions,
         dispatch,
         listed,
@@ -694,7 +687,7 @@ impl SearchObject {
         prepared: &Prepared,
     ) -> Result<(&wgpu::Buffer, &wgpu::Buffer), SpecularError> {
         let slot = self.slots.get(self.slots.pass(), prepared)?;
-        Ok((&slot.counter, &slot.records))
+        Ok((&slot.frame, &slot.records))
     }
 
     /// Accepted faces a frame keeps.

@@ -162,37 +162,41 @@ pub(super) fn params_of(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `SearchFrame` of `centre_search.wgsl`: the counter, then the params.
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+    struct FrameLayout {
+        counter: [u32; 4],
+        params: Params,
+    }
     use crate::search_clusters::ClusterRecord;
 
     #[test]
     fn params_layout_matches_wgsl() {
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            Params,
-            "SearchParams",
+        // `SearchParams` is bound inside `SearchFrame` (checked below, with its size):
+        // its fields' offsets by WGSL's rules (vec4 and mat4 on 16 bytes).
+        let offsets = [
+            std::mem::offset_of!(Params, object_from_world_normal),
+            std::mem::offset_of!(Params, normal_world_from_object),
+            std::mem::offset_of!(Params, light),
+            std::mem::offset_of!(Params, half_vector),
+            std::mem::offset_of!(Params, kind),
+            std::mem::offset_of!(Params, angle_margin),
+            std::mem::offset_of!(Params, merge_distance),
+            std::mem::offset_of!(Params, inv_scale),
+            std::mem::offset_of!(Params, field_normals),
+            std::mem::offset_of!(Params, transform_ok),
+            std::mem::offset_of!(Params, peak_sigma),
+            std::mem::offset_of!(Params, peak_similar),
+            std::mem::offset_of!(Params, peak_light),
+            std::mem::offset_of!(Params, peak_object_eye),
+            std::mem::size_of::<Params>(),
+        ];
+        assert_eq!(
+            offsets,
             [
-                world_from_object,
-                object_from_world_normal,
-                normal_world_from_object,
-                light,
-                eye,
-                half_vector,
-                kind,
-                curved,
-                face_count,
-                capacity,
-                angle_margin,
-                max_groups,
-                merge_distance,
-                inv_scale,
-                field_normals,
-                transform_ok,
-                peak_sigma,
-                peak_similar,
-                peak_light,
-                peak_eye,
-                peak_object_light,
-                peak_object_eye
+                64, 128, 192, 224, 240, 256, 264, 268, 272, 276, 280, 284, 288, 336, 352
             ]
         );
         npr_gpu::assert_wgsl_layout!(
@@ -206,6 +210,12 @@ mod tests {
             VertexRecord,
             "SolveVertex",
             [position, normal, shape_x, shape_y, shape_z]
+        );
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            FrameLayout,
+            "SearchFrame",
+            [counter, params]
         );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,
