@@ -33,7 +33,6 @@ fn every_bound_struct_has_a_layout_test() {
         "FieldVertex",
         "CentreRecord",
         "ClusterRecord",
-        "Counter",
         "Dispatch",
         "Face",
         "Meta",

@@ -325,7 +325,8 @@ impl RegionPass {
     /// [`RegionPass::prepare`] for a frame whose seeds the GPU writes (`tracking.wgsl`)
     /// from the centres of `input.search`, recorded before this growth in the same
     /// submission, matched with `input.set`'s last update as its matching does: the
-    /// growth is dispatched over them indirectly, with room for [`TRACKED_SEEDS`]. Read it
+    /// growth is dispatched over them indirectly, with room for twice the last update's
+    /// highlights and 8 more (at most [`TRACKED_SEEDS`]). Read it
     /// with [`RegionObject::map_tracked`]; an update takes its regions through
     /// [`TrackedRegions::for_seeds`].
     ///
@@ -339,11 +340,13 @@ impl RegionPass {
         object: &mut RegionObject,
         input: &TrackedInput<'_>,
     ) -> Result<Prepared, SpecularError> {
-        let table = tracked::track_data(input.set, input.world_from_object).ok_or_else(|| {
-            SpecularError::Mismatch(format!(
-                "more than {MAX_TRACKED} highlights to match on the GPU"
-            ))
-        })?;
+        let room = tracked::tracked_room(input.set);
+        let table =
+            tracked::track_data(input.set, input.world_from_object, room).ok_or_else(|| {
+                SpecularError::Mismatch(format!(
+                    "more than {MAX_TRACKED} highlights to match on the GPU"
+                ))
+            })?;
         let (search, searched) = input.search;
         if searched.frame() != input.frame {
             return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
@@ -359,7 +362,7 @@ impl RegionPass {
             light_eye: input.light_eye,
             world_from_object: input.world_from_object,
         };
-        self.prepare_with(queue, object, &cpu_input, Some((&table, outputs)))
+        self.prepare_with(queue, object, &cpu_input, Some((room, &table, outputs)))
     }
 
     /// [`RegionPass::prepare`], its seeds written by the CPU (`tracked` `None`) or by
@@ -369,7 +372,7 @@ impl RegionPass {
         queue: &wgpu::Queue,
         object: &mut RegionObject,
         input: &RegionInput<'_>,
-        tracked: Option<(&[u8], (&wgpu::Buffer, &wgpu::Buffer))>,
+        tracked: Option<(usize, &[u8], (&wgpu::Buffer, &wgpu::Buffer))>,
     ) -> Result<Prepared, SpecularError> {
         object.slots.check_pass(self.id)?;
         let set = input.set;
@@ -383,10 +386,9 @@ impl RegionPass {
                 topo.face_count()
             )));
         }
-        let count = if tracked.is_some() {
-            TRACKED_SEEDS
-        } else {
-            input.seeds.len()
+        let count = match tracked {
+            Some((room, ..)) => room,
+            None => input.seeds.len(),
         };
         if count > MAX_REGION_SEEDS {
             return Err(SpecularError::Mismatch(format!(
@@ -460,7 +462,7 @@ impl RegionPass {
             ],
         }));
         slot.count = count;
-        slot.tracked = tracked.map(|(table, outputs)| {
+        slot.tracked = tracked.map(|(_, table, outputs)| {
             tracked::tracked_slot(device, &self.track_layout, (&slot.seeds, table), outputs)
         });
         Ok(prepared)

@@ -15,9 +15,20 @@ use npr_geometry::{HighlightCentre, LightEye};
 use npr_gpu::compute::{buffer_init, group_entry};
 use npr_gpu::pass::{FrameId, Prepared};
 
-/// Seeds a frame seeded on the GPU has room for: more, and it grows none
-/// ([`TrackedRegions::status`]); the scratch of a [`RegionObject`] is sized for them.
+/// Seeds a frame seeded on the GPU has room for at most: more, and it grows none
+/// ([`TrackedRegions::status`]). A frame's room is twice the last update's highlights
+/// and 8 more, in powers of two up to this ([`tracked_room`]), so that the scratch of a
+/// [`RegionObject`] (a queue per seed) stays the size its frames need.
 pub const TRACKED_SEEDS: usize = 64;
+
+/// The seeds a tracked frame of `set` has room for: twice its last update's highlights
+/// and 8 more (centres come and go between frames), a power of two, at most
+/// [`TRACKED_SEEDS`].
+pub(super) fn tracked_room(set: &HighlightSet) -> usize {
+    (2 * set.highlights().len() + 8)
+        .next_power_of_two()
+        .min(TRACKED_SEEDS)
+}
 
 /// Highlights of the last update the GPU's matching takes at most (`MAX_TRACKED` of
 /// `tracking.wgsl`); past them a frame is not seeded on the GPU.
@@ -72,7 +83,7 @@ pub struct TrackedInput<'a> {
 pub enum TrackStatus {
     /// Seeded and grown.
     Seeded,
-    /// More seeds than [`TRACKED_SEEDS`] (or highlights than [`MAX_TRACKED`]): none grown.
+    /// More seeds than the frame's room (at most [`TRACKED_SEEDS`]): none grown.
     TooMany,
     /// The search's centres were not merged on the GPU (an overflowed list, or more than
     /// [`crate::MAX_MERGED`]): none grown.
@@ -153,15 +164,19 @@ pub(super) struct TrackedSlot {
 }
 
 /// The table `cs_track` reads (`TrackData`): the last update's highlights of `set` for
-/// this transform; `None` when there are more than [`MAX_TRACKED`].
-pub(super) fn track_data(set: &HighlightSet, world_from_object: Mat4) -> Option<Vec<u8>> {
+/// this transform, and `room` seeds; `None` when there are more than [`MAX_TRACKED`].
+pub(super) fn track_data(
+    set: &HighlightSet,
+    world_from_object: Mat4,
+    room: usize,
+) -> Option<Vec<u8>> {
     let (table, sigma) = set.tracking_table(world_from_object);
     if table.len() > MAX_TRACKED {
         return None;
     }
     let params = TrackParams {
         count: table.len() as u32,
-        room: TRACKED_SEEDS as u32,
+        room: room as u32,
         sigma,
         pad: 0,
     };
