@@ -17,7 +17,7 @@ use npr_gpu::pass::{FrameId, Prepared};
 
 /// Seeds a frame seeded on the GPU has room for at most: more, and it grows none
 /// ([`TrackedRegions::status`]). A frame's room is twice the last update's highlights
-/// and 8 more, in powers of two up to this ([`tracked_room`]), so that the scratch of a
+/// and 8 more, in powers of two up to this, so that the scratch of a
 /// [`RegionObject`] (a queue per seed) stays the size its frames need.
 pub const TRACKED_SEEDS: usize = 64;
 
