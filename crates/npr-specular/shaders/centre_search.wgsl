@@ -492,12 +492,16 @@ fn solution_point(e: vec4<u32>) -> vec4<f32> {
 // face takes part (a face the solve accepts has one).
 @compute @workgroup_size(256)
 fn cs_merge(@builtin(local_invocation_index) lid: u32) {
+    // `frame` is read-write storage, so its values are not uniform: the count (or
+    // `NO_MERGE` for an overflowed list) goes through workgroup memory, which makes it
+    // uniform for the barriers below.
     let cap = frame.params.capacity;
     if lid == 0u {
-        merge_count = atomicLoad(&frame.counter.found);
+        let found = atomicLoad(&frame.counter.found);
+        merge_count = select(found, NO_MERGE, found > cap);
     }
     let n = workgroupUniformLoad(&merge_count);
-    if n > cap {
+    if n == NO_MERGE {
         if lid == 0u {
             frame.counter.merged = NO_MERGE;
         }
