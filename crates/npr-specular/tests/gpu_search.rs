@@ -12,7 +12,7 @@ use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
 
 mod common;
-use common::{bounding_radius, fixture, frames, meshes};
+use common::{bounding_radius, fixture, frames, meshes, same_highlights};
 
 /// The GPU search of one frame: its accepted faces.
 fn gpu_solutions(
@@ -181,24 +181,11 @@ fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
                 .update_from_solutions(light_eye, world, &solved.faces)
                 .to_vec(),
         };
-        assert_eq!(got.len(), want.len(), "frame {step}: highlight counts");
-        for (g, w) in got.iter().zip(&want) {
-            assert_eq!(
-                (g.id, g.found, g.piece),
-                (w.id, w.found, w.piece),
-                "frame {step}"
-            );
-            let d = g.centre.position_world.distance(w.centre.position_world) / radius;
-            assert!(
-                d <= 1e-4,
-                "frame {step}: highlight {} moved {d:.2e} of the radius",
-                g.id
-            );
-            let e = (g.projector.half_extent - w.projector.half_extent)
-                .abs()
-                .max_element();
-            assert!(e <= 1e-3 * radius, "frame {step}: footprint differs by {e}");
-        }
+        let e = same_highlights(&got, &want, radius, &format!("frame {step}"));
+        assert!(
+            e <= 1e-3,
+            "frame {step}: footprints differ by {e:.2e} of the radius"
+        );
         assert_eq!(
             gpu.receiver_faces(),
             cpu.receiver_faces(),

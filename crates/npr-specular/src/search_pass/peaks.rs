@@ -31,33 +31,19 @@ impl PeakTables {
     pub(super) fn new(device: &wgpu::Device, set: &HighlightSet, slot_of: &[u32]) -> Self {
         let topo = set.topology();
         let nv = topo.vertex_count();
-        let mut neighbours: Vec<u32> = Vec::new();
-        let mut offsets = Vec::with_capacity(nv + 1);
+        let (offsets, neighbours) = crate::set::vertex_neighbours(topo);
         let mut faces: Vec<u32> = Vec::new();
         let mut face_offsets = Vec::with_capacity(nv + 1);
         for v in 0..nv {
-            offsets.push(neighbours.len() as u32);
             face_offsets.push(faces.len() as u32);
-            let start = neighbours.len();
             for &f in topo.vertex_faces(v) {
                 let t = topo.triangles[f as usize];
-                neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
                 let corner = t.iter().position(|&u| u as usize == v).unwrap_or(0) as u32;
                 let slot = slot_of.get(f as usize).copied().unwrap_or(0) & 0x1fff_ffff;
                 let degenerate = u32::from(topo.is_degenerate(f as usize));
                 faces.extend([f, slot | (corner << 29) | (degenerate << 31)]);
             }
-            neighbours[start..].sort_unstable();
-            let mut end = start;
-            for k in start..neighbours.len() {
-                if k == start || neighbours[k] != neighbours[end - 1] {
-                    neighbours[end] = neighbours[k];
-                    end += 1;
-                }
-            }
-            neighbours.truncate(end);
         }
-        offsets.push(neighbours.len() as u32);
         face_offsets.push(faces.len() as u32);
         // Offsets are absolute: the neighbours follow the first `nv + 1`, the faces' offsets
         // follow the neighbours, the faces their offsets.

@@ -23,6 +23,7 @@ mod mesh;
 mod peaks;
 mod receivers;
 mod regions;
+pub(crate) use peaks::vertex_neighbours;
 pub(crate) use receivers::ReceiverRule;
 pub use regions::RegionsOnGpu;
 

@@ -34,26 +34,7 @@ impl PeakScratch {
     /// Clean scratch for `topo`, with its vertices' neighbours.
     fn new(topo: &Topology) -> Self {
         let nv = topo.vertex_count();
-        let mut offsets = Vec::with_capacity(nv + 1);
-        let mut neighbours = Vec::new();
-        offsets.push(0);
-        for v in 0..nv {
-            let start = neighbours.len();
-            for &f in topo.vertex_faces(v) {
-                let t = topo.triangles[f as usize];
-                neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
-            }
-            neighbours[start..].sort_unstable();
-            let mut end = start;
-            for k in start..neighbours.len() {
-                if k == start || neighbours[k] != neighbours[end - 1] {
-                    neighbours[end] = neighbours[k];
-                    end += 1;
-                }
-            }
-            neighbours.truncate(end);
-            offsets.push(end as u32);
-        }
+        let (offsets, neighbours) = vertex_neighbours(topo);
         Self {
             nh: vec![UNSET; nv],
             visited: vec![false; nv],
@@ -62,6 +43,34 @@ impl PeakScratch {
             ..Self::default()
         }
     }
+}
+
+/// Each vertex's neighbours (the other corners of its faces, sorted, once each):
+/// `neighbours[offsets[v]..offsets[v + 1]]`, the parts' adjacency here and in the GPU's
+/// peaks (`cs_peaks`).
+pub(crate) fn vertex_neighbours(topo: &Topology) -> (Vec<u32>, Vec<u32>) {
+    let nv = topo.vertex_count();
+    let mut offsets = Vec::with_capacity(nv + 1);
+    let mut neighbours = Vec::new();
+    offsets.push(0);
+    for v in 0..nv {
+        let start = neighbours.len();
+        for &f in topo.vertex_faces(v) {
+            let t = topo.triangles[f as usize];
+            neighbours.extend(t.iter().copied().filter(|&u| u as usize != v));
+        }
+        neighbours[start..].sort_unstable();
+        let mut end = start;
+        for k in start..neighbours.len() {
+            if k == start || neighbours[k] != neighbours[end - 1] {
+                neighbours[end] = neighbours[k];
+                end += 1;
+            }
+        }
+        neighbours.truncate(end);
+        offsets.push(end as u32);
+    }
+    (offsets, neighbours)
 }
 
 /// Not measured this frame (below every σ).

@@ -113,3 +113,35 @@ pub fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
     mesh.recompute_normals();
     mesh
 }
+
+/// Asserts that `got` are the highlights `want` (ids, found, pieces, peak flags, fades)
+/// with centres within 1e-4 of `radius`; the largest difference of their footprints'
+/// half extents, of `radius` (`at` names the frame in failures).
+pub fn same_highlights(
+    got: &[npr_specular::Highlight],
+    want: &[npr_specular::Highlight],
+    radius: f32,
+    at: &str,
+) -> f32 {
+    assert_eq!(got.len(), want.len(), "{at}: highlight counts");
+    let mut worst = 0.0f32;
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(
+            (g.id, g.found, g.piece, g.pieces, g.peak),
+            (w.id, w.found, w.piece, w.pieces, w.peak),
+            "{at}"
+        );
+        assert!((g.opacity - w.opacity).abs() <= 1e-6, "{at}: fades");
+        let d = g.centre.position_world.distance(w.centre.position_world) / radius;
+        assert!(
+            d <= 1e-4,
+            "{at}: highlight {} moved {d:.2e} of the radius",
+            g.id
+        );
+        let e = (g.projector.half_extent - w.projector.half_extent)
+            .abs()
+            .max_element();
+        worst = worst.max(e / radius);
+    }
+    worst
+}
