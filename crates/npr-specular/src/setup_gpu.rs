@@ -56,7 +56,11 @@ impl SetupOnGpu {
         let search_pass = CentreSearchPass::new(device);
         let region_pass = RegionPass::new(device);
         Ok(Self {
-            search: fits(search_pass.create_object_with_peaks(device, set))?,
+            // The peaks' tables where they fit too, else the search alone.
+            search: match fits(search_pass.create_object_with_peaks(device, set))? {
+                Some(s) => Some(s),
+                None => fits(search_pass.create_object(device, set.search()))?,
+            },
             regions: fits(region_pass.create_object(device, set))?,
             search_pass,
             region_pass,
@@ -101,9 +105,14 @@ impl SetupOnGpu {
         let searched = self
             .search_pass
             .prepare_with_peaks(queue, search, &input, sigma)?;
-        // The regions seeded on the GPU, where the mesh fits and the last update's
-        // highlights are few enough to match there.
-        let grown = match self.regions.as_mut() {
+        // The regions seeded on the GPU, where the update sizes highlights by their
+        // regions, the mesh fits and the last update's highlights are few enough to match
+        // there.
+        let regions = self
+            .regions
+            .as_mut()
+            .filter(|_| set.sizing == crate::HighlightSizing::Region);
+        let grown = match regions {
             Some(regions) => {
                 let tracked = TrackedInput {
                     frame,

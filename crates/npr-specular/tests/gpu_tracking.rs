@@ -193,3 +193,43 @@ fn a_frame_of_too_many_centres_is_not_seeded() {
     assert_eq!(tracked.status, TrackStatus::TooMany);
     assert!(tracked.seeds.is_empty() && tracked.regions.is_empty());
 }
+
+/// `SetupOnGpu` with the paper's sizing (Eq. (8): no regions, no peaks) gives the CPU
+/// update's highlights, waiting once, frame after frame.
+#[test]
+fn the_gpu_setup_with_the_papers_sizing_is_the_cpu_update() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("the_gpu_setup_with_the_papers_sizing_is_the_cpu_update")
+    else {
+        return;
+    };
+    let mesh = fixture("spot.obj");
+    let options = CurvatureOptions::default();
+    let mut cpu = HighlightSet::new(&mesh, &options).unwrap();
+    let mut gpu = HighlightSet::new(&mesh, &options).unwrap();
+    cpu.sizing = npr_specular::HighlightSizing::Paper;
+    gpu.sizing = npr_specular::HighlightSizing::Paper;
+    let radius = bounding_radius(&mesh);
+    let mut setup = npr_specular::SetupOnGpu::new(&ctx.device, &gpu).unwrap();
+    let mut shown = 0;
+    for step in 0..6 {
+        let frame = turn(radius, step);
+        let want = cpu.update(frame.0, frame.1).to_vec();
+        let waits = setup
+            .update((&ctx.device, &ctx.queue), &mut gpu, frame)
+            .unwrap();
+        assert_eq!(waits, Some(1), "frame {step}");
+        assert_eq!(
+            gpu.stats().peaks,
+            0,
+            "frame {step}: the paper's sizing has no peaks"
+        );
+        let e = same_highlights(gpu.highlights(), &want, radius, &format!("frame {step}"));
+        assert!(
+            e <= 1e-3,
+            "frame {step}: footprints differ by {e:.2e} of the radius"
+        );
+        shown += want.len();
+    }
+    assert!(shown >= 6, "only {shown} highlights");
+}
