@@ -10,9 +10,9 @@ struct CentreRecord {
     normal_object: vec4<f32>,
     normal_world: vec4<f32>,
     dir_kappa_max: vec4<f32>,
-    // (κmax, κmin) in 1/world unit.
+    // (κmax, κmin) in 1/world unit; z: 1 for a peak (`cs_peaks`), 0 for a merged centre.
     curvature: vec4<f32>,
-    // (face, α and β as bits, 0).
+    // (face, α and β as bits, the face's visiting slot).
     solution: vec4<u32>,
 }
 

@@ -707,8 +707,7 @@ fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // The vertices' neighbours and faces: `nv + 1` offsets into this array, the neighbours,
 // then `nv + 1` offsets (the first at `peak_adjacency[nv]`) and, per face around a
-// vertex in the order of `Topology::vertex_faces`, (face, slot | corner << 29 |
-// degenerate << 31).
+// vertex in the order of `Topology::vertex_faces`, (face, slot | corner << 29).
 @group(1) @binding(3) var<storage, read> peak_adjacency: array<u32>;
 
 // `cs_bright`'s and `cs_peaks`' scratch (cleared every frame): the bright vertices
@@ -860,7 +859,7 @@ fn ascend(n: array<vec3<f32>, 3>, h: array<vec3<f32>, 3>, start: vec2<f32>) -> v
 }
 
 // `centre_at_vertex`: the centre at the largest `N̂·Ĥ` over the faces around `v`
-// (degenerate ones left out), the first face on ties.
+// (those of zero area left out), the first face on ties.
 fn peak_centre(v: u32) -> CentreRecord {
     let nv = arrayLength(&vertices);
     let faces_at = peak_adjacency[nv];
@@ -871,12 +870,14 @@ fn peak_centre(v: u32) -> CentreRecord {
     for (var k = peak_adjacency[faces_at + v]; k < peak_adjacency[faces_at + v + 1u]; k += 2u) {
         let face = peak_adjacency[k];
         let word = peak_adjacency[k + 1u];
-        if (word >> 31u) == 1u {
-            continue;
-        }
         let slot = word & 0x1fffffffu;
         let corner = (word >> 29u) & 3u;
         let t = triangles[slot].xyz;
+        // A face of zero area in this pose (`Topology::is_degenerate`) is left out.
+        let p0 = vertices[t.x].position.xyz;
+        if all(cross(vertices[t.y].position.xyz - p0, vertices[t.z].position.xyz - p0) == vec3<f32>(0.0)) {
+            continue;
+        }
         var n: array<vec3<f32>, 3>;
         var h: array<vec3<f32>, 3>;
         for (var c = 0u; c < 3u; c += 1u) {

@@ -144,6 +144,21 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
         return;
     }
     let p = min(track.params.count, MAX_TRACKED);
+    // Every valid centre is a seed, matched or new: too many for the room, and the frame
+    // is refused before any matching.
+    if lid == 0u {
+        var valid = 0u;
+        for (var j = 0u; j < c; j += 1u) {
+            valid += select(0u, 1u, centre_valid(j));
+        }
+        round_best = select(0u, NONE, valid > track.params.room);
+    }
+    if workgroupUniformLoad(&round_best) == NONE {
+        if lid == 0u {
+            finish(0u, 1u);
+        }
+        return;
+    }
     centre_of[lid] = NONE;
     taken[lid] = 0u;
     workgroupBarrier();

@@ -173,13 +173,12 @@ fn a_set_fed_the_gpu_faces_gives_the_cpu_highlights() {
         let solved = object.read(&ctx.device, &prepared).unwrap();
         let want = cpu.update(light_eye, world).to_vec();
         // Even frames the GPU's merge, odd the CPU's of the same list.
-        let got = match &solved.centres {
-            Some(centres) if step % 2 == 0 => {
-                gpu.update_from_centres(light_eye, world, centres).to_vec()
-            }
-            _ => gpu
-                .update_from_solutions(light_eye, world, &solved.faces)
-                .to_vec(),
+        let got = if step % 2 == 0 {
+            let centres = solved.centres.as_ref().expect("merged on the GPU");
+            gpu.update_from_centres(light_eye, world, centres).to_vec()
+        } else {
+            gpu.update_from_solutions(light_eye, world, &solved.faces)
+                .to_vec()
         };
         let e = same_highlights(&got, &want, radius, &format!("frame {step}"));
         assert!(
@@ -306,9 +305,9 @@ fn skipped_clusters_never_hold_a_centre() {
 }
 
 /// The GPU's merge where it has most to do: half vectors along vertex normals of a sphere
-/// (every face around the vertex accepts the one centre), and a noisy sphere with more
-/// centres than the merge keeps ([`npr_specular::MAX_MERGED`]), where the list comes back
-/// unmerged for the CPU.
+/// (every face around the vertex accepts the one centre), and egg-crate fields of bumps
+/// with fewer and more centres than the merge keeps ([`npr_specular::MAX_MERGED`]), where
+/// the list comes back unmerged for the CPU.
 #[test]
 fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
     let Some(ctx) = npr_gpu::testing::context_or_skip(
@@ -354,7 +353,6 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
     eprintln!("{merged_away} faces merged away at the sphere's vertices");
     assert!(merged_away >= 10, "{merged_away} faces merged away");
 
-    // A noisy sphere under a light: hundreds of centres.
     // An egg-crate height field seen from above: a centre at every crest, trough and
     // saddle, eight a period². At no abstraction, so that the set's normals keep them.
     // Five periods a side: 200 centres, merged on the GPU; thirteen: 1,352, more than

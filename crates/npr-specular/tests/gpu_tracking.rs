@@ -219,11 +219,6 @@ fn the_gpu_setup_with_the_papers_sizing_is_the_cpu_update() {
             .update((&ctx.device, &ctx.queue), &mut gpu, frame)
             .unwrap();
         assert_eq!(waits, Some(1), "frame {step}");
-        assert_eq!(
-            gpu.stats().peaks,
-            0,
-            "frame {step}: the paper's sizing has no peaks"
-        );
         let e = same_highlights(gpu.highlights(), &want, radius, &format!("frame {step}"));
         assert!(
             e <= 1e-3,

@@ -66,8 +66,9 @@ pub struct FrameStats {
     pub regions_on_gpu: bool,
     /// GPU submissions the highlights' setup waited on (specular): 0 on the CPU, 1 where
     /// the regions were seeded on the GPU and grown in the search's submission, 2 where
-    /// the update's seeds differed from the GPU's (a peak among them) and its regions
-    /// were grown in a submission of their own.
+    /// the update's seeds differed from the GPU's (the search could not give its peaks,
+    /// or more seeds than the frame's room) and its regions were grown in a submission of
+    /// their own.
     pub gpu_waits: usize,
     /// Highlights drawn (specular).
     pub highlights: usize,

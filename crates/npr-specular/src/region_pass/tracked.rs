@@ -2,10 +2,13 @@
 //! ([`crate::SearchSolutions::centres`], computed by `cs_centres`) matched with the last
 //! update's highlights as [`HighlightSet`]'s matching does, and written as the growth's
 //! seeds in the order the CPU grows them, so that the search and the regions run in one
-//! submission and the frame waits once. The CPU then checks that the seeds are the ones
-//! its own matching gives ([`TrackedRegions::for_seeds`]): they differ only where its
-//! update adds a peak (a bright region without an `N = H` point) to the seeds, and such a
-//! frame is grown again.
+//! submission and the frame waits once. The centres include the peaks (bright regions
+//! without an `N = H` point) where the search found them on the GPU. The CPU then
+//! checks that the seeds are the ones its own matching gives
+//! ([`TrackedRegions::for_seeds`]); a frame whose seeds differ is grown again in
+//! a second submission: the search found no peaks for it (too many centres or bright
+//! vertices), the seeds outnumber the frame's room, the σ differ, or a float tie fell
+//! otherwise.
 
 use super::records::{FIT_BYTES, PARAMS_BYTES, SeedRecord, decode};
 use super::{GpuRegion, RegionObject};
@@ -115,9 +118,10 @@ pub struct TrackedRegions {
 impl TrackedRegions {
     /// The regions for an update's `seeds` (its centres and σ in the order it grows
     /// them: a [`crate::RegionsOnGpu`] callback's argument) where the GPU seeded exactly
-    /// these, in this order; else `None` (then grow them otherwise: the update has a peak,
-    /// a bright region without an `N = H` point, among its seeds, which the GPU does not
-    /// seed). A region cut short by the object's capacity counts as not grown.
+    /// these, in this order; else `None` (then grow them otherwise: the GPU found no peaks
+    /// and the update found its own, the seeds outnumbered the frame's room, or a float
+    /// tie fell otherwise). A region cut short by the object's capacity counts as not
+    /// grown.
     pub fn for_seeds(&self, seeds: &[(HighlightCentre, f32)]) -> Option<Vec<GpuRegion>> {
         let same = self.status == TrackStatus::Seeded
             && seeds.len() == self.seeds.len()

@@ -151,8 +151,8 @@ struct Slot {
     centres_groups: [wgpu::BindGroup; 2],
     /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
     active: bool,
-    /// Whether this frame looks for peaks ([`CentreSearchPass::prepare_with_peaks`]).
-    peaks: bool,
+    /// The σ this frame looks for peaks at ([`CentreSearchPass::prepare_with_peaks`]).
+    peaks: Option<f32>,
 }
 
 /// The faces one frame's search accepted.
@@ -168,7 +168,9 @@ pub struct SearchSolutions {
     /// whole ([`SearchObject::cluster_count`] in all).
     pub clusters_solved: usize,
     /// The centres, merged and computed on the GPU (`cs_merge`, `cs_centres`): those
-    /// [`HighlightSearch::centres_from_solutions`] gives for `faces`, in its order (for
+    /// [`HighlightSearch::centres_from_solutions`] gives for `faces`, in its order (an
+    /// accepted face whose centre has no normal, which the CPU leaves out before merging,
+    /// takes part in the GPU's merge; the tests never met one) (for
     /// [`crate::HighlightSet::update_from_centres`]); `None` when the list overflowed or
     /// held more than [`MAX_MERGED`] centres (then merge `faces` on the CPU).
     pub centres: Option<Vec<npr_geometry::HighlightCentre>>,
@@ -179,6 +181,8 @@ pub struct SearchSolutions {
     /// found (no merged centres, more than [`MAX_MERGED`] in all, or more bright vertices
     /// than the scratch lists), and then the update finds its own.
     pub peaks: Option<Vec<npr_geometry::HighlightCentre>>,
+    /// The σ the peaks were looked for at (an update takes them only at its own σ).
+    pub peak_sigma: Option<f32>,
 }
 
 impl SearchSolutions {
@@ -203,8 +207,10 @@ impl CentreSearchPass {
             label: Some("npr centre search dispatch"),
             entries: &[storage_layout_entry(0, false)],
         });
-        // `cs_centres` reads group 0's vertices, triangles, counter, list and params
-        // (writing none), and group 1's field; it writes group 1's records.
+        // `cs_centres`, `cs_bright` and `cs_peaks` read group 0's vertices and triangles
+        // and its frame (counts and params: `cs_peaks` writes the peaks' count) and list,
+        // and group 1's field and the peaks' adjacency; they write group 1's records and
+        // the peaks' scratch.
         let tables: Vec<_> = (0..4).map(|b| storage_layout_entry(b, b < 2)).collect();
         let centres_layouts = [
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -330,8 +336,9 @@ impl CentreSearchPass {
     }
 
     /// [`CentreSearchPass::create_object`] for `set`'s search, with the tables its
-    /// peaks need (the vertices' neighbours and faces, 4 bytes a corner and 8 a vertex,
-    /// and a scratch of 8 bytes a vertex), for [`CentreSearchPass::prepare_with_peaks`].
+    /// peaks need (the vertices' neighbours and faces, about 16 bytes a corner, and a
+    /// scratch of 8 bytes a vertex and 64 KiB), for
+    /// [`CentreSearchPass::prepare_with_peaks`].
     ///
     /// # Errors
     /// As [`CentreSearchPass::create_object`].
@@ -341,21 +348,22 @@ impl CentreSearchPass {
         set: &crate::HighlightSet,
     ) -> Result<SearchObject, SpecularError> {
         let mut object = self.create_object(device, set.search())?;
-        let [adjacency, scratch] = peaks::PeakTables::sizes(set);
-        check_bindings(
-            &[
-                ("search peak adjacency", adjacency),
-                ("search peak scratch", scratch),
-            ],
-            device.limits().max_storage_buffer_binding_size,
-        )?;
         let mut slot_of = vec![0u32; object.face_order.len()];
         for (slot, &f) in object.face_order.iter().enumerate() {
             if let Some(s) = slot_of.get_mut(f as usize) {
                 *s = slot as u32;
             }
         }
-        object.peaks = Some(peaks::PeakTables::new(device, set, &slot_of));
+        let adjacency = peaks::adjacency_words(set, &slot_of);
+        let nv = set.topology().vertex_count();
+        check_bindings(
+            &[
+                ("search peak adjacency", (adjacency.len() * 4) as u64),
+                ("search peak scratch", (peaks::scratch_words(nv) * 4) as u64),
+            ],
+            device.limits().max_storage_buffer_binding_size,
+        )?;
+        object.peaks = Some(peaks::PeakTables::new(device, &adjacency, nv));
         Ok(object)
     }
 
@@ -431,7 +439,7 @@ impl CentreSearchPass {
         let peaks = peak_sigma
             .filter(|s| *s > 0.0 && object.peaks.is_some())
             .map(|s| peaks::peak_params(s, input.light_eye, input.world_from_object));
-        let looks = peaks.is_some();
+        let looks = peaks.as_ref().map(|q| q.sigma);
         let params = params_of(
             frame,
             (object.faces, object.capacity),
@@ -494,8 +502,9 @@ impl CentreSearchPass {
         object.read(device, &prepared)
     }
 
-    /// Records the search: the counter cleared, one invocation per face, and the counter
-    /// and list copied for [`SearchObject::read`].
+    /// Records the search: the counter cleared, the clusters listed, one invocation per
+    /// face of theirs, the merge, the centres and (where prepared for them) the peaks,
+    /// and the counts, list and centres copied for [`SearchObject::read`].
     ///
     /// # Errors
     /// [`SpecularError::Pass`] for a `prepared` of another pass, object or frame; nothing
@@ -539,7 +548,7 @@ impl CentreSearchPass {
             pass.set_bind_group(1, &slot.centres_groups[1], &[]);
             pass.dispatch_workgroups(MAX_MERGED.div_ceil(64) as u32, 1, 1);
             drop(pass);
-            if let Some(tables) = object.peaks.as_ref().filter(|_| slot.peaks) {
+            if let Some(tables) = object.peaks.as_ref().filter(|_| slot.peaks.is_some()) {
                 tables.clear(encoder);
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("npr centre search peaks"),
@@ -675,7 +684,7 @@ fn make_slot(
         records,
         centres_groups,
         active: false,
-        peaks: false,
+        peaks: None,
     }
 }
 

@@ -20,61 +20,56 @@ pub(super) struct PeakTables {
     pub(super) vertices: usize,
 }
 
-/// Bright vertices a frame lists at most (the rest of the mesh: a frame with more leaves
-/// its peaks to the CPU).
-const LIST_ROOM: usize = 1 << 16;
+/// Bright vertices a frame lists at most (one invocation fills their parts, so a frame
+/// with more leaves its peaks to the CPU rather than wait on a long serial walk).
+const LIST_ROOM: usize = 8192;
+
+/// `set`'s vertex neighbours (the other corners of its faces, sorted, once each) and
+/// faces (in `Topology::vertex_faces`'s order, each with its visiting slot and its
+/// corner at the vertex), as `peak_adjacency` of the shader reads them: `nv + 1`
+/// absolute offsets, the neighbours, `nv + 1` absolute offsets, the faces' pairs.
+pub(super) fn adjacency_words(set: &HighlightSet, slot_of: &[u32]) -> Vec<u32> {
+    let topo = set.topology();
+    let nv = topo.vertex_count();
+    let (offsets, neighbours) = crate::set::vertex_neighbours(topo);
+    let mut faces: Vec<u32> = Vec::new();
+    let mut face_offsets = Vec::with_capacity(nv + 1);
+    for v in 0..nv {
+        face_offsets.push(faces.len() as u32);
+        for &f in topo.vertex_faces(v) {
+            let t = topo.triangles[f as usize];
+            let corner = t.iter().position(|&u| u as usize == v).unwrap_or(0) as u32;
+            let slot = slot_of.get(f as usize).copied().unwrap_or(0) & 0x1fff_ffff;
+            faces.extend([f, slot | (corner << 29)]);
+        }
+    }
+    face_offsets.push(faces.len() as u32);
+    let base = (nv + 1) as u32;
+    let faces_base = base + neighbours.len() as u32 + base;
+    let mut data: Vec<u32> = offsets.iter().map(|o| o + base).collect();
+    data.extend(&neighbours);
+    data.extend(face_offsets.iter().map(|o| o + faces_base));
+    data.extend(&faces);
+    data
+}
+
+/// Words of the scratch for `nv` vertices: the header, per vertex `N·H` and a mark, the
+/// list and the stack.
+pub(super) fn scratch_words(nv: usize) -> usize {
+    4 + 2 * nv + 2 * LIST_ROOM.min(nv.max(1))
+}
 
 impl PeakTables {
-    /// `set`'s vertex neighbours (the other corners of its faces, sorted, once each) and
-    /// faces (in `Topology::vertex_faces`'s order, each with its visiting slot, its
-    /// corner at the vertex and whether it is degenerate), and the scratch.
-    pub(super) fn new(device: &wgpu::Device, set: &HighlightSet, slot_of: &[u32]) -> Self {
-        let topo = set.topology();
-        let nv = topo.vertex_count();
-        let (offsets, neighbours) = crate::set::vertex_neighbours(topo);
-        let mut faces: Vec<u32> = Vec::new();
-        let mut face_offsets = Vec::with_capacity(nv + 1);
-        for v in 0..nv {
-            face_offsets.push(faces.len() as u32);
-            for &f in topo.vertex_faces(v) {
-                let t = topo.triangles[f as usize];
-                let corner = t.iter().position(|&u| u as usize == v).unwrap_or(0) as u32;
-                let slot = slot_of.get(f as usize).copied().unwrap_or(0) & 0x1fff_ffff;
-                let degenerate = u32::from(topo.is_degenerate(f as usize));
-                faces.extend([f, slot | (corner << 29) | (degenerate << 31)]);
-            }
-        }
-        face_offsets.push(faces.len() as u32);
-        // Offsets are absolute: the neighbours follow the first `nv + 1`, the faces' offsets
-        // follow the neighbours, the faces their offsets.
-        let base = (nv + 1) as u32;
-        let faces_at = base + neighbours.len() as u32;
-        let faces_base = faces_at + base;
-        let mut data: Vec<u32> = offsets.iter().map(|o| o + base).collect();
-        data.extend(&neighbours);
-        data.extend(face_offsets.iter().map(|o| o + faces_base));
-        data.extend(&faces);
-        let room = LIST_ROOM.min(nv.max(1));
-        let mut scratch = vec![0u32; 4 + 2 * nv + 2 * room];
-        scratch[2] = room as u32;
+    /// The tables of `adjacency_words` and a scratch for `nv` vertices.
+    pub(super) fn new(device: &wgpu::Device, adjacency: &[u32], nv: usize) -> Self {
+        let mut scratch = vec![0u32; scratch_words(nv)];
+        scratch[2] = LIST_ROOM.min(nv.max(1)) as u32;
         let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
         Self {
-            adjacency: buffer_init(device, "npr search peak adjacency", &data, usage),
+            adjacency: buffer_init(device, "npr search peak adjacency", adjacency, usage),
             scratch: buffer_init(device, "npr search peak scratch", &scratch, usage),
             vertices: nv,
         }
-    }
-
-    /// Bytes of the tables, for the binding limit.
-    pub(super) fn sizes(set: &HighlightSet) -> [u64; 2] {
-        let topo = set.topology();
-        let nv = topo.vertex_count() as u64;
-        let corners = 3 * topo.face_count() as u64;
-        let room = LIST_ROOM.min(topo.vertex_count().max(1)) as u64;
-        [
-            4 * (2 * (nv + 1) + 3 * corners),
-            4 * (4 + 2 * nv + 2 * room),
-        ]
     }
 
     /// Clears the frame's part of the scratch: the header's counts and the per-vertex

@@ -14,9 +14,9 @@ pub(super) struct CentreRecord {
     pub(super) normal_object: [f32; 4],
     pub(super) normal_world: [f32; 4],
     pub(super) dir_kappa_max: [f32; 4],
-    /// (κmax, κmin, 0, 0).
+    /// (κmax, κmin, 1 for a peak, 0).
     pub(super) curvature: [f32; 4],
-    /// (face, α and β as bits, 0).
+    /// (face, α and β as bits, the face's visiting slot).
     pub(super) solution: [u32; 4],
 }
 
@@ -34,8 +34,8 @@ pub(super) fn readback_bytes(capacity: usize) -> u64 {
 pub struct PendingSolutions {
     pub(super) map: npr_gpu::BufferReadback,
     pub(super) capacity: usize,
-    /// Whether the search looked for peaks.
-    pub(super) peaks: bool,
+    /// The σ the search looked for peaks at.
+    pub(super) peaks: Option<f32>,
 }
 
 impl PendingSolutions {
@@ -77,7 +77,7 @@ pub(super) fn slot_records(face_order: &[u32], ranks: &[u32]) -> Vec<[u32; 2]> {
 /// accepted faces after the 16-byte header, then the [`MAX_MERGED`] centre records (those
 /// the CPU would not have, `HighlightSearch::centre_at` giving none, left out): the
 /// merged centres, then the peaks where the search `looked` for them.
-pub(super) fn decode(bytes: &[u8], capacity: usize, looked: bool) -> SearchSolutions {
+pub(super) fn decode(bytes: &[u8], capacity: usize, looked: Option<f32>) -> SearchSolutions {
     let word = |i: usize| {
         bytes
             .get(4 * i..4 * i + 4)
@@ -120,19 +120,15 @@ pub(super) fn decode(bytes: &[u8], capacity: usize, looked: bool) -> SearchSolut
     let merged_ok = accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED;
     let centres = merged_ok.then(|| (0..merged as usize).filter_map(record).collect());
     let peaks = word(3);
-    let peaks =
-        (looked && merged_ok && peaks != NO_MERGE && (merged + peaks) as usize <= MAX_MERGED).then(
-            || {
-                (merged..merged + peaks)
-                    .filter_map(|k| record(k as usize))
-                    .collect()
-            },
-        );
+    let (first, count) = (merged as usize, peaks as usize);
+    let peaks = (looked.is_some() && merged_ok && peaks != NO_MERGE && count <= MAX_MERGED - first)
+        .then(|| (first..first + count).filter_map(record).collect());
     SearchSolutions {
         faces,
         accepted,
         clusters_solved,
         centres,
         peaks,
+        peak_sigma: looked,
     }
 }

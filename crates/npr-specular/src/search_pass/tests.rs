@@ -82,19 +82,19 @@ fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
         bytes(0, 0, 2).len() as u64,
         super::readback::readback_bytes(2)
     );
-    let s = decode(&bytes(3, 1, 2), 2, true);
+    let s = decode(&bytes(3, 1, 2), 2, Some(0.9));
     assert_eq!((s.accepted, s.clusters_solved), (3, 5));
     assert!(!s.complete());
     assert_eq!(s.centres, None, "an overflowed list is not merged");
     let whole = |(face, alpha, beta): (u32, f32, f32)| FaceSolution { face, alpha, beta };
     assert_eq!(s.faces, list.map(whole).to_vec());
-    let s = decode(&bytes(2, 4, 2), 2, true);
+    let s = decode(&bytes(2, 4, 2), 2, Some(0.9));
     assert!(s.complete());
     // The two records after the merged four are the peaks: the even one valid.
     let peaks = s.peaks.expect("looked for");
     assert_eq!(peaks.iter().map(|c| c.face).collect::<Vec<_>>(), [104]);
     assert_eq!(
-        decode(&bytes(2, 4, 2), 2, false).peaks,
+        decode(&bytes(2, 4, 2), 2, None).peaks,
         None,
         "not looked for"
     );
@@ -123,8 +123,8 @@ fn a_list_decodes_its_entries_and_knows_when_it_overflowed() {
         (glam::Vec3::X, -glam::Vec3::Z)
     );
     assert_eq!((c.kappa_max, c.kappa_min), (2.5, -0.5));
-    let s = decode(&bytes(2, NO_MERGE, 2), 2, true);
+    let s = decode(&bytes(2, NO_MERGE, 2), 2, Some(0.9));
     assert_eq!(s.centres, None, "more centres than the merge keeps");
     assert_eq!(s.peaks, None, "no peaks without merged centres");
-    assert!(decode(&bytes(0, 0, 0)[..16], 0, false).faces.is_empty());
+    assert!(decode(&bytes(0, 0, 0)[..16], 0, None).faces.is_empty());
 }

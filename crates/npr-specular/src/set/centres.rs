@@ -70,8 +70,9 @@ impl HighlightSet {
         self.update_with(light_eye, world_from_object, centres, Some(regions), None)
     }
 
-    /// The update a GPU search's list (`solved`, complete: see
-    /// [`crate::SearchSolutions::complete`]) asks for: on its centres merged on the GPU
+    /// The update a GPU search's list (`solved`; one that overflowed, see
+    /// [`crate::SearchSolutions::complete`], is searched again on the CPU) asks for: on
+    /// its centres merged on the GPU
     /// where it has them ([`HighlightSet::update_from_centres`]), with its peaks where it
     /// found them ([`crate::SearchSolutions::peaks`], in place of the update's own search
     /// for them), else on its accepted faces merged here
@@ -84,11 +85,18 @@ impl HighlightSet {
         solved: &crate::SearchSolutions,
         regions: Option<super::RegionsOnGpu<'_>>,
     ) -> &[Highlight] {
+        if !solved.complete() {
+            // An overflowed list: the CPU's own search for the frame.
+            let centres = self.search_centres(light_eye, world_from_object);
+            return self.update_with(light_eye, world_from_object, centres, regions, None);
+        }
+        // The GPU's peaks where found at this set's σ.
+        let peaks = solved
+            .peaks
+            .as_deref()
+            .filter(|_| solved.peak_sigma == Some(self.global.sigma));
         let (centres, peaks) = match &solved.centres {
-            Some(centres) => (
-                given_centres(light_eye, world_from_object, centres),
-                solved.peaks.as_deref(),
-            ),
+            Some(centres) => (given_centres(light_eye, world_from_object, centres), peaks),
             None => (
                 self.solution_centres(light_eye, world_from_object, &solved.faces),
                 None,
