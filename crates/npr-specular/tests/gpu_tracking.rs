@@ -228,3 +228,41 @@ fn the_gpu_setup_with_the_papers_sizing_is_the_cpu_update() {
     }
     assert!(shown >= 6, "only {shown} highlights");
 }
+
+/// A frame the GPU cannot seed (more centres than its room) is grown in a second
+/// submission by `SetupOnGpu`, and still gives the CPU update's highlights.
+#[test]
+fn a_frame_the_gpu_cannot_seed_is_grown_in_a_second_submission() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip(
+        "a_frame_the_gpu_cannot_seed_is_grown_in_a_second_submission",
+    ) else {
+        return;
+    };
+    // 200 centres, more than a first frame's room (8).
+    let mesh = common::egg_crate(5, 8);
+    let options = CurvatureOptions::default();
+    let mut cpu = HighlightSet::with_abstraction(&mesh, &options, 0.0).unwrap();
+    let mut gpu = HighlightSet::with_abstraction(&mesh, &options, 0.0).unwrap();
+    let radius = bounding_radius(&mesh);
+    let mut setup = npr_specular::SetupOnGpu::new(&ctx.device, &gpu).unwrap();
+    let frame = (
+        LightEye::Directions {
+            to_light: Vec3::Z,
+            to_eye: Vec3::Z,
+        },
+        Mat4::IDENTITY,
+    );
+    let want = cpu.update(frame.0, frame.1).to_vec();
+    let waits = setup
+        .update((&ctx.device, &ctx.queue), &mut gpu, frame)
+        .unwrap();
+    assert_eq!(waits, Some(2), "grown again in a submission of its own");
+    assert!(gpu.stats().regions_on_gpu, "by the GPU's region pass");
+    assert!(
+        want.len() > npr_specular::TRACKED_SEEDS,
+        "{} highlights",
+        want.len()
+    );
+    let e = same_highlights(gpu.highlights(), &want, radius, "egg crate");
+    assert!(e <= 1e-3, "footprints differ by {e:.2e} of the radius");
+}
