@@ -7,7 +7,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{CurvatureOptions, LightEye};
+use npr_geometry::{CurvatureOptions, HighlightCentre, LightEye};
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{
     CentreSearchPass, HighlightSet, RegionPass, SearchInput, TrackStatus, TrackedInput,
@@ -25,15 +25,24 @@ struct GpuFrames {
     search: npr_specular::SearchObject,
     regions: npr_specular::RegionObject,
     frame: FrameId,
+    /// Whether the search looks for the peaks.
+    peaks: bool,
 }
 
 impl GpuFrames {
     fn new(ctx: &GpuContext, set: &HighlightSet) -> Self {
+        Self::with(ctx, set, None)
+    }
+
+    /// With a list of `capacity` accepted faces and no peaks, where given.
+    fn with(ctx: &GpuContext, set: &HighlightSet, capacity: Option<usize>) -> Self {
         let search_pass = CentreSearchPass::new(&ctx.device);
         let region_pass = RegionPass::new(&ctx.device);
-        let search = search_pass
-            .create_object_with_peaks(&ctx.device, set)
-            .unwrap();
+        let search = match capacity {
+            None => search_pass.create_object_with_peaks(&ctx.device, set),
+            Some(c) => search_pass.create_object_with_capacity(&ctx.device, set.search(), c),
+        }
+        .unwrap();
         let regions = region_pass.create_object(&ctx.device, set).unwrap();
         Self {
             search_pass,
@@ -41,6 +50,7 @@ impl GpuFrames {
             search,
             regions,
             frame: FrameId::default(),
+            peaks: capacity.is_none(),
         }
     }
 
@@ -60,7 +70,12 @@ impl GpuFrames {
         };
         let searched = self
             .search_pass
-            .prepare_with_peaks(&ctx.queue, &mut self.search, &input, Some(set.global.sigma))
+            .prepare_with_peaks(
+                &ctx.queue,
+                &mut self.search,
+                &input,
+                self.peaks.then_some(set.global.sigma),
+            )
             .unwrap();
         let tracked = TrackedInput {
             frame: self.frame,
@@ -265,4 +280,54 @@ fn a_frame_the_gpu_cannot_seed_is_grown_in_a_second_submission() {
     );
     let e = same_highlights(gpu.highlights(), &want, radius, "egg crate");
     assert!(e <= 1e-3, "footprints differ by {e:.2e} of the radius");
+}
+
+/// Frames the GPU leaves to the CPU say so: a search without its peaks on frames with
+/// peaks hands the update seeds it cannot take (its regions grown otherwise, the CPU
+/// update's highlights all the same), and an overflowed list is not merged, so nothing
+/// is seeded.
+#[test]
+fn frames_the_gpu_leaves_to_the_cpu_say_so() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("frames_the_gpu_leaves_to_the_cpu_say_so")
+    else {
+        return;
+    };
+    let mesh = fixture("spot.obj");
+    let options = CurvatureOptions::default();
+    let radius = bounding_radius(&mesh);
+    let mut cpu = HighlightSet::new(&mesh, &options).unwrap();
+    let mut gpu = HighlightSet::new(&mesh, &options).unwrap();
+    // No peaks looked for (a list of the default length).
+    let mut frames = GpuFrames::with(ctx, &gpu, Some(npr_specular::search_pass::DEFAULT_CAPACITY));
+    let mut refused = 0;
+    for step in 0..8 {
+        let frame = turn(radius, step);
+        let (solved, tracked) = frames.run(ctx, &gpu, frame);
+        assert_eq!(solved.peaks, None, "frame {step}: no peaks looked for");
+        let want = cpu.update(frame.0, frame.1).to_vec();
+        let mut take =
+            |_: &HighlightSet, seeds: &[(HighlightCentre, f32)]| tracked.for_seeds(seeds);
+        gpu.update_from_search(frame.0, frame.1, &solved, Some(&mut take));
+        let stats = gpu.stats();
+        // The GPU's seeds are the update's exactly where the update has no peak.
+        assert_eq!(stats.regions_on_gpu, stats.peaks == 0, "frame {step}");
+        refused += usize::from(stats.peaks > 0);
+        let e = same_highlights(gpu.highlights(), &want, radius, &format!("frame {step}"));
+        assert!(
+            e <= 1e-3,
+            "frame {step}: footprints differ by {e:.2e} of the radius"
+        );
+    }
+    assert!(refused >= 2, "only {refused} frames with peaks");
+    // A list of one face overflows: not merged, nothing seeded.
+    let set = HighlightSet::new(&mesh, &options).unwrap();
+    let mut frames = GpuFrames::with(ctx, &set, Some(1));
+    let (solved, tracked) = frames.run(ctx, &set, turn(radius, 0));
+    assert!(
+        !solved.complete() && solved.centres.is_none(),
+        "{} accepted",
+        solved.accepted
+    );
+    assert_eq!(tracked.status, TrackStatus::Unmerged);
+    assert!(tracked.seeds.is_empty());
 }
