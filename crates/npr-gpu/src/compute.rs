@@ -56,6 +56,23 @@ pub fn pipeline_over(
     })
 }
 
+/// Writes a frame's values `head` at the start of `buffer` and its `records` right after
+/// them: the layout of a storage buffer that leads with the frame's values and ends in a
+/// runtime array (frame values kept out of uniform buffers, which some drivers compile
+/// into the shader, compiling it again whenever they change).
+pub fn write_head_and_records<H: bytemuck::Pod, R: bytemuck::Pod>(
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+    head: &H,
+    records: &[R],
+) {
+    queue.write_buffer(buffer, 0, bytemuck::bytes_of(head));
+    if !records.is_empty() {
+        let at = std::mem::size_of::<H>() as u64;
+        queue.write_buffer(buffer, at, bytemuck::cast_slice(records));
+    }
+}
+
 /// A buffer of `data`, at least one element long (a binding may not be empty).
 pub fn buffer_init<T: bytemuck::Pod + Default>(
     device: &wgpu::Device,

@@ -405,14 +405,7 @@ impl ReceiverPass {
         params.words = object.words as u32;
         params.capacity = capacity as u32;
         params.list_faces = slot.list_faces as u32;
-        queue.write_buffer(&slot.queries, 0, bytemuck::bytes_of(&params));
-        if !queries.is_empty() {
-            queue.write_buffer(
-                &slot.queries,
-                PARAMS_BYTES as u64,
-                bytemuck::cast_slice(&queries),
-            );
-        }
+        npr_gpu::compute::write_head_and_records(queue, &slot.queries, &params, &queries);
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr receivers"),
             layout: &self.layout,

@@ -438,15 +438,8 @@ impl RegionPass {
         let mut params = params_of(input, faces);
         params.words = object.words as u32;
         params.capacity = object.work_capacity as u32;
-        queue.write_buffer(&slot.seeds, 0, bytemuck::bytes_of(&params));
         let seeds = seed_records(input.seeds, faces);
-        if !seeds.is_empty() {
-            queue.write_buffer(
-                &slot.seeds,
-                PARAMS_BYTES as u64,
-                bytemuck::cast_slice(&seeds),
-            );
-        }
+        npr_gpu::compute::write_head_and_records(queue, &slot.seeds, &params, &seeds);
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr regions"),
             layout: &self.layout,
