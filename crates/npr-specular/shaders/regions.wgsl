@@ -6,14 +6,14 @@
 //
 // The CPU grows every seed at once in one breadth-first queue, so a face goes to the seed
 // that reaches it in fewest steps, the lower seed on a tie (the queue holds each level in
-// seed order). Here each seed is walked by a workgroup of its own, level by level
-// (`cs_grow`), and marks every face it takes with `(steps, seed)` by an integer atomic
-// maximum of its complement: the least mark wins, the CPU's rule. A face reached through
-// another seed's faces is never won by the seed that walked through them (that seed's
-// steps there are no fewer), so the winners' faces are the CPU's where the seeds take
-// the same faces: the same σ (`HighlightSet` grows seeds of different σ on the CPU) and
-// a face facing both axes. (The CPU's queue also keeps a face one seed reached but did
-// not take from the others, which a walk of its own cannot see.) `cs_fit` then sums, per
+// seed order), and a face one seed reached is closed to the others whether that seed
+// took it or not. Here each seed is first walked by a workgroup of its own, level by
+// level (`cs_grow`), and marks every face it takes with `(steps, seed)`; where two walks
+// reach one face both are marked met (`claim`). Walks that met no other are the CPU's
+// (a walk among others reaches only faces it reaches alone, so no one else's walk came
+// near theirs). The seeds that met are then walked again together by one workgroup
+// (`cs_join`), level by level, each face going to the least `(steps, seed)` that reached
+// it, as the CPU's queue gives it. `cs_fit` then sums, per
 // seed, the moments of the faces it won (each workgroup reduces its own: WebGPU has no
 // float atomics), fits the ellipse and the scale of it that fits the region best (radial
 // bins in fixed point, integer atomics). Nothing mesh-sized is read back: one `RegionFit`
@@ -385,15 +385,52 @@ fn measure(fi: u32, s: Seed) -> Measured {
     return sample_sub_grid(vs, qs, s, kind - 8u, delta);
 }
 
-// Claims face `f` for seed `k`'s walk: true when it had not reached it.
+// `visited` holds per face a word the walks that reach it meet in (`cs_grow`: the
+// greatest seed + 1 that reached it; `cs_join`: the least (steps, seed) that reached it,
+// complemented), then one bit per seed that reached it and one per seed that took it;
+// after the faces, a head of four words (whether any walk met another) and per seed four
+// (whether its walk met another's; `cs_join`'s queue tail).
+fn face_words() -> u32 {
+    return 2u * frame_data.params.words + 1u;
+}
+
+fn join_head() -> u32 {
+    return frame_data.params.face_count * face_words();
+}
+
+fn seed_state(k: u32) -> u32 {
+    return join_head() + 4u + 4u * k;
+}
+
+// Seed `k`'s walk reached a face another walk reached.
+fn mark_met(k: u32) {
+    atomicStore(&visited[seed_state(k)], 1u);
+    atomicStore(&visited[join_head() + 1u], 1u);
+}
+
+// Claims face `f` for seed `k`'s walk: true when it had not reached it. Where another
+// walk reached it too, both are marked met: the CPU's single queue would have shared
+// the face out between them (a face one seed reached, taken or not, is closed to the
+// others), which walks of their own do not; `cs_join` walks those seeds again together.
 fn claim(f: u32, k: u32) -> bool {
     let bit = 1u << (k % 32u);
-    let old = atomicOr(&visited[f * frame_data.params.words + k / 32u], bit);
-    return (old & bit) == 0u;
+    let old = atomicOr(&visited[f * face_words() + 1u + k / 32u], bit);
+    if (old & bit) != 0u {
+        return false;
+    }
+    // One word per face: of two walks reaching it, the later sees the earlier.
+    let other = atomicMax(&visited[f * face_words()], k + 1u);
+    if other != 0u {
+        mark_met(other - 1u);
+        mark_met(k);
+    }
+    return true;
 }
 
 // Face `f` taken by seed `k` in `steps` steps: queued, and marked for the least mark.
 fn take(f: u32, k: u32, steps: u32, base: u32) {
+    // Taken, for `cs_join` (a walk among others takes what it takes alone).
+    atomicOr(&visited[f * face_words() + 1u + frame_data.params.words + k / 32u], 1u << (k % 32u));
     let slot = atomicAdd(&wg_tail, 1u);
     if slot < frame_data.params.capacity {
         work[base + slot] = vec2<u32>(f, steps);
@@ -460,6 +497,196 @@ fn cs_grow(
     workgroupBarrier();
     if lane == 0u {
         fits[k].flags = vec4<u32>(0u, 0u, min(atomicLoad(&wg_tail), frame_data.params.capacity), atomicLoad(&wg_overflow));
+    }
+}
+
+// `cs_join`'s key of a face reached in `steps` steps by seed `k`: complemented, so that
+// an atomic maximum keeps the least (steps, seed) — the CPU's queue's order — and every
+// key is above the `k + 1` that `cs_grow` left (steps < 2²⁰ - 2).
+fn join_key(steps: u32, k: u32) -> u32 {
+    return ~((steps << SEED_BITS) | k);
+}
+
+// Face `f` taken by seed `k` in `steps` steps in `cs_join`: queued at its tail and marked
+// as its own.
+fn join_take(f: u32, k: u32, steps: u32) {
+    let slot = atomicAdd(&visited[seed_state(k) + 1u], 1u);
+    if slot < frame_data.params.capacity {
+        work[k * frame_data.params.capacity + slot] = vec2<u32>(f, steps);
+        atomicStore(&owner[f], ~((steps << SEED_BITS) | k));
+    }
+}
+
+// Most seeds `cs_join` walks together; more met seeds are marked overflowed (the CPU
+// grows that frame).
+const MAX_JOIN: u32 = 256u;
+
+var<workgroup> wg_join: u32;
+var<workgroup> wg_met: atomic<u32>;
+// Per met seed: the seed, its level's range in its queue, and the ranges' running sum.
+var<workgroup> wg_seed: array<u32, MAX_JOIN>;
+var<workgroup> wg_begin: array<u32, MAX_JOIN>;
+var<workgroup> wg_end: array<u32, MAX_JOIN>;
+var<workgroup> wg_prefix: array<u32, 257>;
+
+// Which met seed's range holds entry `e` of the level (`wg_prefix[i] ≤ e`).
+fn join_slot(e: u32, met: u32) -> u32 {
+    var lo = 0u;
+    var hi = met - 1u;
+    while lo < hi {
+        let mid = (lo + hi + 1u) / 2u;
+        if wg_prefix[mid] <= e {
+            lo = mid;
+        } else {
+            hi = mid - 1u;
+        }
+    }
+    return lo;
+}
+
+// One half of a level of `cs_join`: the faces the met seeds took in the last level visit
+// their neighbours, spread over the lanes as one list, which either bid (`take` false:
+// the least key stays) or, where the bid that stayed is this seed's at this level, are
+// taken by it if its walk alone took them (once: the first visit closes the face).
+fn join_level(met: u32, total: u32, lane: u32, steps: u32, take: bool) {
+    let nf = frame_data.params.face_count;
+    let words = frame_data.params.words;
+    for (var e = lane; e < total; e += WORKGROUP) {
+        let i = join_slot(e, met);
+        let k = wg_seed[i];
+        let at = wg_begin[i] + e - wg_prefix[i];
+        let face = work[k * frame_data.params.capacity + at].x;
+        let key = join_key(steps, k);
+        for (var j = adjacency[face]; j < adjacency[face + 1u]; j++) {
+            let g = adjacency[nf + 1u + j];
+            let word = g * face_words();
+            if !take {
+                atomicMax(&visited[word], key);
+                continue;
+            }
+            if atomicLoad(&visited[word]) != key {
+                continue;
+            }
+            // Close the face (0xffffffff is above every later key); a weak exchange may
+            // fail spuriously, so try again while the key is still there.
+            loop {
+                let r = atomicCompareExchangeWeak(&visited[word], key, 0xffffffffu);
+                if r.exchanged {
+                    let bits = atomicLoad(&visited[word + 1u + words + k / 32u]);
+                    if (bits & (1u << (k % 32u))) != 0u {
+                        join_take(g, k, steps);
+                    }
+                    break;
+                }
+                if r.old_value != key {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+// The seeds whose walks met (`claim`) walked again together, as the CPU's single queue
+// walks them (`RegionGrower::grow_pass`): level by level, every face going to the least
+// (steps, seed) that reached it, taken or not. One workgroup; nothing to do where no walk
+// met another. A seed's walk among others reaches only faces its walk alone reached, and
+// takes those its walk alone took (marked in `visited`: nothing is measured again), so
+// the seeds that met no one keep their walks: no face of theirs is anyone else's. The
+// met seeds' queues and marks are written anew; `cs_fit` reads them as `cs_grow`'s.
+@compute @workgroup_size(256)
+fn cs_join(@builtin(local_invocation_index) lane: u32) {
+    let head = join_head();
+    if lane == 0u {
+        wg_join = atomicLoad(&visited[head + 1u]);
+        atomicStore(&wg_met, 0u);
+    }
+    if workgroupUniformLoad(&wg_join) == 0u {
+        return;
+    }
+    let n = frame_data.params.seed_count;
+    let capacity = frame_data.params.capacity;
+    // The met seeds listed, their queues emptied, their start faces bid for.
+    for (var k = lane; k < n; k += WORKGROUP) {
+        let at = seed_state(k);
+        if atomicLoad(&visited[at]) == 0u {
+            continue;
+        }
+        let i = atomicAdd(&wg_met, 1u);
+        if i < MAX_JOIN {
+            wg_seed[i] = k;
+        }
+        atomicStore(&visited[at + 1u], 0u);
+        let s = frame_data.seeds[k];
+        if s.start.x < frame_data.params.face_count && s.n.w != 0.0 && s.start.y == 0u {
+            atomicMax(&visited[s.start.x * face_words()], join_key(0u, k));
+        }
+    }
+    storageBarrier();
+    workgroupBarrier();
+    if lane == 0u {
+        wg_join = atomicLoad(&wg_met);
+    }
+    let listed = workgroupUniformLoad(&wg_join);
+    if listed > MAX_JOIN {
+        for (var k = lane; k < n; k += WORKGROUP) {
+            if atomicLoad(&visited[seed_state(k)]) != 0u {
+                fits[k].flags.w = 1u;
+            }
+        }
+        return;
+    }
+    let met = listed;
+    if lane < met {
+        let k = wg_seed[lane];
+        let s = frame_data.seeds[k];
+        wg_end[lane] = 0u;
+        if s.start.x < frame_data.params.face_count && s.n.w != 0.0 && s.start.y == 0u {
+            let word = s.start.x * face_words();
+            if atomicLoad(&visited[word]) == join_key(0u, k) {
+                atomicStore(&visited[word], 0xffffffffu);
+                let bits = atomicLoad(&visited[word + 1u + frame_data.params.words + k / 32u]);
+                if (bits & (1u << (k % 32u))) != 0u {
+                    join_take(s.start.x, k, 0u);
+                }
+            }
+        }
+    }
+    for (var steps = 1u; steps < (1u << (32u - SEED_BITS)) - 2u; steps++) {
+        storageBarrier();
+        workgroupBarrier();
+        // Each met seed's level: its queue from the last level's end to its tail.
+        if lane < met {
+            let begin = wg_end[lane];
+            wg_begin[lane] = begin;
+            wg_end[lane] = min(atomicLoad(&visited[seed_state(wg_seed[lane]) + 1u]), capacity);
+        }
+        workgroupBarrier();
+        if lane == 0u {
+            var sum = 0u;
+            for (var i = 0u; i < met; i++) {
+                wg_prefix[i] = sum;
+                sum += wg_end[i] - wg_begin[i];
+            }
+            wg_prefix[met] = sum;
+            wg_join = sum;
+        }
+        let total = workgroupUniformLoad(&wg_join);
+        if total == 0u {
+            break;
+        }
+        join_level(met, total, lane, steps, false);
+        storageBarrier();
+        workgroupBarrier();
+        join_level(met, total, lane, steps, true);
+    }
+    storageBarrier();
+    workgroupBarrier();
+    if lane < met {
+        let k = wg_seed[lane];
+        let tail = atomicLoad(&visited[seed_state(k) + 1u]);
+        // A walk cut short alone stays cut short: its marks are incomplete.
+        let cut = fits[k].flags.w;
+        fits[k].flags = vec4<u32>(0u, 0u, min(tail, capacity), select(cut, 1u, tail > capacity));
     }
 }
 

@@ -373,3 +373,91 @@ fn a_ring_region_is_fitted_as_the_cpu_fits_it() {
         "{gs} against the CPU's {cs}"
     );
 }
+
+/// Seeds of different σ in one region (as a set grows a highlight the user sized beside
+/// others): the first seed's small region is ringed by faces it reached and did not take,
+/// and on the CPU's single queue those faces are closed to the seed beside it, which then
+/// takes fewer faces than it would alone. The GPU walks each seed alone first, so the
+/// seeds that met are walked again together (`cs_join`): the faces won are the CPU's.
+#[test]
+fn a_face_one_seed_reached_and_did_not_take_is_closed_to_the_others() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip(
+        "a_face_one_seed_reached_and_did_not_take_is_closed_to_the_others",
+    ) else {
+        return;
+    };
+    let pass = RegionPass::new(&ctx.device);
+    let mut frame = FrameId(1);
+    let (mut faces_cpu, mut faces_differ, mut blocked) = (0usize, 0usize, 0usize);
+    for (name, mesh) in meshes() {
+        let radius = bounding_radius(&mesh);
+        let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let (topology, normals) = (set.topology(), set.search().normals());
+        let mut grower = RegionGrower::default();
+        let mut object = pass.create_object(&ctx.device, &set).unwrap();
+        for (k, (light_eye, world)) in frames(radius).into_iter().enumerate() {
+            let centres = set.search().find(light_eye, world);
+            // Each centre with a tight σ, and a seed of a wide one a few faces from it.
+            let mut seeds = Vec::new();
+            for c in &centres {
+                seeds.push((*c, 0.985));
+                let near = HighlightCentre {
+                    face: face_away(topology, c.face, 4),
+                    ..*c
+                };
+                seeds.push((near, 0.8));
+            }
+            let region_frame = RegionFrame {
+                topology,
+                normals,
+                world_from_object: world,
+                light_eye,
+            };
+            let cpu = grower.grow_all(&region_frame, &seeds);
+            let input = RegionInput {
+                frame,
+                set: &set,
+                seeds: &seeds,
+                light_eye,
+                world_from_object: world,
+            };
+            frame = frame.next();
+            let gpu = pass
+                .grow_now(&ctx.device, &ctx.queue, &mut object, &input)
+                .unwrap();
+            for (s, (c, g)) in cpu.iter().zip(&gpu).enumerate() {
+                let at = format!("{name} frame {k} seed {s}");
+                assert!(!g.overflowed, "{at}: the growth overflowed");
+                match (c, &g.region) {
+                    (Region::Fit(_, fa), Region::Fit(_, fb)) => {
+                        faces_cpu += fa;
+                        faces_differ += fa.abs_diff(*fb);
+                        // Did the CPU's queue close faces to this seed? Grown alone it
+                        // takes more.
+                        if s % 2 == 1 {
+                            let alone = grower.grow_all(&region_frame, &seeds[s..=s]);
+                            if let Region::Fit(_, n) = alone[0] {
+                                blocked += usize::from(n > *fa);
+                            }
+                        }
+                    }
+                    (c, g) => assert_eq!(c, g, "{at}"),
+                }
+            }
+        }
+    }
+    let differ = faces_differ as f64 / faces_cpu.max(1) as f64;
+    eprintln!(
+        "{blocked} seeds the CPU's queue closed faces to; {faces_cpu} faces, {:.3} % won apart",
+        100.0 * differ
+    );
+    assert!(
+        blocked >= 5,
+        "only {blocked} seeds had faces closed to them"
+    );
+    assert!(
+        differ <= 0.005,
+        "{:.3} % of faces won apart",
+        100.0 * differ
+    );
+}

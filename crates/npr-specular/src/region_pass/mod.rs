@@ -1,8 +1,10 @@
 //! The regions `N·H ≥ σ` of [`crate::region`] grown and fitted as a compute pass
 //! (`shaders/regions.wgsl`): each seed's breadth-first growth from its face, one
-//! workgroup per seed, the faces shared out between seeds as the CPU shares them (fewest
-//! steps, then the lower seed), and each seed's area moments summed and fitted with the
-//! ellipse of the same moments ([`Footprint`]). Nothing mesh-sized is read back: one
+//! workgroup per seed; the seeds whose walks met walked again together, level by level,
+//! so that the faces are shared out between seeds as the CPU's single queue shares them
+//! (fewest steps, then the lower seed; a face one seed reached, taken or not, closed to
+//! the others); and each seed's area moments summed and fitted with the ellipse of the
+//! same moments ([`Footprint`]). Nothing mesh-sized is read back: one
 //! 288-byte record per seed.
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
@@ -57,6 +59,8 @@ pub struct RegionPass {
     device: wgpu::Device,
     layout: wgpu::BindGroupLayout,
     grow: wgpu::ComputePipeline,
+    /// `cs_join`: the seeds whose walks met, walked again together.
+    join: wgpu::ComputePipeline,
     fit: wgpu::ComputePipeline,
     /// `cs_track` of `tracking.wgsl` and its group's layout.
     track: wgpu::ComputePipeline,
@@ -92,7 +96,8 @@ pub struct RegionObject {
     vertex_records: wgpu::Buffer,
     face_records: wgpu::Buffer,
     adjacency: wgpu::Buffer,
-    /// Per face one bit per seed; `words` per face.
+    /// Per face the word walks meet in and two bits per seed (`words` words each), then
+    /// the joint walk's state ([`visited_words`]).
     visited: wgpu::Buffer,
     words: usize,
     /// Per face the least mark of the seeds that took it.
@@ -231,6 +236,7 @@ impl RegionPass {
             id: PassId::fresh(),
             device: device.clone(),
             grow: pipeline(device, &module, &layout, "cs_grow"),
+            join: pipeline(device, &module, &layout, "cs_join"),
             fit: pipeline(device, &module, &layout, "cs_fit"),
             layout,
             track: pipeline(device, &track_module, &track_layout, "cs_track"),
@@ -287,7 +293,7 @@ impl RegionPass {
             visited: buffer_init(
                 device,
                 "npr region visited",
-                &vec![0u32; faces.len()],
+                &vec![0u32; visited_words(faces.len(), 1)],
                 STORAGE,
             ),
             words: 1,
@@ -407,7 +413,7 @@ impl RegionPass {
         let words = count.div_ceil(32).max(1);
         let (faces, capacity) = (object.faces, object.max_capacity);
         if words > object.words {
-            let bytes = (faces.max(1) * words * 4) as u64;
+            let bytes = (visited_words(faces, words) * 4) as u64;
             check_bindings(&[("region visited", bytes)], limit)?;
             object.visited = storage(device, "npr region visited", bytes);
             object.words = words;
@@ -510,7 +516,8 @@ impl RegionPass {
     }
 
     /// Records the growth: the faces' marks cleared, one workgroup per seed walking its
-    /// region, then one per seed summing and fitting the faces it won.
+    /// region, one walking again together the seeds whose walks met, then one per seed
+    /// summing and fitting the faces it won.
     ///
     /// # Errors
     /// [`SpecularError::Pass`] for a `prepared` of another pass, object or frame; nothing
@@ -549,6 +556,8 @@ impl RegionPass {
             pass.set_bind_group(0, group, &[]);
             pass.set_pipeline(&self.grow);
             pass.dispatch_workgroups_indirect(&tracked.dispatch, 0);
+            pass.set_pipeline(&self.join);
+            pass.dispatch_workgroups(1, 1, 1);
             pass.set_pipeline(&self.fit);
             pass.dispatch_workgroups_indirect(&tracked.dispatch, 0);
             return Ok(());
@@ -560,10 +569,19 @@ impl RegionPass {
         pass.set_bind_group(0, group, &[]);
         pass.set_pipeline(&self.grow);
         pass.dispatch_workgroups(slot.count as u32, 1, 1);
+        pass.set_pipeline(&self.join);
+        pass.dispatch_workgroups(1, 1, 1);
         pass.set_pipeline(&self.fit);
         pass.dispatch_workgroups(slot.count as u32, 1, 1);
         Ok(())
     }
+}
+
+/// Words of the `visited` scratch for `faces` faces and `words` bit words a face: per
+/// face the word walks meet in and the seeds' bits (reached, taken), then a head of four
+/// and per seed (32 a bit word) four words of `cs_join`'s state.
+fn visited_words(faces: usize, words: usize) -> usize {
+    faces.max(1) * (2 * words + 1) + 4 + 4 * 32 * words
 }
 
 fn make_slot(device: &wgpu::Device) -> Slot {

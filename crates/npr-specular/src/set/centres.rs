@@ -56,9 +56,8 @@ impl HighlightSet {
     /// [`HighlightSet::update_from_solutions`] with the regions grown by `regions` (the
     /// GPU: [`crate::RegionPass`] on the seeds it is given) in place of the CPU's grower:
     /// the same matching, fades and controls, the footprints, overlap scales and pieces
-    /// of its regions. Where `regions` gives `None` (or not one region per seed), or the
-    /// seeds' σ differ (per-highlight edits: the GPU's walks share faces out as the CPU
-    /// does for one σ), the CPU grows them for that frame.
+    /// of its regions. Where `regions` gives `None` (or not one region per seed), the
+    /// CPU grows them for that frame.
     pub fn update_from_solutions_and_regions(
         &mut self,
         light_eye: LightEye,

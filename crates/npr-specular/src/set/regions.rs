@@ -34,10 +34,7 @@ impl HighlightSet {
                     .filter(|e| e.2)
                     .map(|e| (e.1, self.controls_of(e.0).sigma))
                     .collect();
-                // Seeds of one σ only: the GPU's walks share faces out as the CPU's single
-                // queue does where every seed takes the same faces (`regions.wgsl`).
-                let one_sigma = seeds.windows(2).all(|w| w[0].1 == w[1].1);
-                if let Some(grow) = on_gpu.filter(|_| one_sigma) {
+                if let Some(grow) = on_gpu {
                     if seeds.is_empty() {
                         self.regions_grown_on_gpu = true;
                         return Vec::new();
