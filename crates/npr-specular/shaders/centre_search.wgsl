@@ -698,28 +698,33 @@ fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // ---- Peaks: bright regions without an `N = H` point (`set::peaks` of the crate) ----
 //
-// `cs_bright` marks the vertices with `N·H ≥ σ` (`bright_vertices`) and lists them;
-// `cs_peaks` (one invocation) fills the parts of the bright vertices (sharing a face)
-// that hold an `N = H` centre, then each other part's brightest vertex is a peak, the
-// parts in order of their lowest vertex, its centre at the maximum of `N̂·Ĥ` over the
-// faces around it (`centre_at_vertex`, by `ascend`), appended to `centres` after the
-// merged ones (`curvature.z` = 1) and counted in `Counter::peaks`.
+// `cs_bright` marks the vertices with `N·H ≥ σ` (`bright_vertices`); `cs_join_bright`
+// joins the bright vertices that share a face into parts (a union-find over the
+// vertices, each part's root its lowest vertex, joined by compare-and-swap, so any
+// number of workgroups may join at once); `cs_part_best` and `cs_part_brightest` find
+// each part's brightest vertex (the lowest index on ties) and list the roots; `cs_peaks`
+// (one invocation) leaves out the parts that hold an `N = H` centre, and each other
+// part's brightest vertex is a peak, the parts in order of their lowest vertex, its
+// centre at the maximum of `N̂·Ĥ` over the faces around it (`centre_at_vertex`, by
+// `ascend`), appended to `centres` after the merged ones (`curvature.z` = 1) and
+// counted in `Counter::peaks`.
 
 // The vertices' neighbours and faces: `nv + 1` offsets into this array, the neighbours,
 // then `nv + 1` offsets (the first at `peak_adjacency[nv]`) and, per face around a
 // vertex in the order of `Topology::vertex_faces`, (face, slot | corner << 29).
 @group(1) @binding(3) var<storage, read> peak_adjacency: array<u32>;
 
-// `cs_bright`'s and `cs_peaks`' scratch (cleared every frame): the bright vertices
-// listed, whether the list overflowed; per vertex its `N·H` bits where bright (0 where
-// not), then per vertex its fill mark, then the list (`list_room` entries) and the
-// fill's stack (as many).
+// The peaks' scratch (cleared every frame but `list_room`): the parts' roots listed,
+// whether the list overflowed, the list's room; per vertex its `N·H` bits where bright
+// (0 where not), its parent in the union-find (the parent + 1; 0: a root), its part's
+// greatest `N·H` bits (at the root) and its part's brightest vertex (complemented, at the
+// root); then the roots' list.
 struct PeakScratch {
     listed: atomic<u32>,
     overflowed: atomic<u32>,
     list_room: u32,
     pad: u32,
-    data: array<u32>,
+    data: array<atomic<u32>>,
 }
 @group(1) @binding(4) var<storage, read_write> peak_scratch: PeakScratch;
 
@@ -759,55 +764,116 @@ fn vertex_nh(v: u32) -> f32 {
     return dot(n, h);
 }
 
+fn peak_vertex(gid: vec3<u32>, groups: vec3<u32>) -> u32 {
+    return gid.x + gid.y * groups.x * 64u;
+}
+
+// Vertex `v`'s `N·H` bits (0: not bright).
+fn bright_bits(v: u32) -> u32 {
+    return atomicLoad(&peak_scratch.data[v]);
+}
+
+// The root of `v`'s part, halving the path on the way (a vertex that has a parent is
+// never joined again, so any ancestor may stand for its parent).
+fn part_root(v0: u32) -> u32 {
+    let nv = arrayLength(&vertices);
+    var v = v0;
+    loop {
+        let p = atomicLoad(&peak_scratch.data[nv + v]);
+        if p == 0u {
+            return v;
+        }
+        let gp = atomicLoad(&peak_scratch.data[nv + p - 1u]);
+        if gp != 0u {
+            atomicStore(&peak_scratch.data[nv + v], gp);
+        }
+        v = p - 1u;
+    }
+    return v;
+}
+
 @compute @workgroup_size(64)
 fn cs_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let v = gid.x + gid.y * groups.x * 64u;
+    let v = peak_vertex(gid, groups);
+    if v >= arrayLength(&vertices) {
+        return;
+    }
+    let d = vertex_nh(v);
+    if d >= frame.params.peak_sigma {
+        atomicStore(&peak_scratch.data[v], bitcast<u32>(d));
+    }
+}
+
+// Joins each bright vertex with its bright neighbours above it: the greater root hung
+// under the lesser, by compare-and-swap (tried again where another join moved it).
+@compute @workgroup_size(64)
+fn cs_join_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let v = peak_vertex(gid, groups);
+    let nv = arrayLength(&vertices);
+    if v >= nv || bright_bits(v) == 0u {
+        return;
+    }
+    for (var k = peak_adjacency[v]; k < peak_adjacency[v + 1u]; k += 1u) {
+        let u = peak_adjacency[k];
+        if u <= v || bright_bits(u) == 0u {
+            continue;
+        }
+        loop {
+            let a = part_root(v);
+            let b = part_root(u);
+            if a == b {
+                break;
+            }
+            let hi = max(a, b);
+            let lo = min(a, b);
+            let r = atomicCompareExchangeWeak(&peak_scratch.data[nv + hi], 0u, lo + 1u);
+            if r.exchanged {
+                break;
+            }
+        }
+    }
+}
+
+// Each part's greatest `N·H` at its root, and the roots listed.
+@compute @workgroup_size(64)
+fn cs_part_best(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let v = peak_vertex(gid, groups);
     let nv = arrayLength(&vertices);
     if v >= nv {
         return;
     }
-    let d = vertex_nh(v);
-    if !(d >= frame.params.peak_sigma) {
+    let d = bright_bits(v);
+    if d == 0u {
         return;
     }
-    peak_scratch.data[v] = bitcast<u32>(d);
-    let k = atomicAdd(&peak_scratch.listed, 1u);
-    if k < peak_scratch.list_room {
-        peak_scratch.data[2u * nv + k] = v;
-    } else {
-        atomicStore(&peak_scratch.overflowed, 1u);
+    let r = part_root(v);
+    atomicMax(&peak_scratch.data[2u * nv + r], d);
+    if r == v {
+        let k = atomicAdd(&peak_scratch.listed, 1u);
+        if k < peak_scratch.list_room {
+            atomicStore(&peak_scratch.data[4u * nv + k], v);
+        } else {
+            atomicStore(&peak_scratch.overflowed, 1u);
+        }
     }
 }
 
-// `fill_part`: marks the part of the bright vertices holding `start`; its lowest vertex
-// and its brightest (the lowest index on ties).
-fn fill_part(start: u32) -> vec2<u32> {
+// Each part's brightest vertex, the lowest on ties (its complement's maximum).
+@compute @workgroup_size(64)
+fn cs_part_brightest(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let v = peak_vertex(gid, groups);
     let nv = arrayLength(&vertices);
-    let stack = 2u * nv + peak_scratch.list_room;
-    peak_scratch.data[nv + start] = 1u;
-    peak_scratch.data[stack] = start;
-    var top = 1u;
-    var low = start;
-    var best = start;
-    while top > 0u {
-        top -= 1u;
-        let v = peak_scratch.data[stack + top];
-        low = min(low, v);
-        let d = bitcast<f32>(peak_scratch.data[v]);
-        let db = bitcast<f32>(peak_scratch.data[best]);
-        if d > db || (d == db && v < best) {
-            best = v;
-        }
-        for (var k = peak_adjacency[v]; k < peak_adjacency[v + 1u]; k += 1u) {
-            let u = peak_adjacency[k];
-            if peak_scratch.data[nv + u] == 0u && peak_scratch.data[u] != 0u && top < peak_scratch.list_room {
-                peak_scratch.data[nv + u] = 1u;
-                peak_scratch.data[stack + top] = u;
-                top += 1u;
-            }
-        }
+    if v >= nv {
+        return;
     }
-    return vec2<u32>(low, best);
+    let d = bright_bits(v);
+    if d == 0u {
+        return;
+    }
+    let r = part_root(v);
+    if atomicLoad(&peak_scratch.data[2u * nv + r]) == d {
+        atomicMax(&peak_scratch.data[3u * nv + r], ~v);
+    }
 }
 
 // `centre_at_vertex`'s `value`: `N̂·Ĥ` at (α, β) of a face, both interpolated linearly
@@ -911,6 +977,9 @@ fn peak_centre(v: u32) -> CentreRecord {
 // The parts found (lowest vertex, brightest vertex), at most `MAX_MERGED`.
 var<private> parts: array<vec2<u32>, MAX_MERGED>;
 
+// A part's greatest `N·H` once `cs_peaks` has found an `N = H` centre in it.
+const HOLDS_CENTRE: u32 = 0xffffffffu;
+
 @compute @workgroup_size(1)
 fn cs_peaks() {
     let merged = frame.counter.merged;
@@ -934,22 +1003,23 @@ fn cs_peaks() {
         let t = triangles[c.solution.w].xyz;
         for (var i = 0u; i < 3u; i += 1u) {
             let v = t[i];
-            if v < nv && peak_scratch.data[nv + v] == 0u && peak_scratch.data[v] != 0u {
-                fill_part(v);
+            if v < nv && bright_bits(v) != 0u {
+                atomicStore(&peak_scratch.data[2u * nv + part_root(v)], HOLDS_CENTRE);
             }
         }
     }
     var count = 0u;
     for (var i = 0u; i < min(listed, peak_scratch.list_room); i += 1u) {
-        let v = peak_scratch.data[2u * nv + i];
-        if peak_scratch.data[nv + v] == 0u {
-            if count + merged == MAX_MERGED {
-                frame.counter.peaks = NO_MERGE;
-                return;
-            }
-            parts[count] = fill_part(v);
-            count += 1u;
+        let root = atomicLoad(&peak_scratch.data[4u * nv + i]);
+        if atomicLoad(&peak_scratch.data[2u * nv + root]) == HOLDS_CENTRE {
+            continue;
         }
+        if count + merged == MAX_MERGED {
+            frame.counter.peaks = NO_MERGE;
+            return;
+        }
+        parts[count] = vec2<u32>(root, ~atomicLoad(&peak_scratch.data[3u * nv + root]));
+        count += 1u;
     }
     // In order of their lowest vertex (insertion sort: a frame has few).
     for (var i = 1u; i < count; i += 1u) {

@@ -5,7 +5,7 @@
 //! ([`HighlightSet::update_from_search`]) on the centres and regions read back. The
 //! search also finds the peaks (bright regions without an `N = H` point,
 //! [`crate::SearchSolutions::peaks`]), which are seeded with the centres; a frame whose
-//! peaks it could not find (too many bright vertices or centres) has the update find
+//! peaks it could not find (too many bright parts or centres) has the update find
 //! its own and its regions grown in a second submission ([`RegionPass::grower`]).
 //!
 //! ```ignore

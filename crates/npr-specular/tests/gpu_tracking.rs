@@ -197,6 +197,71 @@ fn regions_seeded_on_the_gpu_are_the_cpu_updates_regions() {
     assert!(with_peaks >= 10, "only {with_peaks} frames with peaks");
 }
 
+/// Peaks of bright parts of any size: a dense knot under the bench's light, whose parts
+/// `N·H ≥ σ` hold over 8,192 vertices in a frame (the most a single invocation once
+/// filled, beyond which the frame's peaks were left to the CPU). The parts are joined
+/// over all vertices at once (`cs_join_bright`): the GPU's peaks are the CPU update's,
+/// and every frame is seeded on the GPU.
+#[test]
+fn peaks_of_large_bright_parts_are_found_on_the_gpu() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("peaks_of_large_bright_parts_are_found_on_the_gpu")
+    else {
+        return;
+    };
+    let knot = npr_geometry::generate::TorusKnot::trefoil(0.15, 1800, 130);
+    let mesh = npr_geometry::generate::torus_knot(&knot);
+    let options = CurvatureOptions::default();
+    let mut cpu = HighlightSet::new(&mesh, &options).unwrap();
+    let mut gpu = HighlightSet::new(&mesh, &options).unwrap();
+    // Wide highlights: larger parts.
+    cpu.global.sigma = 0.8;
+    gpu.global.sigma = 0.8;
+    let radius = bounding_radius(&mesh);
+    let mut frames = GpuFrames::new(ctx, &gpu);
+    let (mut peaks, mut most_bright) = (0, 0);
+    for step in 0..4 {
+        let world = Mat4::from_rotation_y((step as f32 * 3.0).to_radians());
+        let light_eye = LightEye::Positions {
+            light: Vec3::new(0.4, 0.7, 1.0).normalize() * 50.0 * radius,
+            eye: Vec3::new(0.0, 0.0, 3.0 * radius),
+        };
+        // The bright vertices, as the peaks count them (object space: a rotation).
+        let topology = gpu.topology();
+        let object_from_world = world.inverse();
+        let bright = topology
+            .positions
+            .iter()
+            .zip(gpu.search().normals())
+            .filter(|(p, n)| {
+                let LightEye::Positions { light, eye } = light_eye else {
+                    unreachable!()
+                };
+                let l = (object_from_world.transform_point3(light) - **p).normalize();
+                let e = (object_from_world.transform_point3(eye) - **p).normalize();
+                n.dot((l + e).normalize()) >= gpu.global.sigma
+            })
+            .count();
+        most_bright = most_bright.max(bright);
+        let (solved, tracked) = frames.run(ctx, &gpu, (light_eye, world));
+        let want = cpu.update(light_eye, world).to_vec();
+        let mut take = |_: &HighlightSet, seeds: &[(npr_geometry::HighlightCentre, f32)]| {
+            tracked.for_seeds(seeds)
+        };
+        let got = gpu
+            .update_from_search(light_eye, world, &solved, Some(&mut take))
+            .to_vec();
+        let at = format!("frame {step} ({bright} bright vertices)");
+        let found = solved.peaks.as_ref().map(Vec::len);
+        assert_eq!(found, Some(cpu.stats().peaks), "{at}: peaks");
+        assert!(gpu.stats().regions_on_gpu, "{at}: not seeded on the GPU");
+        same_highlights(&got, &want, radius, &at);
+        peaks += cpu.stats().peaks;
+    }
+    assert!(most_bright > 8192, "only {most_bright} bright vertices");
+    assert!(peaks >= 1, "no peak in any frame");
+}
+
 /// Highlights the user sized apart (their own σ, as the panel edits them) grow their
 /// regions among the others' at their own σ: a face one of them reached and did not take
 /// is closed to the others on the GPU as on the CPU. `SetupOnGpu` seeds and grows them

@@ -79,10 +79,11 @@ pub struct CentreSearchPass {
     /// `cs_merge`: group 0 only, one workgroup.
     merge_pipeline: wgpu::ComputePipeline,
     /// `cs_centres`: group 0's tables, list and params ([`centres_layouts`]'s first),
-    /// and group 1's field, records and the peaks' tables (its second); `cs_bright` and
-    /// `cs_peaks` over the same groups.
+    /// and group 1's field, records and the peaks' tables (its second); the peaks'
+    /// passes over the same groups: `cs_bright`, `cs_join_bright`, `cs_part_best` and
+    /// `cs_part_brightest` over the vertices, then `cs_peaks`.
     centres_pipeline: wgpu::ComputePipeline,
-    bright_pipeline: wgpu::ComputePipeline,
+    vertex_pipelines: [wgpu::ComputePipeline; 4],
     peaks_pipeline: wgpu::ComputePipeline,
     centres_layouts: [wgpu::BindGroupLayout; 2],
     layout: wgpu::BindGroupLayout,
@@ -178,8 +179,8 @@ pub struct SearchSolutions {
     /// ([`CentreSearchPass::prepare_with_peaks`]): the bright regions `N·H ≥ σ` that hold
     /// no `N = H` centre, each with a centre at its maximum of `N̂·Ĥ`, in the order
     /// [`crate::HighlightSet`]'s update finds them; `None` where not asked for or not
-    /// found (no merged centres, more than [`MAX_MERGED`] in all, or more bright vertices
-    /// than the scratch lists), and then the update finds its own.
+    /// found (no merged centres, more than [`MAX_MERGED`] in all, or more parts of bright
+    /// vertices than the scratch lists), and then the update finds its own.
     pub peaks: Option<Vec<npr_geometry::HighlightCentre>>,
     /// The σ the peaks were looked for at (an update takes them only at its own σ).
     pub peak_sigma: Option<f32>,
@@ -244,12 +245,20 @@ impl CentreSearchPass {
                 &[&centres_layouts[0], &centres_layouts[1]],
                 "cs_centres",
             ),
-            bright_pipeline: pipeline_over(
-                device,
-                &module,
-                &[&centres_layouts[0], &centres_layouts[1]],
+            vertex_pipelines: [
                 "cs_bright",
-            ),
+                "cs_join_bright",
+                "cs_part_best",
+                "cs_part_brightest",
+            ]
+            .map(|entry| {
+                pipeline_over(
+                    device,
+                    &module,
+                    &[&centres_layouts[0], &centres_layouts[1]],
+                    entry,
+                )
+            }),
             peaks_pipeline: pipeline_over(
                 device,
                 &module,
@@ -337,7 +346,7 @@ impl CentreSearchPass {
 
     /// [`CentreSearchPass::create_object`] for `set`'s search, with the tables its
     /// peaks need (the vertices' neighbours and faces, about 16 bytes a corner, and a
-    /// scratch of 8 bytes a vertex and 64 KiB), for
+    /// scratch of 16 bytes a vertex and 32 KiB), for
     /// [`CentreSearchPass::prepare_with_peaks`].
     ///
     /// # Errors
@@ -557,8 +566,10 @@ impl CentreSearchPass {
                 pass.set_bind_group(0, &slot.centres_groups[0], &[]);
                 pass.set_bind_group(1, &slot.centres_groups[1], &[]);
                 let (x, y) = dispatch_size(tables.vertices, max);
-                pass.set_pipeline(&self.bright_pipeline);
-                pass.dispatch_workgroups(x, y, 1);
+                for p in &self.vertex_pipelines {
+                    pass.set_pipeline(p);
+                    pass.dispatch_workgroups(x, y, 1);
+                }
                 pass.set_pipeline(&self.peaks_pipeline);
                 pass.dispatch_workgroups(1, 1, 1);
             }

@@ -1,4 +1,5 @@
-//! The search's peaks on the GPU (`cs_bright`, `cs_peaks` of `centre_search.wgsl`): the
+//! The search's peaks on the GPU (`cs_bright`, `cs_join_bright`, `cs_part_best`,
+//! `cs_part_brightest` and `cs_peaks` of `centre_search.wgsl`): the
 //! bright regions `N·H ≥ σ` without an `N = H` point, each given a centre at its maximum
 //! of `N̂·Ĥ` as `HighlightSet`'s update gives it (`set::peaks`), so that the frame's
 //! regions can be seeded on the GPU with them.
@@ -13,15 +14,17 @@ use npr_gpu::compute::buffer_init;
 pub(super) struct PeakTables {
     /// Per vertex its neighbours and its faces (`peak_adjacency` of the shader).
     pub(super) adjacency: wgpu::Buffer,
-    /// `PeakScratch` of the shader: a header, per vertex `N·H` and a fill mark, the list
-    /// of bright vertices and the fill's stack.
+    /// `PeakScratch` of the shader: a header, per vertex `N·H`, its parent in the parts'
+    /// union-find and its part's greatest `N·H` and brightest vertex, and the list of the
+    /// parts' roots.
     pub(super) scratch: wgpu::Buffer,
     /// Welded vertices.
     pub(super) vertices: usize,
 }
 
-/// Bright vertices a frame lists at most (one invocation fills their parts, so a frame
-/// with more leaves its peaks to the CPU rather than wait on a long serial walk).
+/// Parts of bright vertices a frame lists at most (one invocation reads the list; a
+/// frame with more than [`crate::MAX_MERGED`] parts without a centre leaves its peaks to
+/// the CPU anyway).
 const LIST_ROOM: usize = 8192;
 
 /// `set`'s vertex neighbours (the other corners of its faces, sorted, once each) and
@@ -53,10 +56,9 @@ pub(super) fn adjacency_words(set: &HighlightSet, slot_of: &[u32]) -> Vec<u32> {
     data
 }
 
-/// Words of the scratch for `nv` vertices: the header, per vertex `N·H` and a mark, the
-/// list and the stack.
+/// Words of the scratch for `nv` vertices: the header, four per vertex, the list.
 pub(super) fn scratch_words(nv: usize) -> usize {
-    4 + 2 * nv + 2 * LIST_ROOM.min(nv.max(1))
+    4 + 4 * nv + LIST_ROOM.min(nv.max(1))
 }
 
 impl PeakTables {
@@ -73,10 +75,10 @@ impl PeakTables {
     }
 
     /// Clears the frame's part of the scratch: the header's counts and the per-vertex
-    /// `N·H` and marks.
+    /// words.
     pub(super) fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.scratch, 0, Some(8));
-        encoder.clear_buffer(&self.scratch, 16, Some((8 * self.vertices.max(1)) as u64));
+        encoder.clear_buffer(&self.scratch, 16, Some((16 * self.vertices.max(1)) as u64));
     }
 }
 
