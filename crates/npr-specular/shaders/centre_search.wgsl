@@ -569,15 +569,6 @@ struct FieldVertex {
 @group(1) @binding(1) var<storage, read> centre_field: array<FieldVertex>;
 @group(1) @binding(2) var<storage, read_write> centres: array<CentreRecord>;
 
-// glam's `Vec3::any_orthonormal_vector` (Duff et al.'s branchless basis): sign of z as
-// Rust's `signum`, which is −1 for −0.
-fn any_orthonormal(n: vec3<f32>) -> vec3<f32> {
-    let s = select(1.0, -1.0, (bitcast<u32>(n.z) & 0x80000000u) != 0u);
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    return vec3<f32>(b, s + n.y * n.y * a, -n.y);
-}
-
 // `CurvatureField::interpolate`: the principal frame at (α, β) of triangle `t`, invalid
 // vertices left out, directions flipped to agree with the first valid one. `ok` is 0
 // where it has none.

@@ -1,6 +1,6 @@
-// The region growth's frame: its values and seeds, composed before the shaders that read
-// or write it (`regions.wgsl` grows from it; `tracking.wgsl` writes the seeds of a frame
-// seeded on the GPU).
+// The region growth's frame: its values and seeds, and the fits it gives, composed before
+// the shaders that read or write them (`regions.wgsl` grows from it; `tracking.wgsl`
+// writes the seeds of a frame seeded on the GPU; `projectors.wgsl` reads the fits).
 
 // Frame-wide values.
 struct RegionParams {
@@ -40,3 +40,25 @@ struct RegionFrameData {
     seeds: array<Seed>,
 }
 
+// One seed's result: the moments of the faces it won on its projector's plane (area, the
+// first moments, the second (uu, uv, vv) about the centre), the smallest cos of their
+// normals with the axis, the ellipse (half extents, offset, rotation), and flags (status:
+// 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed); `fit` holds the
+// rotation, the region's area, the cone and the ellipse's overlap scale. A long bent
+// region is also cut into `piece_count.x` pieces along its length (`split.rs`).
+struct RegionFit {
+    moments: vec4<f32>,
+    second: vec4<f32>,
+    ellipse: vec4<f32>,
+    fit: vec4<f32>,
+    flags: vec4<u32>,
+    piece_count: vec4<u32>,
+    pieces: array<RegionPiece, 6>,
+}
+
+// One piece of a bent region: its ellipse (half extents, offset) and its rotation, area
+// and overlap scale (w unused).
+struct RegionPiece {
+    ellipse: vec4<f32>,
+    fit: vec4<f32>,
+}

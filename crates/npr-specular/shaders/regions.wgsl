@@ -31,29 +31,6 @@ struct RegionFace {
     normal: vec4<f32>,
 }
 
-// One seed's result: the moments of the faces it won on its projector's plane (area, the
-// first moments, the second (uu, uv, vv) about the centre), the smallest cos of their
-// normals with the axis, the ellipse (half extents, offset, rotation), and flags (status:
-// 0 fitted, 1 covered, 2 empty; faces won; faces walked; overflowed); `fit` holds the
-// rotation, the region's area, the cone and the ellipse's overlap scale. A long bent
-// region is also cut into `piece_count.x` pieces along its length (`split.rs`).
-struct RegionFit {
-    moments: vec4<f32>,
-    second: vec4<f32>,
-    ellipse: vec4<f32>,
-    fit: vec4<f32>,
-    flags: vec4<u32>,
-    piece_count: vec4<u32>,
-    pieces: array<RegionPiece, 6>,
-}
-
-// One piece of a bent region: its ellipse (half extents, offset) and its rotation, area
-// and overlap scale (w unused).
-struct RegionPiece {
-    ellipse: vec4<f32>,
-    fit: vec4<f32>,
-}
-
 @group(0) @binding(0) var<storage, read> frame_data: RegionFrameData;
 @group(0) @binding(2) var<storage, read> vertices: array<RegionVertex>;
 @group(0) @binding(3) var<storage, read> faces: array<RegionFace>;

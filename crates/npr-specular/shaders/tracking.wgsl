@@ -11,30 +11,6 @@
 // puts their pairs first. Where the search found no peaks the update finds its own, and
 // the caller compares the seeds with its own and grows a frame that differs again.
 
-// One highlight of the last update (its piece 0), in id order: its centre (object space)
-// and its reach (w, `match_centres`'s, at least twice the mean edge), and its σ (x).
-struct TrackedHighlight {
-    position_reach: vec4<f32>,
-    sigma: vec4<f32>,
-}
-
-struct TrackParams {
-    // Highlights in `previous` (at most `MAX_TRACKED` are matched).
-    count: u32,
-    // Seeds the growth has room for: more, and none is seeded (status 1).
-    room: u32,
-    // σ of a new highlight (the global controls').
-    sigma: f32,
-    pad: u32,
-}
-
-// The table and its size in one storage buffer (not a uniform one; see
-// `RegionFrameData`).
-struct TrackData {
-    params: TrackParams,
-    previous: array<TrackedHighlight>,
-}
-
 @group(0) @binding(0) var<storage, read_write> frame: RegionFrameData;
 @group(0) @binding(1) var<storage, read> centres: array<CentreRecord>;
 // The search's `Counter`: (faces accepted, centres merged or `NO_MERGE`, peaks after them
@@ -42,8 +18,32 @@ struct TrackData {
 @group(0) @binding(2) var<storage, read> search_counts: array<u32>;
 @group(0) @binding(3) var<storage, read> track: TrackData;
 // The growth's indirect dispatch (x, y, z), then the status: 0 seeded, 1 more seeds than
-// the room, 2 no merged list.
+// the room, 2 no merged list; then the highlights and centres matched and the merged
+// centres among them, and from `MATCH_AT` per highlight the centre it took.
 @group(0) @binding(4) var<storage, read_write> dispatch: array<u32>;
+const MATCH_AT: u32 = 8u;
+// The highlights whose σ the user set (`HighlightControls::sigma`): their count (x of
+// the first entry), then (id, σ bits) sorted by id. Any other highlight takes the global
+// σ (`TrackParams::sigma`): a table the GPU wrote a frame ago holds the σ of that frame.
+@group(0) @binding(5) var<storage, read> own_sigma: array<vec2<u32>>;
+
+// Highlight `id`'s σ this frame.
+fn sigma_of(id: u32) -> f32 {
+    var lo = 1u;
+    var hi = own_sigma[0].x + 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if own_sigma[mid].x < id {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    if lo < own_sigma[0].x + 1u && own_sigma[lo].x == id {
+        return bitcast<f32>(own_sigma[lo].y);
+    }
+    return track.params.sigma;
+}
 
 const TRACK_WORKGROUP: u32 = 256u;
 // `MAX_MERGED` of the search: its centres.
@@ -196,14 +196,20 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
             }
         }
     }
+    // The matching, for `projectors.wgsl`: per highlight of the last update the centre
+    // it took (or `NONE`).
+    dispatch[MATCH_AT + lid] = centre_of[lid];
     if lid != 0u {
         return;
     }
+    dispatch[4] = p;
+    dispatch[5] = c;
+    dispatch[6] = merged_count;
     var n = 0u;
     for (var i = 0u; i < p; i += 1u) {
         if centre_of[i] != NONE {
             seed_centre[n] = centre_of[i];
-            seed_sigma[n] = track.previous[i].sigma.x;
+            seed_sigma[n] = sigma_of(track.previous[i].state.x);
             n += 1u;
         }
     }

@@ -22,6 +22,7 @@ mod error;
 pub mod fidelity;
 pub mod pass;
 pub mod projector;
+pub mod projector_pass;
 pub mod receiver_pass;
 pub mod region;
 pub mod region_pass;
@@ -41,6 +42,10 @@ pub use pass::{
 };
 pub use projector::{
     HighlightControls, Projector, ProjectorControls, UpAxis, eq8_footprint, frustum_size,
+};
+pub use projector_pass::{
+    GpuFrame, GpuFrameStatus, GpuHighlight, MAX_DRAWN, PendingFrame, ProjectorInput,
+    ProjectorObject, ProjectorPass,
 };
 pub use receiver_pass::{
     DEFAULT_WALK_CAPACITY, PendingReceivers, ReceiverCounts, ReceiverInput, ReceiverObject,

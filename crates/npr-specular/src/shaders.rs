@@ -12,6 +12,10 @@ const CENTRE_RECORD_WGSL: &str = include_str!("../shaders/centre_record.wgsl");
 /// and the tracking.
 const REGION_FRAME_WGSL: &str = include_str!("../shaders/region_frame.wgsl");
 
+/// `TrackData`, the table of highlights the GPU keeps from frame to frame: composed
+/// after `centre_record.wgsl` before the tracking and the projectors.
+const HIGHLIGHT_TABLE_WGSL: &str = include_str!("../shaders/highlight_table.wgsl");
+
 /// `centre_record.wgsl` itself (structs only, validated alone).
 pub const CENTRE_RECORD: ShaderFile = ShaderFile {
     name: "centre_record.wgsl",
@@ -63,7 +67,33 @@ pub const REGIONS: ShaderFile = ShaderFile {
 pub const TRACKING: ShaderFile = ShaderFile {
     name: "tracking.wgsl",
     source: include_str!("../shaders/tracking.wgsl"),
-    prelude: &[NUMERIC, CENTRE_RECORD_WGSL, REGION_FRAME_WGSL],
+    prelude: &[
+        NUMERIC,
+        CENTRE_RECORD_WGSL,
+        REGION_FRAME_WGSL,
+        HIGHLIGHT_TABLE_WGSL,
+    ],
+};
+
+/// `highlight_table.wgsl` itself, after `centre_record.wgsl` (structs only).
+pub const HIGHLIGHT_TABLE: ShaderFile = ShaderFile {
+    name: "highlight_table.wgsl",
+    source: HIGHLIGHT_TABLE_WGSL,
+    prelude: &[NUMERIC, CENTRE_RECORD_WGSL],
+};
+
+/// The frame's highlights made into projectors on the GPU (§3.2–§3.4 frame after
+/// frame), after `numeric.wgsl`, `centre_record.wgsl`, `region_frame.wgsl` and
+/// `highlight_table.wgsl`.
+pub const PROJECTORS: ShaderFile = ShaderFile {
+    name: "projectors.wgsl",
+    source: include_str!("../shaders/projectors.wgsl"),
+    prelude: &[
+        NUMERIC,
+        CENTRE_RECORD_WGSL,
+        REGION_FRAME_WGSL,
+        HIGHLIGHT_TABLE_WGSL,
+    ],
 };
 
 /// Every shader file of this crate.
@@ -73,6 +103,8 @@ pub const ALL: &[ShaderFile] = &[
     RECEIVERS,
     REGIONS,
     TRACKING,
+    PROJECTORS,
     CENTRE_RECORD,
     REGION_FRAME,
+    HIGHLIGHT_TABLE,
 ];

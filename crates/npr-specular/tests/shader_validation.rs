@@ -44,6 +44,8 @@ fn every_bound_struct_has_a_layout_test() {
         "PeakScratch",
         "SearchFrame",
         "ReceiverFrame",
+        "ProjectData",
+        "ProjectorRecord",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

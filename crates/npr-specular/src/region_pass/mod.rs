@@ -43,6 +43,7 @@ pub use tracked::{
     MAX_TRACKED, PendingTracked, TRACKED_SEEDS, TrackStatus, TrackedInput, TrackedRegions,
     TrackedSeed,
 };
+pub(crate) use tracked::{TrackParams, TrackedRecord};
 
 /// Faces one seed's growth may take by default (its queue's length, 8 bytes a face); a
 /// frame of more seeds than the storage binding limit holds at this length gets shorter
@@ -222,9 +223,9 @@ impl RegionPass {
             entries: &entries,
         });
         let track_module = crate::shaders::TRACKING.module(device);
-        let track_entries: Vec<_> = (0..5)
+        let track_entries: Vec<_> = (0..6)
             .map(|b| {
-                let read_only = (1..4).contains(&b);
+                let read_only = b != 0 && b != 4;
                 layout_entry(b, wgpu::BufferBindingType::Storage { read_only })
             })
             .collect();
@@ -368,7 +369,52 @@ impl RegionPass {
             light_eye: input.light_eye,
             world_from_object: input.world_from_object,
         };
-        self.prepare_with(queue, object, &cpu_input, Some((room, &table, outputs)))
+        let table = tracked::TableSource::Bytes(&table);
+        self.prepare_with(queue, object, &cpu_input, Some((room, table, outputs)))
+    }
+
+    /// [`RegionPass::prepare_tracked`] matching the centres with a table of highlights the
+    /// GPU wrote (a [`crate::ProjectorObject`]'s, [`crate::ProjectorObject::table`]) in
+    /// place of `input.set`'s last update, with room for [`TRACKED_SEEDS`] seeds: a frame
+    /// that reads nothing back.
+    ///
+    /// # Errors
+    /// As [`RegionPass::prepare_tracked`].
+    pub fn prepare_tracked_on_table(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut RegionObject,
+        input: &TrackedInput<'_>,
+        table: &wgpu::Buffer,
+    ) -> Result<Prepared, SpecularError> {
+        let (search, searched) = input.search;
+        if searched.frame() != input.frame {
+            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+                prepared: searched.frame().0,
+                current: input.frame.0,
+            }));
+        }
+        let outputs = search.centre_buffers(searched)?;
+        let cpu_input = RegionInput {
+            frame: input.frame,
+            set: input.set,
+            seeds: &[],
+            light_eye: input.light_eye,
+            world_from_object: input.world_from_object,
+        };
+        // A new highlight's σ is the set's global one now, as the CPU's matching takes it.
+        let fresh = input
+            .set
+            .global
+            .compose(&crate::HighlightControls::default());
+        queue.write_buffer(table, 8, bytemuck::bytes_of(&fresh.sigma));
+        let table = tracked::TableSource::Gpu(table);
+        self.prepare_with(
+            queue,
+            object,
+            &cpu_input,
+            Some((TRACKED_SEEDS, table, outputs)),
+        )
     }
 
     /// [`RegionPass::prepare`], its seeds written by the CPU (`tracked` `None`) or by
@@ -378,7 +424,11 @@ impl RegionPass {
         queue: &wgpu::Queue,
         object: &mut RegionObject,
         input: &RegionInput<'_>,
-        tracked: Option<(usize, &[u8], (&wgpu::Buffer, &wgpu::Buffer))>,
+        tracked: Option<(
+            usize,
+            tracked::TableSource<'_>,
+            (&wgpu::Buffer, &wgpu::Buffer),
+        )>,
     ) -> Result<Prepared, SpecularError> {
         object.slots.check_pass(self.id)?;
         let set = input.set;
@@ -461,8 +511,10 @@ impl RegionPass {
             ],
         }));
         slot.count = count;
+        let own_sigma = set.own_sigmas();
         slot.tracked = tracked.map(|(_, table, outputs)| {
-            tracked::tracked_slot(device, &self.track_layout, (&slot.seeds, table), outputs)
+            let inputs = (&slot.seeds, table, own_sigma.as_slice());
+            tracked::tracked_slot(device, &self.track_layout, inputs, outputs)
         });
         Ok(prepared)
     }

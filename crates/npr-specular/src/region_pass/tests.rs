@@ -93,10 +93,16 @@ fn the_tracking_table_matches_wgsl() {
         [
             std::mem::offset_of!(TrackParams, room),
             std::mem::offset_of!(TrackParams, sigma),
+            std::mem::offset_of!(TrackParams, next_id),
+            std::mem::offset_of!(TrackParams, status),
             std::mem::size_of::<TrackParams>(),
             std::mem::offset_of!(TrackedRecord, sigma),
+            std::mem::offset_of!(TrackedRecord, centre),
+            std::mem::offset_of!(TrackedRecord, footprint),
+            std::mem::offset_of!(TrackedRecord, state),
+            std::mem::offset_of!(TrackedRecord, dir_object),
             std::mem::size_of::<TrackedRecord>(),
         ],
-        [4, 8, 16, 16, 32]
+        [4, 8, 16, 28, 32, 16, 32, 144, 176, 208, 224]
     );
 }

@@ -37,22 +37,33 @@ pub(super) fn tracked_room(set: &HighlightSet) -> usize {
 /// `tracking.wgsl`); past them a frame is not seeded on the GPU.
 pub const MAX_TRACKED: usize = 256;
 
-/// `TrackedHighlight` of `tracking.wgsl`.
+/// `TrackedHighlight` of `highlight_table.wgsl`: one highlight of the table the GPU's
+/// matching and projectors read.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct TrackedRecord {
-    pub(super) position_reach: [f32; 4],
-    pub(super) sigma: [f32; 4],
+pub(crate) struct TrackedRecord {
+    pub(crate) position_reach: [f32; 4],
+    pub(crate) sigma: [f32; 4],
+    pub(crate) centre: crate::search_pass::CentreRecord,
+    pub(crate) footprint: [f32; 4],
+    pub(crate) shape: [f32; 4],
+    pub(crate) state: [u32; 4],
+    pub(crate) fade: [f32; 4],
+    pub(crate) dir_object: [f32; 4],
 }
 
-/// `TrackParams` of `tracking.wgsl`.
+/// `TrackParams` of `highlight_table.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct TrackParams {
-    pub(super) count: u32,
-    pub(super) room: u32,
-    pub(super) sigma: f32,
-    pub(super) pad: u32,
+pub(crate) struct TrackParams {
+    pub(crate) count: u32,
+    pub(crate) room: u32,
+    pub(crate) sigma: f32,
+    pub(crate) tracking: u32,
+    pub(crate) next_id: u32,
+    pub(crate) drawn: u32,
+    pub(crate) merged: u32,
+    pub(crate) status: u32,
 }
 
 /// `TrackData` of `tracking.wgsl` with one highlight.
@@ -160,12 +171,24 @@ impl PendingTracked {
 }
 
 /// A tracked frame's own buffers: the table of the last update's highlights, the
-/// growth's indirect dispatch (and status), and `cs_track`'s group.
+/// growth's indirect dispatch (and status, and the matching), and `cs_track`'s group.
 #[derive(Debug)]
 pub(super) struct TrackedSlot {
     pub(super) dispatch: wgpu::Buffer,
+    pub(super) track: wgpu::Buffer,
     pub(super) group: wgpu::BindGroup,
 }
+
+/// Where a tracked frame's table of last highlights comes from: the set's last update
+/// (`TrackData` bytes), or a table the GPU wrote (`projectors.wgsl`'s next table).
+pub(super) enum TableSource<'a> {
+    Bytes(&'a [u8]),
+    Gpu(&'a wgpu::Buffer),
+}
+
+/// Words of a tracked frame's dispatch buffer: (x, y, z, status), the counts, then per
+/// highlight of the last update the centre it took (`MATCH_AT` of `tracking.wgsl`).
+const DISPATCH_WORDS: usize = 8 + MAX_TRACKED;
 
 /// The table `cs_track` reads (`TrackData`): the last update's highlights of `set` for
 /// this transform, and `room` seeds; `None` when there are more than [`MAX_TRACKED`].
@@ -174,24 +197,13 @@ pub(super) fn track_data(
     world_from_object: Mat4,
     room: usize,
 ) -> Option<Vec<u8>> {
-    let (table, sigma) = set.tracking_table(world_from_object);
+    let (mut params, table) = set.gpu_table(world_from_object);
     if table.len() > MAX_TRACKED {
         return None;
     }
-    let params = TrackParams {
-        count: table.len() as u32,
-        room: room as u32,
-        sigma,
-        pad: 0,
-    };
+    params.room = room as u32;
     let mut bytes = bytemuck::bytes_of(&params).to_vec();
-    for t in table.iter() {
-        let r = TrackedRecord {
-            position_reach: [t[0], t[1], t[2], t[3]],
-            sigma: [t[4], 0.0, 0.0, 0.0],
-        };
-        bytes.extend_from_slice(bytemuck::bytes_of(&r));
-    }
+    bytes.extend_from_slice(bytemuck::cast_slice(&table));
     if table.is_empty() {
         bytes.extend_from_slice(bytemuck::bytes_of(&TrackedRecord::default()));
     }
@@ -199,24 +211,34 @@ pub(super) fn track_data(
 }
 
 /// `cs_track`'s buffers and group for one frame: the growth's frame data (`seeds`), the
-/// search's counter and centres, the table and a fresh dispatch.
+/// search's counter and centres, the table, the σ the user set per highlight
+/// (`HighlightSet::own_sigmas`) and a fresh dispatch.
 pub(super) fn tracked_slot(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    (seeds, table): (&wgpu::Buffer, &[u8]),
+    (seeds, table, own_sigma): (&wgpu::Buffer, TableSource<'_>, &[[u32; 2]]),
     (counter, centres): (&wgpu::Buffer, &wgpu::Buffer),
 ) -> TrackedSlot {
-    let track = buffer_init(
-        device,
-        "npr region track",
-        table,
-        wgpu::BufferUsages::STORAGE,
-    );
+    let track = match table {
+        TableSource::Bytes(bytes) => buffer_init(
+            device,
+            "npr region track",
+            bytes,
+            wgpu::BufferUsages::STORAGE,
+        ),
+        TableSource::Gpu(buffer) => buffer.clone(),
+    };
     let dispatch = buffer_init(
         device,
         "npr region dispatch",
-        &[0u32; 4],
+        &[0u32; DISPATCH_WORDS],
         wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+    );
+    let sigmas = buffer_init(
+        device,
+        "npr region own sigma",
+        own_sigma,
+        wgpu::BufferUsages::STORAGE,
     );
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("npr region track"),
@@ -227,12 +249,30 @@ pub(super) fn tracked_slot(
             group_entry(2, counter),
             group_entry(3, &track),
             group_entry(4, &dispatch),
+            group_entry(5, &sigmas),
         ],
     });
-    TrackedSlot { dispatch, group }
+    TrackedSlot {
+        dispatch,
+        track,
+        group,
+    }
 }
 
 impl RegionObject {
+    /// A tracked frame's buffers the projectors read in the same submission: the growth's
+    /// frame data (seeds), the fits, the dispatch (status and matching) and the table.
+    pub(crate) fn tracked_buffers(
+        &self,
+        prepared: &Prepared,
+    ) -> Result<[&wgpu::Buffer; 4], SpecularError> {
+        let slot = self.slots.get(self.slots.pass(), prepared)?;
+        let Some(tracked) = &slot.tracked else {
+            return Err(SpecularError::Pass(npr_gpu::PassError::ForeignPrepared));
+        };
+        Ok([&slot.seeds, &slot.fits, &tracked.dispatch, &tracked.track])
+    }
+
     /// Copies a frame seeded on the GPU (its status, seeds and regions: about 400 bytes a
     /// seed) and asks for the map without waiting; after the submission that holds its
     /// [`super::RegionPass::record`].

@@ -47,6 +47,7 @@ use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
 
 mod peaks;
 mod readback;
+pub(crate) use readback::CentreRecord;
 mod tables;
 pub use readback::PendingSolutions;
 use readback::{slot_records, solution_entries};

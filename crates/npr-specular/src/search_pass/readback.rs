@@ -1,23 +1,56 @@
 //! A search's lists on their way back: the readback's layout and its decoding.
 
 use super::{MAX_MERGED, NO_MERGE, SearchSolutions};
-use glam::Vec3;
-use npr_geometry::{FaceSolution, HighlightCentre};
+use npr_geometry::FaceSolution;
 
 /// `CentreRecord` of `centre_search.wgsl`: one centre `cs_centres` computed.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct CentreRecord {
+pub(crate) struct CentreRecord {
     /// w: 1 where the CPU has a centre there, 0 where not.
-    pub(super) position_object: [f32; 4],
-    pub(super) position_world: [f32; 4],
-    pub(super) normal_object: [f32; 4],
-    pub(super) normal_world: [f32; 4],
-    pub(super) dir_kappa_max: [f32; 4],
+    pub(crate) position_object: [f32; 4],
+    pub(crate) position_world: [f32; 4],
+    pub(crate) normal_object: [f32; 4],
+    pub(crate) normal_world: [f32; 4],
+    pub(crate) dir_kappa_max: [f32; 4],
     /// (κmax, κmin, 1 for a peak, 0).
-    pub(super) curvature: [f32; 4],
+    pub(crate) curvature: [f32; 4],
     /// (face, α and β as bits, the face's visiting slot).
-    pub(super) solution: [u32; 4],
+    pub(crate) solution: [u32; 4],
+}
+
+impl CentreRecord {
+    /// The record of a CPU centre (`peak`: a bright region's, `set::peaks`); the visiting
+    /// slot is left 0 (only the search reads it).
+    pub(crate) fn of(c: &npr_geometry::HighlightCentre, peak: bool) -> Self {
+        Self {
+            position_object: c.position_object.extend(1.0).to_array(),
+            position_world: c.position_world.extend(1.0).to_array(),
+            normal_object: c.normal_object.extend(0.0).to_array(),
+            normal_world: c.normal_world.extend(0.0).to_array(),
+            dir_kappa_max: c.dir_kappa_max.extend(0.0).to_array(),
+            curvature: [c.kappa_max, c.kappa_min, f32::from(u8::from(peak)), 0.0],
+            solution: [c.face, c.alpha.to_bits(), c.beta.to_bits(), 0],
+        }
+    }
+
+    /// The centre it records.
+    pub(crate) fn centre(&self) -> npr_geometry::HighlightCentre {
+        let v = |a: [f32; 4]| glam::Vec3::new(a[0], a[1], a[2]);
+        npr_geometry::HighlightCentre {
+            face: self.solution[0],
+            alpha: f32::from_bits(self.solution[1]),
+            beta: f32::from_bits(self.solution[2]),
+            position_object: v(self.position_object),
+            position_world: v(self.position_world),
+            normal_object: v(self.normal_object),
+            normal_world: v(self.normal_world),
+            dir_kappa_max: v(self.dir_kappa_max),
+            dir_kappa_min: v(self.normal_world).cross(v(self.dir_kappa_max)),
+            kappa_max: self.curvature[0],
+            kappa_min: self.curvature[1],
+        }
+    }
 }
 
 /// Bytes of one [`CentreRecord`].
@@ -101,21 +134,7 @@ pub(super) fn decode(bytes: &[u8], capacity: usize, looked: Option<f32>) -> Sear
         if r.position_object[3] != 1.0 {
             return None;
         }
-        let v = |a: [f32; 4]| Vec3::new(a[0], a[1], a[2]);
-        let (normal_world, dir_kappa_max) = (v(r.normal_world), v(r.dir_kappa_max));
-        Some(HighlightCentre {
-            face: r.solution[0],
-            alpha: f32::from_bits(r.solution[1]),
-            beta: f32::from_bits(r.solution[2]),
-            position_object: v(r.position_object),
-            position_world: v(r.position_world),
-            normal_object: v(r.normal_object),
-            normal_world,
-            dir_kappa_max,
-            dir_kappa_min: normal_world.cross(dir_kappa_max),
-            kappa_max: r.curvature[0],
-            kappa_min: r.curvature[1],
-        })
+        Some(r.centre())
     };
     let merged_ok = accepted <= capacity && merged != NO_MERGE && merged as usize <= MAX_MERGED;
     let centres = merged_ok.then(|| (0..merged as usize).filter_map(record).collect());

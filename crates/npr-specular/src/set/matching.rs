@@ -10,34 +10,13 @@ impl HighlightSet {
     /// take its identity: the footprint before controls, at most Eq. (8)'s cap (a large
     /// measured region must not let a highlight take a far centre's identity), and at
     /// least two mean edges.
-    fn reach(&self, h: &Highlight, radius_world: f32, scale: f32) -> f32 {
+    pub(super) fn reach(&self, h: &Highlight, radius_world: f32, scale: f32) -> f32 {
         // The moment ellipse's own extent (before its fit to the region's area).
         let fit = h.footprint.fit_scale;
         let fit = if fit > 0.0 && fit <= 1.0 { fit } else { 1.0 };
         let extent = (h.footprint.half_extent.max_element() / fit).min(radius_world);
         let reach = self.match_radius * extent / scale.max(1e-12);
         reach.max(2.0 * self.topology.mean_edge_length)
-    }
-
-    /// What the GPU's matching (`tracking.wgsl`) needs of the last update's highlights
-    /// (their pieces 0, in id order, as [`HighlightSet::match_centres`] takes them) for an
-    /// update with `world_from_object`: each one's centre (object space), reach and σ;
-    /// and the σ of a new highlight.
-    pub(crate) fn tracking_table(&self, world_from_object: Mat4) -> (Vec<[f32; 5]>, f32) {
-        let scale = super::mesh::mean_scale(world_from_object);
-        let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
-        let table = self
-            .highlights
-            .iter()
-            .filter(|h| h.piece == 0)
-            .map(|h| {
-                let p = h.centre.position_object;
-                let reach = self.reach(h, radius_world, scale);
-                [p.x, p.y, p.z, reach, self.controls_of(h.id).sigma]
-            })
-            .collect();
-        let fresh = self.global.compose(&crate::HighlightControls::default());
-        (table, fresh.sigma)
     }
 
     /// Matches this frame's `centres` with the `previous` highlights: (id, centre, found,

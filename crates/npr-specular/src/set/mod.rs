@@ -18,7 +18,9 @@
 //! - a merged or suppressed highlight fades out like a lost one.
 
 mod centres;
+mod gpu_table;
 mod matching;
+pub(crate) use gpu_table::{ControlsRecord, ProjectParams};
 mod mesh;
 mod peaks;
 mod receivers;

@@ -1,0 +1,440 @@
+//! The frame's highlights made into projectors on the GPU (`shaders/projectors.wgsl`),
+//! so that nothing is read back on the frame's path: after the search
+//! ([`crate::CentreSearchPass`]) and the regions seeded on the GPU
+//! ([`crate::RegionPass::prepare_tracked`]) in the same submission, `cs_project` makes
+//! this frame's highlights as [`HighlightSet::update`] makes them (matching's ids, fades,
+//! suppression, the change limit, the pieces of bent regions, the user's §3.4 controls,
+//! Eq. (7)–(9)'s projectors, the falloff and who shares a region), writes the highlight
+//! pass's records ([`ProjectorObject::projectors`], in [`crate::ProjectorGpu`]'s layout)
+//! and keeps the highlights as the table the next frame's matching reads
+//! ([`crate::RegionPass::prepare_tracked_on_table`] with [`ProjectorObject::table`]).
+//! The CPU reads a frame's highlights one frame late ([`ProjectorObject::map_frame`]),
+//! for picking or a panel.
+//!
+//! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
+//!
+//! ```ignore
+//! let pass = ProjectorPass::new(device);
+//! let mut object = pass.create_object(device);
+//! // per frame, after the search's and the tracked regions' prepares
+//! let grown = regions.prepare_tracked_on_table(queue, &mut region_object, &tracked, object.table())?;
+//! let input = ProjectorInput { frame, set: &set, world_from_object, regions: (&region_object, &grown), normal_maps: &[false] };
+//! let projected = pass.prepare(queue, &mut object, &input)?;
+//! search.record(..); regions.record(..); pass.record(&mut encoder, &object, &projected)?;
+//! ```
+//!
+//! The CPU update is the reference: `tests/gpu_projectors.rs` compares the two on the
+//! same frames. Ids are `u32` on the GPU.
+
+use crate::pass::ProjectorGpu;
+use crate::region_pass::{MAX_TRACKED, TRACKED_SEEDS, TrackParams, TrackedRecord};
+use crate::set::{ControlsRecord, ProjectParams};
+use crate::{Footprint, HighlightSet, RegionObject, SpecularError};
+use glam::{Mat4, Vec2};
+use npr_geometry::HighlightCentre;
+use npr_gpu::compute::{buffer_init, group_entry, layout_entry, pipeline};
+use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
+
+/// Projectors one frame draws at most, pieces included (`MAX_DRAWN` of
+/// `projectors.wgsl`); past them the frame says so ([`GpuFrameStatus::TooMany`]).
+pub const MAX_DRAWN: usize = 512;
+
+const PARAMS_BYTES: usize = std::mem::size_of::<ProjectParams>();
+const TABLE_HEAD: usize = std::mem::size_of::<TrackParams>();
+const RECORD_BYTES: usize = std::mem::size_of::<TrackedRecord>();
+const PROJECTOR_BYTES: usize = std::mem::size_of::<ProjectorGpu>();
+
+/// The projectors' compute pipeline: one per device, shared by every object.
+#[derive(Debug)]
+pub struct ProjectorPass {
+    id: PassId,
+    device: wgpu::Device,
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+/// One frame's projectors: the set (its settings and the user's controls), the
+/// transform, the regions seeded on the GPU in the same submission (with the search
+/// they were seeded from), and which texture layers are normal maps.
+#[derive(Clone, Copy, Debug)]
+pub struct ProjectorInput<'a> {
+    /// The caller's submission.
+    pub frame: FrameId,
+    /// The highlight set: its settings and per-highlight controls.
+    pub set: &'a HighlightSet,
+    /// The object's transform.
+    pub world_from_object: Mat4,
+    /// The tracked regions' object and prepare for this frame
+    /// ([`crate::RegionPass::prepare_tracked`] or `prepare_tracked_on_table`).
+    pub regions: (&'a RegionObject, &'a Prepared),
+    /// The search whose centres seeded them, and its prepare for this frame.
+    pub search: (&'a crate::SearchObject, &'a Prepared),
+    /// Per texture layer, whether it is a normal map ([`crate::HighlightPass`]'s
+    /// layers; at most 32 are told apart).
+    pub normal_maps: &'a [bool],
+}
+
+/// The GPU's highlights from frame to frame: two tables (the last frame's, read, and this
+/// frame's, written) and the highlight pass's records.
+#[derive(Debug)]
+pub struct ProjectorObject {
+    tables: [wgpu::Buffer; 2],
+    /// The table the last prepare writes.
+    written: usize,
+    projectors: wgpu::Buffer,
+    slots: Slots<ProjectorSlot>,
+}
+
+#[derive(Debug)]
+struct ProjectorSlot {
+    settings: wgpu::Buffer,
+    room: usize,
+    group: Option<wgpu::BindGroup>,
+    table: usize,
+}
+
+/// How a frame's projectors were made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GpuFrameStatus {
+    /// Built from this frame's centres and regions.
+    Built,
+    /// The frame's regions were not seeded (too many centres, or none merged): its
+    /// highlights were held as the last frame left them.
+    Held,
+    /// More than [`MAX_DRAWN`] projectors: the rest were left out.
+    TooMany,
+}
+
+/// One highlight of a frame built on the GPU (its piece 0), as the CPU reads it one
+/// frame late.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuHighlight {
+    /// Its id (the GPU counts them in `u32`).
+    pub id: u64,
+    /// The centre it was drawn at.
+    pub centre: HighlightCentre,
+    /// Its footprint before the controls.
+    pub footprint: Footprint,
+    /// Its opacity.
+    pub opacity: f32,
+    /// Whether this frame found its centre (else it fades out).
+    pub found: bool,
+    /// Whether it is a bright region's peak.
+    pub peak: bool,
+    /// Pieces drawn in its place.
+    pub pieces: u8,
+}
+
+/// A frame's highlights and projectors, read back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GpuFrame {
+    /// How they were made.
+    pub status: GpuFrameStatus,
+    /// The highlights, in id order.
+    pub highlights: Vec<GpuHighlight>,
+    /// The highlight pass's records (pieces after their highlight).
+    pub projectors: Vec<ProjectorGpu>,
+    /// Centres suppressed this frame (merged away).
+    pub merged: u32,
+}
+
+impl ProjectorPass {
+    /// The projectors' pipeline.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = crate::shaders::PROJECTORS.module(device);
+        let entries: Vec<_> = (0..8)
+            .map(|b| layout_entry(b, wgpu::BufferBindingType::Storage { read_only: b < 6 }))
+            .collect();
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("npr projectors"),
+            entries: &entries,
+        });
+        Self {
+            id: PassId::fresh(),
+            device: device.clone(),
+            pipeline: pipeline(device, &module, &layout, "cs_project"),
+            layout,
+        }
+    }
+
+    /// Two empty tables (no highlight yet: the first frame shows its highlights at once)
+    /// and room for [`MAX_DRAWN`] projectors.
+    pub fn create_object(&self, device: &wgpu::Device) -> ProjectorObject {
+        let head = TrackParams {
+            room: TRACKED_SEEDS as u32,
+            ..TrackParams::default()
+        };
+        let mut bytes = bytemuck::bytes_of(&head).to_vec();
+        bytes.resize(TABLE_HEAD + RECORD_BYTES * MAX_TRACKED, 0);
+        let usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let table = |label| buffer_init(device, label, &bytes, usage);
+        ProjectorObject {
+            tables: [
+                table("npr projector table a"),
+                table("npr projector table b"),
+            ],
+            written: 1,
+            projectors: buffer_init(
+                device,
+                "npr projectors",
+                &vec![0u8; PROJECTOR_BYTES * MAX_DRAWN],
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            slots: Slots::new(self.id),
+        }
+    }
+
+    /// Writes the frame's settings and controls and binds this frame's inputs (the
+    /// tracked regions, their table and the search's centres) and outputs (the other
+    /// table, the projectors).
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a foreign object, a regions or search prepare of
+    /// another frame or one not tracked, or too many prepares in one frame.
+    pub fn prepare(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut ProjectorObject,
+        input: &ProjectorInput<'_>,
+    ) -> Result<Prepared, SpecularError> {
+        object.slots.check_pass(self.id)?;
+        for prepared in [input.regions.1, input.search.1] {
+            if prepared.frame() != input.frame {
+                return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+                    prepared: prepared.frame().0,
+                    current: input.frame.0,
+                }));
+            }
+        }
+        let [seeds, fits, dispatch, track] = input.regions.0.tracked_buffers(input.regions.1)?;
+        let (_, centres) = input.search.0.centre_buffers(input.search.1)?;
+        let (params, controls) = input
+            .set
+            .project_params(input.world_from_object, input.normal_maps);
+        let device = &self.device;
+        let table = 1 - object.written;
+        object.written = table;
+        let (prepared, slot) = object.slots.next(self.id, input.frame, || ProjectorSlot {
+            settings: settings_buffer(device, 1),
+            room: 1,
+            group: None,
+            table,
+        })?;
+        if controls.len() > slot.room {
+            slot.room = controls.len().next_power_of_two();
+            slot.settings = settings_buffer(device, slot.room);
+        }
+        let records = if controls.is_empty() {
+            vec![ControlsRecord::default()]
+        } else {
+            controls
+        };
+        npr_gpu::compute::write_head_and_records(queue, &slot.settings, &params, &records);
+        slot.table = table;
+        slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr projectors"),
+            layout: &self.layout,
+            entries: &[
+                group_entry(0, seeds),
+                group_entry(1, fits),
+                group_entry(2, centres),
+                group_entry(3, track),
+                group_entry(4, dispatch),
+                group_entry(5, &slot.settings),
+                group_entry(6, &object.tables[table]),
+                group_entry(7, &object.projectors),
+            ],
+        }));
+        Ok(prepared)
+    }
+
+    /// Records `cs_project` (one workgroup), after the search and the regions in the same
+    /// submission.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a `prepared` of another pass, object or frame.
+    pub fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        object: &ProjectorObject,
+        prepared: &Prepared,
+    ) -> Result<(), SpecularError> {
+        let slot = object.slots.get(self.id, prepared)?;
+        let Some(group) = &slot.group else {
+            return Ok(());
+        };
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("npr projectors"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+        Ok(())
+    }
+}
+
+fn settings_buffer(device: &wgpu::Device, room: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("npr projector settings"),
+        size: (PARAMS_BYTES + room.max(1) * std::mem::size_of::<ControlsRecord>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+impl ProjectorObject {
+    /// The table the last prepare writes: the next frame's matching reads it
+    /// ([`crate::RegionPass::prepare_tracked_on_table`]).
+    pub fn table(&self) -> &wgpu::Buffer {
+        &self.tables[self.written]
+    }
+
+    /// The highlight pass's records the last recorded frame wrote
+    /// ([`crate::ProjectorGpu`]'s layout, at most [`MAX_DRAWN`]; their count is in the
+    /// table, [`GpuFrame::projectors`]).
+    pub fn projectors(&self) -> &wgpu::Buffer {
+        &self.projectors
+    }
+
+    /// Copies the frame's table and projectors, after the submission that holds its
+    /// [`ProjectorPass::record`], and asks for the map without waiting: the CPU's view of
+    /// a frame, one frame late.
+    pub fn map_frame(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> PendingFrame {
+        let table = (TABLE_HEAD + RECORD_BYTES * MAX_TRACKED) as u64;
+        let projectors = (PROJECTOR_BYTES * MAX_DRAWN) as u64;
+        let to = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("npr projector readback"),
+            size: table + projectors,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(self.table(), 0, &to, 0, table);
+        encoder.copy_buffer_to_buffer(&self.projectors, 0, &to, table, projectors);
+        queue.submit([encoder.finish()]);
+        PendingFrame {
+            map: npr_gpu::BufferReadback::map(to),
+        }
+    }
+}
+
+/// A frame's highlights on their way to the CPU ([`ProjectorObject::map_frame`]).
+#[derive(Debug)]
+pub struct PendingFrame {
+    map: npr_gpu::BufferReadback,
+}
+
+impl PendingFrame {
+    /// The frame once the map has completed; `None` while it has not.
+    pub fn try_take(&self) -> Option<Result<GpuFrame, npr_gpu::GpuError>> {
+        Some(self.map.try_take()?.map(|b| decode(&b)))
+    }
+
+    /// Blocks until the map has completed (native: polls `device`) and decodes.
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::Readback`] when polling or mapping fails.
+    pub fn wait(self, device: &wgpu::Device) -> Result<GpuFrame, npr_gpu::GpuError> {
+        self.map.wait(device).map(|b| decode(&b))
+    }
+}
+
+fn decode(bytes: &[u8]) -> GpuFrame {
+    let head: TrackParams = bytes
+        .get(..TABLE_HEAD)
+        .map(bytemuck::pod_read_unaligned)
+        .unwrap_or_default();
+    let records = (head.count as usize).min(MAX_TRACKED);
+    let highlights = (0..records)
+        .filter_map(|k| {
+            let at = TABLE_HEAD + k * RECORD_BYTES;
+            let r: TrackedRecord = bytemuck::pod_read_unaligned(bytes.get(at..at + RECORD_BYTES)?);
+            Some(GpuHighlight {
+                id: u64::from(r.state[0]),
+                centre: r.centre.centre(),
+                footprint: Footprint {
+                    half_extent: Vec2::new(r.footprint[0], r.footprint[1]),
+                    offset: Vec2::new(r.footprint[2], r.footprint[3]),
+                    rotate_rad: r.shape[0],
+                    region_area: r.shape[1],
+                    normal_cone_cos: r.shape[2],
+                    fit_scale: r.shape[3],
+                },
+                opacity: r.fade[0],
+                found: r.state[1] != 0,
+                peak: r.state[2] != 0,
+                pieces: r.state[3].min(255) as u8,
+            })
+        })
+        .collect();
+    let base = TABLE_HEAD + RECORD_BYTES * MAX_TRACKED;
+    let projectors = (0..(head.drawn as usize).min(MAX_DRAWN))
+        .filter_map(|k| {
+            let at = base + k * PROJECTOR_BYTES;
+            Some(bytemuck::pod_read_unaligned(
+                bytes.get(at..at + PROJECTOR_BYTES)?,
+            ))
+        })
+        .collect();
+    GpuFrame {
+        status: match head.status {
+            0 => GpuFrameStatus::Built,
+            1 => GpuFrameStatus::Held,
+            _ => GpuFrameStatus::TooMany,
+        },
+        highlights,
+        projectors,
+        merged: head.merged,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `ProjectData` of `projectors.wgsl` with one control.
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+    struct ProjectData {
+        params: ProjectParams,
+        controls: [ControlsRecord; 1],
+    }
+
+    #[test]
+    fn records_match_wgsl() {
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            ProjectData,
+            "ProjectData",
+            [params, controls]
+        );
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            ProjectorGpu,
+            "ProjectorRecord",
+            [
+                tex_from_world,
+                axis_u,
+                axis_v,
+                normal,
+                tint,
+                params,
+                neighbours
+            ]
+        );
+        // `ProjectParams` and `ControlsRecord` are bound inside `ProjectData`.
+        assert_eq!(
+            [
+                std::mem::offset_of!(ProjectParams, sizes),
+                std::mem::offset_of!(ProjectParams, modes),
+                std::mem::size_of::<ProjectParams>(),
+                std::mem::offset_of!(ControlsRecord, tint),
+                std::mem::size_of::<ControlsRecord>(),
+            ],
+            [48, 80, 112, 48, 64]
+        );
+    }
+}
