@@ -64,7 +64,15 @@ struct ProjectorRecord {
 @group(0) @binding(4) var<storage, read> matched: array<u32>;
 @group(0) @binding(5) var<storage, read> settings: ProjectData;
 @group(0) @binding(6) var<storage, read_write> next: TrackData;
-@group(0) @binding(7) var<storage, read_write> projectors: array<ProjectorRecord>;
+// The highlight pass's records, then the §4.2 walk's frame (`receiver_frame.wgsl`; the
+// CPU writes its values but the count, this pass the queries): one buffer, each part
+// bound at its own offset by the pass that reads it.
+struct ProjectOutput {
+    records: array<ProjectorRecord, MAX_DRAWN>,
+    receiver_params: ReceiverParams,
+    queries: array<Query>,
+}
+@group(0) @binding(7) var<storage, read_write> out: ProjectOutput;
 
 const NONE: u32 = 0xffffffffu;
 const MATCH_AT: u32 = 8u;
@@ -322,23 +330,80 @@ fn edit_turn(c: CentreRecord, k: Controls, p: Projector, f: Footprint) -> f32 {
     return select(0.0, max(turn, 0.0), finite(turn));
 }
 
-// `receiver_rule`'s falloff (`Highlight::falloff_cos`; `NO_FALLOFF` where none).
-fn falloff(c: CentreRecord, k: Controls, p: Projector, f: Footprint, pieces: u32) -> vec2<f32> {
-    let none = vec2<f32>(-3.0, -2.0);
+// `receiver_rule`: the §4.2 walk's facing rule (`walk` false for a highlight drawn as
+// pieces; mode 0 a fixed cosine, 1 interpolated at `angle`) and the per-pixel falloff
+// (`Highlight::falloff_cos`; `NO_FALLOFF` where none).
+struct Rule {
+    walk: bool,
+    mode: u32,
+    // The fixed cosine (mode 0) or the interpolated test's limit angle (mode 1).
+    value: f32,
+    falloff: vec2<f32>,
+}
+
+fn receiver_rule(c: CentreRecord, k: Controls, p: Projector, f: Footprint, pieces: u32) -> Rule {
+    var r: Rule;
+    r.falloff = vec2<f32>(-3.0, -2.0);
+    if pieces > 0u {
+        return r;
+    }
+    r.walk = true;
     let s = settings.params;
-    if pieces > 0u || s.modes.x != 1u || s.modes.y != 0u {
-        return none;
+    if s.modes.x != 1u || s.modes.y == 2u {
+        r.value = 0.0;
+        return r;
     }
     let margin = s.receiver.y;
     let grazing = acos(clamp(s.receiver.x, -1.0, 1.0));
     let turn = edit_turn(c, k, p, f);
     let cap = select(grazing, PI_2 - 0.5 * margin, turn > 0.0);
     let limit = min(acos(clamp(f.cone, -1.0, 1.0)) + turn + margin, cap);
+    if s.modes.y == 1u {
+        r.value = cos(limit);
+        return r;
+    }
     let half_margin = 0.5 * max(margin, 1e-3);
     let outer = min(cap + half_margin, PI_2);
     let band = max(min(s.receiver.z, outer - limit), half_margin);
     let zero = min(limit + band, outer);
-    return vec2<f32>(cos(zero), cos(max(zero - 2.0 * band, 0.0)));
+    r.mode = 1u;
+    r.value = zero;
+    r.falloff = vec2<f32>(cos(zero), cos(max(zero - 2.0 * band, 0.0)));
+    return r;
+}
+
+// `queries` of `receiver_pass.rs`: the walk of projector `i` (`object_space`,
+// `walk_box`), or none.
+fn write_query(i: u32, c: CentreRecord, p: Projector, rule: Rule) {
+    var q: Query;
+    q.rule = vec4<u32>(NONE, 0u, 0u, 0u);
+    let m = frame_data.params.world_from_object;
+    let nm = frame_data.params.normal_from_object;
+    let inv = transpose(mat3x3<f32>(nm[0].xyz, nm[1].xyz, nm[2].xyz));
+    let n_max = inv * p.n;
+    let ndc = p.clip_from_world * m;
+    let finite_map = all(abs(ndc[0]) < vec4<f32>(3.4e38)) && all(abs(ndc[1]) < vec4<f32>(3.4e38))
+        && all(abs(ndc[2]) < vec4<f32>(3.4e38)) && all(abs(ndc[3]) < vec4<f32>(3.4e38));
+    if rule.walk && finite_map && all(abs(n_max) < vec3<f32>(3.4e38)) {
+        let affine = ndc[0].w == 0.0 && ndc[1].w == 0.0 && ndc[2].w == 0.0 && ndc[3].w == 1.0;
+        let a = p.clip_from_world * vec4<f32>(p.anchor_world, 1.0);
+        let anchor = a.xyz / a.w;
+        var sn = 0.0;
+        var cs = 1.0;
+        var fixed = rule.value;
+        if rule.mode == 1u {
+            let angle = clamp(rule.value, 0.0, PI_2);
+            sn = sin(angle);
+            cs = cos(angle);
+            fixed = cs;
+        }
+        q.ndc_from_object = ndc;
+        q.n_max = vec4<f32>(n_max, select(0.0, 1.0, affine));
+        q.walk_lo = vec4<f32>(min(vec3<f32>(-1.0, -1.0, 0.0), vec3<f32>(anchor.xy, 0.0)), sn);
+        q.walk_hi = vec4<f32>(max(vec3<f32>(1.0, 1.0, 1.0), vec3<f32>(anchor.xy, 1.0)), cs);
+        q.rule = vec4<u32>(c.solution.x, rule.mode, bitcast<u32>(fixed), 0u);
+    }
+    out.queries[i] = q;
 }
 
 // `projector_gpu` of `pass.rs` (non-finite values zeroed).
@@ -366,7 +431,7 @@ fn write_projector(i: u32, p: Projector, k: Controls, opacity: f32, fall: vec2<f
     r.tint = finite4(vec4<f32>(k.tint, clamp(opacity, 0.0, 1.0)));
     r.params = finite4(vec4<f32>(f32(layer), normal_map, k.shininess, 0.0));
     r.neighbours = vec4<u32>(NONE);
-    projectors[i] = r;
+    out.records[i] = r;
 }
 
 // A highlight of the last update placed again under this frame's transform
@@ -431,12 +496,16 @@ fn keep(slot: u32, id: u32, c: CentreRecord, k: Controls, f: Footprint, state: v
     next.previous[slot] = t;
 }
 
-// One projector drawn: its record and the workgroup's note of it.
-fn draw(i: u32, id: u32, c: CentreRecord, k: Controls, p: Projector, opacity: f32, fall: vec2<f32>, flags: u32) {
-    write_projector(i, p, k, opacity, fall);
+// One projector drawn (`f` its footprint as the CPU keeps it, `pieces` drawn in its
+// place): its record, its walk and the workgroup's note of it.
+fn draw(i: u32, id: u32, c: CentreRecord, k: Controls, p: Projector, f: Footprint, opacity: f32, pieces: u32, found: bool) {
+    let rule = receiver_rule(c, k, p, f, pieces);
+    write_projector(i, p, k, opacity, rule.falloff);
+    write_query(i, c, p, rule);
     wg_centre[i] = vec4<f32>(p.centre_world, max(p.half.x, p.half.y));
     wg_anchor[i] = vec4<f32>(c.position_world.xyz, min(p.half.x, p.half.y));
-    wg_key[i] = vec2<u32>(id, flags | select(0u, 4u, k.edited));
+    let flags = select(0u, 1u, found) | select(2u, 0u, pieces > 0u) | select(0u, 4u, k.edited);
+    wg_key[i] = vec2<u32>(id, flags);
 }
 
 // The frame's highlights (`HighlightSet::footprints`, one invocation: a frame has few),
@@ -480,7 +549,7 @@ fn cs_project(@builtin(local_invocation_index) lane: u32) {
                 }
             }
         }
-        projectors[i].neighbours = idx;
+        out.records[i].neighbours = idx;
     }
 }
 
@@ -652,13 +721,13 @@ fn build() -> u32 {
                 let edited = group_edit(fp, piece, k);
                 let pp = projector_with(centre, k, edited);
                 if pp.ok && drawn < MAX_DRAWN {
-                    draw(drawn, id, centre, k, pp, opacity, falloff(centre, k, pp, piece, 0u), select(0u, 1u, is_found) | 2u);
+                    draw(drawn, id, centre, k, pp, piece, opacity, 0u, is_found);
                     drawn += 1u;
                     pieces += 1u;
                 }
             }
         }
-        draw(whole_at, id, centre, k, pr, opacity, falloff(centre, k, pr, fp, pieces), select(0u, 1u, is_found) | select(2u, 0u, pieces > 0u));
+        draw(whole_at, id, centre, k, pr, fp, opacity, pieces, is_found);
         keep(kept, id, centre, k, fp, vec3<u32>(select(0u, 1u, is_found), peak, pieces), opacity);
         kept += 1u;
     }
@@ -667,6 +736,8 @@ fn build() -> u32 {
     next.params.tracking = 1u;
     next.params.drawn = drawn;
     next.params.merged = merged;
+    // The walks the receivers' room holds (32 a visited word).
+    out.receiver_params.highlight_count = min(drawn, 32u * out.receiver_params.words);
     if hold {
         next.params.status = 1u;
     }

@@ -20,6 +20,7 @@
 mod error;
 #[cfg(any(test, feature = "test-support"))]
 pub mod fidelity;
+pub mod frame_gpu;
 pub mod pass;
 pub mod projector;
 pub mod projector_pass;
@@ -37,6 +38,7 @@ pub mod textures;
 pub mod visibility;
 
 pub use error::SpecularError;
+pub use frame_gpu::FrameOnGpu;
 pub use pass::{
     HighlightInput, HighlightObject, HighlightPass, HighlightSettings, ProjectorGpu, projector_gpu,
 };

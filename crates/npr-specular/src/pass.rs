@@ -287,6 +287,11 @@ impl HighlightPass {
         })
     }
 
+    /// Per texture layer, whether it is a normal map.
+    pub fn normal_map_layers(&self) -> &[bool] {
+        &self.normal_map_layers
+    }
+
     /// The GPU form of the set's current highlights.
     pub fn projectors(&self, set: &HighlightSet) -> Vec<ProjectorGpu> {
         let last = self.normal_map_layers.len().saturating_sub(1) as u32;
@@ -404,7 +409,7 @@ impl HighlightPass {
             "npr highlight projectors",
             projector_capacity * std::mem::size_of::<ProjectorGpu>() as u64,
         );
-        let group = self.storage_group(mesh, normals, &list, &projectors);
+        let group = self.storage_group(mesh, normals, &list, projectors.as_entire_binding());
         (list, projectors, group)
     }
 
@@ -413,7 +418,7 @@ impl HighlightPass {
         mesh: &GpuMesh,
         normals: &wgpu::Buffer,
         list: &wgpu::Buffer,
-        projectors: &wgpu::Buffer,
+        projectors: wgpu::BindingResource<'_>,
     ) -> wgpu::BindGroup {
         self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr highlight storage"),
@@ -429,7 +434,7 @@ impl HighlightPass {
                 },
                 wgpu::BindGroupEntry {
                     binding: 2,
-                    resource: projectors.as_entire_binding(),
+                    resource: projectors,
                 },
                 wgpu::BindGroupEntry {
                     binding: 3,
@@ -454,7 +459,7 @@ impl HighlightPass {
         object: &mut HighlightObject,
         input: &HighlightInput<'_>,
     ) -> Result<Prepared, SpecularError> {
-        self.prepare_impl(queue, object, input, None)
+        self.prepare_impl(queue, object, input, None, None)
     }
 
     /// [`HighlightPass::prepare`] drawing the receivers that [`crate::ReceiverPass`]
@@ -481,7 +486,32 @@ impl HighlightPass {
                 current: input.frame.0,
             }));
         }
-        self.prepare_impl(queue, object, input, Some(stream))
+        self.prepare_impl(queue, object, input, Some(stream), None)
+    }
+
+    /// [`HighlightPass::prepare_with_receivers`] drawing the projectors the GPU built this
+    /// frame ([`crate::ProjectorPass`], recorded before the receivers in the same
+    /// submission) where they lie: nothing of the frame's highlights is written from the
+    /// CPU (`input.set` gives only the render normals).
+    ///
+    /// # Errors
+    /// As [`HighlightPass::prepare_with_receivers`].
+    pub fn prepare_with_gpu_projectors(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut HighlightObject,
+        input: &HighlightInput<'_>,
+        (receivers, walked): (&crate::ReceiverObject, &Prepared),
+        projectors: &crate::ProjectorObject,
+    ) -> Result<Prepared, SpecularError> {
+        let stream = receivers.stream(walked)?;
+        if walked.frame() != input.frame {
+            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+                prepared: walked.frame().0,
+                current: input.frame.0,
+            }));
+        }
+        self.prepare_impl(queue, object, input, Some(stream), Some(projectors))
     }
 
     fn prepare_impl(
@@ -490,6 +520,7 @@ impl HighlightPass {
         object: &mut HighlightObject,
         input: &HighlightInput<'_>,
         stream: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
+        gpu: Option<&crate::ProjectorObject>,
     ) -> Result<Prepared, SpecularError> {
         let own;
         let list = match (input.list, stream) {
@@ -512,7 +543,10 @@ impl HighlightPass {
         } = *input;
         queue.write_buffer(&slot.frame, 0, bytemuck::bytes_of(view));
         queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(object_uniforms));
-        let projectors = self.projectors(set);
+        let projectors = match gpu {
+            Some(_) => Vec::new(),
+            None => self.projectors(set),
+        };
         let need = (list.len() as u64, projectors.len() as u64);
         if need.0 > slot.capacity.0 || need.1 > slot.capacity.1 {
             let cap = (
@@ -538,7 +572,11 @@ impl HighlightPass {
         }
         slot.vertex_count = list.len() as u32;
         slot.gpu_stream = stream.map(|(list, args)| {
-            let group = self.storage_group(mesh, &slot.normals, list, &slot.projectors);
+            let records = match gpu {
+                Some(g) => g.projector_binding(),
+                None => slot.projectors.as_entire_binding(),
+            };
+            let group = self.storage_group(mesh, &slot.normals, list, records);
             (group, args.clone())
         });
         Ok(prepared)

@@ -43,6 +43,8 @@ const PARAMS_BYTES: usize = std::mem::size_of::<ProjectParams>();
 const TABLE_HEAD: usize = std::mem::size_of::<TrackParams>();
 const RECORD_BYTES: usize = std::mem::size_of::<TrackedRecord>();
 const PROJECTOR_BYTES: usize = std::mem::size_of::<ProjectorGpu>();
+/// Where the §4.2 walk's frame starts in the projectors' buffer (`ProjectOutput`).
+pub(crate) const RECEIVERS_AT: u64 = (PROJECTOR_BYTES * MAX_DRAWN) as u64;
 
 /// The projectors' compute pipeline: one per device, shared by every object.
 #[derive(Debug)]
@@ -179,8 +181,10 @@ impl ProjectorPass {
             projectors: buffer_init(
                 device,
                 "npr projectors",
-                &vec![0u8; PROJECTOR_BYTES * MAX_DRAWN],
-                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                &vec![0u8; RECEIVERS_AT as usize + crate::receiver_pass::frame_bytes(MAX_DRAWN)],
+                wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
             ),
             slots: Slots::new(self.id),
         }
@@ -299,6 +303,21 @@ impl ProjectorObject {
         &self.projectors
     }
 
+    /// The highlight pass's records as a binding ([`MAX_DRAWN`] of them).
+    pub(crate) fn projector_binding(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.projectors,
+            offset: 0,
+            size: std::num::NonZeroU64::new(RECEIVERS_AT),
+        })
+    }
+
+    /// The §4.2 walk's frame (`ReceiverFrame`: values, then [`MAX_DRAWN`] queries) as a
+    /// binding, and its buffer and offset (the CPU writes the values).
+    pub(crate) fn receiver_frame(&self) -> (&wgpu::Buffer, u64) {
+        (&self.projectors, RECEIVERS_AT)
+    }
+
     /// Copies the frame's table and projectors, after the submission that holds its
     /// [`ProjectorPass::record`], and asks for the map without waiting: the CPU's view of
     /// a frame, one frame late.
@@ -403,28 +422,36 @@ mod tests {
         controls: [ControlsRecord; 1],
     }
 
+    /// `ProjectOutput` of `projectors.wgsl` with one query.
+    #[repr(C)]
+    #[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+    struct ProjectOutput {
+        records: [ProjectorGpu; MAX_DRAWN],
+        receiver_params: crate::receiver_pass::Params,
+        queries: [crate::receiver_pass::Query; 1],
+    }
+
     #[test]
     fn records_match_wgsl() {
+        npr_gpu::assert_wgsl_layout!(
+            crate::shaders::ALL,
+            ProjectOutput,
+            "ProjectOutput",
+            [records, receiver_params, queries]
+        );
+        assert_eq!(
+            std::mem::offset_of!(ProjectOutput, receiver_params) as u64,
+            RECEIVERS_AT
+        );
         npr_gpu::assert_wgsl_layout!(
             crate::shaders::ALL,
             ProjectData,
             "ProjectData",
             [params, controls]
         );
-        npr_gpu::assert_wgsl_layout!(
-            crate::shaders::ALL,
-            ProjectorGpu,
-            "ProjectorRecord",
-            [
-                tex_from_world,
-                axis_u,
-                axis_v,
-                normal,
-                tint,
-                params,
-                neighbours
-            ]
-        );
+        // `ProjectorRecord` is `ProjectorGpu` (checked against the highlight pass's
+        // `Projector` in `pass.rs`), bound inside `ProjectOutput`.
+        assert_eq!(std::mem::size_of::<ProjectorGpu>(), 160);
         // `ProjectParams` and `ControlsRecord` are bound inside `ProjectData`.
         assert_eq!(
             [

@@ -118,7 +118,7 @@ pub struct ReceiverReadback {
 /// `ReceiverParams` of `receivers.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
+pub(crate) struct Params {
     normal_from_object: [[f32; 4]; 4],
     highlight_count: u32,
     face_count: u32,
@@ -133,6 +133,11 @@ struct Params {
 /// Bytes of `ReceiverParams`: the queries follow them in `ReceiverFrame`'s buffer.
 const PARAMS_BYTES: usize = std::mem::size_of::<Params>();
 
+/// Bytes of a `ReceiverFrame` of `highlights` queries.
+pub(crate) fn frame_bytes(highlights: usize) -> usize {
+    PARAMS_BYTES + highlights.max(1) * std::mem::size_of::<Query>()
+}
+
 /// `ReceiverFrame` of `receivers.wgsl` with one query.
 #[cfg(test)]
 #[repr(C)]
@@ -145,7 +150,7 @@ struct FrameData {
 /// `Query` of `receivers.wgsl`: one highlight's walk.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct Query {
+pub(crate) struct Query {
     ndc_from_object: [[f32; 4]; 4],
     n_max: [f32; 4],
     walk_lo: [f32; 4],
@@ -203,19 +208,22 @@ pub(crate) fn adjacency(set: &HighlightSet) -> Vec<u32> {
 }
 
 /// The frame's params and one query per highlight (in the set's order).
-fn queries(set: &HighlightSet, world_from_object: Mat4) -> (Params, Vec<Query>) {
+fn queries(
+    set: &HighlightSet,
+    highlights: &[crate::Highlight],
+    world_from_object: Mat4,
+) -> (Params, Vec<Query>) {
     let linear = Mat3::from_mat4(world_from_object);
     let normal_from_object = linear.inverse().transpose();
     let params = Params {
         normal_from_object: Mat4::from_mat3(normal_from_object).to_cols_array_2d(),
-        highlight_count: set.highlights().len() as u32,
+        highlight_count: highlights.len() as u32,
         face_count: set.topology().face_count() as u32,
         similar: u32::from(is_similarity(normal_from_object, 1e-6)),
         k: normal_from_object.x_axis.length(),
         ..Params::default()
     };
-    let queries = set
-        .highlights()
+    let queries = highlights
         .iter()
         .map(|h| {
             let mut q = Query {
@@ -346,6 +354,33 @@ impl ReceiverPass {
         object: &mut ReceiverObject,
         input: &ReceiverInput<'_>,
     ) -> Result<Prepared, SpecularError> {
+        self.prepare_with(queue, object, input, None)
+    }
+
+    /// [`ReceiverPass::prepare`] for the projectors the GPU builds this frame
+    /// ([`crate::ProjectorPass`], recorded before the walk in the same submission): their
+    /// queries are written there, so the CPU writes only the frame's values; `room` walks
+    /// at most (more projectors are not drawn), dispatched over all of it.
+    ///
+    /// # Errors
+    /// As [`ReceiverPass::prepare`].
+    pub fn prepare_on_projectors(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut ReceiverObject,
+        input: &ReceiverInput<'_>,
+        (projectors, room): (&crate::ProjectorObject, usize),
+    ) -> Result<Prepared, SpecularError> {
+        self.prepare_with(queue, object, input, Some((projectors, room)))
+    }
+
+    fn prepare_with(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut ReceiverObject,
+        input: &ReceiverInput<'_>,
+        gpu: Option<(&crate::ProjectorObject, usize)>,
+    ) -> Result<Prepared, SpecularError> {
         object.slots.check_pass(self.id)?;
         let set = input.set;
         let topo = set.topology();
@@ -365,8 +400,17 @@ impl ReceiverPass {
             queue.write_buffer(&object.positions, 0, bytemuck::cast_slice(&points));
         }
         object.normals_id = set.normals_id();
-        let (mut params, queries) = queries(set, input.world_from_object);
-        let highlights = queries.len();
+        // The projectors the GPU builds write their own queries.
+        let drawn = if gpu.is_some() {
+            &[][..]
+        } else {
+            set.highlights()
+        };
+        let (mut params, queries) = queries(set, drawn, input.world_from_object);
+        let highlights = match gpu {
+            Some((_, room)) => room.clamp(1, crate::MAX_DRAWN),
+            None => queries.len(),
+        };
         let device = &self.device;
         let limit = device.limits().max_storage_buffer_binding_size;
         let words = highlights.div_ceil(32).max(1);
@@ -405,12 +449,29 @@ impl ReceiverPass {
         params.words = object.words as u32;
         params.capacity = capacity as u32;
         params.list_faces = slot.list_faces as u32;
-        npr_gpu::compute::write_head_and_records(queue, &slot.queries, &params, &queries);
+        let frame = match gpu {
+            None => {
+                npr_gpu::compute::write_head_and_records(queue, &slot.queries, &params, &queries);
+                slot.queries.as_entire_binding()
+            }
+            Some((projectors, _)) => {
+                let (buffer, at) = projectors.receiver_frame();
+                queue.write_buffer(buffer, at, bytemuck::bytes_of(&params));
+                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer,
+                    offset: at,
+                    size: None,
+                })
+            }
+        };
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr receivers"),
             layout: &self.layout,
             entries: &[
-                group_entry(1, &slot.queries),
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: frame,
+                },
                 group_entry(2, &object.positions),
                 group_entry(3, &object.face_records),
                 group_entry(4, &object.adjacency),

@@ -16,6 +16,17 @@ const REGION_FRAME_WGSL: &str = include_str!("../shaders/region_frame.wgsl");
 /// after `centre_record.wgsl` before the tracking and the projectors.
 const HIGHLIGHT_TABLE_WGSL: &str = include_str!("../shaders/highlight_table.wgsl");
 
+/// `ReceiverFrame`, the §4.2 walk's values and queries: composed before the walk and the
+/// projectors.
+const RECEIVER_FRAME_WGSL: &str = include_str!("../shaders/receiver_frame.wgsl");
+
+/// `receiver_frame.wgsl` itself (structs only, validated alone).
+pub const RECEIVER_FRAME: ShaderFile = ShaderFile {
+    name: "receiver_frame.wgsl",
+    source: RECEIVER_FRAME_WGSL,
+    prelude: &[],
+};
+
 /// `centre_record.wgsl` itself (structs only, validated alone).
 pub const CENTRE_RECORD: ShaderFile = ShaderFile {
     name: "centre_record.wgsl",
@@ -45,12 +56,12 @@ pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
     prelude: &[NUMERIC, CENTRE_RECORD_WGSL],
 };
 
-/// The §4.2 receivers as a compute pass, one workgroup per highlight's walk (no shared
-/// snippet).
+/// The §4.2 receivers as a compute pass, one workgroup per highlight's walk, after
+/// `receiver_frame.wgsl`.
 pub const RECEIVERS: ShaderFile = ShaderFile {
     name: "receivers.wgsl",
     source: include_str!("../shaders/receivers.wgsl"),
-    prelude: &[],
+    prelude: &[RECEIVER_FRAME_WGSL],
 };
 
 /// The regions `N·H ≥ σ` grown and fitted with their moment ellipses as a compute pass,
@@ -83,8 +94,8 @@ pub const HIGHLIGHT_TABLE: ShaderFile = ShaderFile {
 };
 
 /// The frame's highlights made into projectors on the GPU (§3.2–§3.4 frame after
-/// frame), after `numeric.wgsl`, `centre_record.wgsl`, `region_frame.wgsl` and
-/// `highlight_table.wgsl`.
+/// frame), after `numeric.wgsl`, `centre_record.wgsl`, `region_frame.wgsl`,
+/// `highlight_table.wgsl` and `receiver_frame.wgsl`.
 pub const PROJECTORS: ShaderFile = ShaderFile {
     name: "projectors.wgsl",
     source: include_str!("../shaders/projectors.wgsl"),
@@ -93,6 +104,7 @@ pub const PROJECTORS: ShaderFile = ShaderFile {
         CENTRE_RECORD_WGSL,
         REGION_FRAME_WGSL,
         HIGHLIGHT_TABLE_WGSL,
+        RECEIVER_FRAME_WGSL,
     ],
 };
 
@@ -107,4 +119,5 @@ pub const ALL: &[ShaderFile] = &[
     CENTRE_RECORD,
     REGION_FRAME,
     HIGHLIGHT_TABLE,
+    RECEIVER_FRAME,
 ];

@@ -167,7 +167,7 @@ impl Renderer {
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
     ) -> Result<(), SpecularError> {
-        self.submit_with(device, queue, scene, res, None)
+        self.submit_with(device, queue, scene, res, Walk::Cpu)
     }
 
     /// [`Renderer::submit`] with the receivers walked on the GPU by `receivers` (its
@@ -183,7 +183,26 @@ impl Renderer {
         res: &mut FrameResources,
         receivers: (&crate::ReceiverPass, &mut crate::ReceiverObject),
     ) -> Result<(), SpecularError> {
-        self.submit_with(device, queue, scene, res, Some(receivers))
+        self.submit_with(device, queue, scene, res, Walk::Receivers(receivers))
+    }
+
+    /// [`Renderer::submit`] with the frame's highlights made wholly on the GPU by
+    /// `frame_gpu` for `light_eye` (search, regions, projectors, receivers, recorded in
+    /// the frame's own submission), nothing read back; `scene.set` gives only the mesh,
+    /// settings and controls.
+    ///
+    /// # Errors
+    /// As [`Renderer::submit`], and the passes'.
+    pub fn submit_frame_on_gpu(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+        res: &mut FrameResources,
+        (frame_gpu, light_eye): (&mut crate::FrameOnGpu, npr_geometry::LightEye),
+    ) -> Result<(), SpecularError> {
+        self.submit_with(device, queue, scene, res, Walk::Frame(frame_gpu, light_eye))?;
+        Ok(())
     }
 
     fn submit_with(
@@ -192,7 +211,7 @@ impl Renderer {
         queue: &wgpu::Queue,
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
-        receivers: Option<(&crate::ReceiverPass, &mut crate::ReceiverObject)>,
+        walk: Walk<'_>,
     ) -> Result<(), SpecularError> {
         res.frame = res.frame.next();
         res.walked = None;
@@ -216,14 +235,26 @@ impl Renderer {
                 object: &scene.object,
                 list: None,
             };
-            match receivers {
-                Some((pass, walk)) => {
+            let world_from_object = glam::Mat4::from_cols_array_2d(&scene.object.world_from_object);
+            match walk {
+                Walk::Frame(frame_gpu, light_eye) => {
+                    let frame = (light_eye, world_from_object);
+                    let walked =
+                        frame_gpu.record(queue, &mut encoder, scene.set, frame, res.frame)?;
+                    let drawn = self.pass.prepare_with_gpu_projectors(
+                        queue,
+                        &mut res.draw,
+                        &input,
+                        (frame_gpu.receivers(), &walked),
+                        frame_gpu.projectors(),
+                    )?;
+                    Some(drawn)
+                }
+                Walk::Receivers((pass, walk)) => {
                     let walk_input = crate::ReceiverInput {
                         frame: res.frame,
                         set: scene.set,
-                        world_from_object: glam::Mat4::from_cols_array_2d(
-                            &scene.object.world_from_object,
-                        ),
+                        world_from_object,
                     };
                     let walked = pass.prepare(queue, walk, &walk_input)?;
                     pass.record(&mut encoder, walk, &walked)?;
@@ -237,7 +268,7 @@ impl Renderer {
                     )?;
                     Some(drawn)
                 }
-                None => Some(self.pass.prepare(queue, &mut res.draw, &input)?),
+                Walk::Cpu => Some(self.pass.prepare(queue, &mut res.draw, &input)?),
             }
         } else {
             None
@@ -301,4 +332,12 @@ pub fn light_eye_along(
         camera,
         light,
     )
+}
+
+/// Where a frame's highlights come from: the set's update (receivers walked on the CPU),
+/// the set's update with its receivers walked on the GPU, or made wholly on the GPU.
+enum Walk<'a> {
+    Cpu,
+    Receivers((&'a crate::ReceiverPass, &'a mut crate::ReceiverObject)),
+    Frame(&'a mut crate::FrameOnGpu, npr_geometry::LightEye),
 }

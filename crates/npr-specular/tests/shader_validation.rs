@@ -45,7 +45,7 @@ fn every_bound_struct_has_a_layout_test() {
         "SearchFrame",
         "ReceiverFrame",
         "ProjectData",
-        "ProjectorRecord",
+        "ProjectOutput",
     ];
     let uniforms =
         check_coverage(npr_specular::shaders::ALL, &covered).unwrap_or_else(|e| panic!("{e}"));

@@ -1,0 +1,202 @@
+//! A frame's highlights wholly on the GPU, nothing read back on the frame's path: the
+//! `N = H` search with its peaks ([`CentreSearchPass`]), the regions seeded from its
+//! centres matched with the last frame's highlights as the GPU kept them
+//! ([`RegionPass::prepare_tracked_on_table`]), the highlights made into projectors
+//! ([`ProjectorPass`]) and their §4.2 receivers ([`ReceiverPass::prepare_on_projectors`]),
+//! recorded into the caller's encoder before the highlight draw
+//! ([`crate::HighlightPass::prepare_with_gpu_projectors`]). The CPU sees each frame's
+//! highlights one frame late ([`FrameOnGpu::latest`]), for picking or a panel; the
+//! user's edits ([`HighlightSet::controls_mut`]) and settings reach the GPU the frame they
+//! are made.
+//!
+//! ```ignore
+//! let mut highlights = FrameOnGpu::new(device, &set, &mesh.indices)?;
+//! // per frame
+//! let walked = highlights.record(queue, &mut encoder, &set, (light_eye, world), frame)?;
+//! let drawn = pass.prepare_with_gpu_projectors(queue, &mut object, &input,
+//!     (highlights.receivers(), &walked), highlights.projectors())?;
+//! // draw, submit, then:
+//! highlights.read_after_submit(device, queue);
+//! ```
+
+use crate::{
+    CentreSearchPass, GpuFrame, HighlightSet, PendingFrame, ProjectorInput, ProjectorObject,
+    ProjectorPass, ReceiverInput, ReceiverObject, ReceiverPass, RegionObject, RegionPass,
+    SearchInput, SearchObject, SpecularError, TrackedInput,
+};
+use glam::Mat4;
+use npr_geometry::LightEye;
+use npr_gpu::pass::{FrameId, Prepared};
+
+/// The passes and objects of one mesh's frames on the GPU, and the last frame read back.
+#[derive(Debug)]
+pub struct FrameOnGpu {
+    search_pass: CentreSearchPass,
+    region_pass: RegionPass,
+    projector_pass: ProjectorPass,
+    receiver_pass: ReceiverPass,
+    search: SearchObject,
+    regions: RegionObject,
+    projectors: ProjectorObject,
+    receivers: ReceiverObject,
+    pending: Option<PendingFrame>,
+    latest: Option<GpuFrame>,
+    /// Which texture layers are normal maps (the highlight pass's).
+    normal_maps: Vec<bool>,
+}
+
+impl FrameOnGpu {
+    /// Uploads `set`'s tables (`indices`: the render mesh's triangles, faces in the set's
+    /// order), with the built-in textures' layers (none a normal map but the last,
+    /// [`crate::HighlightShape::ALL`]).
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::MeshTooLarge`] where a table exceeds the device's bindings (set
+    /// the frame up on the CPU there).
+    pub fn new(
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        indices: &[u32],
+    ) -> Result<Self, SpecularError> {
+        let search_pass = CentreSearchPass::new(device);
+        let region_pass = RegionPass::new(device);
+        let projector_pass = ProjectorPass::new(device);
+        let receiver_pass = ReceiverPass::new(device);
+        let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
+        Ok(Self {
+            search: search_pass.create_object_with_peaks(device, set)?,
+            regions: region_pass.create_object(device, set)?,
+            projectors: projector_pass.create_object(device),
+            receivers: receiver_pass.create_object_with_capacity(device, set, indices, longest)?,
+            search_pass,
+            region_pass,
+            projector_pass,
+            receiver_pass,
+            pending: None,
+            latest: None,
+            normal_maps: crate::HighlightShape::ALL
+                .iter()
+                .map(|s| s.is_normal_map())
+                .collect(),
+        })
+    }
+
+    /// Records `frame`'s highlight work into `encoder` for this light, eye and transform:
+    /// the search, the regions, the projectors and their receivers, in that order. `set`
+    /// gives the mesh, the settings and the user's controls; its own highlights are not
+    /// touched. Returns the receivers' prepare, for
+    /// [`crate::HighlightPass::prepare_with_gpu_projectors`] in the same submission.
+    ///
+    /// # Errors
+    /// A pass's (a set of another mesh, too many prepares in one frame).
+    pub fn record(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        set: &HighlightSet,
+        (light_eye, world_from_object): (LightEye, Mat4),
+        frame: FrameId,
+    ) -> Result<Prepared, SpecularError> {
+        let input = SearchInput {
+            frame,
+            search: set.search(),
+            light_eye,
+            world_from_object,
+        };
+        let sigma = (set.sizing == crate::HighlightSizing::Region).then_some(set.global.sigma);
+        let searched =
+            self.search_pass
+                .prepare_with_peaks(queue, &mut self.search, &input, sigma)?;
+        let tracked = TrackedInput {
+            frame,
+            set,
+            light_eye,
+            world_from_object,
+            search: (&self.search, &searched),
+        };
+        let table = self.projectors.table().clone();
+        let grown = self.region_pass.prepare_tracked_on_table(
+            queue,
+            &mut self.regions,
+            &tracked,
+            &table,
+        )?;
+        let projected = self.projector_pass.prepare(
+            queue,
+            &mut self.projectors,
+            &ProjectorInput {
+                frame,
+                set,
+                world_from_object,
+                regions: (&self.regions, &grown),
+                search: (&self.search, &searched),
+                normal_maps: &self.normal_maps,
+            },
+        )?;
+        // Room for twice the projectors the last frame read back drew, and 8 more.
+        let drawn = self.latest.as_ref().map_or(24, |f| f.projectors.len());
+        let room = (2 * drawn + 8).next_power_of_two().min(crate::MAX_DRAWN);
+        let walk = ReceiverInput {
+            frame,
+            set,
+            world_from_object,
+        };
+        let walked = self.receiver_pass.prepare_on_projectors(
+            queue,
+            &mut self.receivers,
+            &walk,
+            (&self.projectors, room),
+        )?;
+        self.search_pass.record(encoder, &self.search, &searched)?;
+        self.region_pass.record(encoder, &self.regions, &grown)?;
+        self.projector_pass
+            .record(encoder, &self.projectors, &projected)?;
+        self.receiver_pass
+            .record(encoder, &self.receivers, &walked)?;
+        Ok(walked)
+    }
+
+    /// Which texture layers of the highlight pass are normal maps
+    /// ([`crate::HighlightPass::normal_map_layers`]; the built-in textures' by default).
+    pub fn set_normal_maps(&mut self, layers: &[bool]) {
+        self.normal_maps = layers.to_vec();
+    }
+
+    /// The projectors the last recorded frame builds (the highlight pass draws them).
+    pub fn projectors(&self) -> &ProjectorObject {
+        &self.projectors
+    }
+
+    /// The receivers the last recorded frame walks (the highlight pass draws their
+    /// stream).
+    pub fn receivers(&self) -> &ReceiverObject {
+        &self.receivers
+    }
+
+    /// After the frame's submission: asks for its highlights, which
+    /// [`FrameOnGpu::latest`] gives once they arrive (a frame still on its way is
+    /// dropped for the newer one).
+    pub fn read_after_submit(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        self.poll();
+        if self.pending.is_none() {
+            self.pending = Some(self.projectors.map_frame(device, queue));
+        }
+    }
+
+    /// The last frame read back, if any has arrived (never waits).
+    pub fn latest(&mut self) -> Option<&GpuFrame> {
+        self.poll();
+        self.latest.as_ref()
+    }
+
+    fn poll(&mut self) {
+        if let Some(pending) = &self.pending {
+            if let Some(result) = pending.try_take() {
+                if let Ok(frame) = result {
+                    self.latest = Some(frame);
+                }
+                self.pending = None;
+            }
+        }
+    }
+}

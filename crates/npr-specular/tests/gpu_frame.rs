@@ -1,0 +1,108 @@
+//! A frame's highlights made wholly on the GPU ([`FrameOnGpu`]: search, regions seeded
+//! on the GPU's own table of the last frame, projectors built by `ProjectorPass`,
+//! receivers walked from them, drawn where they lie; nothing read back) against the
+//! CPU's update drawn by the highlight pass on the same frames: the images within the
+//! FLIP bound the GPU setup is held to (mean 0.05 over the object's pixels), frame after
+//! frame of a turning light (fades, matching), on procedural surfaces and the scanned
+//! and CAD fixtures. The frames read back one frame late are the CPU's highlights.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use glam::{Mat4, Vec3};
+use npr_geometry::CurvatureOptions;
+use npr_gpu::{GpuMesh, ObjectUniforms};
+use npr_specular::snapshot::{HighlightScene, Renderer, light_eye_along};
+use npr_specular::{FrameOnGpu, GpuFrameStatus, HighlightSet};
+
+mod common;
+use common::{bounding_radius, meshes};
+
+/// The mean FLIP a frame made on the GPU may be from the CPU's.
+const MAX_FLIP: f64 = 0.05;
+
+#[test]
+fn frames_made_wholly_on_the_gpu_are_the_cpu_frames_within_flip() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip(
+        "frames_made_wholly_on_the_gpu_are_the_cpu_frames_within_flip",
+    ) else {
+        return;
+    };
+    let (w, h) = (256, 192);
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, w, h).unwrap();
+    let (mut worst, mut frames, mut read) = (0f64, 0, 0);
+    for (name, mut mesh) in meshes() {
+        let centre =
+            mesh.positions.iter().fold(Vec3::ZERO, |a, p| a + *p) / mesh.positions.len() as f32;
+        for p in &mut mesh.positions {
+            *p -= centre;
+        }
+        let radius = bounding_radius(&mesh);
+        let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+        let mut cpu_set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let gpu_set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let mut on_gpu = FrameOnGpu::new(&ctx.device, &gpu_set, &mesh.indices).unwrap();
+        let mut gpu_res = renderer.resources(&ctx.device, &gpu_mesh);
+        for step in 0..4 {
+            let a = 0.15 * step as f32;
+            let dir = Vec3::new(0.3 + a, 0.5, 1.0 - 0.5 * a);
+            let (light_eye, camera, light) =
+                light_eye_along(dir, 3.0 * radius, w as f32 / h as f32);
+            cpu_set.update(light_eye, Mat4::IDENTITY);
+            // A grey Phong base under the highlights, the background transparent, so that
+            // FLIP is taken over the object's pixels.
+            let scene = |set| HighlightScene {
+                object: ObjectUniforms::new(Mat4::IDENTITY, Vec3::splat(0.4), 0.0, Vec3::ZERO, 1.0),
+                clear: [0.0; 4],
+                ..HighlightScene::on_black(&gpu_mesh, &mesh.indices, set, camera, light)
+            };
+            let cpu = renderer
+                .render(&ctx.device, &ctx.queue, &scene(&cpu_set))
+                .unwrap();
+            renderer
+                .submit_frame_on_gpu(
+                    &ctx.device,
+                    &ctx.queue,
+                    &scene(&gpu_set),
+                    &mut gpu_res,
+                    (&mut on_gpu, light_eye),
+                )
+                .unwrap();
+            on_gpu.read_after_submit(&ctx.device, &ctx.queue);
+            let gpu =
+                npr_gpu::readback_rgba(&ctx.device, &ctx.queue, &renderer.target().color).unwrap();
+            assert!(
+                gpu_set.highlights().is_empty(),
+                "{name}: the CPU updated the set"
+            );
+            let flip = npr_gpu::testing::flip_mean(&cpu, &gpu).expect("object pixels");
+            let mut bare = scene(&cpu_set);
+            bare.highlights = false;
+            let bare = renderer.render(&ctx.device, &ctx.queue, &bare).unwrap();
+            let without = npr_gpu::testing::flip_mean(&cpu, &bare).expect("object pixels");
+            assert!(
+                flip <= MAX_FLIP && without > 4.0 * flip.max(1e-4),
+                "{name} frame {step}: the GPU's frame is FLIP {flip:.4} from the CPU's (bound \
+                 {MAX_FLIP}), the frame without highlights {without:.4}; {}",
+                npr_gpu::testing::image_failure("gpu-frame", &cpu, &gpu)
+            );
+            worst = worst.max(flip);
+            frames += 1;
+            // The readback (here after the device went idle) is this frame's highlights.
+            let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+            if let Some(latest) = on_gpu.latest() {
+                assert_eq!(latest.status, GpuFrameStatus::Built, "{name} frame {step}");
+                let ids: Vec<u64> = latest.highlights.iter().map(|h| h.id).collect();
+                let want: Vec<u64> = cpu_set
+                    .highlights()
+                    .iter()
+                    .filter(|h| h.piece == 0)
+                    .map(|h| h.id)
+                    .collect();
+                assert_eq!(ids, want, "{name} frame {step}: ids read back");
+                read += 1;
+            }
+        }
+    }
+    eprintln!("{frames} frames made on the GPU, worst FLIP {worst:.4}, {read} read back");
+    assert_eq!(frames, 4 * meshes().len());
+    assert!(read >= frames / 2, "only {read} frames read back");
+}
