@@ -207,6 +207,10 @@ fn cs_offsets() {
         total += c.y;
     }
     meta_data.args = vec4<u32>(3u * total, 1u, 0u, 0u);
+    // Past the count (a frame dispatched over its room), no walk this frame.
+    for (var h = receiver_frame.params.highlight_count; h < arrayLength(&meta_data.counts); h++) {
+        meta_data.counts[h] = vec4<u32>(0u, 0u, 0u, total);
+    }
 }
 
 // The received faces of highlight `group.x`, three stream entries each.

@@ -27,6 +27,10 @@ use crate::{
 use glam::Mat4;
 use npr_geometry::LightEye;
 use npr_gpu::pass::{FrameId, Prepared};
+#[cfg(not(target_arch = "wasm32"))]
+use std::time::Instant;
+#[cfg(target_arch = "wasm32")]
+use web_time::Instant;
 
 /// The passes and objects of one mesh's frames on the GPU, and the last frame read back.
 #[derive(Debug)]
@@ -43,6 +47,9 @@ pub struct FrameOnGpu {
     latest: Option<GpuFrame>,
     /// Which texture layers are normal maps (the highlight pass's).
     normal_maps: Vec<bool>,
+    /// The last frame's receivers prepare and the CPU time its `record` took (µs).
+    walked: Option<Prepared>,
+    record_us: f64,
 }
 
 impl FrameOnGpu {
@@ -78,6 +85,8 @@ impl FrameOnGpu {
                 .iter()
                 .map(|s| s.is_normal_map())
                 .collect(),
+            walked: None,
+            record_us: 0.0,
         })
     }
 
@@ -97,6 +106,7 @@ impl FrameOnGpu {
         (light_eye, world_from_object): (LightEye, Mat4),
         frame: FrameId,
     ) -> Result<Prepared, SpecularError> {
+        let start = Instant::now();
         let input = SearchInput {
             frame,
             search: set.search(),
@@ -153,7 +163,21 @@ impl FrameOnGpu {
             .record(encoder, &self.projectors, &projected)?;
         self.receiver_pass
             .record(encoder, &self.receivers, &walked)?;
+        self.walked = Some(walked);
+        self.record_us = start.elapsed().as_secs_f64() * 1e6;
         Ok(walked)
+    }
+
+    /// The CPU time the last [`FrameOnGpu::record`] took, µs: all the CPU does for a
+    /// frame's highlights.
+    pub fn record_us(&self) -> f64 {
+        self.record_us
+    }
+
+    /// The last recorded frame's receivers prepare (to read its counts, one frame late:
+    /// [`ReceiverObject::map_counts`]).
+    pub fn walked(&self) -> Option<&Prepared> {
+        self.walked.as_ref()
     }
 
     /// Which texture layers of the highlight pass are normal maps

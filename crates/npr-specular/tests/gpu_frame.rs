@@ -86,6 +86,22 @@ fn frames_made_wholly_on_the_gpu_are_the_cpu_frames_within_flip() {
             );
             worst = worst.max(flip);
             frames += 1;
+            // The receivers the GPU walked from its own projectors are the CPU's (the walks
+            // agree on 99.5 % of faces, `gpu_receivers.rs`).
+            let walked = *on_gpu.walked().expect("a walk");
+            let counts = on_gpu
+                .receivers()
+                .map_counts(&ctx.device, &ctx.queue, &walked)
+                .unwrap()
+                .wait(&ctx.device)
+                .unwrap();
+            let gpu_faces: u32 = counts.counts.iter().map(|c| c.received).sum();
+            let cpu_faces = cpu_set.stats().receiver_faces as u32;
+            assert!(
+                gpu_faces.abs_diff(cpu_faces) as f64 <= 0.005 * f64::from(cpu_faces) + 2.0,
+                "{name} frame {step}: {gpu_faces} receivers walked on the GPU, {cpu_faces} on \
+                 the CPU"
+            );
             // The readback (here after the device went idle) is this frame's highlights.
             let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
             if let Some(latest) = on_gpu.latest() {

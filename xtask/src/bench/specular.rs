@@ -72,13 +72,18 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         // The GPU walks' capacity: twice the CPU row's longest walk (it runs first), so
         // that no timed frame overflows.
         let mut walk_capacity = npr_specular::DEFAULT_WALK_CAPACITY;
-        for setup in [Setup::Cpu, Setup::Gpu] {
+        for setup in [Setup::Cpu, Setup::Gpu, Setup::GpuFrame] {
             let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name, (setup, walk_capacity))?;
             walk_capacity = walk_capacity.max(2 * gpu.longest_walk);
             let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
             let one_core = |samples: &[f64]| match setup {
                 Setup::Cpu => Cell::Num(median(samples.to_vec()), 1),
-                Setup::Gpu => Cell::Empty,
+                Setup::Gpu | Setup::GpuFrame => Cell::Empty,
+            };
+            // The frame made wholly on the GPU has no CPU search, regions or walk.
+            let cpu_part = |samples: Vec<f64>| match setup {
+                Setup::GpuFrame => Cell::Empty,
+                _ => Cell::Num(median(samples), 1),
             };
             table.push(vec![
                 name.as_str().into(),
@@ -91,9 +96,9 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(median(gpu.setup), 1),
                 one_core(&setup_1core),
                 one_core(&setup_1core_file_order),
-                Cell::Num(median(gpu.search), 1),
-                Cell::Num(median(gpu.region), 1),
-                Cell::Num(median(gpu.visibility), 1),
+                cpu_part(gpu.search),
+                cpu_part(gpu.region),
+                cpu_part(gpu.visibility),
                 Cell::Num(b, 3),
                 Cell::Num(w, 3),
                 Cell::Num(f, 3),
@@ -101,7 +106,7 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(f / b, 3),
                 match setup {
                     Setup::Cpu => Cell::Empty,
-                    Setup::Gpu => Cell::Num(
+                    Setup::Gpu | Setup::GpuFrame => Cell::Num(
                         gpu.waits.iter().sum::<usize>() as f64 / gpu.waits.len().max(1) as f64,
                         2,
                     ),
@@ -120,6 +125,8 @@ enum Setup {
     Cpu,
     /// `SetupOnGpu`: the search and the regions in one submission.
     Gpu,
+    /// `FrameOnGpu`: the whole frame's highlights on the GPU, nothing read back.
+    GpuFrame,
 }
 
 impl Setup {
@@ -127,6 +134,7 @@ impl Setup {
         match self {
             Self::Cpu => "cpu",
             Self::Gpu => "gpu",
+            Self::GpuFrame => "gpu-frame",
         }
     }
 }
@@ -252,6 +260,14 @@ fn measure_gpu(
 ) -> anyhow::Result<GpuSamples> {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let receiver_pass = ReceiverPass::new(&ctx.device);
+    let mut frame_gpu = match setup {
+        Setup::GpuFrame => Some(npr_specular::FrameOnGpu::new(
+            &ctx.device,
+            &set,
+            &mesh.indices,
+        )?),
+        _ => None,
+    };
     let (mut on_gpu, mut walk) = match setup {
         Setup::Gpu => (
             Some(SetupOnGpu::new(&ctx.device, &set)?),
@@ -262,7 +278,7 @@ fn measure_gpu(
                 walk_capacity,
             )?),
         ),
-        Setup::Cpu => (None, None),
+        Setup::Cpu | Setup::GpuFrame => (None, None),
     };
     set.receivers_on_gpu = walk.is_some();
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
@@ -288,6 +304,7 @@ fn measure_gpu(
         let t = Instant::now();
         let mut waits = 0;
         let search_us = match on_gpu.as_mut() {
+            None if frame_gpu.is_some() => 0.0,
             None => {
                 set.update(le, world_from_object);
                 set.stats().search_us
@@ -322,24 +339,47 @@ fn measure_gpu(
         let mut time = |highlights| -> anyhow::Result<f64> {
             let t = Instant::now();
             let scene = scene(highlights);
-            match walk.as_mut() {
-                Some(walk) => renderer.submit_gpu_receivers(
+            match (walk.as_mut(), frame_gpu.as_mut()) {
+                (_, Some(frame_gpu)) if highlights => renderer.submit_frame_on_gpu(
+                    &ctx.device,
+                    &ctx.queue,
+                    &scene,
+                    &mut res,
+                    (frame_gpu, le),
+                )?,
+                (Some(walk), _) => renderer.submit_gpu_receivers(
                     &ctx.device,
                     &ctx.queue,
                     &scene,
                     &mut res,
                     (&receiver_pass, walk),
                 )?,
-                None => renderer.submit(&ctx.device, &ctx.queue, &scene, &mut res)?,
+                _ => renderer.submit(&ctx.device, &ctx.queue, &scene, &mut res)?,
             }
             ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
             Ok(t.elapsed().as_secs_f64() * 1e3)
         };
         let b = time(false)?;
         let w = time(true)?;
+        // The frame made on the GPU: its CPU work is its recording (inside the frame
+        // timed), its highlights and receivers read after the timed frame.
+        let mut shown = set.highlights().len();
+        let (setup_us, whole) = match frame_gpu.as_mut() {
+            Some(f) => {
+                f.read_after_submit(&ctx.device, &ctx.queue);
+                ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+                shown = f.latest().map_or(0, |l| l.projectors.len());
+                (f.record_us(), w)
+            }
+            None => (setup_us, w + setup_us / 1e3),
+        };
         // The GPU walk's receiver count, read after the timed frame (the panel's way).
-        let receivers = match (walk.as_ref(), res.walked()) {
-            (Some(walk), Some(walked)) => {
+        let walked = match frame_gpu.as_ref() {
+            Some(f) => f.walked().copied().map(|p| (f.receivers(), p)),
+            None => walk.as_ref().zip(res.walked()),
+        };
+        let receivers = match walked {
+            Some((walk, walked)) => {
                 let read = walk
                     .map_counts(&ctx.device, &ctx.queue, &walked)?
                     .wait(&ctx.device)?;
@@ -350,7 +390,7 @@ fn measure_gpu(
                 );
                 read.counts.iter().map(|c| c.received as usize).sum()
             }
-            _ => set.stats().receiver_faces,
+            None => set.stats().receiver_faces,
         };
         let longest = set.highlights().iter().map(|h| h.receivers.len());
         out.longest_walk = out.longest_walk.max(longest.max().unwrap_or(0));
@@ -361,11 +401,11 @@ fn measure_gpu(
             out.visibility.push(set.stats().visibility_us);
             out.base.push(b);
             out.with.push(w);
-            out.whole.push(w + setup_us / 1e3);
+            out.whole.push(whole);
             out.receivers.push(receivers as f64);
-            out.hmin = out.hmin.min(set.highlights().len());
-            out.hmax = out.hmax.max(set.highlights().len());
-            if setup == Setup::Gpu {
+            out.hmin = out.hmin.min(shown);
+            out.hmax = out.hmax.max(shown);
+            if setup != Setup::Cpu {
                 out.waits.push(waits);
             }
         }
