@@ -176,3 +176,73 @@ fn a_gpu_walk_that_overflowed_is_grown_for_the_next_frames() {
     let off = gpu[2].0.receiver_faces.abs_diff(cpu[1].0.receiver_faces);
     assert!(off as f64 <= 0.005 * longest as f64, "{off} faces apart");
 }
+
+/// `search = "gpu-frame"`: the whole frame's highlights made on the GPU, nothing read
+/// back on the frame's path, draws the CPU's frames on the walking Fox (its pose taken
+/// every frame), and the set sees each frame's highlights one frame late (the panel's
+/// and picking's view): the CPU's of the frame before.
+#[test]
+fn a_frame_made_wholly_on_the_gpu_draws_the_cpu_frames_on_a_walking_model() {
+    let Some(ctx) =
+        context_or_skip("a_frame_made_wholly_on_the_gpu_draws_the_cpu_frames_on_a_walking_model")
+    else {
+        return;
+    };
+    let model = Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let animated = Animated::new(model, Some(0), Playback::default()).unwrap();
+    let size = (240, 180);
+    let frames: Vec<Model> = (0..6).map(|i| animated.frame(4 * i)).collect();
+    let render_all = |search: SearchPreset| {
+        let mut preset = Preset {
+            effect: Effect::Specular,
+            turn_deg: 30.0,
+            ..Preset::default()
+        };
+        preset.specular.search = search;
+        preset.specular.sigma = 0.85;
+        let view = View::new(&preset, &animated.framing(), size, 0.0);
+        let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), size).unwrap();
+        frames
+            .iter()
+            .map(|m| {
+                renderer.set_pose(&ctx.queue, m.clone()).unwrap();
+                let stats = renderer
+                    .render(&ctx.device, &ctx.queue, &preset, &view)
+                    .unwrap();
+                (stats, renderer.read(&ctx.device, &ctx.queue).unwrap())
+            })
+            .collect::<Vec<_>>()
+    };
+    let cpu = render_all(SearchPreset::Cpu);
+    let gpu = render_all(SearchPreset::GpuFrame);
+    let mut worst_mean = 0f64;
+    for (i, ((c, ci), (g, gi))) in cpu.iter().zip(&gpu).enumerate() {
+        assert!(
+            g.search_on_gpu && g.regions_on_gpu && g.receivers_on_gpu && g.gpu_waits == 0,
+            "frame {i}: {g:?}"
+        );
+        if i > 0 {
+            assert_eq!(
+                g.highlights,
+                cpu[i - 1].0.highlights,
+                "frame {i}: the highlights read back are the frame before's"
+            );
+        }
+        let diffs: Vec<u8> = ci
+            .as_raw()
+            .iter()
+            .zip(gi.as_raw())
+            .map(|(a, b)| a.abs_diff(*b))
+            .collect();
+        let worst = diffs.iter().copied().max().unwrap();
+        let mean = diffs.iter().map(|&d| f64::from(d)).sum::<f64>() / diffs.len() as f64;
+        worst_mean = worst_mean.max(mean);
+        assert!(
+            worst <= 1,
+            "frame {i}: the GPU's frame differs by {worst}/255 (mean {mean:.4}); {}",
+            npr_gpu::testing::image_failure("gpu-frame-walk", ci, gi)
+        );
+        assert!(c.highlights > 0, "frame {i}: no highlight");
+    }
+    eprintln!("gpu-frame on the walking Fox: mean difference at most {worst_mean:.4}/255");
+}

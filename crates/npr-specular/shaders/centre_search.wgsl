@@ -675,6 +675,31 @@ fn centre_record(face: u32, slot: u32, a: f32, b: f32) -> CentreRecord {
     return r;
 }
 
+// The last frame's highlights (a table, `highlight_table.wgsl`) placed again on this
+// frame's pose and transform at their faces and barycentrics (`HighlightSearch::centre_at`,
+// as `match_centres` places a highlight it lost), after the search's centres:
+// `centres[MAX_MERGED + i]`. A record the CPU placed already (slot `NONE`), or one with no
+// frame here (the CPU keeps the old centre then), stays as the table holds it.
+@group(1) @binding(5) var<storage, read> replace_table: TrackData;
+
+@compute @workgroup_size(64)
+fn cs_replace(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let i = gid.x;
+    if i >= min(replace_table.params.count, MAX_MERGED) {
+        return;
+    }
+    let old = replace_table.previous[i].centre;
+    var r = old;
+    if old.solution.w != 0xffffffffu {
+        let placed = centre_record(old.solution.x, old.solution.w, bitcast<f32>(old.solution.y), bitcast<f32>(old.solution.z));
+        if placed.position_object.w == 1.0 {
+            r = placed;
+            r.curvature.z = old.curvature.z;
+        }
+    }
+    centres[MAX_MERGED + i] = r;
+}
+
 // `HighlightSearch::centre_at` for each centre `cs_merge` kept, one invocation each.
 @compute @workgroup_size(64)
 fn cs_centres(@builtin(global_invocation_id) gid: vec3<u32>) {

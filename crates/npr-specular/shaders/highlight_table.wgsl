@@ -6,10 +6,9 @@
 
 // One highlight: its centre (object space) and its reach for the next frame's matching
 // (`match_centres`'s, at least twice the mean edge); its σ (x); its centre as last
-// placed (world frame of that update), footprint (half extents, offset; rotation,
-// region area, normal cone, fit scale), state (id, found, peak, pieces), opacity (x),
-// and the direction of κmax in object space with the inverse scale of that update
-// (w), to place it again under a new transform as `HighlightSearch::centre_at` does.
+// placed (world frame of that update, or of this one where the CPU placed it again:
+// slot `NONE`), footprint (half extents, offset; rotation, region area, normal cone,
+// fit scale), state (id, found, peak, pieces) and opacity (x).
 struct TrackedHighlight {
     position_reach: vec4<f32>,
     sigma: vec4<f32>,
@@ -18,7 +17,6 @@ struct TrackedHighlight {
     shape: vec4<f32>,
     state: vec4<u32>,
     fade: vec4<f32>,
-    dir_object: vec4<f32>,
 }
 
 struct TrackParams {

@@ -76,6 +76,9 @@ struct ProjectOutput {
 
 const NONE: u32 = 0xffffffffu;
 const MATCH_AT: u32 = 8u;
+// Where the search's `cs_replace` put the last frame's highlights (after its
+// `MAX_MERGED` centres).
+const REPLACED_AT: u32 = 256u;
 // Projectors a frame draws at most (pieces included): the workgroup's table of them.
 const MAX_DRAWN: u32 = 512u;
 const MAX_TRACKED: u32 = 256u;
@@ -434,32 +437,6 @@ fn write_projector(i: u32, p: Projector, k: Controls, opacity: f32, fall: vec2<f
     out.records[i] = r;
 }
 
-// A highlight of the last update placed again under this frame's transform
-// (`HighlightSearch::centre_at` at its face and barycentrics), or as it was where its
-// frame degenerates.
-fn placed_again(h: TrackedHighlight) -> CentreRecord {
-    var c = h.centre;
-    let m = frame_data.params.world_from_object;
-    let nw = try_normalize((frame_data.params.normal_from_object * vec4<f32>(c.normal_object.xyz, 0.0)).xyz);
-    if nw.w == 0.0 {
-        return c;
-    }
-    let lin = mat3x3<f32>(m[0].xyz, m[1].xyz, m[2].xyz);
-    var dmax = any_orthonormal(nw.xyz);
-    let d = lin * h.dir_object.xyz;
-    let dt = try_normalize(d - nw.xyz * dot(nw.xyz, d));
-    if any(h.dir_object.xyz != vec3<f32>(0.0)) && dt.w == 1.0 {
-        dmax = dt.xyz;
-    }
-    let scale_now = settings.params.receiver.w;
-    let was = select(1.0, h.dir_object.w, h.dir_object.w > 0.0);
-    c.position_world = vec4<f32>((m * vec4<f32>(c.position_object.xyz, 1.0)).xyz, 1.0);
-    c.normal_world = vec4<f32>(nw.xyz, 0.0);
-    c.dir_kappa_max = vec4<f32>(dmax, 0.0);
-    c.curvature = vec4<f32>(c.curvature.xy / was * scale_now, c.curvature.zw);
-    return c;
-}
-
 // `HighlightSet::reach`.
 fn reach_of(f: Footprint) -> f32 {
     let s = settings.params;
@@ -489,10 +466,6 @@ fn keep(slot: u32, id: u32, c: CentreRecord, k: Controls, f: Footprint, state: v
     t.shape = vec4<f32>(f.rotate, f.area, f.cone, f.fit_scale);
     t.state = vec4<u32>(id, state);
     t.fade = vec4<f32>(opacity, 0.0, 0.0, 0.0);
-    // M⁻¹ = (M⁻ᵀ)ᵀ: the direction back in object space.
-    let nm = frame_data.params.normal_from_object;
-    let inv = transpose(mat3x3<f32>(nm[0].xyz, nm[1].xyz, nm[2].xyz));
-    t.dir_object = vec4<f32>(inv * c.dir_kappa_max.xyz, settings.params.receiver.w);
     next.previous[slot] = t;
 }
 
@@ -604,11 +577,10 @@ fn build() -> u32 {
             if j != NONE {
                 centre = centres[j];
                 found = true;
-            } else if hold {
-                centre = placed_again(prev);
-                found = prev.state.y != 0u;
             } else {
-                centre = placed_again(prev);
+                // Placed again on this frame by the search's `cs_replace`.
+                centre = centres[REPLACED_AT + e];
+                found = hold && prev.state.y != 0u;
             }
         } else {
             let j = e - p_count;

@@ -92,6 +92,8 @@ struct ProjectorSlot {
     settings: wgpu::Buffer,
     room: usize,
     group: Option<wgpu::BindGroup>,
+    /// The search's `cs_replace` over the table this frame reads.
+    replace: Option<crate::search_pass::ReplaceWork>,
     table: usize,
 }
 
@@ -138,6 +140,8 @@ pub struct GpuFrame {
     pub projectors: Vec<ProjectorGpu>,
     /// Centres suppressed this frame (merged away).
     pub merged: u32,
+    /// The id the next new highlight takes.
+    pub next_id: u64,
 }
 
 impl ProjectorPass {
@@ -224,6 +228,7 @@ impl ProjectorPass {
             settings: settings_buffer(device, 1),
             room: 1,
             group: None,
+            replace: None,
             table,
         })?;
         if controls.len() > slot.room {
@@ -237,6 +242,7 @@ impl ProjectorPass {
         };
         npr_gpu::compute::write_head_and_records(queue, &slot.settings, &params, &records);
         slot.table = table;
+        slot.replace = Some(input.search.0.replace_work(device, input.search.1, track)?);
         slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("npr projectors"),
             layout: &self.layout,
@@ -254,8 +260,9 @@ impl ProjectorPass {
         Ok(prepared)
     }
 
-    /// Records `cs_project` (one workgroup), after the search and the regions in the same
-    /// submission.
+    /// Records the last frame's highlights placed again on this frame (the search's
+    /// `cs_replace`) and `cs_project` (one workgroup), after the search and the regions in
+    /// the same submission.
     ///
     /// # Errors
     /// [`SpecularError::Pass`] for a `prepared` of another pass, object or frame.
@@ -273,6 +280,9 @@ impl ProjectorPass {
             label: Some("npr projectors"),
             timestamp_writes: None,
         });
+        if let Some(replace) = &slot.replace {
+            replace.dispatch(&mut pass);
+        }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(1, 1, 1);
@@ -316,6 +326,19 @@ impl ProjectorObject {
     /// binding, and its buffer and offset (the CPU writes the values).
     pub(crate) fn receiver_frame(&self) -> (&wgpu::Buffer, u64) {
         (&self.projectors, RECEIVERS_AT)
+    }
+
+    /// Starts the next frame from `set`'s last update (its highlights, ids, fades and next
+    /// id) placed under `world_from_object`, in place of the table the GPU kept: a set
+    /// updated on the CPU so far goes on on the GPU with the same highlights.
+    pub fn start_from(&self, queue: &wgpu::Queue, set: &HighlightSet, world_from_object: Mat4) {
+        let (mut head, table) = set.gpu_table(world_from_object);
+        head.room = TRACKED_SEEDS as u32;
+        let count = table.len().min(MAX_TRACKED);
+        head.count = count as u32;
+        let mut bytes = bytemuck::bytes_of(&head).to_vec();
+        bytes.extend_from_slice(bytemuck::cast_slice(&table[..count]));
+        queue.write_buffer(self.table(), 0, &bytes);
     }
 
     /// Copies the frame's table and projectors, after the submission that holds its
@@ -407,6 +430,7 @@ fn decode(bytes: &[u8]) -> GpuFrame {
         highlights,
         projectors,
         merged: head.merged,
+        next_id: u64::from(head.next_id),
     }
 }
 

@@ -49,11 +49,12 @@ pub const SPECULAR_HIGHLIGHT: ShaderFile = ShaderFile {
 };
 
 /// The `N = H` search (§3.1, Eq. (3)–(6)) as a compute pass, one face per invocation,
-/// its merge and its centres, after `numeric.wgsl` and `centre_record.wgsl`.
+/// its merge and its centres, after `numeric.wgsl`, `centre_record.wgsl` and
+/// `highlight_table.wgsl`.
 pub const CENTRE_SEARCH: ShaderFile = ShaderFile {
     name: "centre_search.wgsl",
     source: include_str!("../shaders/centre_search.wgsl"),
-    prelude: &[NUMERIC, CENTRE_RECORD_WGSL],
+    prelude: &[NUMERIC, CENTRE_RECORD_WGSL, HIGHLIGHT_TABLE_WGSL],
 };
 
 /// The §4.2 receivers as a compute pass, one workgroup per highlight's walk, after

@@ -122,3 +122,68 @@ fn frames_made_wholly_on_the_gpu_are_the_cpu_frames_within_flip() {
     assert_eq!(frames, 4 * meshes().len());
     assert!(read >= frames / 2, "only {read} frames read back");
 }
+
+/// A set updated on the CPU goes on on the GPU from where it was
+/// (`FrameOnGpu::start_from`: its highlights keep their ids and fades), and a frame read
+/// back becomes the set's highlights (`HighlightSet::adopt_gpu_frame`: the panel's and
+/// picking's view), from which the CPU's update goes on in turn.
+#[test]
+fn a_sequence_moves_between_the_cpu_and_the_gpu_keeping_its_highlights() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip(
+        "a_sequence_moves_between_the_cpu_and_the_gpu_keeping_its_highlights",
+    ) else {
+        return;
+    };
+    let mesh = common::fixture("spot.obj");
+    let radius = bounding_radius(&mesh);
+    let gpu_mesh = GpuMesh::upload(&ctx.device, &mesh).unwrap();
+    let (w, h) = (160, 120);
+    let renderer = Renderer::new(&ctx.device, &ctx.queue, w, h).unwrap();
+    let mut reference = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+    let mut moving = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+    let mut on_gpu = FrameOnGpu::new(&ctx.device, &moving, &mesh.indices).unwrap();
+    let mut res = renderer.resources(&ctx.device, &gpu_mesh);
+    let ids = |set: &HighlightSet| -> Vec<(u64, u32)> {
+        set.highlights()
+            .iter()
+            .filter(|h| h.piece == 0)
+            .map(|h| (h.id, (h.opacity * 1e4).round() as u32))
+            .collect()
+    };
+    let mut on_gpu_frames = 0;
+    for step in 0..9 {
+        let dir = Vec3::new(0.2 + 0.2 * step as f32, 0.5, 1.0);
+        let (light_eye, camera, light) = light_eye_along(dir, 3.0 * radius, w as f32 / h as f32);
+        reference.update(light_eye, Mat4::IDENTITY);
+        if (3..6).contains(&step) {
+            // On the GPU from the set's last update.
+            if step == 3 {
+                on_gpu.start_from(&ctx.queue, &moving, Mat4::IDENTITY);
+            }
+            let scene = HighlightScene::on_black(&gpu_mesh, &mesh.indices, &moving, camera, light);
+            renderer
+                .submit_frame_on_gpu(
+                    &ctx.device,
+                    &ctx.queue,
+                    &scene,
+                    &mut res,
+                    (&mut on_gpu, light_eye),
+                )
+                .unwrap();
+            on_gpu.read_after_submit(&ctx.device, &ctx.queue);
+            let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+            let latest = on_gpu.latest().expect("the frame read back").clone();
+            moving.adopt_gpu_frame(&latest);
+            on_gpu_frames += 1;
+        } else {
+            moving.update(light_eye, Mat4::IDENTITY);
+        }
+        assert_eq!(
+            ids(&moving),
+            ids(&reference),
+            "frame {step}: ids and opacities"
+        );
+    }
+    assert_eq!(on_gpu_frames, 3);
+    assert!(!ids(&reference).is_empty());
+}

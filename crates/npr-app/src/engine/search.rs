@@ -76,7 +76,9 @@ impl SearchSetup {
         {
             let on_gpu = match preset {
                 SearchPreset::Cpu => false,
-                SearchPreset::Gpu => true,
+                // (`engine::specular` makes a `gpu-frame` frame itself; where it cannot,
+                // the search setup's GPU path is the next best.)
+                SearchPreset::Gpu | SearchPreset::GpuFrame => true,
                 SearchPreset::Auto => match self.chosen {
                     Some(c) => c,
                     None => {

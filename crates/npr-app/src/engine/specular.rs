@@ -57,6 +57,12 @@ pub(crate) struct SpecularEffect {
     search: SearchSetup,
     /// The GPU walk of the §4.2 receivers, where the search runs on the GPU.
     receivers: ReceiverSetup,
+    /// The whole frame on the GPU (`search = "gpu-frame"`) for the current set; whether
+    /// it could not be made for it (then the `gpu` path runs), and whether its next frame
+    /// starts again from the set (a reset).
+    frame_gpu: Option<npr_specular::FrameOnGpu>,
+    frame_gpu_failed: bool,
+    restart: bool,
 }
 
 impl SpecularEffect {
@@ -76,6 +82,7 @@ impl SpecularEffect {
         if let Some(set) = self.set.get_mut() {
             set.reset();
         }
+        self.restart = true;
     }
 
     /// Drops everything (a new model).
@@ -84,6 +91,13 @@ impl SpecularEffect {
         self.shape.clear();
         self.search.forget();
         self.receivers.forget();
+        self.forget_frame_gpu();
+    }
+
+    fn forget_frame_gpu(&mut self) {
+        self.frame_gpu = None;
+        self.frame_gpu_failed = false;
+        self.restart = false;
     }
 
     /// Updates the highlights for `view` (the setup: the `N = H` search, matching,
@@ -120,6 +134,8 @@ impl SpecularEffect {
         if built {
             self.search.forget();
             self.receivers.forget();
+            self.frame_gpu = None;
+            self.frame_gpu_failed = false;
         }
         if std::mem::take(&mut self.moved) && !built {
             set.repose(&model.mesh, &options)?;
@@ -133,9 +149,60 @@ impl SpecularEffect {
             set.update(view.light_eye(), view.world_from_object);
         }
         apply_controls(set, preset, shape.layer, anchor_reach(&model.framing));
+        if sp.search == SearchPreset::GpuFrame && !self.frame_gpu_failed {
+            if self.frame_gpu.is_none() {
+                match npr_specular::FrameOnGpu::new(device, set, &model.mesh.indices) {
+                    Ok(mut made) => {
+                        made.set_normal_maps(shape.pass.normal_map_layers());
+                        made.start_from(queue, set, view.world_from_object);
+                        self.frame_gpu = Some(made);
+                        self.restart = false;
+                    }
+                    Err(npr_specular::SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge {
+                        ..
+                    })) => self.frame_gpu_failed = true,
+                    Err(e) => return Err(e.into()),
+                }
+            }
+            if let Some(on_gpu) = self.frame_gpu.as_mut() {
+                if std::mem::take(&mut self.restart) {
+                    on_gpu.start_from(queue, set, view.world_from_object);
+                } else if let Some(latest) = on_gpu.latest() {
+                    // The last frame read back is the set's highlights: the panel and
+                    // picking, one frame late.
+                    set.adopt_gpu_frame(latest);
+                }
+                let frame_of = (view.light_eye(), view.world_from_object);
+                let walked = on_gpu.record(queue, encoder, set, frame_of, frame)?;
+                stats.setup_us = on_gpu.record_us();
+                stats.search_on_gpu = true;
+                stats.regions_on_gpu = true;
+                stats.receivers_on_gpu = true;
+                stats.gpu_waits = 0;
+                stats.highlights = set.highlights().len();
+                stats.receiver_faces = 0;
+                let input = npr_specular::HighlightInput {
+                    frame,
+                    indices: &model.mesh.indices,
+                    set,
+                    view: uniforms,
+                    object,
+                    list: None,
+                };
+                return Ok(shape.pass.prepare_with_gpu_projectors(
+                    queue,
+                    &mut shape.object,
+                    &input,
+                    (on_gpu.receivers(), &walked),
+                    on_gpu.projectors(),
+                )?);
+            }
+        }
+        // A frame not made on the GPU: the next one that is starts again from the set.
+        self.restart |= self.frame_gpu.is_some();
         let walk_on_gpu = match sp.search {
             SearchPreset::Cpu => false,
-            SearchPreset::Gpu => true,
+            SearchPreset::Gpu | SearchPreset::GpuFrame => true,
             SearchPreset::Auto => self.search.chose_gpu(),
         } && self.receivers.ready(device, set, &model.mesh.indices)?;
         set.receivers_on_gpu = walk_on_gpu;
@@ -193,6 +260,12 @@ impl SpecularEffect {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<(), AppError> {
+        if let Some(on_gpu) = self.frame_gpu.as_mut() {
+            on_gpu.read_after_submit(device, queue);
+            // Lets the map complete between frames (never waits).
+            #[cfg(not(target_arch = "wasm32"))]
+            let _ = device.poll(wgpu::PollType::Poll);
+        }
         self.receivers.after_submit(device, queue)
     }
 

@@ -296,6 +296,13 @@ pub enum SearchPreset {
     /// writes. In the browser, where a readback
     /// completes only between frames, the search is the CPU's and the walk the GPU's.
     Gpu,
+    /// The whole frame's highlights on the GPU, nothing read back on the frame's path
+    /// (`npr_specular::FrameOnGpu`: the search, the regions seeded from its centres
+    /// matched with the GPU's own table of the last frame, the highlights made into
+    /// projectors by `npr_specular::ProjectorPass` with the user's edits, their receivers
+    /// walked and drawn where they lie). The panel and picking see each frame's
+    /// highlights one frame late. Also in the browser.
+    GpuFrame,
 }
 
 /// Where a highlight's edge meets the surface (`npr_specular::HighlightBoundary`).

@@ -100,9 +100,8 @@ fn the_tracking_table_matches_wgsl() {
             std::mem::offset_of!(TrackedRecord, centre),
             std::mem::offset_of!(TrackedRecord, footprint),
             std::mem::offset_of!(TrackedRecord, state),
-            std::mem::offset_of!(TrackedRecord, dir_object),
             std::mem::size_of::<TrackedRecord>(),
         ],
-        [4, 8, 16, 28, 32, 16, 32, 144, 176, 208, 224]
+        [4, 8, 16, 28, 32, 16, 32, 144, 176, 208]
     );
 }

@@ -49,7 +49,6 @@ pub(crate) struct TrackedRecord {
     pub(crate) shape: [f32; 4],
     pub(crate) state: [u32; 4],
     pub(crate) fade: [f32; 4],
-    pub(crate) dir_object: [f32; 4],
 }
 
 /// `TrackParams` of `highlight_table.wgsl`.

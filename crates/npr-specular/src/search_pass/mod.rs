@@ -47,7 +47,9 @@ use crate::search_clusters::{self, CLUSTER_FACES, ClusterRecord};
 
 mod peaks;
 mod readback;
+mod replace;
 pub(crate) use readback::CentreRecord;
+pub(crate) use replace::{Replace, ReplaceWork};
 mod tables;
 pub use readback::PendingSolutions;
 use readback::{slot_records, solution_entries};
@@ -87,6 +89,8 @@ pub struct CentreSearchPass {
     vertex_pipelines: [wgpu::ComputePipeline; 4],
     peaks_pipeline: wgpu::ComputePipeline,
     centres_layouts: [wgpu::BindGroupLayout; 2],
+    /// `cs_replace` and its second group's layout (shared with each object).
+    replace: Replace,
     layout: wgpu::BindGroupLayout,
     dispatch_layout: wgpu::BindGroupLayout,
     /// Workgroups a row of `cs_search`'s indirect dispatch holds: the device's
@@ -131,6 +135,8 @@ pub struct SearchObject {
     /// peaks looked for, and `empty` bound in their place (two: one is bound writable).
     peaks: Option<peaks::PeakTables>,
     empty: [wgpu::Buffer; 2],
+    /// `cs_replace`, for the projectors that read its output ([`crate::ProjectorPass`]).
+    replace: Replace,
     slots: Slots<Slot>,
 }
 
@@ -148,7 +154,8 @@ struct Slot {
     readback: wgpu::Buffer,
     group: wgpu::BindGroup,
     dispatch_group: wgpu::BindGroup,
-    /// `cs_centres`'s output, [`MAX_MERGED`] records, and its two groups.
+    /// `cs_centres`'s output, [`MAX_MERGED`] records (and as many for `cs_replace`), and
+    /// its two groups.
     records: wgpu::Buffer,
     centres_groups: [wgpu::BindGroup; 2],
     /// Whether this frame has a half vector (no dispatch otherwise: nothing is found).
@@ -266,6 +273,7 @@ impl CentreSearchPass {
                 &[&centres_layouts[0], &centres_layouts[1]],
                 "cs_peaks",
             ),
+            replace: Replace::new(device, &module, &centres_layouts[0]),
             centres_layouts,
             layout,
             dispatch_layout,
@@ -340,6 +348,7 @@ impl CentreSearchPass {
             field: buffer_init(device, "npr search field", &field_records(search), usage),
             peaks: None,
             empty: [0, 1].map(|_| buffer_init(device, "npr search no peaks", &[0u32; 4], usage)),
+            replace: self.replace.clone(),
             face_order,
             slots: Slots::new(self.id),
         })
@@ -587,7 +596,7 @@ impl CentreSearchPass {
             0,
             &slot.readback,
             16 + entries,
-            slot.records.size(),
+            (readback::CENTRE_RECORD_BYTES * MAX_MERGED) as u64,
         );
         Ok(())
     }
@@ -659,7 +668,9 @@ fn make_slot(
     });
     let records = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("npr search centres"),
-        size: (readback::CENTRE_RECORD_BYTES * MAX_MERGED) as u64,
+        // The search's centres, then the last frame's highlights placed again
+        // (`cs_replace`).
+        size: (readback::CENTRE_RECORD_BYTES * 2 * MAX_MERGED) as u64,
         usage: storage,
         mapped_at_creation: false,
     });

@@ -6,7 +6,7 @@ use super::{HighlightBoundary, HighlightSet, HighlightSizing, mean_scale};
 use crate::projector::UpAxis;
 use crate::region_pass::{TrackParams, TrackedRecord};
 use crate::search_pass::CentreRecord;
-use glam::{Mat3, Mat4};
+use glam::Mat4;
 
 /// `ProjectParams` of `projectors.wgsl`.
 #[repr(C)]
@@ -48,7 +48,6 @@ impl HighlightSet {
     pub(crate) fn gpu_table(&self, world_from_object: Mat4) -> (TrackParams, Vec<TrackedRecord>) {
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
-        let object_from_world = Mat3::from_mat4(world_from_object).inverse();
         let table = self
             .highlights
             .iter()
@@ -64,7 +63,16 @@ impl HighlightSet {
                 TrackedRecord {
                     position_reach: p.extend(self.reach(h, radius_world, scale)).to_array(),
                     sigma: [self.controls_of(h.id).sigma, 0.0, 0.0, 0.0],
-                    centre: CentreRecord::of(&placed, h.peak),
+                    // Placed here already: `cs_replace` keeps it (slot `NONE`).
+                    centre: CentreRecord {
+                        solution: [
+                            placed.face,
+                            placed.alpha.to_bits(),
+                            placed.beta.to_bits(),
+                            u32::MAX,
+                        ],
+                        ..CentreRecord::of(&placed, h.peak)
+                    },
                     footprint: [f.half_extent.x, f.half_extent.y, f.offset.x, f.offset.y],
                     shape: [f.rotate_rad, f.region_area, f.normal_cone_cos, f.fit_scale],
                     state: [
@@ -74,9 +82,6 @@ impl HighlightSet {
                         u32::from(h.pieces),
                     ],
                     fade: [h.opacity, 0.0, 0.0, 0.0],
-                    dir_object: (object_from_world * placed.dir_kappa_max)
-                        .extend(1.0 / scale)
-                        .to_array(),
                 }
             })
             .collect();
@@ -182,5 +187,28 @@ impl HighlightSet {
             ],
         };
         (params, controls)
+    }
+
+    /// Takes a frame made on the GPU (read back one frame late, [`crate::FrameOnGpu`]) as
+    /// this set's last update: its highlights (their projectors built again here from
+    /// their centres and footprints with this set's controls; pieces are not listed,
+    /// their whole stands for them as in picking and matching), ids and next id, so that
+    /// the panel, picking and a later CPU update go on from it.
+    pub fn adopt_gpu_frame(&mut self, frame: &crate::GpuFrame) {
+        let highlights = frame
+            .highlights
+            .iter()
+            .filter_map(|g| {
+                let controls = self.controls_of(g.id);
+                let mut h = self.make(g.id, g.centre, controls, g.footprint, g.opacity, g.found)?;
+                h.peak = g.peak;
+                h.pieces = g.pieces;
+                Some(h)
+            })
+            .collect();
+        self.highlights = highlights;
+        self.receiver_faces.clear();
+        self.next_id = self.next_id.max(frame.next_id);
+        self.tracking = true;
     }
 }
