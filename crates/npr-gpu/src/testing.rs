@@ -394,11 +394,12 @@ pub mod wgsl_layout {
                 naga::valid::ValidationFlags::all(),
                 naga::valid::Capabilities::default(),
             );
-            if let Err(e) = validator.validate(&module) {
-                failures.push(format!(
+            match validator.validate(&module) {
+                Err(e) => failures.push(format!(
                     "{name}: validation error:\n{}",
                     e.emit_to_string(&source)
-                ));
+                )),
+                Ok(info) => failures.extend(workgroup_memory_over(&module, &info, name)),
             }
             for function in module
                 .functions
@@ -425,6 +426,43 @@ pub mod wgsl_layout {
                 failures.join("\n\n")
             ))
         }
+    }
+
+    /// WebGPU's default `maxComputeWorkgroupStorageSize`, which browsers enforce when a
+    /// pipeline is made (a native adapter may allow more and accept the shader).
+    const WORKGROUP_STORAGE_LIMIT: u32 = 16_384;
+
+    /// The entry points of `module` whose workgroup variables take more than
+    /// [`WORKGROUP_STORAGE_LIMIT`] bytes.
+    fn workgroup_memory_over(
+        module: &naga::Module,
+        info: &naga::valid::ModuleInfo,
+        name: &str,
+    ) -> Vec<String> {
+        let ctx = module.to_ctx();
+        module
+            .entry_points
+            .iter()
+            .enumerate()
+            .filter_map(|(i, entry)| {
+                let used = info.get_entry_point(i);
+                let bytes: u32 = module
+                    .global_variables
+                    .iter()
+                    .filter(|(h, v)| {
+                        v.space == naga::AddressSpace::WorkGroup && !used[*h].is_empty()
+                    })
+                    .map(|(_, v)| module.types[v.ty].inner.size(ctx))
+                    .sum();
+                (bytes > WORKGROUP_STORAGE_LIMIT).then(|| {
+                    format!(
+                        "{name}: {} uses {bytes} bytes of workgroup memory, over WebGPU's \
+                         {WORKGROUP_STORAGE_LIMIT} (browsers refuse the pipeline)",
+                        entry.name
+                    )
+                })
+            })
+            .collect()
     }
 
     /// Whether control can reach the end of `block` without a `return`, by WGSL's behaviour

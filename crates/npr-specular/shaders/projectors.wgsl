@@ -79,8 +79,9 @@ const MATCH_AT: u32 = 8u;
 // Where the search's `cs_replace` put the last frame's highlights (after its
 // `MAX_MERGED` centres).
 const REPLACED_AT: u32 = 256u;
-// Projectors a frame draws at most (pieces included): the workgroup's table of them.
-const MAX_DRAWN: u32 = 512u;
+// Projectors a frame draws at most (pieces included): the workgroup's table of them
+// (40 bytes each, within WebGPU's 16 KiB of workgroup memory).
+const MAX_DRAWN: u32 = 384u;
 const MAX_TRACKED: u32 = 256u;
 const PI_2: f32 = 1.5707963267948966;
 const TAU: f32 = 6.283185307179586;

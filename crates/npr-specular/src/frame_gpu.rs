@@ -50,6 +50,8 @@ pub struct FrameOnGpu {
     /// The last frame's receivers prepare and the CPU time its `record` took (µs).
     walked: Option<Prepared>,
     record_us: f64,
+    /// Frames read back so far.
+    reads: u64,
 }
 
 impl FrameOnGpu {
@@ -87,6 +89,7 @@ impl FrameOnGpu {
                 .collect(),
             walked: None,
             record_us: 0.0,
+            reads: 0,
         })
     }
 
@@ -219,11 +222,18 @@ impl FrameOnGpu {
         self.latest.as_ref()
     }
 
+    /// How many frames have been read back so far ([`FrameOnGpu::latest`] is the last).
+    pub fn frames_read(&mut self) -> u64 {
+        self.poll();
+        self.reads
+    }
+
     fn poll(&mut self) {
         if let Some(pending) = &self.pending {
             if let Some(result) = pending.try_take() {
                 if let Ok(frame) = result {
                     self.latest = Some(frame);
+                    self.reads += 1;
                 }
                 self.pending = None;
             }

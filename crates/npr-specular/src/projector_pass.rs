@@ -37,7 +37,7 @@ use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 
 /// Projectors one frame draws at most, pieces included (`MAX_DRAWN` of
 /// `projectors.wgsl`); past them the frame says so ([`GpuFrameStatus::TooMany`]).
-pub const MAX_DRAWN: usize = 512;
+pub const MAX_DRAWN: usize = 384;
 
 const PARAMS_BYTES: usize = std::mem::size_of::<ProjectParams>();
 const TABLE_HEAD: usize = std::mem::size_of::<TrackParams>();

@@ -135,7 +135,10 @@ impl Viewer {
         let Some(check) = self.compute.as_mut() else {
             return Ok(String::new());
         };
-        match check.poll().map_err(js_error)? {
+        match check
+            .poll(&self.ctx.device, &self.ctx.queue)
+            .map_err(js_error)?
+        {
             Some(report) => {
                 self.compute = None;
                 Ok(report.to_string())

@@ -3,7 +3,8 @@
 //! the regions `N·H ≥ σ` and their moment ellipses (`npr_specular::RegionPass`) and the §4.2
 //! receivers (`npr_specular::ReceiverPass`) on a torus, and the one-submission setup
 //! (the search with its peaks and the regions seeded on the GPU,
-//! [`crate::compute_tracking`]) on a knot, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
+//! [`crate::compute_tracking`]) and frames made wholly on the GPU
+//! ([`crate::compute_frame`]) on a knot, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
 //! read back over the next animation frames (a map completes only once control returns
 //! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
 //! check (`cargo xtask web --check`).
@@ -47,6 +48,8 @@ pub struct ComputeCheck {
     grown: Option<Vec<GpuRegion>>,
     tracking: crate::compute_tracking::TrackingCheck,
     tracking_report: Option<serde_json::Value>,
+    frames: crate::compute_frame::FrameCheck,
+    frames_report: Option<serde_json::Value>,
 }
 
 impl ComputeCheck {
@@ -147,9 +150,13 @@ impl ComputeCheck {
             .map_err(|e| e.to_string())?;
         let tracking =
             crate::compute_tracking::TrackingCheck::start(device, queue, &generate::paper_knot())?;
+        let frames =
+            crate::compute_frame::FrameCheck::start(device, queue, &generate::paper_knot())?;
         Ok(Self {
             tracking,
             tracking_report: None,
+            frames,
+            frames_report: None,
             mesh,
             set,
             curvature,
@@ -170,7 +177,14 @@ impl ComputeCheck {
     ///
     /// # Errors
     /// A failed map, as one line.
-    pub fn poll(&mut self) -> Result<Option<serde_json::Value>, String> {
+    pub fn poll(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<serde_json::Value>, String> {
+        if self.frames_report.is_none() {
+            self.frames_report = self.frames.poll(device, queue)?;
+        }
         if self.field_bytes.is_none() {
             if let Some(bytes) = self.field.try_take() {
                 self.field_bytes = Some(bytes.map_err(|e| e.to_string())?);
@@ -201,12 +215,13 @@ impl ComputeCheck {
         if self.tracking_report.is_none() {
             self.tracking_report = self.tracking.poll()?;
         }
-        let (Some(bytes), Some(solutions), Some(walked), Some(grown), Some(tracking)) = (
+        let (Some(bytes), Some(solutions), Some(walked), Some(grown), Some(tracking), Some(frames)) = (
             &self.field_bytes,
             &self.solutions,
             &self.walked,
             &self.grown,
             &self.tracking_report,
+            &self.frames_report,
         ) else {
             return Ok(None);
         };
@@ -273,8 +288,10 @@ impl ComputeCheck {
             "regions_area_error": regions.3,
             "regions_overflowed": grown.iter().filter(|g| g.overflowed).count(),
         });
-        if let (Some(all), Some(more)) = (report.as_object_mut(), tracking.as_object()) {
-            all.extend(more.clone());
+        for more in [tracking, frames] {
+            if let (Some(all), Some(more)) = (report.as_object_mut(), more.as_object()) {
+                all.extend(more.clone());
+            }
         }
         Ok(Some(report))
     }

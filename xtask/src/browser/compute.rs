@@ -15,7 +15,10 @@ use anyhow::{Context as _, bail};
 /// within 1e-3 of the radius, areas within 0.5 %). On a knot, the one-submission setup
 /// (the search with its peaks, the regions seeded from its centres on the GPU) must seed
 /// the update's regions, find the CPU's peaks (the knot has some), and give the CPU update's highlights
-/// (centres within 1e-4 of the radius, footprints within 3e-3: `tests/gpu_tracking.rs`).
+/// (centres within 1e-4 of the radius, footprints within 3e-3: `tests/gpu_tracking.rs`);
+/// four frames made wholly on the GPU (`FrameOnGpu`, nothing read back between) must be
+/// the CPU's updates (ids, found, peaks, opacities; centres within 1e-4 of the radius,
+/// the wholes' records within 2e-3: `tests/gpu_projectors.rs`).
 pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let result = driver.script_async(
         session,
@@ -86,6 +89,16 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         num("tracked_centre_error_of_radius")?,
         num("tracked_footprint_error_of_radius")?,
     );
+    let frames_same = flag("frame_highlights_same")?;
+    let (frames, frame_highlights, frame_peaks) = (
+        num("frame_frames")?,
+        num("frame_highlights")?,
+        num("frame_peaks")?,
+    );
+    let (frame_centre, frame_gap) = (
+        num("frame_centre_error_of_radius")?,
+        num("frame_record_gap")?,
+    );
     println!(
         "xtask: compute passes in Chromium: curvature within {kappa:.2e} of the largest |κ| and \
          {direction:.3}° (normals {normal:.3}°) over {vertices} vertices; {gpu} GPU centres against {cpu} CPU \
@@ -94,7 +107,10 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
          {region_centre:.2e} of the radius, areas within {:.3} %; one submission on a knot: \
          {tracked} highlights ({peaks_gpu} peaks found on the GPU, {peaks_cpu} on the CPU), \
          seeded on the GPU: {seeded}, the CPU's: {same}, centres within {tracked_centre:.2e} \
-         and footprints within {tracked_footprint:.2e} of the radius",
+         and footprints within {tracked_footprint:.2e} of the radius; {frames} frames made \
+         wholly on the GPU: {frame_highlights} highlights ({frame_peaks} peaks), the CPU's: \
+         {frames_same}, centres within {frame_centre:.2e} of the radius, records within \
+         {frame_gap:.2e}",
         100.0 * agreement,
         100.0 * region_area
     );
@@ -134,6 +150,16 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         || tracked_footprint > 3e-3
     {
         bail!("the page's one-submission setup differs from the CPU's update: {result}");
+    }
+    // The native bounds of `npr-specular/tests/gpu_projectors.rs`.
+    if !frames_same
+        || frames < 4.0
+        || frame_highlights < 1.0
+        || frame_peaks < 1.0
+        || frame_centre > 1e-4
+        || frame_gap > 2e-3
+    {
+        bail!("the page's frames made on the GPU differ from the CPU's updates: {result}");
     }
     Ok(())
 }
