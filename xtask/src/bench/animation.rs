@@ -11,8 +11,10 @@
 //! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
 //! setup the specular frame reports (mean, µs) and `cpu_ms_median` its median (ms): the
 //! CPU time of the highlight work from the frame's start to its submit, matching
-//! included. The highlights are measured twice, told apart by `setup`: the `N = H` search
-//! on the CPU (`"cpu"`) and as a compute pass (`"gpu"`, `[specular] search = "gpu"`).
+//! included. The highlights are measured three times, told apart by `setup`: the `N = H`
+//! search on the CPU (`"cpu"`), as a compute pass with the update on what it reads back
+//! (`"gpu"`, `[specular] search = "gpu"`), and the whole frame's highlights on the GPU,
+//! nothing read back (`"gpu-frame"`: `cpu_ms_median` is then what recording them takes).
 //! Default models: the Fox and the procedural rigs
 //! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`) and, as a
 //! scale row reported only, the bunny on `generate::swaying`'s two-joint rig; `--mesh`
@@ -46,11 +48,17 @@ const FRAMES: usize = 30;
 /// The view size.
 const SIZE: (u32, u32) = (640, 480);
 /// The effects measured, with the hatching's two ways of following the pose and the
-/// highlights' two places for the `N = H` search (the `setup` key: `"cpu"`, `"gpu"`).
-const EFFECTS: [(Effect, PoseGeometry, SearchPreset); 6] = [
+/// highlights' three places for their setup (the `setup` key: `"cpu"`, `"gpu"`,
+/// `"gpu-frame"`).
+const EFFECTS: [(Effect, PoseGeometry, SearchPreset); 7] = [
     (Effect::Phong, PoseGeometry::Recompute, SearchPreset::Cpu),
     (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Cpu),
     (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Gpu),
+    (
+        Effect::Specular,
+        PoseGeometry::Recompute,
+        SearchPreset::GpuFrame,
+    ),
     (
         Effect::HatchingPen,
         PoseGeometry::Recompute,
@@ -299,6 +307,7 @@ fn gpu_row(
         if effect == Effect::Specular {
             match search {
                 SearchPreset::Gpu => "gpu".into(),
+                SearchPreset::GpuFrame => "gpu-frame".into(),
                 _ => "cpu".into(),
             }
         } else {

@@ -4,11 +4,13 @@
 //! those centres on the GPU, `RegionPass::prepare_tracked`, in the same submission: the
 //! frame waits once, then `HighlightSet::update_from_search` takes the centres and
 //! regions read back; a frame whose update adds a peak to the seeds grows its regions in
-//! a second submission), or the faster of the two for the model, timed on its first
-//! frame (`auto`, the default). The GPU path falls back to the CPU's where the device's
-//! limits are too small for the mesh or a frame's list or a region overflows. `auto` times the whole update both ways (search, matching, regions,
-//! projectors). In the browser a readback completes only between frames, so
-//! the search runs on the CPU there.
+//! a second submission), or the fastest of these and the whole frame on the GPU
+//! (`gpu-frame`, drawn by `engine::specular`), timed on the model's first frame (`auto`,
+//! the default). The GPU path falls back to the CPU's where the device's limits are too
+//! small for the mesh or a frame's list or a region overflows. `auto` times the whole
+//! update each way (search, matching, regions, projectors). In the browser a readback
+//! completes only between frames, so `gpu` searches on the CPU there (`gpu-frame` reads
+//! nothing back and runs there as anywhere) and `auto` keeps the CPU.
 
 use crate::AppError;
 use crate::preset::SearchPreset;
@@ -16,14 +18,26 @@ use glam::Mat4;
 use npr_geometry::LightEye;
 use npr_specular::HighlightSet;
 
+/// Where `auto` found a frame's highlights fastest.
+#[cfg(not(target_arch = "wasm32"))]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    /// `HighlightSet::update`.
+    Cpu,
+    /// `SetupOnGpu`: the search and regions on the GPU, read back, the update on the CPU.
+    Gpu,
+    /// `FrameOnGpu`: the whole frame's highlights on the GPU, nothing read back.
+    Frame,
+}
+
 /// The GPU search of the current set, and the path `auto` chose for it.
 #[derive(Default)]
 pub(crate) struct SearchSetup {
     #[cfg(not(target_arch = "wasm32"))]
     gpu: Option<npr_specular::SetupOnGpu>,
-    /// `Some(true)` for the GPU: what `auto` measured for the current set.
+    /// What `auto` measured fastest for the current set.
     #[cfg(not(target_arch = "wasm32"))]
-    chosen: Option<bool>,
+    chosen: Option<Path>,
     /// Submissions the last update waited on (0 on the CPU).
     waits: usize,
 }
@@ -45,7 +59,32 @@ impl SearchSetup {
     pub(crate) fn chose_gpu(&self) -> bool {
         #[cfg(not(target_arch = "wasm32"))]
         {
-            self.chosen == Some(true)
+            self.chosen == Some(Path::Gpu)
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            false
+        }
+    }
+
+    /// Whether `auto` chose the whole frame on the GPU (`FrameOnGpu`) for the current
+    /// set.
+    pub(crate) fn chose_frame(&self) -> bool {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            self.chosen == Some(Path::Frame)
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            false
+        }
+    }
+
+    /// Whether `auto` has yet to time the paths for the current set.
+    pub(crate) fn untimed(&self) -> bool {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            self.chosen.is_none()
         }
         #[cfg(target_arch = "wasm32")]
         {
@@ -54,7 +93,8 @@ impl SearchSetup {
     }
 
     /// Updates `set` for this light, eye and transform on the path `preset` asks for;
-    /// returns whether the search ran on the GPU.
+    /// returns whether the search ran on the GPU. `auto`'s first frame times the whole
+    /// frame on the GPU too where `frame_gpu` is given.
     ///
     /// # Errors
     /// A GPU failure other than a mesh too large for the device's limits.
@@ -64,11 +104,12 @@ impl SearchSetup {
         set: &mut HighlightSet,
         preset: SearchPreset,
         (light_eye, world_from_object): (LightEye, Mat4),
+        frame_gpu: Option<&mut npr_specular::FrameOnGpu>,
     ) -> Result<bool, AppError> {
         self.waits = 0;
         #[cfg(target_arch = "wasm32")]
         {
-            let _ = (gpu, preset);
+            let _ = (gpu, preset, frame_gpu);
             set.update(light_eye, world_from_object);
             Ok(false)
         }
@@ -79,14 +120,20 @@ impl SearchSetup {
                 // (`engine::specular` makes a `gpu-frame` frame itself; where it cannot,
                 // the search setup's GPU path is the next best.)
                 SearchPreset::Gpu | SearchPreset::GpuFrame => true,
-                SearchPreset::Auto => match self.chosen {
-                    Some(c) => c,
-                    None => {
-                        let c = self.time_both(gpu, set, (light_eye, world_from_object))?;
-                        self.chosen = Some(c);
-                        c
-                    }
-                },
+                SearchPreset::Auto => {
+                    let path = match self.chosen {
+                        Some(p) => p,
+                        None => {
+                            let frame = (light_eye, world_from_object);
+                            let p = self.time_all(gpu, set, frame, frame_gpu)?;
+                            self.chosen = Some(p);
+                            p
+                        }
+                    };
+                    // (A frame `auto` gives to the GPU whole is drawn by
+                    // `engine::specular`; this one, its first, by the search setup.)
+                    path != Path::Cpu
+                }
             };
             if on_gpu
                 && let Some(waits) = self.update_on_gpu(gpu, set, (light_eye, world_from_object))?
@@ -102,11 +149,12 @@ impl SearchSetup {
 
 #[cfg(not(target_arch = "wasm32"))]
 mod native {
+    use super::Path;
     use super::SearchSetup;
     use crate::AppError;
     use glam::Mat4;
     use npr_geometry::LightEye;
-    use npr_specular::{HighlightSet, SetupOnGpu};
+    use npr_specular::{FrameOnGpu, HighlightSet, SetupOnGpu};
     use std::time::Instant;
 
     impl SearchSetup {
@@ -126,29 +174,45 @@ mod native {
         }
 
         /// `auto`: times the whole highlight update of this frame on the CPU
-        /// (`HighlightSet::update`) and on the GPU (`update_on_gpu`: the search and its
-        /// regions with their submit and readback, then the update), twice each, and
-        /// keeps the second timings; whether the GPU's was faster. Both update the same
-        /// frame, so `set` holds a valid update after either.
-        pub(super) fn time_both(
+        /// (`HighlightSet::update`), on the GPU (`update_on_gpu`: the search and its
+        /// regions with their submit and readback, then the update) and, where given, the
+        /// whole frame's highlights on the GPU (`FrameOnGpu::record`, submitted and waited
+        /// for: its GPU time is the frame's), twice each, and keeps the second timings;
+        /// the fastest. `set` holds a valid update after any.
+        pub(super) fn time_all(
             &mut self,
             gpu: (&wgpu::Device, &wgpu::Queue),
             set: &mut HighlightSet,
             frame: (LightEye, Mat4),
-        ) -> Result<bool, AppError> {
-            let mut cpu_s = f64::INFINITY;
-            let mut gpu_s = f64::INFINITY;
-            for _ in 0..2 {
+            mut frame_gpu: Option<&mut FrameOnGpu>,
+        ) -> Result<Path, AppError> {
+            let (device, queue) = gpu;
+            let mut times = [f64::INFINITY; 3];
+            for round in 0..2u64 {
                 let t = Instant::now();
                 set.update(frame.0, frame.1);
-                cpu_s = t.elapsed().as_secs_f64();
+                times[0] = t.elapsed().as_secs_f64();
                 let t = Instant::now();
-                gpu_s = match self.update_on_gpu(gpu, set, frame)? {
+                times[1] = match self.update_on_gpu(gpu, set, frame)? {
                     Some(_) => t.elapsed().as_secs_f64(),
                     None => f64::INFINITY,
                 };
+                if let Some(f) = frame_gpu.as_deref_mut() {
+                    f.start_from(queue, set, frame.1);
+                    let t = Instant::now();
+                    let mut encoder = device.create_command_encoder(&Default::default());
+                    // Frame ids of its own (its objects' slots count frames apart).
+                    let id = npr_gpu::FrameId(u64::MAX - round);
+                    f.record(queue, &mut encoder, set, frame, id)?;
+                    queue.submit([encoder.finish()]);
+                    device
+                        .poll(wgpu::PollType::wait_indefinitely())
+                        .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+                    times[2] = t.elapsed().as_secs_f64();
+                }
             }
-            Ok(gpu_s < cpu_s)
+            let fastest = (0..3).fold(0, |b, i| if times[i] < times[b] { i } else { b });
+            Ok([Path::Cpu, Path::Gpu, Path::Frame][fastest])
         }
     }
 }

@@ -149,7 +149,13 @@ impl SpecularEffect {
             set.update(view.light_eye(), view.world_from_object);
         }
         apply_controls(set, preset, shape.layer, anchor_reach(&model.framing));
-        if sp.search == SearchPreset::GpuFrame && !self.frame_gpu_failed {
+        // `auto`'s first frame times the whole frame on the GPU too.
+        let whole_frame = match sp.search {
+            SearchPreset::GpuFrame => true,
+            SearchPreset::Auto => self.search.untimed() || self.search.chose_frame(),
+            _ => false,
+        };
+        if whole_frame && !self.frame_gpu_failed {
             if self.frame_gpu.is_none() {
                 match npr_specular::FrameOnGpu::new(device, set, &model.mesh.indices) {
                     Ok(mut made) => {
@@ -164,7 +170,11 @@ impl SpecularEffect {
                     Err(e) => return Err(e.into()),
                 }
             }
-            if let Some(on_gpu) = self.frame_gpu.as_mut() {
+            if let Some(on_gpu) = self
+                .frame_gpu
+                .as_mut()
+                .filter(|_| !(sp.search == SearchPreset::Auto && self.search.untimed()))
+            {
                 if std::mem::take(&mut self.restart) {
                     on_gpu.start_from(queue, set, view.world_from_object);
                 } else if let Some(latest) = on_gpu.latest() {
@@ -211,6 +221,7 @@ impl SpecularEffect {
             set,
             sp.search,
             (view.light_eye(), view.world_from_object),
+            self.frame_gpu.as_mut(),
         )?;
         let gpu_faces = self.receivers.faces();
         let walked = if walk_on_gpu {

@@ -281,9 +281,10 @@ impl Default for SpecularPreset {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SearchPreset {
-    /// The faster of the two for the model, timed on its first frame (the whole
-    /// highlight update each way twice, the second timing kept) and again when the model
-    /// or its highlight set changes.
+    /// The fastest of the three for the model, timed on its first frame (the whole
+    /// highlight update each way twice, the second timing kept; the whole frame on the
+    /// GPU with its submission and wait) and again when the model or its highlight set
+    /// changes.
     #[default]
     Auto,
     /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
