@@ -116,6 +116,9 @@ struct Slot {
     seeds: wgpu::Buffer,
     fits: wgpu::Buffer,
     group: Option<wgpu::BindGroup>,
+    /// What `group` was made for: the object's visited words, its queues' seeds, and
+    /// this slot's room.
+    group_key: Option<(usize, usize, usize)>,
     /// Seeds the buffers have room for.
     room: usize,
     /// Seeds this frame grows (a frame seeded on the GPU: the most it may).
@@ -496,25 +499,31 @@ impl RegionPass {
         params.capacity = object.work_capacity as u32;
         let seeds = seed_records(input.seeds, faces);
         npr_gpu::compute::write_head_and_records(queue, &slot.seeds, &params, &seeds);
-        slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr regions"),
-            layout: &self.layout,
-            entries: &[
-                group_entry(0, &slot.seeds),
-                group_entry(2, &object.vertex_records),
-                group_entry(3, &object.face_records),
-                group_entry(4, &object.adjacency),
-                group_entry(5, &object.visited),
-                group_entry(6, &object.owner),
-                group_entry(7, &object.work),
-                group_entry(8, &slot.fits),
-            ],
-        }));
+        // The group changes only with the buffers it binds.
+        let key = (object.words, object.work_seeds, slot.room);
+        if slot.group_key != Some(key) || slot.group.is_none() {
+            slot.group_key = Some(key);
+            slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr regions"),
+                layout: &self.layout,
+                entries: &[
+                    group_entry(0, &slot.seeds),
+                    group_entry(2, &object.vertex_records),
+                    group_entry(3, &object.face_records),
+                    group_entry(4, &object.adjacency),
+                    group_entry(5, &object.visited),
+                    group_entry(6, &object.owner),
+                    group_entry(7, &object.work),
+                    group_entry(8, &slot.fits),
+                ],
+            }));
+        }
         slot.count = count;
         let own_sigma = set.own_sigmas();
+        let last = slot.tracked.take();
         slot.tracked = tracked.map(|(_, table, outputs)| {
             let inputs = (&slot.seeds, table, own_sigma.as_slice());
-            tracked::tracked_slot(device, &self.track_layout, inputs, outputs)
+            tracked::tracked_slot((device, queue), &self.track_layout, inputs, outputs, last)
         });
         Ok(prepared)
     }
@@ -641,6 +650,7 @@ fn make_slot(device: &wgpu::Device) -> Slot {
         seeds: storage(device, "npr region seeds", (PARAMS_BYTES + 80) as u64),
         fits: storage(device, "npr region fits", FIT_BYTES as u64),
         group: None,
+        group_key: None,
         room: 0,
         count: 0,
         tracked: None,

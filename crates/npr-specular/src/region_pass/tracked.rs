@@ -170,11 +170,16 @@ impl PendingTracked {
 }
 
 /// A tracked frame's own buffers: the table of the last update's highlights, the
-/// growth's indirect dispatch (and status, and the matching), and `cs_track`'s group.
+/// growth's indirect dispatch (and status, and the matching), the σ the user set, and
+/// `cs_track`'s group. A slot keeps them from frame to frame (written again, grown where
+/// too small).
 #[derive(Debug)]
 pub(super) struct TrackedSlot {
     pub(super) dispatch: wgpu::Buffer,
     pub(super) track: wgpu::Buffer,
+    /// The table this slot uploads (a table the GPU wrote is bound as it is).
+    own_track: Option<wgpu::Buffer>,
+    sigmas: wgpu::Buffer,
     pub(super) group: wgpu::BindGroup,
 }
 
@@ -211,34 +216,52 @@ pub(super) fn track_data(
 
 /// `cs_track`'s buffers and group for one frame: the growth's frame data (`seeds`), the
 /// search's counter and centres, the table, the σ the user set per highlight
-/// (`HighlightSet::own_sigmas`) and a fresh dispatch.
+/// (`HighlightSet::own_sigmas`) and the dispatch, reusing `last`'s buffers where they are
+/// large enough.
 pub(super) fn tracked_slot(
-    device: &wgpu::Device,
+    (device, queue): (&wgpu::Device, &wgpu::Queue),
     layout: &wgpu::BindGroupLayout,
     (seeds, table, own_sigma): (&wgpu::Buffer, TableSource<'_>, &[[u32; 2]]),
     (counter, centres): (&wgpu::Buffer, &wgpu::Buffer),
+    last: Option<TrackedSlot>,
 ) -> TrackedSlot {
-    let track = match table {
-        TableSource::Bytes(bytes) => buffer_init(
-            device,
-            "npr region track",
-            bytes,
-            wgpu::BufferUsages::STORAGE,
-        ),
-        TableSource::Gpu(buffer) => buffer.clone(),
+    let fits = |b: &wgpu::Buffer, bytes: usize| b.size() >= bytes as u64;
+    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+    let reuse = |b: Option<wgpu::Buffer>, bytes: &[u8], label| match b {
+        Some(b) if fits(&b, bytes.len()) => {
+            queue.write_buffer(&b, 0, bytes);
+            b
+        }
+        _ => buffer_init(device, label, bytes, usage),
     };
-    let dispatch = buffer_init(
-        device,
-        "npr region dispatch",
-        &[0u32; DISPATCH_WORDS],
-        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
-    );
-    let sigmas = buffer_init(
-        device,
+    let (last_track, last_sigmas, last_dispatch) = match last {
+        Some(t) => (t.own_track, Some(t.sigmas), Some(t.dispatch)),
+        None => (None, None, None),
+    };
+    let (track, own_track) = match table {
+        TableSource::Bytes(bytes) => {
+            let t = reuse(last_track, bytes, "npr region track");
+            (t.clone(), Some(t))
+        }
+        TableSource::Gpu(buffer) => (buffer.clone(), last_track),
+    };
+    let sigmas = reuse(
+        last_sigmas,
+        bytemuck::cast_slice(own_sigma),
         "npr region own sigma",
-        own_sigma,
-        wgpu::BufferUsages::STORAGE,
     );
+    // `cs_track` writes every word a frame reads (the status and counts; the matching
+    // where it matched).
+    let dispatch = last_dispatch.unwrap_or_else(|| {
+        buffer_init(
+            device,
+            "npr region dispatch",
+            &[0u32; DISPATCH_WORDS],
+            wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_SRC,
+        )
+    });
     let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("npr region track"),
         layout,
@@ -254,6 +277,8 @@ pub(super) fn tracked_slot(
     TrackedSlot {
         dispatch,
         track,
+        own_track,
+        sigmas,
         group,
     }
 }
