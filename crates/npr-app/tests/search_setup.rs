@@ -15,37 +15,44 @@ use npr_app::preset::{Effect, Preset, SearchPreset};
 use npr_app::view::View;
 use npr_gpu::testing::context_or_skip;
 
+/// Six frames of the Fox's walk (every fourth of its first clip), posed frame by frame,
+/// with the highlights' setup `search`: each frame's statistics and image.
+fn walk(
+    ctx: &npr_gpu::GpuContext,
+    search: SearchPreset,
+) -> Vec<(npr_app::engine::FrameStats, image::RgbaImage)> {
+    let model = Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
+    let animated = Animated::new(model, Some(0), Playback::default()).unwrap();
+    let size = (240, 180);
+    let frames: Vec<Model> = (0..6).map(|i| animated.frame(4 * i)).collect();
+    let mut preset = Preset {
+        effect: Effect::Specular,
+        turn_deg: 30.0,
+        ..Preset::default()
+    };
+    preset.specular.search = search;
+    preset.specular.sigma = 0.85;
+    let view = View::new(&preset, &animated.framing(), size, 0.0);
+    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), size).unwrap();
+    frames
+        .iter()
+        .map(|m| {
+            renderer.set_pose(&ctx.queue, m.clone()).unwrap();
+            let stats = renderer
+                .render(&ctx.device, &ctx.queue, &preset, &view)
+                .unwrap();
+            (stats, renderer.read(&ctx.device, &ctx.queue).unwrap())
+        })
+        .collect()
+}
+
 #[test]
 fn the_gpu_search_draws_the_cpu_frames_on_a_walking_model() {
     let Some(ctx) = context_or_skip("the_gpu_search_draws_the_cpu_frames_on_a_walking_model")
     else {
         return;
     };
-    let model = Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
-    let animated = Animated::new(model, Some(0), Playback::default()).unwrap();
-    let size = (240, 180);
-    let frames: Vec<Model> = (0..6).map(|i| animated.frame(4 * i)).collect();
-    let render_all = |search: SearchPreset| {
-        let mut preset = Preset {
-            effect: Effect::Specular,
-            turn_deg: 30.0,
-            ..Preset::default()
-        };
-        preset.specular.search = search;
-        preset.specular.sigma = 0.85;
-        let view = View::new(&preset, &animated.framing(), size, 0.0);
-        let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), size).unwrap();
-        frames
-            .iter()
-            .map(|m| {
-                renderer.set_pose(&ctx.queue, m.clone()).unwrap();
-                let stats = renderer
-                    .render(&ctx.device, &ctx.queue, &preset, &view)
-                    .unwrap();
-                (stats, renderer.read(&ctx.device, &ctx.queue).unwrap())
-            })
-            .collect::<Vec<_>>()
-    };
+    let render_all = |search| walk(ctx, search);
     let cpu = render_all(SearchPreset::Cpu);
     let gpu = render_all(SearchPreset::Gpu);
     let auto = render_all(SearchPreset::Auto);
@@ -188,31 +195,7 @@ fn a_frame_made_wholly_on_the_gpu_draws_the_cpu_frames_on_a_walking_model() {
     else {
         return;
     };
-    let model = Model::load(&root().join("fixtures/meshes/Fox.glb")).unwrap();
-    let animated = Animated::new(model, Some(0), Playback::default()).unwrap();
-    let size = (240, 180);
-    let frames: Vec<Model> = (0..6).map(|i| animated.frame(4 * i)).collect();
-    let render_all = |search: SearchPreset| {
-        let mut preset = Preset {
-            effect: Effect::Specular,
-            turn_deg: 30.0,
-            ..Preset::default()
-        };
-        preset.specular.search = search;
-        preset.specular.sigma = 0.85;
-        let view = View::new(&preset, &animated.framing(), size, 0.0);
-        let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), size).unwrap();
-        frames
-            .iter()
-            .map(|m| {
-                renderer.set_pose(&ctx.queue, m.clone()).unwrap();
-                let stats = renderer
-                    .render(&ctx.device, &ctx.queue, &preset, &view)
-                    .unwrap();
-                (stats, renderer.read(&ctx.device, &ctx.queue).unwrap())
-            })
-            .collect::<Vec<_>>()
-    };
+    let render_all = |search| walk(ctx, search);
     let cpu = render_all(SearchPreset::Cpu);
     let gpu = render_all(SearchPreset::GpuFrame);
     let mut worst_mean = 0f64;

@@ -855,10 +855,7 @@ fn cs_join_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
 fn cs_part_best(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let v = peak_vertex(gid, groups);
     let nv = arrayLength(&vertices);
-    if v >= nv {
-        return;
-    }
-    let d = bright_bits(v);
+    let d = select(0u, bright_bits(min(v, nv - 1u)), v < nv);
     if d == 0u {
         return;
     }
@@ -879,10 +876,7 @@ fn cs_part_best(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 fn cs_part_brightest(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let v = peak_vertex(gid, groups);
     let nv = arrayLength(&vertices);
-    if v >= nv {
-        return;
-    }
-    let d = bright_bits(v);
+    let d = select(0u, bright_bits(min(v, nv - 1u)), v < nv);
     if d == 0u {
         return;
     }

@@ -211,6 +211,19 @@ fn fit_scale_of(s: f32) -> f32 {
     return select(1.0, s, s > 0.0 && s <= 1.0);
 }
 
+// A fitted region's footprint (`decode` of `region_pass/records.rs`): its ellipse (half
+// extents, offset), (rotation, area, normal cone), scaled by its overlap scale.
+fn fitted(ellipse: vec4<f32>, shape: vec3<f32>, overlap: f32) -> Footprint {
+    var f: Footprint;
+    f.half = ellipse.xy;
+    f.offset = ellipse.zw;
+    f.rotate = shape.x;
+    f.area = shape.y;
+    f.cone = shape.z;
+    f.fit_scale = 1.0;
+    return scaled(f, fit_scale_of(overlap));
+}
+
 // `limit_change`.
 fn limit_change(last: Footprint, next_in: Footprint, max_area_change: f32) -> Footprint {
     var next_fp = next_in;
@@ -611,13 +624,7 @@ fn build() -> u32 {
             let r = fits[seed];
             if r.flags.x == 0u {
                 fit_seed = seed;
-                fp.half = r.ellipse.xy;
-                fp.offset = r.ellipse.zw;
-                fp.rotate = r.fit.x;
-                fp.area = r.fit.y;
-                fp.cone = r.fit.z;
-                fp.fit_scale = 1.0;
-                fp = scaled(fp, fit_scale_of(r.fit.w));
+                fp = fitted(r.ellipse, r.fit.xyz, r.fit.w);
                 has_fp = fp.area >= s.sizes.y;
             }
             seed += 1u;
@@ -683,14 +690,8 @@ fn build() -> u32 {
             let r = fits[fit_seed];
             for (var i = 0u; i < min(r.piece_count.x, 6u); i++) {
                 let rp = r.pieces[i];
-                var piece: Footprint;
-                piece.half = rp.ellipse.xy;
-                piece.offset = rp.ellipse.zw;
-                piece.rotate = rp.fit.x;
-                piece.area = rp.fit.y;
-                piece.cone = r.fit.z;
-                piece.fit_scale = 1.0;
-                piece = scaled(piece, fit_scale_of(rp.fit.z));
+                // A piece has the whole's normal cone.
+                let piece = fitted(rp.ellipse, vec3<f32>(rp.fit.xy, r.fit.z), rp.fit.z);
                 let edited = group_edit(fp, piece, k);
                 let pp = projector_with(centre, k, edited);
                 if pp.ok && drawn < MAX_DRAWN {

@@ -94,6 +94,22 @@ pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> Proj
     }
 }
 
+/// The stream and draw arguments `walked` (a receiver walk of `frame`) writes.
+fn walk_stream<'a>(
+    receivers: &'a crate::ReceiverObject,
+    walked: &Prepared,
+    frame: FrameId,
+) -> Result<(&'a wgpu::Buffer, &'a wgpu::Buffer), SpecularError> {
+    let stream = receivers.stream(walked)?;
+    if walked.frame() != frame {
+        return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
+            prepared: walked.frame().0,
+            current: frame.0,
+        }));
+    }
+    Ok(stream)
+}
+
 /// One prepare's GPU state: uniforms, draw list, projectors and normals.
 #[derive(Debug)]
 struct HighlightSlot {
@@ -479,13 +495,7 @@ impl HighlightPass {
         receivers: &crate::ReceiverObject,
         walked: &Prepared,
     ) -> Result<Prepared, SpecularError> {
-        let stream = receivers.stream(walked)?;
-        if walked.frame() != input.frame {
-            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
-                prepared: walked.frame().0,
-                current: input.frame.0,
-            }));
-        }
+        let stream = walk_stream(receivers, walked, input.frame)?;
         self.prepare_impl(queue, object, input, Some(stream), None)
     }
 
@@ -504,13 +514,7 @@ impl HighlightPass {
         (receivers, walked): (&crate::ReceiverObject, &Prepared),
         projectors: &crate::ProjectorObject,
     ) -> Result<Prepared, SpecularError> {
-        let stream = receivers.stream(walked)?;
-        if walked.frame() != input.frame {
-            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
-                prepared: walked.frame().0,
-                current: input.frame.0,
-            }));
-        }
+        let stream = walk_stream(receivers, walked, input.frame)?;
         self.prepare_impl(queue, object, input, Some(stream), Some(projectors))
     }
 

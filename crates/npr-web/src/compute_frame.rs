@@ -56,18 +56,8 @@ impl FrameCheck {
         let cpu = HighlightSet::new(mesh, &options).map_err(|e| e.to_string())?;
         let gpu = HighlightSet::new(mesh, &options).map_err(|e| e.to_string())?;
         let on_gpu = FrameOnGpu::new(device, &gpu, &mesh.indices).map_err(|e| e.to_string())?;
-        let (lo, hi) = mesh.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let c = 0.5 * (lo + hi);
-        let radius = mesh
-            .positions
-            .iter()
-            .map(|p| p.distance(c))
-            .fold(0.0, f32::max);
         let mut check = Self {
-            radius,
+            radius: crate::compute_tracking::bounding_radius(mesh),
             cpu,
             gpu,
             on_gpu,

@@ -37,6 +37,19 @@ fn frames() -> [(LightEye, Mat4); 2] {
     ]
 }
 
+/// The mesh's bounding radius about its box's centre.
+pub(crate) fn bounding_radius(mesh: &Mesh) -> f32 {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let c = 0.5 * (lo + hi);
+    mesh.positions
+        .iter()
+        .map(|p| p.distance(c))
+        .fold(0.0, f32::max)
+}
+
 /// The tracked frame on its way back.
 pub struct TrackingCheck {
     /// The mesh's bounding radius (about its box's centre).
@@ -98,18 +111,8 @@ impl TrackingCheck {
             .record(&mut encoder, &regions, &grown)
             .map_err(|e| e.to_string())?;
         queue.submit([encoder.finish()]);
-        let (lo, hi) = mesh.positions.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
-        let c = 0.5 * (lo + hi);
-        let radius = mesh
-            .positions
-            .iter()
-            .map(|p| p.distance(c))
-            .fold(0.0, f32::max);
         Ok(Self {
-            radius,
+            radius: bounding_radius(mesh),
             cpu,
             gpu,
             search: search.map(&searched).map_err(|e| e.to_string())?,

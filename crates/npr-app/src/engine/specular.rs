@@ -191,14 +191,7 @@ impl SpecularEffect {
                 stats.gpu_waits = 0;
                 stats.highlights = set.highlights().len();
                 stats.receiver_faces = 0;
-                let input = npr_specular::HighlightInput {
-                    frame,
-                    indices: &model.mesh.indices,
-                    set,
-                    view: uniforms,
-                    object,
-                    list: None,
-                };
+                let input = highlight_input(frame, model, set, (uniforms, object));
                 return Ok(shape.pass.prepare_with_gpu_projectors(
                     queue,
                     &mut shape.object,
@@ -241,14 +234,7 @@ impl SpecularEffect {
         } else {
             st.receiver_faces
         };
-        let input = npr_specular::HighlightInput {
-            frame,
-            indices: &model.mesh.indices,
-            set,
-            view: uniforms,
-            object,
-            list: None,
-        };
+        let input = highlight_input(frame, model, set, (uniforms, object));
         Ok(match walked {
             Some((receivers, walked)) => shape.pass.prepare_with_receivers(
                 queue,
@@ -293,6 +279,23 @@ impl SpecularEffect {
             shape.pass.draw(pass, &shape.object, prepared)?;
         }
         Ok(())
+    }
+}
+
+/// The highlight draw's input for `model` and `set` this frame.
+fn highlight_input<'a>(
+    frame: FrameId,
+    model: &'a Model,
+    set: &'a HighlightSet,
+    (uniforms, object): (&'a FrameUniforms, &'a ObjectUniforms),
+) -> npr_specular::HighlightInput<'a> {
+    npr_specular::HighlightInput {
+        frame,
+        indices: &model.mesh.indices,
+        set,
+        view: uniforms,
+        object,
+        list: None,
     }
 }
 

@@ -357,23 +357,8 @@ impl RegionPass {
                     "more than {MAX_TRACKED} highlights to match on the GPU"
                 ))
             })?;
-        let (search, searched) = input.search;
-        if searched.frame() != input.frame {
-            return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
-                prepared: searched.frame().0,
-                current: input.frame.0,
-            }));
-        }
-        let outputs = search.centre_buffers(searched)?;
-        let cpu_input = RegionInput {
-            frame: input.frame,
-            set: input.set,
-            seeds: &[],
-            light_eye: input.light_eye,
-            world_from_object: input.world_from_object,
-        };
         let table = tracked::TableSource::Bytes(&table);
-        self.prepare_with(queue, object, &cpu_input, Some((room, table, outputs)))
+        self.prepare_tracked_with(queue, object, input, (room, table))
     }
 
     /// [`RegionPass::prepare_tracked`] matching the centres with a table of highlights the
@@ -390,6 +375,25 @@ impl RegionPass {
         input: &TrackedInput<'_>,
         table: &wgpu::Buffer,
     ) -> Result<Prepared, SpecularError> {
+        // A new highlight's σ is the set's global one now, as the CPU's matching takes it.
+        let fresh = input
+            .set
+            .global
+            .compose(&crate::HighlightControls::default());
+        queue.write_buffer(table, 8, bytemuck::bytes_of(&fresh.sigma));
+        let table = tracked::TableSource::Gpu(table);
+        self.prepare_tracked_with(queue, object, input, (TRACKED_SEEDS, table))
+    }
+
+    /// A tracked frame's prepare (`room` seeds at most, matched with `table`), after the
+    /// search's of the same frame.
+    fn prepare_tracked_with(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut RegionObject,
+        input: &TrackedInput<'_>,
+        (room, table): (usize, tracked::TableSource<'_>),
+    ) -> Result<Prepared, SpecularError> {
         let (search, searched) = input.search;
         if searched.frame() != input.frame {
             return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
@@ -405,19 +409,7 @@ impl RegionPass {
             light_eye: input.light_eye,
             world_from_object: input.world_from_object,
         };
-        // A new highlight's σ is the set's global one now, as the CPU's matching takes it.
-        let fresh = input
-            .set
-            .global
-            .compose(&crate::HighlightControls::default());
-        queue.write_buffer(table, 8, bytemuck::bytes_of(&fresh.sigma));
-        let table = tracked::TableSource::Gpu(table);
-        self.prepare_with(
-            queue,
-            object,
-            &cpu_input,
-            Some((TRACKED_SEEDS, table, outputs)),
-        )
+        self.prepare_with(queue, object, &cpu_input, Some((room, table, outputs)))
     }
 
     /// [`RegionPass::prepare`], its seeds written by the CPU (`tracked` `None`) or by
