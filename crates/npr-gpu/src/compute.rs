@@ -148,3 +148,38 @@ mod tests {
         ));
     }
 }
+
+/// Bind groups kept for the buffers they bind: a pass whose frame binds the same buffers
+/// as an earlier one (a slot's own, a table that alternates between two) takes that
+/// frame's group instead of making one, which costs the CPU tens of microseconds a
+/// group. Holds the last few.
+#[derive(Debug, Default)]
+pub struct GroupCache {
+    entries: Vec<(Vec<wgpu::Buffer>, wgpu::BindGroup)>,
+}
+
+impl GroupCache {
+    /// Groups kept at most.
+    const KEEP: usize = 4;
+
+    /// The group made for `buffers` (in binding order), made by `make` the first time.
+    pub fn get_or_make(
+        &mut self,
+        buffers: &[&wgpu::Buffer],
+        make: impl FnOnce() -> wgpu::BindGroup,
+    ) -> wgpu::BindGroup {
+        let same = |kept: &[wgpu::Buffer]| {
+            kept.len() == buffers.len() && kept.iter().zip(buffers).all(|(a, b)| a == *b)
+        };
+        if let Some((_, group)) = self.entries.iter().find(|(kept, _)| same(kept)) {
+            return group.clone();
+        }
+        let group = make();
+        if self.entries.len() == Self::KEEP {
+            self.entries.remove(0);
+        }
+        let kept = buffers.iter().map(|b| (*b).clone()).collect();
+        self.entries.push((kept, group.clone()));
+        group
+    }
+}

@@ -160,7 +160,8 @@ impl FrameOnGpu {
             &walk,
             (&self.projectors, room),
         )?;
-        self.search_pass.record(encoder, &self.search, &searched)?;
+        self.search_pass
+            .record_on_gpu(encoder, &self.search, &searched)?;
         self.region_pass.record(encoder, &self.regions, &grown)?;
         self.projector_pass
             .record(encoder, &self.projectors, &projected)?;

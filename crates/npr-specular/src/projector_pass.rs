@@ -95,6 +95,9 @@ struct ProjectorSlot {
     /// The search's `cs_replace` over the table this frame reads.
     replace: Option<crate::search_pass::ReplaceWork>,
     table: usize,
+    /// The groups of earlier frames (`cs_project`'s, `cs_replace`'s).
+    groups: npr_gpu::compute::GroupCache,
+    replace_groups: npr_gpu::compute::GroupCache,
 }
 
 /// How a frame's projectors were made.
@@ -230,6 +233,8 @@ impl ProjectorPass {
             group: None,
             replace: None,
             table,
+            groups: Default::default(),
+            replace_groups: Default::default(),
         })?;
         if controls.len() > slot.room {
             slot.room = controls.len().next_power_of_two();
@@ -242,21 +247,29 @@ impl ProjectorPass {
         };
         npr_gpu::compute::write_head_and_records(queue, &slot.settings, &params, &records);
         slot.table = table;
-        slot.replace = Some(input.search.0.replace_work(device, input.search.1, track)?);
-        slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr projectors"),
-            layout: &self.layout,
-            entries: &[
-                group_entry(0, seeds),
-                group_entry(1, fits),
-                group_entry(2, centres),
-                group_entry(3, track),
-                group_entry(4, dispatch),
-                group_entry(5, &slot.settings),
-                group_entry(6, &object.tables[table]),
-                group_entry(7, &object.projectors),
-            ],
-        }));
+        let (search, searched) = input.search;
+        let replace = search.replace_work(device, searched, track, &mut slot.replace_groups)?;
+        slot.replace = Some(replace);
+        let next = &object.tables[table];
+        let bound = [seeds, fits, centres, track, dispatch, &slot.settings, next];
+        let layout = &self.layout;
+        let group = slot.groups.get_or_make(&bound, || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr projectors"),
+                layout,
+                entries: &[
+                    group_entry(0, seeds),
+                    group_entry(1, fits),
+                    group_entry(2, centres),
+                    group_entry(3, track),
+                    group_entry(4, dispatch),
+                    group_entry(5, &slot.settings),
+                    group_entry(6, next),
+                    group_entry(7, &object.projectors),
+                ],
+            })
+        });
+        slot.group = Some(group);
         Ok(prepared)
     }
 

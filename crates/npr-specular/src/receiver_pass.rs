@@ -86,6 +86,8 @@ struct Slot {
     list: wgpu::Buffer,
     list_faces: usize,
     group: Option<wgpu::BindGroup>,
+    /// The groups of earlier frames.
+    groups: npr_gpu::compute::GroupCache,
     /// Highlights the buffers have room for.
     room: usize,
     /// Highlights this frame walks.
@@ -449,38 +451,52 @@ impl ReceiverPass {
         params.words = object.words as u32;
         params.capacity = capacity as u32;
         params.list_faces = slot.list_faces as u32;
-        let frame = match gpu {
+        let (frame_buffer, at) = match gpu {
             None => {
                 npr_gpu::compute::write_head_and_records(queue, &slot.queries, &params, &queries);
-                slot.queries.as_entire_binding()
+                (&slot.queries, 0)
             }
             Some((projectors, _)) => {
                 let (buffer, at) = projectors.receiver_frame();
                 queue.write_buffer(buffer, at, bytemuck::bytes_of(&params));
-                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                    buffer,
-                    offset: at,
-                    size: None,
-                })
+                (buffer, at)
             }
         };
-        slot.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr receivers"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: frame,
-                },
-                group_entry(2, &object.positions),
-                group_entry(3, &object.face_records),
-                group_entry(4, &object.adjacency),
-                group_entry(5, &object.visited),
-                group_entry(6, &object.work),
-                group_entry(7, &slot.meta),
-                group_entry(8, &slot.list),
-            ],
-        }));
+        let bound = [
+            frame_buffer,
+            &object.positions,
+            &object.face_records,
+            &object.adjacency,
+            &object.visited,
+            &object.work,
+            &slot.meta,
+            &slot.list,
+        ];
+        let layout = &self.layout;
+        let group = slot.groups.get_or_make(&bound, || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr receivers"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: frame_buffer,
+                            offset: at,
+                            size: None,
+                        }),
+                    },
+                    group_entry(2, &object.positions),
+                    group_entry(3, &object.face_records),
+                    group_entry(4, &object.adjacency),
+                    group_entry(5, &object.visited),
+                    group_entry(6, &object.work),
+                    group_entry(7, &slot.meta),
+                    group_entry(8, &slot.list),
+                ],
+            })
+        });
+        slot.group = Some(group);
         slot.count = highlights;
         Ok(prepared)
     }
@@ -550,6 +566,7 @@ fn make_slot(device: &wgpu::Device) -> Slot {
         list: storage(device, "npr receiver stream", 24),
         list_faces: 1,
         group: None,
+        groups: Default::default(),
         room: 0,
         count: 0,
     }

@@ -181,6 +181,7 @@ pub(super) struct TrackedSlot {
     own_track: Option<wgpu::Buffer>,
     sigmas: wgpu::Buffer,
     pub(super) group: wgpu::BindGroup,
+    groups: npr_gpu::compute::GroupCache,
 }
 
 /// Where a tracked frame's table of last highlights comes from: the set's last update
@@ -234,9 +235,9 @@ pub(super) fn tracked_slot(
         }
         _ => buffer_init(device, label, bytes, usage),
     };
-    let (last_track, last_sigmas, last_dispatch) = match last {
-        Some(t) => (t.own_track, Some(t.sigmas), Some(t.dispatch)),
-        None => (None, None, None),
+    let (last_track, last_sigmas, last_dispatch, mut groups) = match last {
+        Some(t) => (t.own_track, Some(t.sigmas), Some(t.dispatch), t.groups),
+        None => (None, None, None, Default::default()),
     };
     let (track, own_track) = match table {
         TableSource::Bytes(bytes) => {
@@ -262,17 +263,20 @@ pub(super) fn tracked_slot(
                 | wgpu::BufferUsages::COPY_SRC,
         )
     });
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("npr region track"),
-        layout,
-        entries: &[
-            group_entry(0, seeds),
-            group_entry(1, centres),
-            group_entry(2, counter),
-            group_entry(3, &track),
-            group_entry(4, &dispatch),
-            group_entry(5, &sigmas),
-        ],
+    let bound = [seeds, centres, counter, &track, &dispatch, &sigmas];
+    let group = groups.get_or_make(&bound, || {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("npr region track"),
+            layout,
+            entries: &[
+                group_entry(0, seeds),
+                group_entry(1, centres),
+                group_entry(2, counter),
+                group_entry(3, &track),
+                group_entry(4, &dispatch),
+                group_entry(5, &sigmas),
+            ],
+        })
     });
     TrackedSlot {
         dispatch,
@@ -280,6 +284,7 @@ pub(super) fn tracked_slot(
         own_track,
         sigmas,
         group,
+        groups,
     }
 }
 

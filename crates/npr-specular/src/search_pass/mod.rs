@@ -534,6 +534,30 @@ impl CentreSearchPass {
         object: &SearchObject,
         prepared: &Prepared,
     ) -> Result<(), SpecularError> {
+        self.record_with(encoder, object, prepared, true)
+    }
+
+    /// [`CentreSearchPass::record`] without the copies for [`SearchObject::read`]: for a
+    /// frame whose centres are read on the GPU alone ([`crate::FrameOnGpu`]).
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::record`].
+    pub fn record_on_gpu(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        object: &SearchObject,
+        prepared: &Prepared,
+    ) -> Result<(), SpecularError> {
+        self.record_with(encoder, object, prepared, false)
+    }
+
+    fn record_with(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        object: &SearchObject,
+        prepared: &Prepared,
+        readback: bool,
+    ) -> Result<(), SpecularError> {
         let slot = object.slots.get(self.id, prepared)?;
         encoder.clear_buffer(&slot.frame, 0, Some(COUNTER_BYTES));
         encoder.clear_buffer(&slot.dispatch, 0, None);
@@ -583,6 +607,9 @@ impl CentreSearchPass {
                 pass.set_pipeline(&self.peaks_pipeline);
                 pass.dispatch_workgroups(1, 1, 1);
             }
+        }
+        if !readback {
+            return Ok(());
         }
         // The header: faces accepted, clusters listed (`Dispatch::count`), centres
         // merged; then the accepted faces and the centres' records.

@@ -56,16 +56,19 @@ impl SearchObject {
         device: &wgpu::Device,
         prepared: &Prepared,
         table: &wgpu::Buffer,
+        groups: &mut npr_gpu::compute::GroupCache,
     ) -> Result<ReplaceWork, SpecularError> {
         let slot: &Slot = self.slots.get(self.slots.pass(), prepared)?;
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("npr centre search replace"),
-            layout: &self.replace.layout,
-            entries: &[
-                group_entry(1, &self.field),
-                group_entry(2, &slot.records),
-                group_entry(5, table),
-            ],
+        let group = groups.get_or_make(&[&self.field, &slot.records, table], || {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("npr centre search replace"),
+                layout: &self.replace.layout,
+                entries: &[
+                    group_entry(1, &self.field),
+                    group_entry(2, &slot.records),
+                    group_entry(5, table),
+                ],
+            })
         });
         Ok(ReplaceWork {
             pipeline: self.replace.pipeline.clone(),
