@@ -37,7 +37,22 @@ const CHROMIUM_FLAGS: [&str; 7] = [
 ];
 
 /// The effects compared with the native render.
-const EFFECTS: [&str; 4] = ["phong", "specular", "hatching-pen", "warp"];
+const EFFECTS: [&str; 5] = [
+    "phong",
+    "specular",
+    "specular-gpu-frame",
+    "hatching-pen",
+    "warp",
+];
+
+/// The preset a case of [`EFFECTS`] renders: its effect, and for `specular-gpu-frame` the
+/// highlights made wholly on the GPU in the page (`[specular] search = "gpu-frame"`).
+fn case_preset(case: &str) -> String {
+    match case.strip_suffix("-gpu-frame") {
+        Some(effect) => format!("effect = \"{effect}\"\n[specular]\nsearch = \"gpu-frame\"\n"),
+        None => format!("effect = \"{case}\"\n"),
+    }
+}
 
 /// The largest mean FLIP accepted per effect.
 const MAX_FLIP: f64 = 0.05;
@@ -98,7 +113,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
     let mut rows = Vec::new();
     std::fs::write(site.join("check-edits.txt"), EDIT_SCRIPT)?;
     for effect in EFFECTS {
-        let text = format!("effect = \"{effect}\"\n");
+        let text = case_preset(effect);
         let name = format!("check-{effect}.toml");
         std::fs::write(site.join(&name), &text)?;
         let preset = Preset::from_toml(&text, Path::new(&name))?;
