@@ -35,7 +35,8 @@ struct TrackParams {
     drawn: u32,
     merged: u32,
     // 0: built on the GPU; 1: the frame's regions could not be seeded, so its highlights
-    // were held as they were; 2: more projectors than `MAX_DRAWN`.
+    // were held as they were; 2: more projectors than `MAX_DRAWN`; 3: a region's walk was
+    // cut short at its queue's capacity (fitted from what it walked).
     status: u32,
 }
 

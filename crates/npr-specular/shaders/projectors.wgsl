@@ -502,6 +502,8 @@ fn cs_project(@builtin(local_invocation_index) lane: u32) {
     if lane == 0u {
         wg_drawn = build();
     }
+    // The records lane 0 wrote (storage) before other lanes write their neighbours.
+    storageBarrier();
     let drawn = workgroupUniformLoad(&wg_drawn);
     // `share_regions`: the four nearest whose footprints can overlap (pieces of one
     // highlight always; others when neither carries the user's own edits).
@@ -622,6 +624,11 @@ fn build() -> u32 {
             has_fp = true;
         } else {
             let r = fits[seed];
+            // A walk cut short (its queue's capacity) fits part of its region: the CPU
+            // would have grown it; the frame says so.
+            if r.flags.w != 0u {
+                next.params.status = 3u;
+            }
             if r.flags.x == 0u {
                 fit_seed = seed;
                 fp = fitted(r.ellipse, r.fit.xyz, r.fit.w);
@@ -694,7 +701,9 @@ fn build() -> u32 {
                 let piece = fitted(rp.ellipse, vec3<f32>(rp.fit.xy, r.fit.z), rp.fit.z);
                 let edited = group_edit(fp, piece, k);
                 let pp = projector_with(centre, k, edited);
-                if pp.ok && drawn < MAX_DRAWN {
+                if pp.ok && drawn >= MAX_DRAWN {
+                    next.params.status = 2u;
+                } else if pp.ok {
                     draw(drawn, id, centre, k, pp, piece, opacity, 0u, is_found);
                     drawn += 1u;
                     pieces += 1u;
@@ -710,8 +719,8 @@ fn build() -> u32 {
     next.params.tracking = 1u;
     next.params.drawn = drawn;
     next.params.merged = merged;
-    // The walks the receivers' room holds (32 a visited word).
-    out.receiver_params.highlight_count = min(drawn, 32u * out.receiver_params.words);
+    // The walks the receivers' room holds (the CPU wrote the room there).
+    out.receiver_params.highlight_count = min(drawn, out.receiver_params.highlight_count);
     if hold {
         next.params.status = 1u;
     }

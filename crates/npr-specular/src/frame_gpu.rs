@@ -187,7 +187,8 @@ impl FrameOnGpu {
     /// Starts the next frame from `set`'s last update (its highlights keep their ids, fades
     /// and edits on the GPU): [`ProjectorObject::start_from`].
     pub fn start_from(&self, queue: &wgpu::Queue, set: &HighlightSet, world_from_object: Mat4) {
-        self.projectors.start_from(queue, set, world_from_object);
+        self.projectors
+            .start_from(queue, (set, &self.search), world_from_object);
     }
 
     /// Which texture layers of the highlight pass are normal maps

@@ -110,6 +110,9 @@ pub enum GpuFrameStatus {
     Held,
     /// More than [`MAX_DRAWN`] projectors: the rest were left out.
     TooMany,
+    /// A region's walk was cut short at its queue's capacity: it was fitted from the
+    /// part it walked (the CPU would have grown it whole).
+    CutShort,
 }
 
 /// One highlight of a frame built on the GPU (its piece 0), as the CPU reads it one
@@ -226,7 +229,6 @@ impl ProjectorPass {
             .project_params(input.world_from_object, input.normal_maps);
         let device = &self.device;
         let table = 1 - object.written;
-        object.written = table;
         let (prepared, slot) = object.slots.next(self.id, input.frame, || ProjectorSlot {
             settings: settings_buffer(device, 1),
             room: 1,
@@ -270,6 +272,7 @@ impl ProjectorPass {
             })
         });
         slot.group = Some(group);
+        object.written = table;
         Ok(prepared)
     }
 
@@ -344,8 +347,16 @@ impl ProjectorObject {
     /// Starts the next frame from `set`'s last update (its highlights, ids, fades and next
     /// id) placed under `world_from_object`, in place of the table the GPU kept: a set
     /// updated on the CPU so far goes on on the GPU with the same highlights.
-    pub fn start_from(&self, queue: &wgpu::Queue, set: &HighlightSet, world_from_object: Mat4) {
-        let (mut head, table) = set.gpu_table(world_from_object);
+    /// `search` is the GPU search the frames run (`cs_replace` places the highlights it
+    /// loses again through its faces' slots).
+    pub fn start_from(
+        &self,
+        queue: &wgpu::Queue,
+        (set, search): (&HighlightSet, &crate::SearchObject),
+        world_from_object: Mat4,
+    ) {
+        let slots = search.slots_of_faces();
+        let (mut head, table) = set.gpu_table(world_from_object, Some(&slots));
         head.room = TRACKED_SEEDS as u32;
         let count = table.len().min(MAX_TRACKED);
         head.count = count as u32;
@@ -438,7 +449,8 @@ fn decode(bytes: &[u8]) -> GpuFrame {
         status: match head.status {
             0 => GpuFrameStatus::Built,
             1 => GpuFrameStatus::Held,
-            _ => GpuFrameStatus::TooMany,
+            2 => GpuFrameStatus::TooMany,
+            _ => GpuFrameStatus::CutShort,
         },
         highlights,
         projectors,

@@ -451,6 +451,10 @@ impl ReceiverPass {
         params.words = object.words as u32;
         params.capacity = capacity as u32;
         params.list_faces = slot.list_faces as u32;
+        if gpu.is_some() {
+            // The walks dispatched: the projectors take at most this many.
+            params.highlight_count = highlights as u32;
+        }
         let (frame_buffer, at) = match gpu {
             None => {
                 npr_gpu::compute::write_head_and_records(queue, &slot.queries, &params, &queries);

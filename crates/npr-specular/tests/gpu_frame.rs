@@ -150,17 +150,31 @@ fn a_sequence_moves_between_the_cpu_and_the_gpu_keeping_its_highlights() {
             .map(|h| (h.id, (h.opacity * 1e4).round() as u32))
             .collect()
     };
+    let centres = |set: &HighlightSet| -> Vec<Vec3> {
+        set.highlights()
+            .iter()
+            .filter(|h| h.piece == 0)
+            .map(|h| h.centre.position_world)
+            .collect()
+    };
     let mut on_gpu_frames = 0;
+    // The light sweeps and the object turns: highlights are lost and fade out where the
+    // object carries them, on the GPU as on the CPU (placed again each frame).
+    let mut faded = 0;
     for step in 0..9 {
         let dir = Vec3::new(0.2 + 0.2 * step as f32, 0.5, 1.0);
         let (light_eye, camera, light) = light_eye_along(dir, 3.0 * radius, w as f32 / h as f32);
-        reference.update(light_eye, Mat4::IDENTITY);
+        let world = Mat4::from_rotation_y(0.08 * step as f32);
+        reference.update(light_eye, world);
         if (3..6).contains(&step) {
             // On the GPU from the set's last update.
             if step == 3 {
-                on_gpu.start_from(&ctx.queue, &moving, Mat4::IDENTITY);
+                on_gpu.start_from(&ctx.queue, &moving, world);
             }
-            let scene = HighlightScene::on_black(&gpu_mesh, &mesh.indices, &moving, camera, light);
+            let scene = HighlightScene {
+                object: ObjectUniforms::new(world, Vec3::splat(0.4), 0.0, Vec3::ZERO, 1.0),
+                ..HighlightScene::on_black(&gpu_mesh, &mesh.indices, &moving, camera, light)
+            };
             renderer
                 .submit_frame_on_gpu(
                     &ctx.device,
@@ -176,14 +190,22 @@ fn a_sequence_moves_between_the_cpu_and_the_gpu_keeping_its_highlights() {
             moving.adopt_gpu_frame(&latest);
             on_gpu_frames += 1;
         } else {
-            moving.update(light_eye, Mat4::IDENTITY);
+            moving.update(light_eye, world);
         }
         assert_eq!(
             ids(&moving),
             ids(&reference),
             "frame {step}: ids and opacities"
         );
+        for (a, b) in centres(&moving).iter().zip(centres(&reference)) {
+            assert!(
+                a.distance(b) <= 1e-4 * radius,
+                "frame {step}: {a} against {b}"
+            );
+        }
+        faded += reference.highlights().iter().filter(|h| !h.found).count();
     }
     assert_eq!(on_gpu_frames, 3);
     assert!(!ids(&reference).is_empty());
+    assert!(faded >= 1, "no highlight faded out");
 }

@@ -202,7 +202,8 @@ pub(super) fn track_data(
     world_from_object: Mat4,
     room: usize,
 ) -> Option<Vec<u8>> {
-    let (mut params, table) = set.gpu_table(world_from_object);
+    // Made again every frame: each centre placed here already.
+    let (mut params, table) = set.gpu_table(world_from_object, None);
     if table.len() > MAX_TRACKED {
         return None;
     }

@@ -47,6 +47,17 @@ impl Replace {
 }
 
 impl SearchObject {
+    /// Per face its visiting slot (`cs_replace` reads a centre's face through it).
+    pub(crate) fn slots_of_faces(&self) -> Vec<u32> {
+        let mut slots = vec![u32::MAX; self.faces];
+        for (slot, &face) in self.face_order.iter().enumerate() {
+            if let Some(s) = slots.get_mut(face as usize) {
+                *s = slot as u32;
+            }
+        }
+        slots
+    }
+
     /// `cs_replace` for `prepared`'s frame over `table` (`TrackData`).
     ///
     /// # Errors

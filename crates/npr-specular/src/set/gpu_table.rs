@@ -45,7 +45,15 @@ impl HighlightSet {
     /// footprint, state and opacity, and its centre placed again under this transform
     /// (where a lost highlight fades out); the head holds the σ of a new highlight, the
     /// next id and whether a frame was drawn. Ids are the GPU's `u32`.
-    pub(crate) fn gpu_table(&self, world_from_object: Mat4) -> (TrackParams, Vec<TrackedRecord>) {
+    ///
+    /// With `slots` (per face its visiting slot in the GPU search) each centre keeps its
+    /// slot and `cs_replace` places it again every frame; without, it is marked placed
+    /// already (slot `NONE`): a table made again every frame.
+    pub(crate) fn gpu_table(
+        &self,
+        world_from_object: Mat4,
+        slots: Option<&[u32]>,
+    ) -> (TrackParams, Vec<TrackedRecord>) {
         let scale = mean_scale(world_from_object);
         let radius_world = self.size_cap_radius.unwrap_or(self.radius_object) * scale;
         let table = self
@@ -63,13 +71,14 @@ impl HighlightSet {
                 TrackedRecord {
                     position_reach: p.extend(self.reach(h, radius_world, scale)).to_array(),
                     sigma: [self.controls_of(h.id).sigma, 0.0, 0.0, 0.0],
-                    // Placed here already: `cs_replace` keeps it (slot `NONE`).
                     centre: CentreRecord {
                         solution: [
                             placed.face,
                             placed.alpha.to_bits(),
                             placed.beta.to_bits(),
-                            u32::MAX,
+                            slots
+                                .and_then(|s| s.get(placed.face as usize).copied())
+                                .unwrap_or(u32::MAX),
                         ],
                         ..CentreRecord::of(&placed, h.peak)
                     },
