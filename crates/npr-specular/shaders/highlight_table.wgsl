@@ -36,7 +36,8 @@ struct TrackParams {
     merged: u32,
     // 0: built on the GPU; 1: the frame's regions could not be seeded, so its highlights
     // were held as they were; 2: more projectors than `MAX_DRAWN`; 3: a region's walk was
-    // cut short at its queue's capacity (fitted from what it walked).
+    // cut short at its queue's capacity (fitted from what it walked); 4: the search could
+    // not find the frame's peaks (drawn without them).
     status: u32,
 }
 

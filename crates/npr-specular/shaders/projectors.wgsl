@@ -547,9 +547,8 @@ fn cs_project(@builtin(local_invocation_index) lane: u32) {
 fn build() -> u32 {
     let s = settings.params;
     let p_count = min(previous.params.count, MAX_TRACKED);
+    // (The room is the CPU's each frame: `prepare_tracked_on_table`.)
     next.params = previous.params;
-    // A table the GPU wrote is matched with room for `TRACKED_SEEDS` seeds.
-    next.params.room = 64u;
     next.params.sigma = s.controls_a.w;
     next.params.status = 0u;
     next.params.merged = 0u;
@@ -564,6 +563,11 @@ fn build() -> u32 {
     var next_id = previous.params.next_id;
     // A frame whose regions were not seeded holds its highlights as they were.
     let hold = status != 0u;
+    // Sized by regions, the search looked for peaks: `NONE` where it could not find them
+    // (more parts without a centre than it keeps), and the frame is drawn without them.
+    if !hold && region_sizing && matched[7] == NONE {
+        next.params.status = 4u;
+    }
     let centre_count = select(matched[5], 0u, hold);
     // Per centre whether a highlight took it.
     var taken: array<u32, 8>;

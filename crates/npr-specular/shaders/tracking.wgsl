@@ -18,8 +18,9 @@
 @group(0) @binding(2) var<storage, read> search_counts: array<u32>;
 @group(0) @binding(3) var<storage, read> track: TrackData;
 // The growth's indirect dispatch (x, y, z), then the status: 0 seeded, 1 more seeds than
-// the room, 2 no merged list; then the highlights and centres matched and the merged
-// centres among them, and from `MATCH_AT` per highlight the centre it took.
+// the room, 2 no merged list; then the highlights and centres matched, the merged
+// centres among them and the peaks after them (`NONE`: not found), and from `MATCH_AT`
+// per highlight the centre it took.
 @group(0) @binding(4) var<storage, read_write> dispatch: array<u32>;
 const MATCH_AT: u32 = 8u;
 // The highlights whose σ the user set (`HighlightControls::sigma`): their count (x of
@@ -205,6 +206,8 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
     dispatch[4] = p;
     dispatch[5] = c;
     dispatch[6] = merged_count;
+    // The search's peaks (or `NONE`: it could not find them), for `projectors.wgsl`.
+    dispatch[7] = search_counts[2];
     var n = 0u;
     for (var i = 0u; i < p; i += 1u) {
         if centre_of[i] != NONE {

@@ -52,6 +52,8 @@ pub struct FrameOnGpu {
     record_us: f64,
     /// Frames read back so far.
     reads: u64,
+    /// Seeds the next frame's regions have room for.
+    room: usize,
 }
 
 impl FrameOnGpu {
@@ -90,6 +92,7 @@ impl FrameOnGpu {
             walked: None,
             record_us: 0.0,
             reads: 0,
+            room: crate::TRACKED_SEEDS,
         })
     }
 
@@ -127,12 +130,20 @@ impl FrameOnGpu {
             world_from_object,
             search: (&self.search, &searched),
         };
+        // Room for twice the highlights last read back and 8 more (at least
+        // `TRACKED_SEEDS`); twice the last room after a frame held for want of it.
+        self.room = match &self.latest {
+            Some(f) if f.status == crate::GpuFrameStatus::Held => 2 * self.room,
+            Some(f) => (2 * f.highlights.len() + 8).next_power_of_two(),
+            None => self.room,
+        }
+        .clamp(crate::TRACKED_SEEDS, crate::MAX_TRACKED);
         let table = self.projectors.table().clone();
         let grown = self.region_pass.prepare_tracked_on_table(
             queue,
             &mut self.regions,
             &tracked,
-            &table,
+            (&table, self.room),
         )?;
         let projected = self.projector_pass.prepare(
             queue,

@@ -113,6 +113,10 @@ pub enum GpuFrameStatus {
     /// A region's walk was cut short at its queue's capacity: it was fitted from the
     /// part it walked (the CPU would have grown it whole).
     CutShort,
+    /// The search could not find the frame's peaks on the GPU (more bright parts
+    /// without an `N = H` point than [`crate::MAX_MERGED`] centres in all): the frame
+    /// was drawn without them (the CPU's update would have found them).
+    NoPeaks,
 }
 
 /// One highlight of a frame built on the GPU (its piece 0), as the CPU reads it one
@@ -450,7 +454,8 @@ fn decode(bytes: &[u8]) -> GpuFrame {
             0 => GpuFrameStatus::Built,
             1 => GpuFrameStatus::Held,
             2 => GpuFrameStatus::TooMany,
-            _ => GpuFrameStatus::CutShort,
+            3 => GpuFrameStatus::CutShort,
+            _ => GpuFrameStatus::NoPeaks,
         },
         highlights,
         projectors,

@@ -209,3 +209,84 @@ fn a_sequence_moves_between_the_cpu_and_the_gpu_keeping_its_highlights() {
     assert!(!ids(&reference).is_empty());
     assert!(faded >= 1, "no highlight faded out");
 }
+
+/// A field of `n × n` small flat tiles, each tilted a little from +z, apart: seen and lit
+/// from above each is a bright part with no `N = H` point, so each gets a peak.
+fn tiles(n: usize) -> npr_geometry::Mesh {
+    let mut m = npr_geometry::Mesh::default();
+    for i in 0..n {
+        for j in 0..n {
+            let c = Vec3::new(i as f32 * 0.1, j as f32 * 0.1, 0.0);
+            let a = (i * 7 + j * 13) as f32 * 0.37;
+            let tilt = Vec3::new(0.08 * a.cos(), 0.08 * a.sin(), 1.0).normalize();
+            let u = tilt.any_orthonormal_vector();
+            let v = tilt.cross(u);
+            let base = m.positions.len() as u32;
+            for (du, dv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                m.positions.push(c + 0.03 * (du * u + dv * v));
+                m.normals.push(tilt);
+                m.uvs.push(glam::Vec2::ZERO);
+            }
+            m.indices
+                .extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+        }
+    }
+    m
+}
+
+/// Peaks on the GPU's frame: 100 tiles' peaks are the CPU's; 324 are more than the
+/// search keeps (`MAX_MERGED` centres in all), and the frame says it was drawn without
+/// them rather than pass for the CPU's.
+#[test]
+fn a_frame_whose_peaks_the_gpu_cannot_find_says_so() {
+    let Some(ctx) =
+        npr_gpu::testing::context_or_skip("a_frame_whose_peaks_the_gpu_cannot_find_says_so")
+    else {
+        return;
+    };
+    let overhead = npr_geometry::LightEye::Directions {
+        to_light: Vec3::Z,
+        to_eye: Vec3::Z,
+    };
+    for (n, found) in [(10, true), (18, false)] {
+        let mesh = tiles(n);
+        let mut cpu = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        let gpu = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
+        cpu.update(overhead, Mat4::IDENTITY);
+        assert_eq!(cpu.stats().peaks, n * n, "{n}: the CPU's peaks");
+        let mut on_gpu = FrameOnGpu::new(&ctx.device, &gpu, &mesh.indices).unwrap();
+        // The first frame has room for 64 seeds: 100 tiles are held (none drawn), and the
+        // next frames have room for more.
+        let mut statuses = Vec::new();
+        for k in 0..3 {
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            on_gpu
+                .record(
+                    &ctx.queue,
+                    &mut encoder,
+                    &gpu,
+                    (overhead, Mat4::IDENTITY),
+                    npr_gpu::FrameId(k + 1),
+                )
+                .unwrap();
+            ctx.queue.submit([encoder.finish()]);
+            on_gpu.read_after_submit(&ctx.device, &ctx.queue);
+            let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
+            statuses.push(on_gpu.latest().expect("read back").status);
+        }
+        let frame = on_gpu.latest().expect("read back");
+        eprintln!("{n} x {n} tiles: {statuses:?}");
+        if found {
+            assert_eq!(
+                statuses[0],
+                GpuFrameStatus::Held,
+                "{n}: 100 seeds in a room of 64"
+            );
+            assert_eq!(frame.status, GpuFrameStatus::Built, "{n}");
+            assert_eq!(frame.highlights.len(), cpu.highlights().len(), "{n}");
+            assert!(frame.highlights.iter().all(|h| h.peak), "{n}");
+        } else {
+            assert_eq!(frame.status, GpuFrameStatus::NoPeaks, "{n}");
+        }
+    }
+}

@@ -82,7 +82,7 @@ impl Frames {
                 &ctx.queue,
                 &mut self.regions,
                 &tracked,
-                &table,
+                (&table, npr_specular::TRACKED_SEEDS),
             )
         } else {
             self.region_pass

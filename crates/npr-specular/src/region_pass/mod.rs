@@ -363,8 +363,8 @@ impl RegionPass {
 
     /// [`RegionPass::prepare_tracked`] matching the centres with a table of highlights the
     /// GPU wrote (a [`crate::ProjectorObject`]'s, [`crate::ProjectorObject::table`]) in
-    /// place of `input.set`'s last update, with room for [`TRACKED_SEEDS`] seeds: a frame
-    /// that reads nothing back.
+    /// place of `input.set`'s last update, with room for `room` seeds (at most
+    /// [`MAX_TRACKED`]; a frame of more is not seeded): a frame that reads nothing back.
     ///
     /// # Errors
     /// As [`RegionPass::prepare_tracked`].
@@ -373,8 +373,10 @@ impl RegionPass {
         queue: &wgpu::Queue,
         object: &mut RegionObject,
         input: &TrackedInput<'_>,
-        table: &wgpu::Buffer,
+        (table, room): (&wgpu::Buffer, usize),
     ) -> Result<Prepared, SpecularError> {
+        let room = room.clamp(1, MAX_TRACKED);
+        queue.write_buffer(table, 4, bytemuck::bytes_of(&(room as u32)));
         // A new highlight's σ is the set's global one now, as the CPU's matching takes it.
         let fresh = input
             .set
@@ -382,7 +384,7 @@ impl RegionPass {
             .compose(&crate::HighlightControls::default());
         queue.write_buffer(table, 8, bytemuck::bytes_of(&fresh.sigma));
         let table = tracked::TableSource::Gpu(table);
-        self.prepare_tracked_with(queue, object, input, (TRACKED_SEEDS, table))
+        self.prepare_tracked_with(queue, object, input, (room, table))
     }
 
     /// A tracked frame's prepare (`room` seeds at most, matched with `table`), after the
