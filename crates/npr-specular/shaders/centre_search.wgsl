@@ -850,16 +850,30 @@ fn cs_join_bright(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
     }
 }
 
+// This invocation's vertex, its `N·H` bits (0: none or not bright) and its part's root.
+fn bright_part(gid: vec3<u32>, groups: vec3<u32>) -> vec3<u32> {
+    let v = peak_vertex(gid, groups);
+    if v >= arrayLength(&vertices) {
+        return vec3<u32>(v, 0u, 0u);
+    }
+    let d = bright_bits(v);
+    if d == 0u {
+        return vec3<u32>(v, 0u, 0u);
+    }
+    return vec3<u32>(v, d, part_root(v));
+}
+
 // Each part's greatest `N·H` at its root, and the roots listed.
 @compute @workgroup_size(64)
 fn cs_part_best(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let v = peak_vertex(gid, groups);
+    let b = bright_part(gid, groups);
+    let v = b.x;
+    let d = b.y;
+    let r = b.z;
     let nv = arrayLength(&vertices);
-    let d = select(0u, bright_bits(min(v, nv - 1u)), v < nv);
     if d == 0u {
         return;
     }
-    let r = part_root(v);
     atomicMax(&peak_scratch.data[2u * nv + r], d);
     if r == v {
         let k = atomicAdd(&peak_scratch.listed, 1u);
@@ -874,13 +888,14 @@ fn cs_part_best(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
 // Each part's brightest vertex, the lowest on ties (its complement's maximum).
 @compute @workgroup_size(64)
 fn cs_part_brightest(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let v = peak_vertex(gid, groups);
+    let b = bright_part(gid, groups);
+    let v = b.x;
+    let d = b.y;
+    let r = b.z;
     let nv = arrayLength(&vertices);
-    let d = select(0u, bright_bits(min(v, nv - 1u)), v < nv);
     if d == 0u {
         return;
     }
-    let r = part_root(v);
     if atomicLoad(&peak_scratch.data[2u * nv + r]) == d {
         atomicMax(&peak_scratch.data[3u * nv + r], ~v);
     }

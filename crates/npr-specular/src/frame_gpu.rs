@@ -22,7 +22,7 @@
 use crate::{
     CentreSearchPass, GpuFrame, HighlightSet, PendingFrame, ProjectorInput, ProjectorObject,
     ProjectorPass, ReceiverInput, ReceiverObject, ReceiverPass, RegionObject, RegionPass,
-    SearchInput, SearchObject, SpecularError, TrackedInput,
+    SearchObject, SpecularError, TrackedInput,
 };
 use glam::Mat4;
 use npr_geometry::LightEye;
@@ -113,16 +113,10 @@ impl FrameOnGpu {
         frame: FrameId,
     ) -> Result<Prepared, SpecularError> {
         let start = Instant::now();
-        let input = SearchInput {
-            frame,
-            search: set.search(),
-            light_eye,
-            world_from_object,
-        };
-        let sigma = (set.sizing == crate::HighlightSizing::Region).then_some(set.global.sigma);
+        let frame_of = (light_eye, world_from_object);
         let searched =
             self.search_pass
-                .prepare_with_peaks(queue, &mut self.search, &input, sigma)?;
+                .prepare_for_set(queue, &mut self.search, (set, frame), frame_of)?;
         let tracked = TrackedInput {
             frame,
             set,

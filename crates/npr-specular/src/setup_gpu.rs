@@ -18,8 +18,8 @@
 //! ```
 
 use crate::{
-    CentreSearchPass, HighlightSet, RegionObject, RegionPass, SearchInput, SearchObject,
-    SpecularError, TrackedInput,
+    CentreSearchPass, HighlightSet, RegionObject, RegionPass, SearchObject, SpecularError,
+    TrackedInput,
 };
 use glam::Mat4;
 use npr_geometry::{HighlightCentre, LightEye};
@@ -94,17 +94,13 @@ impl SetupOnGpu {
         };
         self.frame = self.frame.next();
         let frame = self.frame;
-        let input = SearchInput {
-            frame,
-            search: set.search(),
-            light_eye,
-            world_from_object,
-        };
         // The peaks too, where the update sizes highlights by their regions.
-        let sigma = (set.sizing == crate::HighlightSizing::Region).then_some(set.global.sigma);
-        let searched = self
-            .search_pass
-            .prepare_with_peaks(queue, search, &input, sigma)?;
+        let searched = self.search_pass.prepare_for_set(
+            queue,
+            search,
+            (set, frame),
+            (light_eye, world_from_object),
+        )?;
         // The regions seeded on the GPU, where the update sizes highlights by their
         // regions, the mesh fits and the last update's highlights are few enough to match
         // there.

@@ -12,7 +12,7 @@ use npr_geometry::{CurvatureOptions, LightEye};
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{
     CentreSearchPass, GpuFrame, GpuFrameStatus, HighlightSet, HighlightSizing, ProjectorGpu,
-    ProjectorInput, ProjectorPass, RegionPass, SearchInput, TrackedInput, projector_gpu,
+    ProjectorInput, ProjectorPass, RegionPass, TrackedInput, projector_gpu,
 };
 
 mod common;
@@ -58,16 +58,14 @@ impl Frames {
         own_table: bool,
     ) -> GpuFrame {
         self.frame = self.frame.next();
-        let input = SearchInput {
-            frame: self.frame,
-            search: set.search(),
-            light_eye,
-            world_from_object,
-        };
-        let sigma = (set.sizing == HighlightSizing::Region).then_some(set.global.sigma);
         let searched = self
             .search_pass
-            .prepare_with_peaks(&ctx.queue, &mut self.search, &input, sigma)
+            .prepare_for_set(
+                &ctx.queue,
+                &mut self.search,
+                (set, self.frame),
+                (light_eye, world_from_object),
+            )
             .unwrap();
         let tracked = TrackedInput {
             frame: self.frame,

@@ -405,6 +405,29 @@ impl CentreSearchPass {
         self.prepare_with_peaks(queue, object, input, None)
     }
 
+    /// [`CentreSearchPass::prepare_with_peaks`] for `set`'s search in `frame`, looking for
+    /// the peaks at the set's σ where its highlights are sized by their regions (the
+    /// peaks its update would find).
+    ///
+    /// # Errors
+    /// As [`CentreSearchPass::prepare`].
+    pub fn prepare_for_set(
+        &self,
+        queue: &wgpu::Queue,
+        object: &mut SearchObject,
+        (set, frame): (&crate::HighlightSet, FrameId),
+        (light_eye, world_from_object): (LightEye, Mat4),
+    ) -> Result<Prepared, SpecularError> {
+        let input = SearchInput {
+            frame,
+            search: set.search(),
+            light_eye,
+            world_from_object,
+        };
+        let sigma = (set.sizing == crate::HighlightSizing::Region).then_some(set.global.sigma);
+        self.prepare_with_peaks(queue, object, &input, sigma)
+    }
+
     /// [`CentreSearchPass::prepare`] that also looks for the peaks at `peak_sigma` (an
     /// object of [`CentreSearchPass::create_object_with_peaks`]; `None`, or an object
     /// without the peaks' tables, looks for none): [`SearchSolutions::peaks`].
