@@ -63,6 +63,8 @@ pub(crate) struct SpecularEffect {
     frame_gpu: Option<npr_specular::FrameOnGpu>,
     frame_gpu_failed: bool,
     restart: bool,
+    /// Frames read back that the set has adopted.
+    adopted: u64,
 }
 
 impl SpecularEffect {
@@ -96,6 +98,7 @@ impl SpecularEffect {
 
     fn forget_frame_gpu(&mut self) {
         self.frame_gpu = None;
+        self.adopted = 0;
         self.frame_gpu_failed = false;
         self.restart = false;
     }
@@ -135,6 +138,7 @@ impl SpecularEffect {
             self.search.forget();
             self.receivers.forget();
             self.frame_gpu = None;
+            self.adopted = 0;
             self.frame_gpu_failed = false;
         }
         if std::mem::take(&mut self.moved) && !built {
@@ -162,6 +166,7 @@ impl SpecularEffect {
                         made.set_normal_maps(shape.pass.normal_map_layers());
                         made.start_from(queue, set, view.world_from_object);
                         self.frame_gpu = Some(made);
+                        self.adopted = 0;
                         self.restart = false;
                     }
                     Err(npr_specular::SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge {
@@ -177,10 +182,13 @@ impl SpecularEffect {
             {
                 if std::mem::take(&mut self.restart) {
                     on_gpu.start_from(queue, set, view.world_from_object);
-                } else if let Some(latest) = on_gpu.latest() {
-                    // The last frame read back is the set's highlights: the panel and
+                } else if on_gpu.frames_read() > self.adopted {
+                    // A frame newly read back is the set's highlights: the panel and
                     // picking, one frame late.
-                    set.adopt_gpu_frame(latest);
+                    self.adopted = on_gpu.frames_read();
+                    if let Some(latest) = on_gpu.latest() {
+                        set.adopt_gpu_frame(latest);
+                    }
                 }
                 let frame_of = (view.light_eye(), view.world_from_object);
                 let walked = on_gpu.record(queue, encoder, set, frame_of, frame)?;
