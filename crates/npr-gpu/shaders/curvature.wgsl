@@ -68,19 +68,6 @@ fn v_position_of(o: u32) -> vec3<f32> {
     return vec3<f32>(v_vertices[8u * o], v_vertices[8u * o + 1u], v_vertices[8u * o + 2u]);
 }
 
-// Unit normal (right-hand rule) and area of triangle (a, b, c); zero for a degenerate
-// one (|cross| ≤ 1e-12 × the longest edge², or not finite). Rust twin:
-// `npr_geometry::topology::build::face_normal_area`.
-fn normal_area(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> vec4<f32> {
-    let cr = cross(b - a, c - a);
-    let len = length(cr);
-    let scale = max(max(dot(b - a, b - a), dot(c - a, c - a)), dot(c - b, c - b));
-    if !(len > 1e-12 * scale) || !finite(len) {
-        return vec4<f32>(0.0);
-    }
-    return vec4<f32>(cr / len, 0.5 * len);
-}
-
 // The upper triangle of s d dᵀ: (xx, xy, xz, yy) and (yz, zz). Rust twin:
 // `npr_geometry::curvature::tensor::sym6`.
 fn sym6(d: vec3<f32>, s: f32) -> array<vec4<f32>, 2> {
@@ -136,37 +123,6 @@ fn cs_faces(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     records[4u * f + 1u] = t0;
     records[4u * f + 2u] = t1;
     records[4u * f + 3u] = vec4<f32>(na.xyz, 0.0);
-}
-
-// Two unit tangents completing unit `n` to an orthonormal frame (Duff et al. 2017, as
-// glam's `any_orthonormal_pair`). Rust twin: `glam::DVec3::any_orthonormal_pair`.
-fn orthonormal_pair(n: vec3<f32>) -> array<vec3<f32>, 2> {
-    let sign = select(-1.0, 1.0, n.z >= 0.0);
-    let a = -1.0 / (sign + n.z);
-    let b = n.x * n.y * a;
-    return array<vec3<f32>, 2>(
-        vec3<f32>(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x),
-        vec3<f32>(b, sign + n.y * n.y * a, -n.y),
-    );
-}
-
-// Closed-form eigen-decomposition of the symmetric 2×2 [[a, b], [b, c]]: (larger
-// eigenvalue, smaller eigenvalue, unit eigenvector of the larger). Rust twin:
-// `npr_geometry::curvature::eigen::sym2_eigen`.
-fn sym2_eigen(a: f32, b: f32, c: f32) -> vec4<f32> {
-    let mean = 0.5 * (a + c);
-    let half = 0.5 * (a - c);
-    let d = sqrt(half * half + b * b);
-    var v = vec2<f32>(b, d - half);
-    if half >= 0.0 {
-        v = vec2<f32>(half + d, b);
-    }
-    let l = length(v);
-    var u = vec2<f32>(1.0, 0.0);
-    if l > 0.0 {
-        u = v / l;
-    }
-    return vec4<f32>(mean + d, mean - d, u);
 }
 
 fn write_invalid(v: u32, n: vec3<f32>) {

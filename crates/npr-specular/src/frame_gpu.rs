@@ -22,7 +22,8 @@
 use crate::{
     CentreSearchPass, GpuFrame, HighlightSet, PendingFrame, ProjectorInput, ProjectorObject,
     ProjectorPass, ReceiverInput, ReceiverObject, ReceiverPass, RegionObject, RegionPass,
-    SearchObject, SpecularError, TrackedInput,
+    ReposeInput, ReposeObject, ReposePass, ReposeTargets, SearchObject, SpecularError,
+    TrackedInput,
 };
 use glam::Mat4;
 use npr_geometry::LightEye;
@@ -54,6 +55,8 @@ pub struct FrameOnGpu {
     reads: u64,
     /// Seeds the next frame's regions have room for.
     room: usize,
+    /// A pose's tables made on the GPU ([`FrameOnGpu::pose_on_gpu`]).
+    pose: Option<(ReposePass, ReposeObject)>,
 }
 
 impl FrameOnGpu {
@@ -93,7 +96,60 @@ impl FrameOnGpu {
             record_us: 0.0,
             reads: 0,
             room: crate::TRACKED_SEEDS,
+            pose: None,
         })
+    }
+
+    /// Makes this mesh's poses on the GPU from now on: each [`FrameOnGpu::record_pose`]
+    /// writes the tables of the pose in `gpu`'s vertex buffer (the search's, the
+    /// regions', the receivers' and the highlight draw's normals) from it and from
+    /// `curvature`'s field measured on it, as [`HighlightSet::repose`] would on the CPU,
+    /// so `set` need not be reposed (its settings and controls are still read every
+    /// frame). `mesh` is the render mesh `set` was built from, `gpu` its upload.
+    ///
+    /// # Errors
+    /// As [`ReposePass::create_object`].
+    pub fn pose_on_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        (mesh, gpu): (&npr_geometry::Mesh, &npr_gpu::GpuMesh),
+        curvature: &npr_gpu::CurvatureObject,
+    ) -> Result<(), SpecularError> {
+        let pass = ReposePass::new(device);
+        let targets = ReposeTargets {
+            search: &self.search,
+            regions: &self.regions,
+            receivers: &self.receivers,
+        };
+        let object = pass.create_object(device, set, (mesh, gpu), curvature, targets)?;
+        self.projectors.posed_normals = Some(object.render_normals().clone());
+        self.pose = Some((pass, object));
+        Ok(())
+    }
+
+    /// Records the tables of the pose now in the mesh's vertex buffer into `encoder`:
+    /// after the posing and the curvature, before [`FrameOnGpu::record`] (once a pose; a
+    /// frame of the same pose needs none). Nothing without [`FrameOnGpu::pose_on_gpu`].
+    ///
+    /// # Errors
+    /// As [`ReposePass::record`].
+    pub fn record_pose(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: FrameId,
+    ) -> Result<(), SpecularError> {
+        if let Some((pass, object)) = self.pose.as_mut() {
+            let prepared = pass.prepare(queue, object, &ReposeInput { frame })?;
+            pass.record(encoder, object, &prepared)?;
+        }
+        Ok(())
+    }
+
+    /// Whether poses are made on the GPU ([`FrameOnGpu::pose_on_gpu`]).
+    pub fn poses_on_gpu(&self) -> bool {
+        self.pose.is_some()
     }
 
     /// Records `frame`'s highlight work into `encoder` for this light, eye and transform:

@@ -27,6 +27,7 @@ pub mod projector_pass;
 pub mod receiver_pass;
 pub mod region;
 pub mod region_pass;
+pub mod repose_pass;
 mod search_clusters;
 pub mod search_pass;
 pub mod set;
@@ -59,6 +60,7 @@ pub use region_pass::{
     PendingTracked, RegionInput, RegionObject, RegionPass, TRACKED_SEEDS, TrackStatus,
     TrackedInput, TrackedRegions, TrackedSeed,
 };
+pub use repose_pass::{ReposeInput, ReposeObject, ReposePass, ReposeTargets};
 pub use search_pass::{
     CentreSearchPass, MAX_MERGED, PendingSolutions, SearchInput, SearchObject, SearchSolutions,
 };

@@ -580,7 +580,11 @@ impl HighlightPass {
                 Some(g) => g.projector_binding(),
                 None => slot.projectors.as_entire_binding(),
             };
-            let group = self.storage_group(mesh, &slot.normals, list, records);
+            // A pose made on the GPU brings its own normals.
+            let normals = gpu
+                .and_then(|g| g.posed_normals.as_ref())
+                .unwrap_or(&slot.normals);
+            let group = self.storage_group(mesh, normals, list, records);
             (group, args.clone())
         });
         Ok(prepared)

@@ -84,6 +84,9 @@ pub struct ProjectorObject {
     /// The table the last prepare writes.
     written: usize,
     projectors: wgpu::Buffer,
+    /// The highlight draw's normals of a pose made on the GPU
+    /// ([`crate::FrameOnGpu::pose_on_gpu`]), in place of the set's.
+    pub(crate) posed_normals: Option<wgpu::Buffer>,
     slots: Slots<ProjectorSlot>,
 }
 
@@ -200,6 +203,7 @@ impl ProjectorPass {
                     | wgpu::BufferUsages::COPY_SRC
                     | wgpu::BufferUsages::COPY_DST,
             ),
+            posed_normals: None,
             slots: Slots::new(self.id),
         }
     }

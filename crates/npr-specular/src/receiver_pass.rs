@@ -163,7 +163,7 @@ pub(crate) struct Query {
 /// `Face` of `receivers.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-struct FaceRecord {
+pub(crate) struct FaceRecord {
     tri: [u32; 4],
     render: [u32; 4],
     normal: [f32; 4],
@@ -171,7 +171,7 @@ struct FaceRecord {
 
 const NO_WALK: u32 = u32::MAX;
 
-fn face_records(set: &HighlightSet, render: &[[u32; 3]]) -> Vec<FaceRecord> {
+pub(crate) fn face_records(set: &HighlightSet, render: &[[u32; 3]]) -> Vec<FaceRecord> {
     let topo = set.topology();
     let slack = set.face_slack();
     (0..topo.face_count())
@@ -257,7 +257,9 @@ fn queries(
     (params, queries)
 }
 
-const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_DST)
+    .union(wgpu::BufferUsages::COPY_SRC);
 
 impl ReceiverPass {
     /// The walk's pipelines (a compute pass draws into no target).
@@ -577,6 +579,12 @@ fn make_slot(device: &wgpu::Device) -> Slot {
 }
 
 impl ReceiverObject {
+    /// The buffers a pose's tables go to ([`crate::ReposePass`]): the positions and the
+    /// faces.
+    pub(crate) fn pose_tables(&self) -> [&wgpu::Buffer; 2] {
+        [&self.positions, &self.face_records]
+    }
+
     /// Faces one highlight's walk may cross.
     pub fn capacity(&self) -> usize {
         self.capacity

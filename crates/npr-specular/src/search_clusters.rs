@@ -15,7 +15,7 @@ pub(crate) const CLUSTER_FACES: usize = 64;
 
 /// Added to every cluster's cone (radians) on top of the solve's own tolerances: the
 /// cone must never drop a face the per-face test and the solve would accept.
-const SAFETY: f32 = 0.02;
+pub(crate) const SAFETY: f32 = 0.02;
 
 /// `ClusterRecord` of `centre_search.wgsl`.
 #[repr(C)]

@@ -109,6 +109,14 @@ pub const PROJECTORS: ShaderFile = ShaderFile {
     ],
 };
 
+/// A pose's tables made on the GPU from the posed vertices and their curvature, after
+/// `numeric.wgsl`.
+pub const REPOSE: ShaderFile = ShaderFile {
+    name: "repose.wgsl",
+    source: include_str!("../shaders/repose.wgsl"),
+    prelude: &[NUMERIC],
+};
+
 /// Every shader file of this crate.
 pub const ALL: &[ShaderFile] = &[
     SPECULAR_HIGHLIGHT,
@@ -117,6 +125,7 @@ pub const ALL: &[ShaderFile] = &[
     REGIONS,
     TRACKING,
     PROJECTORS,
+    REPOSE,
     CENTRE_RECORD,
     REGION_FRAME,
     HIGHLIGHT_TABLE,

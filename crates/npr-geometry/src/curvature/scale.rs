@@ -8,6 +8,17 @@ use rayon::prelude::*;
 use super::CurvatureField;
 use crate::topology::Topology;
 impl CurvatureField {
+    /// The diffusion steps [`CurvatureField::at_scale`] takes on `topology` for `sigma`:
+    /// `⌈4σ²/h²⌉` (h the mean edge length), at most [`MAX_SCALE_STEPS`]; 0 where there
+    /// is nothing to diffuse (`sigma ≤ 0` or not finite, no edges).
+    pub fn scale_steps(topology: &Topology, sigma: f32) -> usize {
+        let h = topology.mean_edge_length;
+        if !(sigma > 0.0 && sigma.is_finite() && h > 0.0) {
+            return 0;
+        }
+        ((4.0 * sigma * sigma / (h * h)).ceil() as usize).min(MAX_SCALE_STEPS)
+    }
+
     /// The field seen at scale `sigma` (object units; the "abstraction" of a stylized
     /// highlight, beyond the paper): normals and shape operators
     /// `S = κ_max e_max e_maxᵀ + κ_min e_min e_minᵀ` diffused over the mesh's edge graph
@@ -21,11 +32,10 @@ impl CurvatureField {
     /// returns the field as it is. Invalid vertices take no part and stay invalid.
     pub fn at_scale(&self, topology: &Topology, sigma: f32) -> CurvatureField {
         let n = self.len();
-        let h = topology.mean_edge_length;
-        if !(sigma > 0.0 && sigma.is_finite() && h > 0.0) || topology.vertex_count() != n {
+        let steps = Self::scale_steps(topology, sigma);
+        if steps == 0 || topology.vertex_count() != n {
             return self.clone();
         }
-        let steps = ((4.0 * sigma * sigma / (h * h)).ceil() as usize).min(MAX_SCALE_STEPS);
         // Vertex neighbours from the edge list (CSR).
         let mut degree = vec![0u32; n + 1];
         for e in &topology.edges {

@@ -34,7 +34,7 @@ use npr_geometry::{HighlightCentre, LightEye};
 use npr_gpu::compute::{buffer_init, check_bindings, group_entry, layout_entry, pipeline};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 
-mod records;
+pub(crate) mod records;
 mod tracked;
 use records::{
     FIT_BYTES, PARAMS_BYTES, Params, STORAGE, SeedRecord, decode, face_records, vertex_records,
@@ -652,6 +652,12 @@ fn make_slot(device: &wgpu::Device) -> Slot {
 }
 
 impl RegionObject {
+    /// The buffers a pose's tables go to ([`crate::ReposePass`]): the vertices and the
+    /// faces.
+    pub(crate) fn pose_tables(&self) -> [&wgpu::Buffer; 2] {
+        [&self.vertex_records, &self.face_records]
+    }
+
     /// Faces one seed's growth may take: the object's capacity, or less once a frame
     /// has had so many seeds that their queues at that length would exceed the storage
     /// binding limit.

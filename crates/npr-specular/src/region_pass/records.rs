@@ -47,17 +47,17 @@ pub(super) struct SeedRecord {
 /// `RegionVertex` of `regions.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct VertexRecord {
-    pub(super) position: [f32; 4],
-    pub(super) normal: [f32; 4],
+pub(crate) struct VertexRecord {
+    pub(crate) position: [f32; 4],
+    pub(crate) normal: [f32; 4],
 }
 
 /// `RegionFace` of `regions.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct FaceRecord {
-    pub(super) tri: [u32; 4],
-    pub(super) normal: [f32; 4],
+pub(crate) struct FaceRecord {
+    pub(crate) tri: [u32; 4],
+    pub(crate) normal: [f32; 4],
 }
 
 /// `RegionPiece` of `regions.wgsl`.
@@ -84,10 +84,11 @@ pub(super) struct FitRecord {
 /// Bytes of one seed's `RegionFit`.
 pub(super) const FIT_BYTES: usize = std::mem::size_of::<FitRecord>();
 
-pub(super) const STORAGE: wgpu::BufferUsages =
-    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST);
+pub(super) const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_DST)
+    .union(wgpu::BufferUsages::COPY_SRC);
 
-pub(super) fn vertex_records(set: &HighlightSet) -> Vec<VertexRecord> {
+pub(crate) fn vertex_records(set: &HighlightSet) -> Vec<VertexRecord> {
     let normals = set.search().normals();
     set.topology()
         .positions
@@ -105,7 +106,7 @@ pub(super) fn vertex_records(set: &HighlightSet) -> Vec<VertexRecord> {
         .collect()
 }
 
-pub(super) fn face_records(set: &HighlightSet) -> Vec<FaceRecord> {
+pub(crate) fn face_records(set: &HighlightSet) -> Vec<FaceRecord> {
     let topo = set.topology();
     (0..topo.face_count())
         .map(|f| {

@@ -51,7 +51,7 @@ mod slot;
 pub(crate) use readback::CentreRecord;
 pub(crate) use replace::{Replace, ReplaceWork};
 use slot::make_slot;
-mod tables;
+pub(crate) mod tables;
 pub use readback::PendingSolutions;
 use readback::{slot_records, solution_entries};
 use tables::{Params, field_records, ordered_triangles, params_of, vertex_records};
@@ -336,7 +336,10 @@ impl CentreSearchPass {
             ],
             device.limits().max_storage_buffer_binding_size,
         )?;
-        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+        // Copied out only by the tests that compare a pose made on the GPU.
+        let usage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC;
         Ok(SearchObject {
             search_id: search.id(),
             vertex_count: records.len(),
@@ -654,6 +657,17 @@ impl CentreSearchPass {
 }
 
 impl SearchObject {
+    /// The buffers a pose's tables go to ([`crate::ReposePass`]): the vertices, the
+    /// faces in the search's order, the clusters and the field.
+    pub(crate) fn pose_tables(&self) -> [&wgpu::Buffer; 4] {
+        [&self.vertices, &self.triangles, &self.clusters, &self.field]
+    }
+
+    /// The order the search visits the faces in (fixed per mesh).
+    pub(crate) fn face_order(&self) -> &[u32] {
+        &self.face_order
+    }
+
     /// The counter and centre records of `prepared`'s slot, for the tracking that reads
     /// them in the same submission (`tracking.wgsl`).
     pub(crate) fn centre_buffers(

@@ -80,7 +80,7 @@ pub(super) fn vertex_records(solve_vertices: &[npr_geometry::SolveVertex]) -> Ve
 
 /// The search's triangles in `order`, each with its cone test's slack (`margins`, per
 /// face; in `w` as bits).
-pub(super) fn ordered_triangles(
+pub(crate) fn ordered_triangles(
     search: &HighlightSearch,
     margins: &[f32],
     order: &[u32],

@@ -279,7 +279,18 @@ impl HighlightSet {
         abstraction: f32,
     ) -> Result<Self, SpecularError> {
         let (welded, topology, field) = CurvatureField::for_mesh(mesh, options);
-        check(&topology, &field)?;
+        Self::from_field(mesh, (&welded, topology), &field, abstraction)
+    }
+
+    /// [`HighlightSet::with_abstraction`] on a curvature field measured elsewhere (one
+    /// entry per vertex of `welded`, the weld of `mesh`, whose topology is `topology`).
+    pub(crate) fn from_field(
+        mesh: &Mesh,
+        (welded, topology): (&npr_geometry::Welded, Topology),
+        field: &CurvatureField,
+        abstraction: f32,
+    ) -> Result<Self, SpecularError> {
+        check(&topology, field)?;
         let abstraction = if abstraction.is_finite() {
             abstraction.max(0.0)
         } else {
@@ -290,7 +301,7 @@ impl HighlightSet {
             let sigma = abstraction * bounding_radius(&topology);
             // Smooth the normals the mesh is shaded with, where it has them.
             let mut shaded = field.clone();
-            if let Some(normals) = npr_geometry::welded_mesh_normals(mesh, &welded) {
+            if let Some(normals) = npr_geometry::welded_mesh_normals(mesh, welded) {
                 for ((n, own), valid) in shaded.normal.iter_mut().zip(normals).zip(&field.valid) {
                     if *valid && own != Vec3::ZERO {
                         *n = own;
@@ -307,7 +318,7 @@ impl HighlightSet {
                 .collect();
             (search, render)
         } else {
-            let search = HighlightSearch::for_mesh(mesh, &welded, &topology, &field);
+            let search = HighlightSearch::for_mesh(mesh, welded, &topology, field);
             let render = if mesh_normals {
                 mesh.normals.clone()
             } else {
@@ -332,7 +343,7 @@ impl HighlightSet {
                     .unwrap_or(Vec3::ZERO)
             })
             .collect();
-        let mut set = Self::with_search(topology, &field, search);
+        let mut set = Self::with_search(topology, field, search);
         set.face_slack = face_slack(&set.topology, &corners);
         set.face_turn = face_turn(&corners);
         set.render_normals = render_normals;
@@ -467,6 +478,18 @@ impl HighlightSet {
     /// [`HighlightSet::with_abstraction`]).
     pub fn abstraction(&self) -> f32 {
         self.abstraction
+    }
+
+    /// The abstraction's diffusion steps on this set's mesh
+    /// ([`CurvatureField::scale_steps`] at `abstraction × bounding radius`; 0 without an
+    /// abstraction).
+    pub(crate) fn diffusion_steps(&self) -> usize {
+        if self.abstraction > 0.0 {
+            let sigma = self.abstraction * bounding_radius(&self.topology);
+            CurvatureField::scale_steps(&self.topology, sigma)
+        } else {
+            0
+        }
     }
 
     /// Per render vertex, the unit normal at the set's scale: what the search, the regions
