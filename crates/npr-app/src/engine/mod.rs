@@ -64,6 +64,11 @@ pub struct FrameStats {
     /// Whether the highlights' regions were grown and fitted on the GPU (specular; where
     /// the search runs there, `npr_specular::RegionPass`).
     pub regions_on_gpu: bool,
+    /// Whether the model's pose was taken on the GPU (specular, `search = "gpu-frame"`
+    /// on an animated model): its curvature and the highlights' tables made there from
+    /// the posed vertices (`npr_specular::FrameOnGpu::pose_on_gpu`), the CPU's set left
+    /// on an earlier pose.
+    pub pose_on_gpu: bool,
     /// GPU submissions the highlights' setup waited on (specular): 0 on the CPU, 1 where
     /// the regions were seeded on the GPU and grown in the search's submission, 2 where
     /// the update's seeds differed from the GPU's (the search could not give its peaks,

@@ -53,6 +53,15 @@ pub(crate) struct SpecularEffect {
     shape: Specialized<String, ShapePass>,
     /// The model moved since the set was built or last reposed.
     moved: bool,
+    /// The set's geometry lags the model's pose (a pose made on the GPU only), and the
+    /// GPU frame's tables lag it (the next GPU frame makes them).
+    cpu_lags: bool,
+    gpu_lags: bool,
+    /// The curvature of the model's poses on the GPU, for `frame_gpu`'s poses
+    /// (`FrameOnGpu::pose_on_gpu`); whether they could not be made there (the set is
+    /// reposed on the CPU then).
+    curvature: Option<(npr_gpu::CurvaturePass, npr_gpu::CurvatureObject, FrameId)>,
+    pose_failed: bool,
     /// Where the `N = H` search runs, and the GPU search of the current set.
     search: SearchSetup,
     /// The GPU walk of the §4.2 receivers, where the search runs on the GPU.
@@ -98,6 +107,8 @@ impl SpecularEffect {
 
     fn forget_frame_gpu(&mut self) {
         self.frame_gpu = None;
+        self.curvature = None;
+        self.pose_failed = false;
         self.adopted = 0;
         self.frame_gpu_failed = false;
         self.restart = false;
@@ -141,11 +152,18 @@ impl SpecularEffect {
             self.adopted = 0;
             self.frame_gpu_failed = false;
         }
+        if built {
+            (self.cpu_lags, self.gpu_lags) = (false, false);
+        }
         if std::mem::take(&mut self.moved) && !built {
-            set.repose(&model.mesh, &options)?;
+            // Reposed on the CPU when the frame is not made on the GPU (below).
+            (self.cpu_lags, self.gpu_lags) = (true, true);
         }
         let started = Instant::now();
         if set.highlights().is_empty() && sp.edits.iter().any(|e| e.anchor.is_some()) {
+            if std::mem::take(&mut self.cpu_lags) {
+                set.repose(&model.mesh, &options)?;
+            }
             // A fresh sequence: find the highlights once so that anchored edits can be
             // matched to their ids. Updating again with the same light and eye matches
             // every highlight to itself (same ids, full opacity), now with the edits
@@ -168,6 +186,10 @@ impl SpecularEffect {
                         self.frame_gpu = Some(made);
                         self.adopted = 0;
                         self.restart = false;
+                        self.curvature = None;
+                        self.pose_failed = false;
+                        // Made from the set's geometry: the pose, if the set lags it.
+                        self.gpu_lags = self.cpu_lags;
                     }
                     Err(npr_specular::SpecularError::Gpu(npr_gpu::GpuError::MeshTooLarge {
                         ..
@@ -180,6 +202,43 @@ impl SpecularEffect {
                 .as_mut()
                 .filter(|_| !(sp.search == SearchPreset::Auto && self.search.untimed()))
             {
+                let recording = Instant::now();
+                if std::mem::take(&mut self.gpu_lags) {
+                    // A new pose: its tables made on the GPU from its curvature there,
+                    // else the set reposed on the CPU (the frame's objects take its
+                    // tables).
+                    if !on_gpu.poses_on_gpu() && !self.pose_failed {
+                        let curvature = npr_gpu::CurvaturePass::new(device);
+                        let made = curvature
+                            .create_object(device, mesh, &model.mesh, options.radius)
+                            .map_err(npr_specular::SpecularError::from)
+                            .and_then(|object| {
+                                on_gpu.pose_on_gpu(device, set, (&model.mesh, mesh), &object)?;
+                                Ok(object)
+                            });
+                        match made {
+                            Ok(object) => {
+                                self.curvature = Some((curvature, object, FrameId::default()))
+                            }
+                            Err(_) => self.pose_failed = true,
+                        }
+                    }
+                    match self.curvature.as_mut().filter(|_| on_gpu.poses_on_gpu()) {
+                        Some((pass, object, at)) => {
+                            stats.pose_on_gpu = true;
+                            *at = at.next();
+                            let input = npr_gpu::CurvatureInput { frame: *at };
+                            let measured = pass.prepare(queue, object, &input)?;
+                            pass.record(encoder, object, &measured)?;
+                            on_gpu.record_pose(queue, encoder, frame)?;
+                        }
+                        None => {
+                            if std::mem::take(&mut self.cpu_lags) {
+                                set.repose(&model.mesh, &options)?;
+                            }
+                        }
+                    }
+                }
                 if std::mem::take(&mut self.restart) {
                     on_gpu.start_from(queue, set, view.world_from_object);
                 } else if on_gpu.frames_read() > self.adopted {
@@ -192,7 +251,8 @@ impl SpecularEffect {
                 }
                 let frame_of = (view.light_eye(), view.world_from_object);
                 let walked = on_gpu.record(queue, encoder, set, frame_of, frame)?;
-                stats.setup_us = on_gpu.record_us();
+                // Recording the pose's tables (if any) and the frame's work.
+                stats.setup_us = recording.elapsed().as_secs_f64() * 1e6;
                 stats.search_on_gpu = true;
                 stats.regions_on_gpu = true;
                 stats.receivers_on_gpu = true;
@@ -211,6 +271,9 @@ impl SpecularEffect {
         }
         // A frame not made on the GPU: the next one that is starts again from the set.
         self.restart |= self.frame_gpu.is_some();
+        if std::mem::take(&mut self.cpu_lags) {
+            set.repose(&model.mesh, &options)?;
+        }
         let walk_on_gpu = match sp.search {
             SearchPreset::Cpu => false,
             SearchPreset::Gpu | SearchPreset::GpuFrame => true,
