@@ -23,6 +23,7 @@ mod matching;
 pub(crate) use gpu_table::{ControlsRecord, ProjectParams};
 mod mesh;
 mod peaks;
+mod pose;
 mod receivers;
 mod regions;
 pub(crate) use peaks::vertex_neighbours;
@@ -351,45 +352,6 @@ impl HighlightSet {
         Ok(set)
     }
 
-    /// The same set on a new pose of its mesh (a skinned or morphed character's next
-    /// frame: the same triangles, moved vertices): the topology, curvature, search and
-    /// regions are rebuilt on `mesh` at the set's abstraction, while the settings, the
-    /// per-highlight controls (the user's edits), the last update's highlights and the id
-    /// counter carry over, so the next [`HighlightSet::update`] matches its highlights to
-    /// the last ones and keeps their ids, fades and edits.
-    ///
-    /// # Errors
-    /// As [`HighlightSet::with_abstraction`]; [`SpecularError::Mismatch`] when `mesh` has
-    /// another face count (then the set is unchanged).
-    pub fn repose(&mut self, mesh: &Mesh, options: &CurvatureOptions) -> Result<(), SpecularError> {
-        let mut next = Self::with_abstraction(mesh, options, self.abstraction)?;
-        if next.topology.face_count() != self.topology.face_count() {
-            return Err(SpecularError::Mismatch(format!(
-                "a pose of {} faces for a set of {}",
-                next.topology.face_count(),
-                self.topology.face_count()
-            )));
-        }
-        next.global = self.global;
-        next.per_highlight = std::mem::take(&mut self.per_highlight);
-        next.size_cap_radius = self.size_cap_radius;
-        next.fade_frames = self.fade_frames;
-        next.match_radius = self.match_radius;
-        next.sizing = self.sizing;
-        next.boundary = self.boundary;
-        next.min_region_area = self.min_region_area;
-        next.receiver_min_cos = self.receiver_min_cos;
-        next.receiver_cone_margin_rad = self.receiver_cone_margin_rad;
-        next.max_area_change = self.max_area_change;
-        next.receivers_on_gpu = self.receivers_on_gpu;
-        next.highlights = std::mem::take(&mut self.highlights);
-        next.next_id = self.next_id;
-        next.tracking = self.tracking;
-        next.search.interpolation = self.search.interpolation;
-        *self = next;
-        Ok(())
-    }
-
     /// Builds the set from a topology and its curvature field (one entry per welded
     /// vertex), searching on the field's normals. Faces keep the render mesh's triangle
     /// order.
@@ -478,18 +440,6 @@ impl HighlightSet {
     /// [`HighlightSet::with_abstraction`]).
     pub fn abstraction(&self) -> f32 {
         self.abstraction
-    }
-
-    /// The abstraction's diffusion steps on this set's mesh
-    /// ([`CurvatureField::scale_steps`] at `abstraction × bounding radius`; 0 without an
-    /// abstraction).
-    pub(crate) fn diffusion_steps(&self) -> usize {
-        if self.abstraction > 0.0 {
-            let sigma = self.abstraction * bounding_radius(&self.topology);
-            CurvatureField::scale_steps(&self.topology, sigma)
-        } else {
-            0
-        }
     }
 
     /// Per render vertex, the unit normal at the set's scale: what the search, the regions
