@@ -51,6 +51,12 @@ const NONE: u32 = u32::MAX;
 /// `f32`s per welded vertex in [`CurvatureObject::output`].
 pub const OUTPUT_FLOATS: usize = 12;
 
+/// The reach [`CurvaturePass::create_object_with_reach`] suits a moving mesh's poses
+/// with: each ball listed half as far again as its radius, so a pose that brings faces
+/// up to a third closer (a stretched or bent limb) is still measured as the CPU measures
+/// it at the same radius.
+pub const POSE_REACH: f32 = 1.5;
+
 /// The two compute pipelines of curvature: one per device, shared by every object.
 #[derive(Debug)]
 pub struct CurvaturePass {
@@ -271,6 +277,27 @@ impl CurvaturePass {
         mesh: &Mesh,
         radius: CurvatureRadius,
     ) -> Result<CurvatureObject, GpuError> {
+        self.create_object_with_reach(device, gpu, mesh, radius, 1.0)
+    }
+
+    /// [`CurvaturePass::create_object`] for the poses of a moving mesh: each vertex's
+    /// ball is listed as the walk at `reach × radius` finds it on `mesh` (`reach` at least
+    /// 1), and measured every frame at the radius, so a pose that brings faces closer
+    /// (a stretched or bent part) still finds those within the radius, up to a shrink of
+    /// `1 / reach`. The lists grow as `reach²` (and with them the memory and each frame's
+    /// work). Where a face lies within the radius only through faces beyond it (the other
+    /// side of a narrow fold) the field differs from the CPU's walk even on `mesh`.
+    ///
+    /// # Errors
+    /// As [`CurvaturePass::create_object`].
+    pub fn create_object_with_reach(
+        &self,
+        device: &wgpu::Device,
+        gpu: &GpuMesh,
+        mesh: &Mesh,
+        radius: CurvatureRadius,
+        reach: f32,
+    ) -> Result<CurvatureObject, GpuError> {
         if gpu.vertex_count as usize != mesh.positions.len()
             || gpu.index_count as usize != mesh.indices.len()
         {
@@ -289,7 +316,12 @@ impl CurvaturePass {
         let nf = topo.face_count();
         // The ball lists are the big one (about 100 faces a vertex at the default radius).
         let rep = representatives(&welded.render_to_welded, nv);
-        let data = lists(&topo, &rep, radius_world)?;
+        let reach = if reach.is_finite() {
+            reach.max(1.0)
+        } else {
+            1.0
+        };
+        let data = lists(&topo, &rep, reach * radius_world)?;
         let limit = device.limits().max_storage_buffer_binding_size;
         let runs = chunks(
             &data.ranges,

@@ -57,7 +57,7 @@ mod uniforms;
 
 pub use camera::{Camera, Light};
 pub use context::GpuContext;
-pub use curvature::{CurvatureInput, CurvatureObject, CurvaturePass};
+pub use curvature::{CurvatureInput, CurvatureObject, CurvaturePass, POSE_REACH};
 pub use error::GpuError;
 pub use mesh::{GpuMesh, Vertex, check_mesh_limits};
 pub use pass::{FrameId, Pass, PassError, Prepared};

@@ -105,7 +105,10 @@ impl FrameOnGpu {
     /// regions', the receivers' and the highlight draw's normals) from it and from
     /// `curvature`'s field measured on it, as [`HighlightSet::repose`] would on the CPU,
     /// so `set` need not be reposed (its settings and controls are still read every
-    /// frame). `mesh` is the render mesh `set` was built from, `gpu` its upload.
+    /// frame). `mesh` is the render mesh `set` was built from, `gpu` its upload;
+    /// `curvature` is best made with
+    /// [`npr_gpu::CurvaturePass::create_object_with_reach`] at [`npr_gpu::POSE_REACH`],
+    /// so that parts a pose brings closer are measured as the CPU measures them.
     ///
     /// # Errors
     /// As [`ReposePass::create_object`].

@@ -111,7 +111,7 @@ fn a_pose_made_on_the_gpu_is_the_cpus_repose() {
             let set = HighlightSet::with_abstraction(rest, &options, abstraction).unwrap();
             let gpu = GpuMesh::upload(device, rest).unwrap();
             let mut curvature = curvature_pass
-                .create_object(device, &gpu, rest, radius)
+                .create_object_with_reach(device, &gpu, rest, radius, npr_gpu::POSE_REACH)
                 .unwrap();
             let objects = |set: &HighlightSet| {
                 (
@@ -148,6 +148,19 @@ fn a_pose_made_on_the_gpu_is_the_cpus_repose() {
                 let got = tables(device, queue, (&on_gpu.0, &on_gpu.1, &on_gpu.2));
                 let field_bytes = read(device, queue, &[curvature.output()]);
                 let field = curvature.decode(&field_bytes[0]);
+                // The field on the pose is the CPU's at the same ball (the built pose's
+                // radius, in world units): the 1e-3 of the largest |κ|, and 0.5°
+                // where the principal curvatures differ.
+                let same_ball = CurvatureOptions {
+                    radius: CurvatureRadius::World(curvature.radius_world()),
+                    ..options
+                };
+                let (_, _, measured) = npr_geometry::CurvatureField::for_mesh(&posed, &same_ball);
+                let d = measured.difference(&field);
+                assert!(
+                    d.kappa <= 1e-3 && d.direction_deg <= 0.5 && d.validity == 0,
+                    "{name} at t = {t}: the GPU's curvature on the pose is {d:?} from the CPU's"
+                );
                 let normals = read(device, queue, &[object.render_normals()]);
                 let normals: &[[f32; 4]] = bytemuck::cast_slice(&normals[0]);
                 // The CPU's set of this pose on the GPU's field, its abstraction's steps

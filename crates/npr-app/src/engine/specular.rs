@@ -210,7 +210,13 @@ impl SpecularEffect {
                     if !on_gpu.poses_on_gpu() && !self.pose_failed {
                         let curvature = npr_gpu::CurvaturePass::new(device);
                         let made = curvature
-                            .create_object(device, mesh, &model.mesh, options.radius)
+                            .create_object_with_reach(
+                                device,
+                                mesh,
+                                &model.mesh,
+                                options.radius,
+                                npr_gpu::POSE_REACH,
+                            )
                             .map_err(npr_specular::SpecularError::from)
                             .and_then(|object| {
                                 on_gpu.pose_on_gpu(device, set, (&model.mesh, mesh), &object)?;
