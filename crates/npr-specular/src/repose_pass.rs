@@ -202,12 +202,10 @@ impl ReposePass {
         for (r, &w) in map.iter().enumerate() {
             weld_lists[w as usize].push(r as u32);
         }
-        let mut around = vec![Vec::new(); welded];
-        for e in &topo.edges {
-            around[e[0] as usize].push(e[1]);
-            around[e[1] as usize].push(e[0]);
-        }
-        let (weld, neighbours) = (csr(&weld_lists), csr(&around));
+        let weld = csr(&weld_lists);
+        // The diffusion's graph, as `CurvatureField::at_scale` walks it.
+        let (mut neighbours, list) = topo.vertex_neighbours();
+        neighbours.extend(list);
         let triangles: Vec<[u32; 4]> = (0..faces)
             .flat_map(|f| {
                 let t = topo.triangles[f];

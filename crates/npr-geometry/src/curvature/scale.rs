@@ -36,23 +36,7 @@ impl CurvatureField {
         if steps == 0 || topology.vertex_count() != n {
             return self.clone();
         }
-        // Vertex neighbours from the edge list (CSR).
-        let mut degree = vec![0u32; n + 1];
-        for e in &topology.edges {
-            degree[e[0] as usize + 1] += 1;
-            degree[e[1] as usize + 1] += 1;
-        }
-        for v in 0..n {
-            degree[v + 1] += degree[v];
-        }
-        let mut fill = degree.clone();
-        let mut neighbours = vec![0u32; degree[n] as usize];
-        for e in &topology.edges {
-            for (a, b) in [(e[0], e[1]), (e[1], e[0])] {
-                neighbours[fill[a as usize] as usize] = b;
-                fill[a as usize] += 1;
-            }
-        }
+        let (degree, neighbours) = topology.vertex_neighbours();
         // Per vertex: normal (3) and the upper triangle of S (6); weight 0 when invalid.
         type Value = [f32; 9];
         let value = |v: usize| -> Value {

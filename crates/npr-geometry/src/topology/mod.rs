@@ -116,6 +116,30 @@ impl Topology {
             [self.vertex_face_offsets[v] as usize..self.vertex_face_offsets[v + 1] as usize]
     }
 
+    /// Each vertex's neighbours along the edges, as `vertex_count + 1` offsets and one
+    /// list (vertex `v`'s are `list[offsets[v]..offsets[v + 1]]`, in edge order): the
+    /// graph a diffusion over the vertices walks.
+    pub fn vertex_neighbours(&self) -> (Vec<u32>, Vec<u32>) {
+        let n = self.vertex_count();
+        let mut offsets = vec![0u32; n + 1];
+        for e in &self.edges {
+            offsets[e[0] as usize + 1] += 1;
+            offsets[e[1] as usize + 1] += 1;
+        }
+        for v in 0..n {
+            offsets[v + 1] += offsets[v];
+        }
+        let mut fill = offsets.clone();
+        let mut list = vec![0u32; offsets[n] as usize];
+        for e in &self.edges {
+            for (a, b) in [(e[0], e[1]), (e[1], e[0])] {
+                list[fill[a as usize] as usize] = b;
+                fill[a as usize] += 1;
+            }
+        }
+        (offsets, list)
+    }
+
     /// The faces using edge `e` (one per use; a duplicated face appears twice).
     pub fn edge_faces(&self, e: usize) -> &[u32] {
         &self.edge_faces[self.edge_face_offsets[e] as usize..self.edge_face_offsets[e + 1] as usize]
