@@ -207,7 +207,10 @@ impl SpecularEffect {
                     // A new pose: its tables made on the GPU from its curvature there,
                     // else the set reposed on the CPU (the frame's objects take its
                     // tables).
-                    if !on_gpu.poses_on_gpu() && !self.pose_failed {
+                    if !on_gpu.poses_on_gpu()
+                        && !self.pose_failed
+                        && std::env::var("NO_GPU_POSE").is_err()
+                    {
                         let curvature = npr_gpu::CurvaturePass::new(device);
                         let made = curvature
                             .create_object_with_reach(

@@ -31,8 +31,14 @@ impl CurvatureField {
     /// (a sphere or a cylinder keeps its normals exactly). `sigma ≤ 0` (or non-finite)
     /// returns the field as it is. Invalid vertices take no part and stay invalid.
     pub fn at_scale(&self, topology: &Topology, sigma: f32) -> CurvatureField {
+        self.at_steps(topology, Self::scale_steps(topology, sigma))
+    }
+
+    /// [`CurvatureField::at_scale`] with its number of diffusion steps given (a pose of a
+    /// moving mesh keeps the steps of the pose it was built on, so its smoothing follows
+    /// the surface as it stretches); 0 returns the field as it is.
+    pub fn at_steps(&self, topology: &Topology, steps: usize) -> CurvatureField {
         let n = self.len();
-        let steps = Self::scale_steps(topology, sigma);
         if steps == 0 || topology.vertex_count() != n {
             return self.clone();
         }

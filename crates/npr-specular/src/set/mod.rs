@@ -234,6 +234,11 @@ pub struct HighlightSet {
     /// Per render vertex: the normal at the set's scale (empty from `from_parts`).
     render_normals: Vec<Vec3>,
     abstraction: f32,
+    /// The abstraction's diffusion steps, fixed at build ([`HighlightSet::repose`]
+    /// keeps them).
+    diffusion_steps: usize,
+    /// The curvature's ball radius (world units) at build, which a repose keeps.
+    ball_radius: f32,
     normals_id: u64,
     scratch: VisibilityScratch,
     /// Region growth; its face patches serve the §4.2 search too.
@@ -280,16 +285,18 @@ impl HighlightSet {
         abstraction: f32,
     ) -> Result<Self, SpecularError> {
         let (welded, topology, field) = CurvatureField::for_mesh(mesh, options);
-        Self::from_field(mesh, (&welded, topology), &field, abstraction)
+        Self::from_field(mesh, (&welded, topology), &field, (abstraction, None))
     }
 
     /// [`HighlightSet::with_abstraction`] on a curvature field measured elsewhere (one
-    /// entry per vertex of `welded`, the weld of `mesh`, whose topology is `topology`).
+    /// entry per vertex of `welded`, the weld of `mesh`, whose topology is `topology`),
+    /// with the abstraction's diffusion steps given (a repose keeps the built pose's) or
+    /// `None` for those of the abstraction on this mesh.
     pub(crate) fn from_field(
         mesh: &Mesh,
         (welded, topology): (&npr_geometry::Welded, Topology),
         field: &CurvatureField,
-        abstraction: f32,
+        (abstraction, steps): (f32, Option<usize>),
     ) -> Result<Self, SpecularError> {
         check(&topology, field)?;
         let abstraction = if abstraction.is_finite() {
@@ -298,8 +305,10 @@ impl HighlightSet {
             0.0
         };
         let mesh_normals = mesh.normals.len() == mesh.positions.len();
+        let mut diffusion = 0;
         let (search, render_normals) = if abstraction > 0.0 {
             let sigma = abstraction * bounding_radius(&topology);
+            diffusion = steps.unwrap_or_else(|| CurvatureField::scale_steps(&topology, sigma));
             // Smooth the normals the mesh is shaded with, where it has them.
             let mut shaded = field.clone();
             if let Some(normals) = npr_geometry::welded_mesh_normals(mesh, welded) {
@@ -309,7 +318,7 @@ impl HighlightSet {
                     }
                 }
             }
-            let scaled = shaded.at_scale(&topology, sigma);
+            let scaled = shaded.at_steps(&topology, diffusion);
             let search = HighlightSearch::new(&topology, &scaled);
             let normals = search.normals();
             let render = welded
@@ -349,6 +358,7 @@ impl HighlightSet {
         set.face_turn = face_turn(&corners);
         set.render_normals = render_normals;
         set.abstraction = abstraction;
+        set.diffusion_steps = diffusion;
         Ok(set)
     }
 
@@ -374,6 +384,8 @@ impl HighlightSet {
         let grower = RegionGrower::with_patches(RegionPatches::new(&topology, search.normals()));
         Self {
             radius_object: field.radius_world.max(0.15 * radius_bound),
+            ball_radius: field.radius_world,
+            diffusion_steps: 0,
             size_cap_radius: None,
             topology,
             search,

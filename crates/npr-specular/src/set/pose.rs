@@ -2,9 +2,8 @@
 //! (the GPU's, `crate::ReposePass`) keeps from the built pose.
 
 use super::HighlightSet;
-use super::mesh::bounding_radius;
 use crate::SpecularError;
-use npr_geometry::{CurvatureField, CurvatureOptions, Mesh};
+use npr_geometry::{CurvatureField, CurvatureOptions, CurvatureRadius, Mesh};
 
 impl HighlightSet {
     /// The same set on a new pose of its mesh (a skinned or morphed character's next
@@ -14,11 +13,23 @@ impl HighlightSet {
     /// counter carry over, so the next [`HighlightSet::update`] matches its highlights to
     /// the last ones and keeps their ids, fades and edits.
     ///
+    /// The pose is measured at the scales of the pose the set was built on: the
+    /// curvature's ball radius in world units (`options`' radius is taken there: a part
+    /// the pose stretches keeps its ball) and the abstraction's diffusion steps (its
+    /// smoothing follows the surface as it stretches), as a pose made on the GPU keeps
+    /// them ([`crate::FrameOnGpu::pose_on_gpu`]).
+    ///
     /// # Errors
     /// As [`HighlightSet::with_abstraction`]; [`SpecularError::Mismatch`] when `mesh` has
     /// another face count (then the set is unchanged).
     pub fn repose(&mut self, mesh: &Mesh, options: &CurvatureOptions) -> Result<(), SpecularError> {
-        let mut next = Self::with_abstraction(mesh, options, self.abstraction)?;
+        let built = CurvatureOptions {
+            radius: CurvatureRadius::World(self.ball_radius),
+            ..*options
+        };
+        let (welded, topology, field) = CurvatureField::for_mesh(mesh, &built);
+        let steps = (self.abstraction, Some(self.diffusion_steps));
+        let mut next = Self::from_field(mesh, (&welded, topology), &field, steps)?;
         if next.topology.face_count() != self.topology.face_count() {
             return Err(SpecularError::Mismatch(format!(
                 "a pose of {} faces for a set of {}",
@@ -46,15 +57,9 @@ impl HighlightSet {
         Ok(())
     }
 
-    /// The abstraction's diffusion steps on this set's mesh
-    /// ([`CurvatureField::scale_steps`] at `abstraction × bounding radius`; 0 without an
+    /// The abstraction's diffusion steps, fixed when the set was built (0 without an
     /// abstraction).
     pub(crate) fn diffusion_steps(&self) -> usize {
-        if self.abstraction > 0.0 {
-            let sigma = self.abstraction * bounding_radius(&self.topology);
-            CurvatureField::scale_steps(&self.topology, sigma)
-        } else {
-            0
-        }
+        self.diffusion_steps
     }
 }
