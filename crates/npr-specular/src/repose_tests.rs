@@ -238,10 +238,10 @@ fn bits(v: &[u32]) -> Vec<f32> {
 }
 
 /// Each table against `cpu`'s records (`order`: the search's fixed face order; `render`: the
-/// render mesh's triangles): within
-/// `f32` rounding of the same arithmetic (1e-5 of the unit normals and the radius, 1e-4
-/// of the largest |κ| for the shape operators, 1e-4 rad for angles), directions up to
-/// their sign, indices exact.
+/// render mesh's triangles): within `f32` rounding of the same arithmetic (1e-5 of the
+/// unit normals and the radius, 1e-4 of the largest |κ| for the shape operators, 1e-3
+/// rad for the principal directions, signs included, 5e-4 rad for cones and slack),
+/// indices exact.
 fn compare(what: &str, got: &Tables, (cpu, render): (&HighlightSet, &[[u32; 3]]), order: &[u32]) {
     use crate::search_pass::tables;
     let search = cpu.search();
@@ -258,7 +258,7 @@ fn compare(what: &str, got: &Tables, (cpu, render): (&HighlightSet, &[[u32; 3]])
     let field: Vec<f32> = search.field_floats().concat();
     let kappas = worst(&got.field, &field, 12, |i| i == 3 || i == 7) / kappa;
     let field_normals = worst(&got.field, &field, 12, |i| i < 3 || i == 11);
-    // Directions where the principal curvatures differ (a umbilic's are any), up to sign.
+    // Directions where the principal curvatures differ (a umbilic's are any), signed.
     let turned = got
         .field
         .chunks(12)
@@ -266,7 +266,7 @@ fn compare(what: &str, got: &Tables, (cpu, render): (&HighlightSet, &[[u32; 3]])
         .filter(|(_, w)| w[11] > 0.5 && (w[3] - w[7]).abs() > 1e-2 * kappa)
         .map(|(g, w)| {
             let d = |x: &[f32]| Vec3::new(x[4], x[5], x[6]);
-            d(g).dot(d(w)).abs().min(1.0).acos()
+            d(g).dot(d(w)).clamp(-1.0, 1.0).acos()
         })
         .fold(0.0f32, f32::max);
     let margins = search.face_margins();

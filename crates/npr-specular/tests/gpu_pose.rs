@@ -2,13 +2,13 @@
 //! into the vertex buffer, its curvature measured there (`CurvaturePass` at
 //! `POSE_REACH`), its tables made there (`FrameOnGpu::record_pose`) and the frame's
 //! highlights made from them, nothing read back between frames; against the CPU's repose
-//! and update of the same poses. Procedural rigs whose poses stretch, bend and sway.
+//! and update of the same poses, the projectors' records included. Procedural rigs whose poses stretch, bend and sway.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye};
 use npr_gpu::{FrameId, GpuMesh};
-use npr_specular::{FrameOnGpu, HighlightSet};
+use npr_specular::{FrameOnGpu, HighlightSet, projector_gpu};
 
 mod common;
 use common::bounding_radius;
@@ -37,7 +37,7 @@ fn frames_of_a_moving_mesh_posed_on_the_gpu_are_the_cpu_frames() {
     ];
     let options = CurvatureOptions::default();
     let curvature_pass = npr_gpu::CurvaturePass::new(device);
-    let (mut frames, mut highlights, mut worst) = (0, 0, 0.0f32);
+    let (mut frames, mut highlights, mut worst, mut records) = (0, 0, 0.0f32, 0.0f32);
     for (name, rigged) in models {
         let (rest, rig) = (&rigged.mesh, &rigged.rig);
         let clip = &rig.clips()[0];
@@ -107,12 +107,33 @@ fn frames_of_a_moving_mesh_posed_on_the_gpu_are_the_cpu_frames() {
                     g.id
                 );
             }
+            // The wholes' records for the highlight pass (pieces are cut a patch at a time
+            // by the set's grower, `tests/gpu_projectors.rs`), relative to their largest
+            // entry: the projector's frame, its principal direction's sign included.
+            for (g, h) in got.projectors.iter().zip(cpu.highlights()) {
+                if h.piece != 0 {
+                    continue;
+                }
+                let w = projector_gpu(h, h.controls.texture_layer.min(7), false);
+                let m = |p: &npr_specular::ProjectorGpu| p.tex_from_world.concat();
+                let scale = m(&w).iter().fold(1e-12f32, |s, x| s.max(x.abs()));
+                let gap = m(g)
+                    .iter()
+                    .zip(m(&w))
+                    .fold(0f32, |s, (a, b)| s.max((a - b).abs() / scale));
+                records = records.max(gap);
+                assert!(
+                    gap <= 2e-3,
+                    "{at}: highlight {}'s record {gap:.2e} apart",
+                    h.id
+                );
+            }
             frames += 1;
             highlights += want.len();
         }
     }
     eprintln!(
-        "{frames} posed frames made on the GPU: {highlights} highlights, the CPU's; centres within {worst:.2e} of the radius"
+        "{frames} posed frames made on the GPU: {highlights} highlights, the CPU's; centres within {worst:.2e} of the radius, records within {records:.2e}"
     );
     assert!(highlights >= frames, "too few highlights to compare");
 }

@@ -1,14 +1,17 @@
 //! The browser check's frames made wholly on the GPU (`npr_specular::FrameOnGpu`: the
 //! search with its peaks, the regions seeded on the GPU's own table of the last frame,
 //! `cs_replace`, the projectors built by `cs_project`, the receivers walked from them),
+//! on a mesh that sways (`generate::swaying`), each pose written into the vertex buffer
+//! and taken on the GPU (`CurvaturePass` at `POSE_REACH`, `FrameOnGpu::record_pose`),
 //! frame after frame with nothing read back between, each read back as the page must
-//! (mapped, polled over animation frames) and compared with the CPU's update of the same
-//! frame: the same highlights (ids, found, peaks, opacities), centres, and records for
-//! the highlight pass.
+//! (mapped, polled over animation frames) and compared with the CPU's repose and update of
+//! the same frame: the same highlights (ids, found, peaks, opacities), centres, and
+//! records for the highlight pass.
 
 use glam::{Mat4, Vec3};
+use npr_geometry::animation::Rig;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh};
-use npr_gpu::FrameId;
+use npr_gpu::{CurvatureObject, CurvaturePass, FrameId, GpuMesh};
 use npr_specular::{FrameOnGpu, HighlightSet, projector_gpu};
 
 /// Frames the check makes.
@@ -29,6 +32,10 @@ fn frame(k: usize) -> (LightEye, Mat4) {
 /// The frames on their way.
 pub struct FrameCheck {
     radius: f32,
+    /// The swaying mesh, its upload and its curvature on the GPU.
+    rig: Rig,
+    gpu_mesh: GpuMesh,
+    curvature: (CurvaturePass, CurvatureObject),
     cpu: HighlightSet,
     gpu: HighlightSet,
     on_gpu: FrameOnGpu,
@@ -53,11 +60,24 @@ impl FrameCheck {
     /// A GPU or highlight error, as one line.
     pub fn start(device: &wgpu::Device, queue: &wgpu::Queue, mesh: &Mesh) -> Result<Self, String> {
         let options = CurvatureOptions::default();
+        let rigged = npr_geometry::generate::swaying(mesh.clone());
+        let mesh = &rigged.mesh;
         let cpu = HighlightSet::new(mesh, &options).map_err(|e| e.to_string())?;
         let gpu = HighlightSet::new(mesh, &options).map_err(|e| e.to_string())?;
-        let on_gpu = FrameOnGpu::new(device, &gpu, &mesh.indices).map_err(|e| e.to_string())?;
+        let mut on_gpu = FrameOnGpu::new(device, &gpu, &mesh.indices).map_err(|e| e.to_string())?;
+        let gpu_mesh = GpuMesh::upload(device, mesh).map_err(|e| e.to_string())?;
+        let pass = CurvaturePass::new(device);
+        let object = pass
+            .create_object_with_reach(device, &gpu_mesh, mesh, options.radius, npr_gpu::POSE_REACH)
+            .map_err(|e| e.to_string())?;
+        on_gpu
+            .pose_on_gpu(device, &gpu, (mesh, &gpu_mesh), &object)
+            .map_err(|e| e.to_string())?;
         let mut check = Self {
             radius: crate::compute_tracking::bounding_radius(mesh),
+            rig: rigged.rig,
+            gpu_mesh,
+            curvature: (pass, object),
             cpu,
             gpu,
             on_gpu,
@@ -79,20 +99,35 @@ impl FrameCheck {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = device.create_command_encoder(&Default::default());
         let k = self.recorded;
+        let frame_id = FrameId(k as u64 + 1);
+        let posed = self.pose(k);
+        self.gpu_mesh
+            .write_vertices(queue, &posed)
+            .map_err(|e| e.to_string())?;
+        let (pass, object) = &mut self.curvature;
+        let measured = pass
+            .prepare(queue, object, &npr_gpu::CurvatureInput { frame: frame_id })
+            .map_err(|e| e.to_string())?;
+        pass.record(&mut encoder, object, &measured)
+            .map_err(|e| e.to_string())?;
         self.on_gpu
-            .record(
-                queue,
-                &mut encoder,
-                &self.gpu,
-                frame(k),
-                FrameId(k as u64 + 1),
-            )
+            .record_pose(queue, &mut encoder, frame_id)
+            .map_err(|e| e.to_string())?;
+        self.on_gpu
+            .record(queue, &mut encoder, &self.gpu, frame(k), frame_id)
             .map_err(|e| e.to_string())?;
         queue.submit([encoder.finish()]);
         self.on_gpu.read_after_submit(device, queue);
         self.errors.push(Box::pin(scope.pop()));
         self.recorded += 1;
         Ok(())
+    }
+
+    /// Pose `k` of the sway (a tenth of its clip apart).
+    fn pose(&self, k: usize) -> Mesh {
+        let clip = &self.rig.clips()[0];
+        let t = clip.duration() * (0.1 * k as f32 + 0.05);
+        self.rig.pose_mesh(&self.rig.sample(clip, t))
     }
 
     /// The report once every frame has been read back and compared (`None` before).
@@ -112,6 +147,10 @@ impl FrameCheck {
         }
         if self.compared < self.recorded && self.on_gpu.frames_read() as usize > self.compared {
             let (light_eye, world) = frame(self.compared);
+            let posed = self.pose(self.compared);
+            self.cpu
+                .repose(&posed, &CurvatureOptions::default())
+                .map_err(|e| e.to_string())?;
             self.cpu.update(light_eye, world);
             let got = self.on_gpu.latest().cloned().ok_or("no frame read back")?;
             let want: Vec<_> = self

@@ -16,8 +16,9 @@ use anyhow::{Context as _, bail};
 /// (the search with its peaks, the regions seeded from its centres on the GPU) must seed
 /// the update's regions, find the CPU's peaks (the knot has some), and give the CPU update's highlights
 /// (centres within 1e-4 of the radius, footprints within 3e-3: `tests/gpu_tracking.rs`);
-/// four frames made wholly on the GPU (`FrameOnGpu`, nothing read back between) must be
-/// the CPU's updates (ids, found, peaks, opacities; centres within 1e-4 of the radius,
+/// four frames of the knot swaying made wholly on the GPU, each pose included
+/// (`FrameOnGpu` with `pose_on_gpu`: curvature and tables from the posed vertex buffer,
+/// nothing read back between) must be the CPU's reposes and updates (ids, found, peaks, opacities; centres within 1e-4 of the radius,
 /// the wholes' records within 2e-3: `tests/gpu_projectors.rs`).
 pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
     let result = driver.script_async(
@@ -107,8 +108,8 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
          {region_centre:.2e} of the radius, areas within {:.3} %; one submission on a knot: \
          {tracked} highlights ({peaks_gpu} peaks found on the GPU, {peaks_cpu} on the CPU), \
          seeded on the GPU: {seeded}, the CPU's: {same}, centres within {tracked_centre:.2e} \
-         and footprints within {tracked_footprint:.2e} of the radius; {frames} frames made \
-         wholly on the GPU: {frame_highlights} highlights ({frame_peaks} peaks), the CPU's: \
+         and footprints within {tracked_footprint:.2e} of the radius; {frames} frames of it swaying made \
+         wholly on the GPU, poses included: {frame_highlights} highlights ({frame_peaks} peaks), the CPU's: \
          {frames_same}, centres within {frame_centre:.2e} of the radius, records within \
          {frame_gap:.2e}",
         100.0 * agreement,

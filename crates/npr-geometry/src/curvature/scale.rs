@@ -126,6 +126,14 @@ impl CurvatureField {
             else {
                 continue;
             };
+            // An eigenvector's sign is the solver's choice: keep the measured direction's,
+            // so the smoothed frame turns no more than the surface did (and any solver,
+            // the GPU's `repose.wgsl` too, gives the same one).
+            let e_max = if e_max.dot(self.dir_kappa_max[v]) < 0.0 {
+                -e_max
+            } else {
+                e_max
+            };
             out.normal[v] = normal;
             out.dir_kappa_max[v] = e_max;
             out.dir_kappa_min[v] = normal.cross(e_max);
