@@ -272,7 +272,7 @@ fn cs_finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
         write_vertex(v, f0.xyz, keep, f0, f1, f2);
         return;
     }
-    // The measured direction's sign (`at_scale` keeps it too).
+    // The measured direction's sign (a pose's `at_steps` keeps it too).
     let d = select(e_max.xyz, -e_max.xyz, dot(e_max.xyz, f1.xyz) < 0.0);
     let e_min = cross(n, d);
     let shape = shape_of(vec4<f32>(d, e.x), vec4<f32>(e_min, e.y));

@@ -31,13 +31,21 @@ impl CurvatureField {
     /// (a sphere or a cylinder keeps its normals exactly). `sigma ≤ 0` (or non-finite)
     /// returns the field as it is. Invalid vertices take no part and stay invalid.
     pub fn at_scale(&self, topology: &Topology, sigma: f32) -> CurvatureField {
-        self.at_steps(topology, Self::scale_steps(topology, sigma))
+        self.smoothed(topology, Self::scale_steps(topology, sigma), false)
     }
 
     /// [`CurvatureField::at_scale`] with its number of diffusion steps given (a pose of a
     /// moving mesh keeps the steps of the pose it was built on, so its smoothing follows
-    /// the surface as it stretches); 0 returns the field as it is.
+    /// the surface as it stretches), and each principal direction signed as the measured
+    /// one (the eigen solver's sign is its own: a pose measured elsewhere, on the GPU,
+    /// agrees with this one only so); 0 returns the field as it is.
     pub fn at_steps(&self, topology: &Topology, steps: usize) -> CurvatureField {
+        self.smoothed(topology, steps, true)
+    }
+
+    /// The diffusion and re-analysis of [`CurvatureField::at_scale`]; `measured_signs`
+    /// signs each principal direction as the measured one, else as the solver gives it.
+    fn smoothed(&self, topology: &Topology, steps: usize, measured_signs: bool) -> CurvatureField {
         let n = self.len();
         if steps == 0 || topology.vertex_count() != n {
             return self.clone();
@@ -126,10 +134,9 @@ impl CurvatureField {
             else {
                 continue;
             };
-            // An eigenvector's sign is the solver's choice: keep the measured direction's,
-            // so the smoothed frame turns no more than the surface did (and any solver,
-            // the GPU's `repose.wgsl` too, gives the same one).
-            let e_max = if e_max.dot(self.dir_kappa_max[v]) < 0.0 {
+            // An eigenvector's sign is the solver's choice; the measured direction's is
+            // one any solver (the GPU's `repose.wgsl` too) can give.
+            let e_max = if measured_signs && e_max.dot(self.dir_kappa_max[v]) < 0.0 {
                 -e_max
             } else {
                 e_max

@@ -318,7 +318,14 @@ impl HighlightSet {
                     }
                 }
             }
-            let scaled = shaded.at_steps(&topology, diffusion);
+            // A pose (its steps given) signs its principal directions as the measured
+            // ones, as a pose made on the GPU does; a set built at rest keeps the solver's
+            // signs, which its figures were measured with (Spot's edit completeness
+            // 0.954 against 0.934 with the measured signs).
+            let scaled = match steps {
+                Some(_) => shaded.at_steps(&topology, diffusion),
+                None => shaded.at_scale(&topology, sigma),
+            };
             let search = HighlightSearch::new(&topology, &scaled);
             let normals = search.normals();
             let render = welded

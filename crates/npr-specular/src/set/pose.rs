@@ -17,7 +17,8 @@ impl HighlightSet {
     /// curvature's ball radius in world units (`options`' radius is taken there: a part
     /// the pose stretches keeps its ball) and the abstraction's diffusion steps (its
     /// smoothing follows the surface as it stretches), as a pose made on the GPU keeps
-    /// them ([`crate::FrameOnGpu::pose_on_gpu`]).
+    /// them ([`crate::FrameOnGpu::pose_on_gpu`]); its principal directions at that scale
+    /// are signed as the measured field's ([`CurvatureField::at_steps`]), as the GPU's.
     ///
     /// # Errors
     /// As [`HighlightSet::with_abstraction`]; [`SpecularError::Mismatch`] when `mesh` has
