@@ -11,7 +11,7 @@ use npr_gpu::{FrameId, GpuMesh};
 use npr_specular::{FrameOnGpu, HighlightSet, projector_gpu};
 
 mod common;
-use common::bounding_radius;
+use common::{bounding_radius, record_gap};
 
 #[test]
 fn frames_of_a_moving_mesh_posed_on_the_gpu_are_the_cpu_frames() {
@@ -108,19 +108,14 @@ fn frames_of_a_moving_mesh_posed_on_the_gpu_are_the_cpu_frames() {
                 );
             }
             // The wholes' records for the highlight pass (pieces are cut a patch at a time
-            // by the set's grower, `tests/gpu_projectors.rs`), relative to their largest
-            // entry: the projector's frame, its principal direction's sign included.
+            // by the set's grower, `tests/gpu_projectors.rs`): the projector's frame, its
+            // principal direction's sign included.
             for (g, h) in got.projectors.iter().zip(cpu.highlights()) {
                 if h.piece != 0 {
                     continue;
                 }
                 let w = projector_gpu(h, h.controls.texture_layer.min(7), false);
-                let m = |p: &npr_specular::ProjectorGpu| p.tex_from_world.concat();
-                let scale = m(&w).iter().fold(1e-12f32, |s, x| s.max(x.abs()));
-                let gap = m(g)
-                    .iter()
-                    .zip(m(&w))
-                    .fold(0f32, |s, (a, b)| s.max((a - b).abs() / scale));
+                let gap = record_gap(g, &w);
                 records = records.max(gap);
                 assert!(
                     gap <= 2e-3,

@@ -11,12 +11,12 @@ use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye};
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{
-    CentreSearchPass, GpuFrame, GpuFrameStatus, HighlightSet, HighlightSizing, ProjectorGpu,
-    ProjectorInput, ProjectorPass, RegionPass, TrackedInput, projector_gpu,
+    CentreSearchPass, GpuFrame, GpuFrameStatus, HighlightSet, HighlightSizing, ProjectorInput,
+    ProjectorPass, RegionPass, TrackedInput, projector_gpu,
 };
 
 mod common;
-use common::{bounding_radius, fixture};
+use common::{bounding_radius, fixture, record_gap};
 
 /// The passes and objects of one mesh's frames on the GPU.
 struct Frames {
@@ -132,28 +132,6 @@ fn turn(radius: f32, step: usize) -> (LightEye, Mat4) {
         eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
     };
     (light_eye, Mat4::from_rotation_y(0.1 * a))
-}
-
-/// The largest difference of two records' matrices and vectors, each relative to the
-/// largest entry of the CPU's.
-fn record_gap(a: &ProjectorGpu, b: &ProjectorGpu) -> f32 {
-    let m = |p: &ProjectorGpu| p.tex_from_world.concat();
-    let scale = m(b).iter().fold(0f32, |s, x| s.max(x.abs())).max(1e-12);
-    let matrix = m(a)
-        .iter()
-        .zip(m(b))
-        .fold(0f32, |s, (x, y)| s.max((x - y).abs() / scale));
-    let vectors = [
-        (a.axis_u, b.axis_u),
-        (a.axis_v, b.axis_v),
-        (a.normal, b.normal),
-        (a.tint, b.tint),
-        (a.params, b.params),
-    ]
-    .iter()
-    .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).abs()))
-    .fold(0f32, f32::max);
-    matrix.max(vectors)
 }
 
 #[derive(Default)]

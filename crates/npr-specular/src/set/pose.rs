@@ -16,7 +16,8 @@ impl HighlightSet {
     /// The pose is measured at the scales of the pose the set was built on: the
     /// curvature's ball radius in world units (`options`' radius is taken there: a part
     /// the pose stretches keeps its ball) and the abstraction's diffusion steps (its
-    /// smoothing follows the surface as it stretches), as a pose made on the GPU keeps
+    /// smoothing follows the surface as it stretches) and the falloff's floor (the typical
+    /// turn of the normal across a face), as a pose made on the GPU keeps
     /// them ([`crate::FrameOnGpu::pose_on_gpu`]); its principal directions at that scale
     /// are signed as the measured field's ([`CurvatureField::at_steps`]), as the GPU's.
     ///
@@ -38,6 +39,8 @@ impl HighlightSet {
                 self.topology.face_count()
             )));
         }
+        // The falloff's floor is a scale of the built mesh too (the GPU's poses keep it).
+        next.face_turn = self.face_turn;
         next.global = self.global;
         next.per_highlight = std::mem::take(&mut self.per_highlight);
         next.size_cap_radius = self.size_cap_radius;

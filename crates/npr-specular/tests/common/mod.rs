@@ -145,3 +145,25 @@ pub fn same_highlights(
     }
     worst
 }
+
+/// The largest difference of two records' matrices and vectors, each relative to the
+/// largest entry of the CPU's.
+pub fn record_gap(a: &npr_specular::ProjectorGpu, b: &npr_specular::ProjectorGpu) -> f32 {
+    let m = |p: &npr_specular::ProjectorGpu| p.tex_from_world.concat();
+    let scale = m(b).iter().fold(0f32, |s, x| s.max(x.abs())).max(1e-12);
+    let matrix = m(a)
+        .iter()
+        .zip(m(b))
+        .fold(0f32, |s, (x, y)| s.max((x - y).abs() / scale));
+    let vectors = [
+        (a.axis_u, b.axis_u),
+        (a.axis_v, b.axis_v),
+        (a.normal, b.normal),
+        (a.tint, b.tint),
+        (a.params, b.params),
+    ]
+    .iter()
+    .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).abs()))
+    .fold(0f32, f32::max);
+    matrix.max(vectors)
+}
