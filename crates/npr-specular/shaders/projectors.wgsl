@@ -720,7 +720,8 @@ fn build() -> u32 {
     }
     next.params.count = kept;
     next.params.next_id = next_id;
-    next.params.tracking = 1u;
+    // A held frame is no update: the sequence starts (or goes on) with the next built.
+    next.params.tracking = select(1u, previous.params.tracking, hold);
     next.params.drawn = drawn;
     next.params.merged = merged;
     // The walks the receivers' room holds (the CPU wrote the room there).

@@ -256,8 +256,10 @@ fn a_frame_whose_peaks_the_gpu_cannot_find_says_so() {
         assert_eq!(cpu.stats().peaks, n * n, "{n}: the CPU's peaks");
         let mut on_gpu = FrameOnGpu::new(&ctx.device, &gpu, &mesh.indices).unwrap();
         // The first frame has room for 64 seeds: 100 tiles are held (none drawn), and the
-        // next frames have room for more.
+        // next frames have room for more. A held frame is no update: the first frame
+        // built still starts the sequence, its highlights at the CPU's first opacities.
         let mut statuses = Vec::new();
+        let mut opacities = Vec::new();
         for k in 0..3 {
             let mut encoder = ctx.device.create_command_encoder(&Default::default());
             on_gpu
@@ -272,7 +274,15 @@ fn a_frame_whose_peaks_the_gpu_cannot_find_says_so() {
             ctx.queue.submit([encoder.finish()]);
             on_gpu.read_after_submit(&ctx.device, &ctx.queue);
             let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
-            statuses.push(on_gpu.latest().expect("read back").status);
+            let latest = on_gpu.latest().expect("read back");
+            statuses.push(latest.status);
+            opacities.push(
+                latest
+                    .highlights
+                    .iter()
+                    .map(|h| h.opacity)
+                    .collect::<Vec<_>>(),
+            );
         }
         let frame = on_gpu.latest().expect("read back");
         eprintln!("{n} x {n} tiles: {statuses:?}");
@@ -281,6 +291,12 @@ fn a_frame_whose_peaks_the_gpu_cannot_find_says_so() {
                 statuses[0],
                 GpuFrameStatus::Held,
                 "{n}: 100 seeds in a room of 64"
+            );
+            assert_eq!(statuses[1], GpuFrameStatus::Built, "{n}");
+            let first: Vec<f32> = cpu.highlights().iter().map(|h| h.opacity).collect();
+            assert_eq!(
+                opacities[1], first,
+                "{n}: the first frame built after a held one"
             );
             assert_eq!(frame.status, GpuFrameStatus::Built, "{n}");
             assert_eq!(frame.highlights.len(), cpu.highlights().len(), "{n}");
