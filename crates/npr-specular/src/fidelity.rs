@@ -72,8 +72,10 @@ pub struct ViewScore {
     pub blobs: usize,
     /// Worst `1/cos` between a receiving triangle's normal and its projector's axis.
     pub stretch_max: f32,
-    /// Pixels covered by two or more highlights.
-    pub overlap_px: usize,
+    /// Pixels covered by two or more highlights; `None` where not measured (frames
+    /// whose projectors the GPU builds and draws, [`GpuSetup::whole_frame`], carry the
+    /// GPU's own fades, so no frame of every highlight at opacity 1/4 is made).
+    pub overlap_px: Option<usize>,
     /// Boundary pixels of the highlights drawn.
     pub boundary_px: usize,
     /// Boundary pixels where a highlight is cut (see the module docs).
@@ -100,8 +102,9 @@ pub struct FidelityScore {
     pub stretch_max: f32,
     /// Views where the count of highlights seen was within ±50 % of the blob count.
     pub count_within: usize,
-    /// Pixels covered by two or more highlights ÷ pixels covered by any (pooled).
-    pub overlap_share: f64,
+    /// Pixels covered by two or more highlights ÷ pixels covered by any (pooled); `None`
+    /// where a view's was not measured ([`ViewScore::overlap_px`]).
+    pub overlap_share: Option<f64>,
     /// Cut boundary pixels ÷ boundary pixels (pooled).
     pub cut_boundary_share: f64,
     /// Median over views and the three edits of drawn ÷ unrestricted area (1 without
@@ -128,7 +131,11 @@ impl FidelityScore {
             .map(f64::from)
             .collect();
         Self {
-            overlap_share: ratio(sum(|v| v.overlap_px), hl),
+            overlap_share: views
+                .iter()
+                .map(|v| v.overlap_px)
+                .sum::<Option<usize>>()
+                .map(|o| ratio(o as f64, hl)),
             cut_boundary_share: ratio(sum(|v| v.cut_px), sum(|v| v.boundary_px)),
             edit_completeness: if edits.is_empty() {
                 1.0
@@ -317,13 +324,22 @@ impl FidelityRig {
             .zip(&highlight)
             .filter(|(a, b)| **a && **b)
             .count();
-        // Overlaps: every highlight at opacity 1/4.
-        for h in set.highlights_mut() {
-            h.controls.tint = Vec3::ONE;
-            h.opacity = 0.25;
-        }
-        let layered = render(set, 0.0, true)?;
-        let overlap_px = layered.pixels().filter(|p| linear(p.0[0]) >= 0.34).count();
+        // Overlaps: every highlight at opacity 1/4 (not for frames whose projectors the
+        // GPU builds and draws: they carry the GPU's own fades).
+        let own_fades = gpu
+            .borrow()
+            .as_deref()
+            .is_some_and(GpuSetup::draws_gpu_projectors);
+        let overlap_px = if own_fades {
+            None
+        } else {
+            for h in set.highlights_mut() {
+                h.controls.tint = Vec3::ONE;
+                h.opacity = 0.25;
+            }
+            let layered = render(set, 0.0, true)?;
+            Some(layered.pixels().filter(|p| linear(p.0[0]) >= 0.34).count())
+        };
         // Cuts: the same highlights with §4.2 alone.
         let (boundary_px, cut_px) = {
             let boundary = set.boundary;
@@ -400,19 +416,33 @@ impl FidelityRig {
 }
 
 /// Renders `set` with each highlight tinted by the code of its id's position in `ids`
-/// ((g, b) / r, r = 1) at opacity 1, and decodes each pixel to (code, alpha).
+/// ((g, b) / r, r = 1) at opacity 1, and decodes each pixel to (code, alpha). The codes
+/// are the drawn highlights' tints, and for a frame the GPU makes again while it draws
+/// ([`GpuSetup::whole_frame`]) also the user's own tints of those ids, restored after.
 fn coded(
     set: &mut HighlightSet,
     ids: &[u64],
     render: impl Fn(&HighlightSet) -> Result<image::RgbaImage, SpecularError>,
 ) -> Result<Vec<(usize, f32)>, SpecularError> {
     let code = |c: usize| (c % 16) as f32 / 15.0;
+    let tint = |k: usize| Vec3::new(1.0, code(k), code(k / 16));
     for h in set.highlights_mut() {
         let k = ids.iter().position(|id| *id == h.id).unwrap_or(255);
-        h.controls.tint = Vec3::new(1.0, code(k), code(k / 16));
+        h.controls.tint = tint(k);
         h.opacity = 1.0;
     }
-    let image = render(set)?;
+    let own: Vec<Option<HighlightControls>> = ids.iter().map(|&id| set.own_controls(id)).collect();
+    let global = set.global.tint.max(Vec3::splat(1e-6));
+    for (k, (&id, c)) in ids.iter().zip(&own).enumerate() {
+        let mut c = c.unwrap_or_default();
+        c.tint = tint(k) / global;
+        set.set_own_controls(id, Some(c));
+    }
+    let image = render(set);
+    for (&id, c) in ids.iter().zip(own) {
+        set.set_own_controls(id, c);
+    }
+    let image = image?;
     Ok(image
         .pixels()
         .map(|p| {
@@ -689,14 +719,29 @@ fn stretch_over(
     world_from_object: Mat4,
     receivers: impl Fn(usize) -> Vec<u32>,
 ) -> f32 {
+    let drawn = set
+        .highlights()
+        .iter()
+        .enumerate()
+        .map(|(k, h)| (h.projector.normal, h.falloff_cos.x, receivers(k)));
+    stretch_of(set, world_from_object, drawn)
+}
+
+/// The worst stretch over projectors given as (world normal at the centre, the falloff's
+/// zero-alpha cosine, the faces they draw on).
+fn stretch_of(
+    set: &HighlightSet,
+    world_from_object: Mat4,
+    drawn: impl Iterator<Item = (Vec3, f32, Vec<u32>)>,
+) -> f32 {
     let topo = set.topology();
     let normal_from_object = Mat3::from_mat4(world_from_object).inverse().transpose();
     let mut worst = 0f32;
-    for (k, h) in set.highlights().iter().enumerate() {
-        for f in receivers(k) {
+    for (normal, zero_cos, faces) in drawn {
+        for f in faces {
             let n = (normal_from_object * topo.face_normals[f as usize]).normalize_or_zero();
-            let c = n.dot(h.projector.normal);
-            if c <= h.falloff_cos.x {
+            let c = n.dot(normal);
+            if c <= zero_cos {
                 continue;
             }
             worst = worst.max(if c > 0.0 { 1.0 / c } else { f32::INFINITY });

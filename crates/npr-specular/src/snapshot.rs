@@ -69,7 +69,8 @@ impl<'a> HighlightScene<'a> {
 pub struct FrameResources {
     object: npr_gpu::BaseObject,
     draw: crate::HighlightObject,
-    frame: npr_gpu::FrameId,
+    /// The frame count of its last submission.
+    pub(crate) frame: npr_gpu::FrameId,
     /// The receiver walk of the last [`Renderer::submit_gpu_receivers`].
     walked: Option<npr_gpu::Prepared>,
 }

@@ -9,11 +9,14 @@
 //! `--animation CLIP`, each `--mesh` that has the clip also plays it (361 frames at
 //! 30 fps, camera still, the highlight set reposed every frame), beside its own turn.
 //!
-//! Every score row and every turn is measured twice, told apart by `setup`: `"cpu"`
-//! (`HighlightSet::update`) and `"gpu"` (`npr_specular::fidelity::GpuSetup`: the `N = H`
-//! search and the regions on the GPU in one submission, `npr_specular::SetupOnGpu`, and
-//! the §4.2 receivers walked on the GPU and drawn from its stream). The clips run on the
-//! CPU.
+//! Every score row and every turn is measured three times, told apart by `setup`:
+//! `"cpu"` (`HighlightSet::update`), `"gpu"` (`npr_specular::fidelity::GpuSetup::new`:
+//! the `N = H` search and the regions on the GPU in one submission,
+//! `npr_specular::SetupOnGpu`, and the §4.2 receivers walked on the GPU and drawn from
+//! its stream) and `"gpu-frame"` (`GpuSetup::whole_frame`: the whole frame made on the
+//! GPU, projectors included, and drawn from the projectors the GPU built, as npr's
+//! `search = "gpu-frame"` draws it; the overlap is drawn from the frame's highlights
+//! read back). The clips run on the CPU.
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;
@@ -142,13 +145,8 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
             set.sizing = sizing;
             set.boundary = boundary;
             let abstraction = set.abstraction();
-            for on_gpu in [false, true] {
-                let key = if on_gpu { "gpu" } else { "cpu" };
-                let mut setup = if on_gpu {
-                    Some(GpuSetup::new(&ctx.device, set, &mesh.indices)?)
-                } else {
-                    None
-                };
+            for key in SETUPS {
+                let mut setup = gpu_setup(&ctx.device, set, &mesh.indices, key)?;
                 let bar = super::progress(views.len() as u64, &format!("{name} {label} {key}"));
                 let mut scores = Vec::with_capacity(views.len());
                 for view in &views {
@@ -177,7 +175,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
                     Cell::Num(s.blobs_median, 1),
                     format!("{}/{}", s.count_within, s.views).into(),
                     Cell::Num(f64::from(s.stretch_max), 2),
-                    Cell::Num(s.overlap_share, 3),
+                    s.overlap_share.map_or(Cell::Empty, |o| Cell::Num(o, 3)),
                     Cell::Num(s.cut_boundary_share, 3),
                     Cell::Num(s.edit_completeness, 3),
                     // The settings `npr` and `HighlightSet::new` use.
@@ -188,6 +186,23 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
         }
     }
     emit(&[table, turning(&ctx, extra, animation)?], json)
+}
+
+/// The setups each row is measured with (`setup`).
+const SETUPS: [&str; 3] = ["cpu", "gpu", "gpu-frame"];
+
+/// The GPU setup of `key` (none for `"cpu"`).
+fn gpu_setup(
+    device: &wgpu::Device,
+    set: &HighlightSet,
+    indices: &[u32],
+    key: &str,
+) -> anyhow::Result<Option<GpuSetup>> {
+    Ok(match key {
+        "gpu" => Some(GpuSetup::new(device, set, indices)?),
+        "gpu-frame" => Some(GpuSetup::whole_frame(device, set, indices)?),
+        _ => None,
+    })
 }
 
 /// A mesh for the turning table: its name, the mesh at rest and, with `--animation`,
@@ -278,15 +293,19 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
                 turntable_coherence(&mut set, le, world_from_normalized, TURN_FRAMES, 1.0),
             )];
             // The same turn set up on the GPU (the walk is drawn, not measured here).
-            let mut gpu = GpuSetup::new(&ctx.device, &set, &t.mesh.indices)?;
-            let on_gpu = turntable_coherence_with(
-                &mut set,
-                (le, world_from_normalized),
-                (TURN_FRAMES, 1.0),
-                |set, frame| gpu.update(&ctx.device, &ctx.queue, set, frame),
-            )?;
-            set.receivers_on_gpu = false;
-            runs.push(("turntable".to_string(), "gpu", on_gpu));
+            for key in &SETUPS[1..] {
+                let Some(mut gpu) = gpu_setup(&ctx.device, &set, &t.mesh.indices, key)? else {
+                    continue;
+                };
+                let on_gpu = turntable_coherence_with(
+                    &mut set,
+                    (le, world_from_normalized),
+                    (TURN_FRAMES, 1.0),
+                    |set, frame| gpu.update(&ctx.device, &ctx.queue, set, frame),
+                )?;
+                set.receivers_on_gpu = false;
+                runs.push(("turntable".to_string(), key, on_gpu));
+            }
             if let Some((clip, frames)) = &t.clip {
                 let c = pose_coherence(
                     &mut set,

@@ -1,26 +1,42 @@
-//! The GPU setup of [`super::FidelityRig::score_with`] and
+//! The GPU setups of [`super::FidelityRig::score_with`] and
 //! [`super::turntable_coherence_with`]: the measured frames set up as `npr` sets them up
-//! with `[specular] search = "gpu"`.
+//! with `[specular] search = "gpu"` ([`GpuSetup::new`]) or `"gpu-frame"`
+//! ([`GpuSetup::whole_frame`]).
 
 use super::stretch_over;
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
-use crate::{HighlightSet, ReceiverObject, ReceiverPass, SetupOnGpu, SpecularError};
+use crate::{FrameOnGpu, HighlightSet, ReceiverObject, ReceiverPass, SetupOnGpu, SpecularError};
 use glam::Mat4;
 use npr_geometry::LightEye;
 
+/// How many times a frame the GPU held for want of seeds' room is made again (each time
+/// with twice the room) before the measure gives up on it.
+const HELD_RETRIES: usize = 4;
+
 /// The GPU setup of the measured frames: the `N = H` search and the regions on the GPU
-/// in one submission ([`SetupOnGpu`]), and the §4.2 receivers walked by [`ReceiverPass`]
-/// in each highlight frame's submission and drawn from their stream. One per set and
-/// render mesh.
+/// in one submission ([`SetupOnGpu`]), or the whole frame's highlights, projectors
+/// included, made and drawn on the GPU ([`FrameOnGpu`]); the §4.2 receivers walked by
+/// [`ReceiverPass`] in each highlight frame's submission and drawn from their stream.
+/// One per set and render mesh.
 #[derive(Debug)]
 pub struct GpuSetup {
-    setup: SetupOnGpu,
+    made: Made,
     walk_pass: ReceiverPass,
     walk: ReceiverObject,
     /// The render triangles' face ids, to read the walk's stream back as faces.
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
     frame: npr_gpu::FrameId,
+}
+
+/// Which GPU setup a [`GpuSetup`] is.
+#[derive(Debug)]
+enum Made {
+    /// Centres and regions on the GPU, the projectors fitted by the CPU's update.
+    Setup(Box<SetupOnGpu>),
+    /// The whole frame on the GPU, and the light, eye and transform of the last update
+    /// (each highlight render makes that frame again on the GPU and draws what it made).
+    Frame(Box<FrameOnGpu>, Option<(LightEye, Mat4)>),
 }
 
 impl GpuSetup {
@@ -33,11 +49,44 @@ impl GpuSetup {
         set: &HighlightSet,
         indices: &[u32],
     ) -> Result<Self, SpecularError> {
+        Self::with(
+            device,
+            set,
+            indices,
+            Made::Setup(Box::new(SetupOnGpu::new(device, set)?)),
+        )
+    }
+
+    /// Uploads `set`'s tables for whole frames on the GPU ([`FrameOnGpu`], drawing
+    /// textures none of which is a normal map, as [`super::FidelityRig`]'s): each update
+    /// makes the frame on the GPU, waits for it and adopts its highlights
+    /// ([`HighlightSet::adopt_gpu_frame`]: the ids, centres, footprints, fades, peaks and
+    /// pieces the GPU made), and each highlight render makes the frame again and draws
+    /// the projectors the GPU built, with the opacities of the GPU's fades.
+    ///
+    /// # Errors
+    /// As [`GpuSetup::new`].
+    pub fn whole_frame(
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        indices: &[u32],
+    ) -> Result<Self, SpecularError> {
+        let mut on_gpu = FrameOnGpu::new(device, set, indices)?;
+        on_gpu.set_normal_maps(&[false]);
+        Self::with(device, set, indices, Made::Frame(Box::new(on_gpu), None))
+    }
+
+    fn with(
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        indices: &[u32],
+        made: Made,
+    ) -> Result<Self, SpecularError> {
         let walk_pass = ReceiverPass::new(device);
         // Walks of up to four times the default capacity (the whole mesh where smaller).
         let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
         Ok(Self {
-            setup: SetupOnGpu::new(device, set)?,
+            made,
             walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
             walk_pass,
             face_of: indices
@@ -50,12 +99,15 @@ impl GpuSetup {
         })
     }
 
-    /// Updates `set` for this light, eye and transform on the GPU ([`SetupOnGpu::update`]),
+    /// Updates `set` for this light, eye and transform on the GPU: [`SetupOnGpu::update`],
     /// the receivers left to the GPU walk (the CPU search's where the list overflowed or
-    /// the mesh does not fit).
+    /// the mesh does not fit); or, for [`GpuSetup::whole_frame`], the frame made on the
+    /// GPU from the table of the last (from `set` where it starts a new sequence), waited
+    /// for and adopted.
     ///
     /// # Errors
-    /// The passes', or their readbacks'.
+    /// The passes', or their readbacks'; [`SpecularError::GpuFrame`] for a whole frame the
+    /// GPU held every time it was made.
     pub fn update(
         &mut self,
         device: &wgpu::Device,
@@ -65,14 +117,45 @@ impl GpuSetup {
     ) -> Result<(), SpecularError> {
         set.receivers_on_gpu = true;
         let frame = (light_eye, world_from_object);
-        if self.setup.update((device, queue), set, frame)?.is_none() {
-            set.update(light_eye, world_from_object);
+        match &mut self.made {
+            Made::Setup(setup) => {
+                if setup.update((device, queue), set, frame)?.is_none() {
+                    set.update(light_eye, world_from_object);
+                }
+            }
+            Made::Frame(on_gpu, last) => {
+                if !set.is_tracking() {
+                    on_gpu.start_from(queue, set, world_from_object);
+                }
+                *last = Some(frame);
+                for _ in 0..HELD_RETRIES {
+                    self.frame = self.frame.next();
+                    make_frame(on_gpu, (device, queue), set, (frame, self.frame))?;
+                    let status = on_gpu.latest().map(|f| f.status);
+                    if status != Some(crate::GpuFrameStatus::Held) {
+                        break;
+                    }
+                }
+                // What the GPU drew, as it drew it (a frame cut short too); a frame it
+                // held every time is no frame to measure.
+                match on_gpu.latest() {
+                    Some(f) if f.status != crate::GpuFrameStatus::Held => set.adopt_gpu_frame(f),
+                    _ => return Err(SpecularError::GpuFrame(crate::GpuFrameStatus::Held)),
+                }
+            }
         }
         Ok(())
     }
 
+    /// Whether highlight renders draw the projectors the GPU built
+    /// ([`GpuSetup::whole_frame`]), rather than the set's.
+    pub fn draws_gpu_projectors(&self) -> bool {
+        matches!(self.made, Made::Frame(..))
+    }
+
     /// [`super::stretch_max`] of `set`'s highlights over the faces the GPU walks for them (read
-    /// back: a measure, not a frame).
+    /// back: a measure, not a frame); for [`GpuSetup::whole_frame`], of the projectors the
+    /// GPU builds for the last update's frame, over the faces it walks for them.
     ///
     /// # Errors
     /// The walk's, or its readback's.
@@ -84,6 +167,20 @@ impl GpuSetup {
         world_from_object: Mat4,
     ) -> Result<f32, SpecularError> {
         self.frame = self.frame.next();
+        if let Made::Frame(on_gpu, Some(frame)) = &mut self.made {
+            let walked = make_frame(on_gpu, (device, queue), set, (*frame, self.frame))?;
+            let records = on_gpu
+                .latest()
+                .map(|f| f.projectors.clone())
+                .unwrap_or_default();
+            let read = on_gpu.receivers().read(device, queue, &walked)?;
+            let lists = faces_of(&self.face_of, &read.stream, records.len());
+            let drawn = records.iter().zip(lists).map(|(r, faces)| {
+                let n = r.normal;
+                (glam::Vec3::new(n[0], n[1], n[2]), r.axis_u[3], faces)
+            });
+            return Ok(super::stretch_of(set, frame.1, drawn));
+        }
         let input = crate::ReceiverInput {
             frame: self.frame,
             set,
@@ -94,20 +191,13 @@ impl GpuSetup {
         self.walk_pass.record(&mut encoder, &self.walk, &prepared)?;
         queue.submit([encoder.finish()]);
         let read = self.walk.read(device, queue, &prepared)?;
-        let mut lists = vec![Vec::new(); set.highlights().len()];
-        for t in read.stream.chunks_exact(3) {
-            if let (Some(list), Some(&f)) = (
-                lists.get_mut(t[0][1] as usize),
-                self.face_of.get(&[t[0][0], t[1][0], t[2][0]]),
-            ) {
-                list.push(f);
-            }
-        }
+        let lists = faces_of(&self.face_of, &read.stream, set.highlights().len());
         Ok(stretch_over(set, world_from_object, |k| lists[k].clone()))
     }
 
     /// Renders `scene` with `renderer`, its receivers walked on the GPU, and reads it
-    /// back.
+    /// back: for [`GpuSetup::whole_frame`], the frame of the last update made again on
+    /// the GPU (with `scene.set`'s settings and controls) and its projectors drawn.
     ///
     /// # Errors
     /// The passes' errors, or readback failure.
@@ -121,17 +211,64 @@ impl GpuSetup {
         let res = self
             .resources
             .get_or_insert_with(|| renderer.resources(device, scene.mesh));
-        renderer.submit_gpu_receivers(
-            device,
-            queue,
-            scene,
-            res,
-            (&self.walk_pass, &mut self.walk),
-        )?;
+        // One frame count for every pass of the setup, the draw's included.
+        res.frame = self.frame;
+        match &mut self.made {
+            Made::Frame(on_gpu, Some((light_eye, _))) => {
+                renderer.submit_frame_on_gpu(device, queue, scene, res, (on_gpu, *light_eye))?;
+            }
+            _ => renderer.submit_gpu_receivers(
+                device,
+                queue,
+                scene,
+                res,
+                (&self.walk_pass, &mut self.walk),
+            )?,
+        }
+        self.frame = res.frame;
         Ok(npr_gpu::readback_rgba(
             device,
             queue,
             &renderer.target().color,
         )?)
     }
+}
+
+/// A walk's stream (per triangle corner: the vertex, and at the first corner the
+/// projector's index) as each of `count` projectors' faces (`face_of`: the render
+/// triangles' face ids).
+fn faces_of(
+    face_of: &std::collections::HashMap<[u32; 3], u32>,
+    stream: &[[u32; 2]],
+    count: usize,
+) -> Vec<Vec<u32>> {
+    let mut lists = vec![Vec::new(); count];
+    for t in stream.chunks_exact(3) {
+        if let (Some(list), Some(&f)) = (
+            lists.get_mut(t[0][1] as usize),
+            face_of.get(&[t[0][0], t[1][0], t[2][0]]),
+        ) {
+            list.push(f);
+        }
+    }
+    lists
+}
+
+/// Makes `frame` (light and eye, transform; frame count) on the GPU in a submission of its
+/// own and waits for it to be read back ([`FrameOnGpu::latest`]); returns its receivers'
+/// prepare.
+fn make_frame(
+    on_gpu: &mut FrameOnGpu,
+    (device, queue): (&wgpu::Device, &wgpu::Queue),
+    set: &HighlightSet,
+    (frame, id): ((LightEye, Mat4), npr_gpu::FrameId),
+) -> Result<npr_gpu::Prepared, SpecularError> {
+    let mut encoder = device.create_command_encoder(&Default::default());
+    let walked = on_gpu.record(queue, &mut encoder, set, frame, id)?;
+    queue.submit([encoder.finish()]);
+    on_gpu.read_after_submit(device, queue);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+    Ok(walked)
 }
