@@ -7,8 +7,8 @@
 // that a frame's regions are grown in the search's submission, with no readback between
 // (`regions.wgsl`, dispatched indirectly over the seeds written here). The centres are
 // the merged ones, then the peaks (bright regions without an `N = H` point) where the
-// search found them (`cs_peaks`); the merged ones are matched first, as the CPU's sort
-// puts their pairs first. Where the search found no peaks the update finds its own, and
+// search found them (`cs_peaks`); each highlight is matched first with a centre of its
+// own kind, as the CPU's sort puts those pairs first. Where the search found no peaks the update finds its own, and
 // the caller compares the seeds with its own and grows a frame that differs again.
 
 @group(0) @binding(0) var<storage, read_write> frame: RegionFrameData;
@@ -70,12 +70,14 @@ fn centre_valid(j: u32) -> bool {
 }
 
 // Highlight `i`'s distance to centre `j` (object space), or −1 where the pair is not
-// free, out of reach, or of the other phase (`peaks`: 0 the merged centres, 1 the peaks).
-fn free_pair(i: u32, j: u32, peaks: u32) -> f32 {
+// free, out of reach, or of the other phase (`across`: 0 a highlight and a centre of one
+// kind, both of an `N = H` point or both peaks; 1 of different kinds).
+fn free_pair(i: u32, j: u32, across: u32) -> f32 {
     if centre_of[i] != NONE || taken[j] != 0u || !centre_valid(j) {
         return -1.0;
     }
-    if (j >= merged_count) != (peaks == 1u) {
+    let was_peak = track.previous[i].state.z != 0u;
+    if ((j >= merged_count) != was_peak) != (across == 1u) {
         return -1.0;
     }
     let h = track.previous[i].position_reach;
@@ -127,7 +129,7 @@ fn finish(count: u32, status: u32) {
 
 // One workgroup: the greedy matching (each round, the closest free pair within its
 // highlight's reach, ties to the lower highlight then the lower centre, as the CPU's
-// stable sort of the pairs; the merged centres' pairs first, then the peaks'), then the
+// stable sort of the pairs; the pairs of one kind first, then those across kinds), then the
 // seeds.
 @compute @workgroup_size(256)
 fn cs_track(@builtin(local_invocation_index) lid: u32) {

@@ -44,15 +44,15 @@ impl HighlightSet {
                 }
             }
         }
-        // The N = H centres (the first `solved`) keep their highlights first; the peaks of
-        // bright regions without one ([`HighlightSet::peak_centres`]) take what is left,
-        // so that a peak near a pair of N = H centres being born never swaps their
-        // identities.
-        pairs.sort_by(|a, b| {
-            (a.2 >= solved)
-                .cmp(&(b.2 >= solved))
-                .then(a.0.total_cmp(&b.0))
-        });
+        // Each highlight first takes a centre of its own kind: an `N = H` centre (the
+        // first `solved`) for a highlight of one, a peak of a bright region without one
+        // ([`HighlightSet::peak_centres`]) for a peak's; across kinds only what is left
+        // (a bright region gaining or losing its `N = H` point). So a peak near a pair of
+        // `N = H` centres being born never swaps their identities, and a peak's highlight
+        // never takes a nearby `N = H` centre that its region then suppresses (which
+        // re-identified it every frame of a still view).
+        let other_kind = |&(_, i, j): &(f32, usize, usize)| previous[i].peak != (j >= solved);
+        pairs.sort_by(|a, b| other_kind(a).cmp(&other_kind(b)).then(a.0.total_cmp(&b.0)));
         let mut prev_taken = vec![false; previous.len()];
         for (_, i, j) in pairs {
             if !prev_taken[i] && !claimed[j] {
