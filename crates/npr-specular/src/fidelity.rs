@@ -285,13 +285,31 @@ impl FidelityRig {
         let w = view.world_from_object;
         let gpu = std::cell::RefCell::new(gpu);
         let update = |set: &mut HighlightSet| -> Result<(), SpecularError> {
-            match gpu.borrow_mut().as_deref_mut() {
+            let r = match gpu.borrow_mut().as_deref_mut() {
                 Some(g) => g.update(device, queue, set, (light_eye, w)),
                 None => {
                     set.update(light_eye, w);
                     Ok(())
                 }
+            };
+            if std::env::var_os("SCRATCH").is_some() {
+                eprintln!(
+                    "UPD {} b {:?}: {:?}",
+                    gpu.borrow().is_some(),
+                    set.boundary,
+                    set.highlights()
+                        .iter()
+                        .filter(|h| h.peak)
+                        .map(|h| (
+                            h.id,
+                            format!("{:.3}", h.projector.centre_world.z),
+                            h.opacity,
+                            h.found
+                        ))
+                        .collect::<Vec<_>>()
+                );
             }
+            r
         };
         update(set)?;
         let sigma = set.global.sigma;
@@ -333,12 +351,21 @@ impl FidelityRig {
         let overlap_px = if own_fades {
             None
         } else {
+            let drawn: Vec<(Vec3, f32)> = set
+                .highlights()
+                .iter()
+                .map(|h| (h.controls.tint, h.opacity))
+                .collect();
             for h in set.highlights_mut() {
                 h.controls.tint = Vec3::ONE;
                 h.opacity = 0.25;
             }
-            let layered = render(set, 0.0, true)?;
-            Some(layered.pixels().filter(|p| linear(p.0[0]) >= 0.34).count())
+            let layered = render(set, 0.0, true);
+            for (h, (tint, opacity)) in set.highlights_mut().iter_mut().zip(drawn) {
+                h.controls.tint = tint;
+                h.opacity = opacity;
+            }
+            Some(layered?.pixels().filter(|p| linear(p.0[0]) >= 0.34).count())
         };
         // Cuts: the same highlights with §4.2 alone.
         let (boundary_px, cut_px) = {
@@ -426,6 +453,13 @@ fn coded(
 ) -> Result<Vec<(usize, f32)>, SpecularError> {
     let code = |c: usize| (c % 16) as f32 / 15.0;
     let tint = |k: usize| Vec3::new(1.0, code(k), code(k / 16));
+    // The drawn tints and opacities are the measure's, not the set's: the next update
+    // fades on from the set's own.
+    let drawn: Vec<(Vec3, f32)> = set
+        .highlights()
+        .iter()
+        .map(|h| (h.controls.tint, h.opacity))
+        .collect();
     for h in set.highlights_mut() {
         let k = ids.iter().position(|id| *id == h.id).unwrap_or(255);
         h.controls.tint = tint(k);
@@ -441,6 +475,10 @@ fn coded(
     let image = render(set);
     for (&id, c) in ids.iter().zip(own) {
         set.set_own_controls(id, c);
+    }
+    for (h, (tint, opacity)) in set.highlights_mut().iter_mut().zip(drawn) {
+        h.controls.tint = tint;
+        h.opacity = opacity;
     }
     let image = image?;
     Ok(image

@@ -236,6 +236,14 @@ impl FrameOnGpu {
         Ok(walked)
     }
 
+    /// Makes the next [`FrameOnGpu::record`] start from the table the last one started
+    /// from: for a measure that draws the last frame again (with other tints) without
+    /// advancing its fades. Call only after that frame's submission.
+    #[cfg(any(test, feature = "test-support"))]
+    pub(crate) fn repeat_last_frame(&mut self) {
+        self.projectors.rewind();
+    }
+
     /// The CPU time the last [`FrameOnGpu::record`] took, µs: all the CPU does for a
     /// frame's highlights.
     pub fn record_us(&self) -> f64 {

@@ -324,6 +324,12 @@ fn settings_buffer(device: &wgpu::Device, room: usize) -> wgpu::Buffer {
 }
 
 impl ProjectorObject {
+    /// Makes the next prepare read the table the last one read (and write the one it
+    /// wrote): the last frame made again, its fades not advanced.
+    pub(crate) fn rewind(&mut self) {
+        self.written = 1 - self.written;
+    }
+
     /// The table the last prepare writes: the next frame's matching reads it
     /// ([`crate::RegionPass::prepare_tracked_on_table`]).
     pub fn table(&self) -> &wgpu::Buffer {

@@ -61,8 +61,8 @@ impl GpuSetup {
     /// textures none of which is a normal map, as [`super::FidelityRig`]'s): each update
     /// makes the frame on the GPU, waits for it and adopts its highlights
     /// ([`HighlightSet::adopt_gpu_frame`]: the ids, centres, footprints, fades, peaks and
-    /// pieces the GPU made), and each highlight render makes the frame again and draws
-    /// the projectors the GPU built, with the opacities of the GPU's fades.
+    /// pieces the GPU made), and each highlight render makes that frame again (from the
+    /// same table: its fades not advanced) and draws the projectors the GPU built.
     ///
     /// # Errors
     /// As [`GpuSetup::new`].
@@ -168,6 +168,7 @@ impl GpuSetup {
     ) -> Result<f32, SpecularError> {
         self.frame = self.frame.next();
         if let Made::Frame(on_gpu, Some(frame)) = &mut self.made {
+            on_gpu.repeat_last_frame();
             let walked = make_frame(on_gpu, (device, queue), set, (*frame, self.frame))?;
             let records = on_gpu
                 .latest()
@@ -215,6 +216,8 @@ impl GpuSetup {
         res.frame = self.frame;
         match &mut self.made {
             Made::Frame(on_gpu, Some((light_eye, _))) => {
+                // The update's frame again, not the next one: its fades as it left them.
+                on_gpu.repeat_last_frame();
                 renderer.submit_frame_on_gpu(device, queue, scene, res, (on_gpu, *light_eye))?;
             }
             _ => renderer.submit_gpu_receivers(
