@@ -66,10 +66,13 @@ pub fn write_head_and_records<H: bytemuck::Pod, R: bytemuck::Pod>(
     head: &H,
     records: &[R],
 ) {
-    queue.write_buffer(buffer, 0, bytemuck::bytes_of(head));
-    if !records.is_empty() {
-        let at = std::mem::size_of::<H>() as u64;
-        queue.write_buffer(buffer, at, bytemuck::cast_slice(records));
+    // One write: each write is a staging upload of its own at the next submission.
+    if records.is_empty() {
+        queue.write_buffer(buffer, 0, bytemuck::bytes_of(head));
+    } else {
+        let mut bytes = bytemuck::bytes_of(head).to_vec();
+        bytes.extend_from_slice(bytemuck::cast_slice(records));
+        queue.write_buffer(buffer, 0, &bytes);
     }
 }
 

@@ -22,9 +22,10 @@ struct TrackedHighlight {
 struct TrackParams {
     // Highlights in `previous` (at most `MAX_TRACKED` are matched).
     count: u32,
-    // Seeds the growth has room for: more, and none is seeded (status 1).
+    // Seeds the growth had room for, and σ of a new highlight (the global controls'), as
+    // the frame that wrote the table had them; `cs_track` reads this frame's from
+    // `RegionParams` (`track_room`, `track_sigma`).
     room: u32,
-    // σ of a new highlight (the global controls').
     sigma: f32,
     // 1 once a frame has been drawn (new highlights then fade in).
     tracking: u32,

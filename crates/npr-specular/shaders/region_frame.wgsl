@@ -17,6 +17,11 @@ struct RegionParams {
     words: u32,
     // Queue entries per seed; faces past it are dropped and the seed marked overflowed.
     capacity: u32,
+    // A frame seeded on the GPU (`tracking.wgsl`): the seeds it has room for (more, and
+    // none is seeded), and a new highlight's σ (the global controls').
+    track_room: u32,
+    track_sigma: f32,
+    pad: vec2<u32>,
 }
 
 // One seed (`grow::Part`): its centre (world; w: σ), its projector frame (the axis n,

@@ -25,7 +25,8 @@
 const MATCH_AT: u32 = 8u;
 // The highlights whose σ the user set (`HighlightControls::sigma`): their count (x of
 // the first entry), then (id, σ bits) sorted by id. Any other highlight takes the global
-// σ (`TrackParams::sigma`): a table the GPU wrote a frame ago holds the σ of that frame.
+// σ (`RegionParams::track_sigma`, this frame's): a table the GPU wrote a frame ago holds
+// the σ of that frame.
 @group(0) @binding(5) var<storage, read> own_sigma: array<vec2<u32>>;
 
 // Highlight `id`'s σ this frame.
@@ -43,7 +44,7 @@ fn sigma_of(id: u32) -> f32 {
     if lo < own_sigma[0].x + 1u && own_sigma[lo].x == id {
         return bitcast<f32>(own_sigma[lo].y);
     }
-    return track.params.sigma;
+    return frame.params.track_sigma;
 }
 
 const TRACK_WORKGROUP: u32 = 256u;
@@ -154,7 +155,7 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
         for (var j = 0u; j < c; j += 1u) {
             valid += select(0u, 1u, centre_valid(j));
         }
-        round_best = select(0u, NONE, valid > track.params.room);
+        round_best = select(0u, NONE, valid > frame.params.track_room);
     }
     if workgroupUniformLoad(&round_best) == NONE {
         if lid == 0u {
@@ -221,11 +222,11 @@ fn cs_track(@builtin(local_invocation_index) lid: u32) {
     for (var j = 0u; j < c; j += 1u) {
         if taken[j] == 0u && centre_valid(j) {
             seed_centre[n] = j;
-            seed_sigma[n] = track.params.sigma;
+            seed_sigma[n] = frame.params.track_sigma;
             n += 1u;
         }
     }
-    if n > track.params.room {
+    if n > frame.params.track_room {
         finish(0u, 1u);
         return;
     }

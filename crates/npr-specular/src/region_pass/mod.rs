@@ -376,13 +376,6 @@ impl RegionPass {
         (table, room): (&wgpu::Buffer, usize),
     ) -> Result<Prepared, SpecularError> {
         let room = room.clamp(1, MAX_TRACKED);
-        queue.write_buffer(table, 4, bytemuck::bytes_of(&(room as u32)));
-        // A new highlight's σ is the set's global one now, as the CPU's matching takes it.
-        let fresh = input
-            .set
-            .global
-            .compose(&crate::HighlightControls::default());
-        queue.write_buffer(table, 8, bytemuck::bytes_of(&fresh.sigma));
         let table = tracked::TableSource::Gpu(table);
         self.prepare_tracked_with(queue, object, input, (room, table))
     }
@@ -491,6 +484,13 @@ impl RegionPass {
         let mut params = params_of(input, faces);
         params.words = object.words as u32;
         params.capacity = object.work_capacity as u32;
+        if tracked.is_some() {
+            // A new highlight's σ is the set's global one now, as the CPU's matching
+            // takes it; `cs_track` reads it and the room here, not in the table.
+            let fresh = set.global.compose(&crate::HighlightControls::default());
+            params.track_room = count as u32;
+            params.track_sigma = fresh.sigma;
+        }
         let seeds = seed_records(input.seeds, faces);
         npr_gpu::compute::write_head_and_records(queue, &slot.seeds, &params, &seeds);
         // The group changes only with the buffers it binds.

@@ -18,6 +18,9 @@ pub(super) struct Params {
     pub(super) face_count: u32,
     pub(super) words: u32,
     pub(super) capacity: u32,
+    pub(super) track_room: u32,
+    pub(super) track_sigma: f32,
+    pub(super) pad: [u32; 2],
 }
 
 /// Bytes of `RegionParams`: the seeds follow them in `RegionFrameData`'s buffer.

@@ -180,6 +180,8 @@ pub(super) struct TrackedSlot {
     /// The table this slot uploads (a table the GPU wrote is bound as it is).
     own_track: Option<wgpu::Buffer>,
     sigmas: wgpu::Buffer,
+    /// What `sigmas` holds (written again only when it changes).
+    sigma_words: Vec<[u32; 2]>,
     pub(super) group: wgpu::BindGroup,
     groups: npr_gpu::compute::GroupCache,
 }
@@ -237,7 +239,12 @@ pub(super) fn tracked_slot(
         _ => buffer_init(device, label, bytes, usage),
     };
     let (last_track, last_sigmas, last_dispatch, mut groups) = match last {
-        Some(t) => (t.own_track, Some(t.sigmas), Some(t.dispatch), t.groups),
+        Some(t) => (
+            t.own_track,
+            Some((t.sigmas, t.sigma_words)),
+            Some(t.dispatch),
+            t.groups,
+        ),
         None => (None, None, None, Default::default()),
     };
     let (track, own_track) = match table {
@@ -247,11 +254,14 @@ pub(super) fn tracked_slot(
         }
         TableSource::Gpu(buffer) => (buffer.clone(), last_track),
     };
-    let sigmas = reuse(
-        last_sigmas,
-        bytemuck::cast_slice(own_sigma),
-        "npr region own sigma",
-    );
+    let sigmas = match last_sigmas {
+        Some((b, words)) if words == own_sigma => b,
+        last => reuse(
+            last.map(|(b, _)| b),
+            bytemuck::cast_slice(own_sigma),
+            "npr region own sigma",
+        ),
+    };
     // `cs_track` writes every word a frame reads (the status and counts; the matching
     // where it matched).
     let dispatch = last_dispatch.unwrap_or_else(|| {
@@ -284,6 +294,7 @@ pub(super) fn tracked_slot(
         track,
         own_track,
         sigmas,
+        sigma_words: own_sigma.to_vec(),
         group,
         groups,
     }
