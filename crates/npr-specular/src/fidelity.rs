@@ -351,21 +351,8 @@ impl FidelityRig {
         let overlap_px = if own_fades {
             None
         } else {
-            let drawn: Vec<(Vec3, f32)> = set
-                .highlights()
-                .iter()
-                .map(|h| (h.controls.tint, h.opacity))
-                .collect();
-            for h in set.highlights_mut() {
-                h.controls.tint = Vec3::ONE;
-                h.opacity = 0.25;
-            }
-            let layered = render(set, 0.0, true);
-            for (h, (tint, opacity)) in set.highlights_mut().iter_mut().zip(drawn) {
-                h.controls.tint = tint;
-                h.opacity = opacity;
-            }
-            Some(layered?.pixels().filter(|p| linear(p.0[0]) >= 0.34).count())
+            let layered = drawn_as(set, |_| (Vec3::ONE, 0.25), |set| render(set, 0.0, true))?;
+            Some(layered.pixels().filter(|p| linear(p.0[0]) >= 0.34).count())
         };
         // Cuts: the same highlights with §4.2 alone.
         let (boundary_px, cut_px) = {
@@ -453,18 +440,7 @@ fn coded(
 ) -> Result<Vec<(usize, f32)>, SpecularError> {
     let code = |c: usize| (c % 16) as f32 / 15.0;
     let tint = |k: usize| Vec3::new(1.0, code(k), code(k / 16));
-    // The drawn tints and opacities are the measure's, not the set's: the next update
-    // fades on from the set's own.
-    let drawn: Vec<(Vec3, f32)> = set
-        .highlights()
-        .iter()
-        .map(|h| (h.controls.tint, h.opacity))
-        .collect();
-    for h in set.highlights_mut() {
-        let k = ids.iter().position(|id| *id == h.id).unwrap_or(255);
-        h.controls.tint = tint(k);
-        h.opacity = 1.0;
-    }
+    let code_of = |id: u64| ids.iter().position(|i| *i == id).unwrap_or(255);
     let own: Vec<Option<HighlightControls>> = ids.iter().map(|&id| set.own_controls(id)).collect();
     let global = set.global.tint.max(Vec3::splat(1e-6));
     for (k, (&id, c)) in ids.iter().zip(&own).enumerate() {
@@ -472,13 +448,9 @@ fn coded(
         c.tint = tint(k) / global;
         set.set_own_controls(id, Some(c));
     }
-    let image = render(set);
+    let image = drawn_as(set, |h| (tint(code_of(h.id)), 1.0), render);
     for (&id, c) in ids.iter().zip(own) {
         set.set_own_controls(id, c);
-    }
-    for (h, (tint, opacity)) in set.highlights_mut().iter_mut().zip(drawn) {
-        h.controls.tint = tint;
-        h.opacity = opacity;
     }
     let image = image?;
     Ok(image
@@ -489,6 +461,30 @@ fn coded(
             (decode(g) + 16 * decode(b), r)
         })
         .collect())
+}
+
+/// What `render` gives with each highlight of `set` drawn at the (tint, opacity) `look`
+/// gives it; then the set's own are given back: the next update fades on from them, not
+/// from the measure's.
+fn drawn_as<T>(
+    set: &mut HighlightSet,
+    look: impl Fn(&crate::Highlight) -> (Vec3, f32),
+    render: impl FnOnce(&HighlightSet) -> T,
+) -> T {
+    let own: Vec<(Vec3, f32)> = set
+        .highlights()
+        .iter()
+        .map(|h| (h.controls.tint, h.opacity))
+        .collect();
+    for h in set.highlights_mut() {
+        (h.controls.tint, h.opacity) = look(h);
+    }
+    let out = render(set);
+    for (h, (tint, opacity)) in set.highlights_mut().iter_mut().zip(own) {
+        h.controls.tint = tint;
+        h.opacity = opacity;
+    }
+    out
 }
 
 /// Boundary pixels of the drawn highlights, and those among them cut: a 4-neighbour
