@@ -146,7 +146,14 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
             set.boundary = boundary;
             let abstraction = set.abstraction();
             for key in SETUPS {
-                let mut setup = gpu_setup(&ctx.device, set, &mesh.indices, key)?;
+                let mut setup = match gpu_setup(&ctx.device, set, &mesh.indices, key) {
+                    None => None,
+                    Some(Ok(setup)) => Some(setup),
+                    Some(Err(e)) => {
+                        left_out(name, key, &e);
+                        continue;
+                    }
+                };
                 let bar = super::progress(views.len() as u64, &format!("{name} {label} {key}"));
                 let mut scores = Vec::with_capacity(views.len());
                 for view in &views {
@@ -191,18 +198,24 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
 /// The setups each row is measured with (`setup`).
 const SETUPS: [&str; 3] = ["cpu", "gpu", "gpu-frame"];
 
-/// The GPU setup of `key` (none for `"cpu"`).
+/// The GPU setup of `key` (none for `"cpu"`); an error for a mesh whose tables this
+/// device cannot bind, whose rows are then left out with a line saying so.
 fn gpu_setup(
     device: &wgpu::Device,
     set: &HighlightSet,
     indices: &[u32],
     key: &str,
-) -> anyhow::Result<Option<GpuSetup>> {
-    Ok(match key {
-        "gpu" => Some(GpuSetup::new(device, set, indices)?),
-        "gpu-frame" => Some(GpuSetup::whole_frame(device, set, indices)?),
+) -> Option<Result<GpuSetup, npr_specular::SpecularError>> {
+    match key {
+        "gpu" => Some(GpuSetup::new(device, set, indices)),
+        "gpu-frame" => Some(GpuSetup::whole_frame(device, set, indices)),
         _ => None,
-    })
+    }
+}
+
+/// Says why `key`'s rows of `name` are left out.
+fn left_out(name: &str, key: &str, error: &npr_specular::SpecularError) {
+    eprintln!("specular-fidelity: {name}: no `{key}` rows: {error}");
 }
 
 /// A mesh for the turning table: its name, the mesh at rest and, with `--animation`,
@@ -294,8 +307,13 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
             )];
             // The same turn set up on the GPU (the walk is drawn, not measured here).
             for key in &SETUPS[1..] {
-                let Some(mut gpu) = gpu_setup(&ctx.device, &set, &t.mesh.indices, key)? else {
-                    continue;
+                let mut gpu = match gpu_setup(&ctx.device, &set, &t.mesh.indices, key) {
+                    Some(Ok(gpu)) => gpu,
+                    Some(Err(e)) => {
+                        left_out(&t.name, key, &e);
+                        continue;
+                    }
+                    None => continue,
                 };
                 let on_gpu = turntable_coherence_with(
                     &mut set,
