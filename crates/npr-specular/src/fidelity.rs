@@ -679,11 +679,29 @@ pub fn pose_coherence(
     poses: impl IntoIterator<Item = Mesh>,
     options: &CurvatureOptions,
 ) -> Result<Coherence, SpecularError> {
+    let cpu = |set: &mut HighlightSet, pose: &Mesh, (le, w): (LightEye, Mat4)| {
+        set.repose(pose, options)?;
+        set.update(le, w);
+        Ok(())
+    };
+    pose_coherence_with(set, (light_eye, world_from_object), poses, cpu)
+}
+
+/// [`pose_coherence`] with each pose's frame made by `update` (for instance
+/// [`GpuSetup::update_pose`], which leaves the set at its built pose).
+///
+/// # Errors
+/// The first error of `update`.
+pub fn pose_coherence_with<E>(
+    set: &mut HighlightSet,
+    frame: (LightEye, Mat4),
+    poses: impl IntoIterator<Item = Mesh>,
+    mut update: impl FnMut(&mut HighlightSet, &Mesh, (LightEye, Mat4)) -> Result<(), E>,
+) -> Result<Coherence, E> {
     set.reset();
     let mut c = Coherence::new(set.fade_frames);
     for pose in poses {
-        set.repose(&pose, options)?;
-        set.update(light_eye, world_from_object);
+        update(set, &pose, frame)?;
         c.step(set);
     }
     Ok(c)

@@ -3,15 +3,15 @@
 //! drawn from the projectors the GPU built) against the CPU's update of the same views
 //! and turns: precision, recall, the highlights seen, edit completeness, pops and the
 //! largest footprint change. A procedural torus and hammer CAD scan (neither used to
-//! tune the GPU frame) and Spot.
+//! tune the GPU frame) and Spot; and clips of procedural rigs, each pose made on the GPU.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use glam::Vec3;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::GpuMesh;
 use npr_specular::fidelity::{
-    FidelityRig, FidelityScore, GpuSetup, standard_views, surface_at_scale, turntable_coherence,
-    turntable_coherence_with, unit_sphere_transform,
+    FidelityRig, FidelityScore, GpuSetup, pose_coherence, pose_coherence_with, standard_views,
+    surface_at_scale, turntable_coherence, turntable_coherence_with, unit_sphere_transform,
 };
 use npr_specular::{HighlightSet, HighlightSizing};
 
@@ -143,6 +143,58 @@ fn a_turn_made_on_the_gpu_fades_as_the_cpus() {
             gpu.update(&ctx.device, &ctx.queue, s, f)
         })
         .unwrap();
+        eprintln!("{name}: CPU {cpu:?}\n GPU {on_gpu:?}");
+        assert_eq!(on_gpu.frames, frames);
+        assert_eq!(
+            (on_gpu.pops_in, on_gpu.pops_out),
+            (cpu.pops_in, cpu.pops_out),
+            "{name}"
+        );
+        assert!(
+            (on_gpu.area_change_max - cpu.area_change_max).abs() <= 1e-3,
+            "{name}: largest area change {} on the GPU, {} on the CPU",
+            on_gpu.area_change_max,
+            cpu.area_change_max
+        );
+    }
+}
+
+#[test]
+fn a_clip_made_on_the_gpu_fades_as_the_cpus() {
+    let Some(ctx) = npr_gpu::testing::context_or_skip("a_clip_made_on_the_gpu_fades_as_the_cpus")
+    else {
+        return;
+    };
+    let options = CurvatureOptions::default();
+    let rigs = [
+        ("bent tube", generate::bent_tube(0.3, 1.0, 1.5, 24, 48)),
+        (
+            "stretched sphere",
+            generate::stretched_sphere(1.0, 0.7, 0.5, 12),
+        ),
+        ("swaying knot", generate::swaying(generate::paper_knot())),
+    ];
+    for (name, rigged) in rigs {
+        let (rest, rig) = (&rigged.mesh, &rigged.rig);
+        let clip = &rig.clips()[0];
+        let frames = 36;
+        let poses: Vec<Mesh> = (0..frames)
+            .map(|k| rig.pose_mesh(&rig.sample(clip, clip.duration() * k as f32 / frames as f32)))
+            .collect();
+        let (camera, world) = npr_gpu::figures::framing_camera(rest, 4.0 / 3.0);
+        let le = LightEye::Positions {
+            light: Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
+            eye: camera.eye,
+        };
+        let mut set = HighlightSet::new(rest, &options).unwrap();
+        let mut gpu = GpuSetup::whole_frame(&ctx.device, &set, &rest.indices).unwrap();
+        gpu.pose_on_gpu(&ctx.device, &set, (rest, &options))
+            .unwrap();
+        let on_gpu = pose_coherence_with(&mut set, (le, world), poses.clone(), |s, pose, f| {
+            gpu.update_pose(&ctx.device, &ctx.queue, s, pose, f)
+        })
+        .unwrap();
+        let cpu = pose_coherence(&mut set, le, world, poses, &options).unwrap();
         eprintln!("{name}: CPU {cpu:?}\n GPU {on_gpu:?}");
         assert_eq!(on_gpu.frames, frames);
         assert_eq!(

@@ -15,16 +15,18 @@
 //! `npr_specular::SetupOnGpu`, and the §4.2 receivers walked on the GPU and drawn from
 //! its stream) and `"gpu-frame"` (`GpuSetup::whole_frame`: the whole frame made on the
 //! GPU, projectors included, and drawn from the projectors the GPU built, as npr's
-//! `search = "gpu-frame"` draws it; the overlap is drawn from the frame's highlights
-//! read back). The clips run on the CPU.
+//! `search = "gpu-frame"` draws it; the overlap is not measured there: the GPU's frames
+//! carry their own fades). A clip runs twice: `"cpu"` (each pose reposed on the CPU)
+//! and `"gpu-frame"` (each pose's curvature and tables made on the GPU,
+//! `GpuSetup::pose_on_gpu`).
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{GpuContext, GpuMesh};
 use npr_specular::fidelity::{
-    FidelityRig, FidelityScore, GpuSetup, pose_coherence, standard_views, surface_at_scale,
-    turntable_coherence, turntable_coherence_with, unit_sphere_transform,
+    FidelityRig, FidelityScore, GpuSetup, pose_coherence, pose_coherence_with, standard_views,
+    surface_at_scale, turntable_coherence, turntable_coherence_with, unit_sphere_transform,
 };
 use npr_specular::{HighlightBoundary, HighlightSet, HighlightSizing};
 use std::path::{Path, PathBuf};
@@ -333,8 +335,30 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
                     &options,
                 )?;
                 runs.push((format!("clip {clip}"), "cpu", c));
-                // Back to the rest pose for the next sizing's turn.
+                // Back to the rest pose for the next sizing's turn (and the GPU's clip,
+                // which makes each pose's tables on the GPU and leaves the set at rest).
                 set.repose(&t.mesh, &options)?;
+                let made = GpuSetup::whole_frame(&ctx.device, &set, &t.mesh.indices).and_then(
+                    |mut gpu| {
+                        gpu.pose_on_gpu(&ctx.device, &set, (&t.mesh, &options))?;
+                        Ok(gpu)
+                    },
+                );
+                match made {
+                    Ok(mut gpu) => {
+                        let c = pose_coherence_with(
+                            &mut set,
+                            (le, world_from_normalized),
+                            frames.iter().cloned(),
+                            |set, pose, frame| {
+                                gpu.update_pose(&ctx.device, &ctx.queue, set, pose, frame)
+                            },
+                        )?;
+                        set.receivers_on_gpu = false;
+                        runs.push((format!("clip {clip}"), "gpu-frame", c));
+                    }
+                    Err(e) => left_out(&t.name, "gpu-frame", &e),
+                }
             }
             for (motion, setup, c) in runs {
                 table.push(vec![

@@ -27,6 +27,18 @@ pub struct GpuSetup {
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
     frame: npr_gpu::FrameId,
+    /// Poses made on the GPU ([`GpuSetup::pose_on_gpu`]), and whether the next update
+    /// records a new one.
+    posing: Option<Box<Posing>>,
+    pose_pending: bool,
+}
+
+/// The posed vertex buffer and its curvature, for whole frames of a moving mesh.
+#[derive(Debug)]
+struct Posing {
+    mesh: npr_gpu::GpuMesh,
+    pass: npr_gpu::CurvaturePass,
+    curvature: npr_gpu::CurvatureObject,
 }
 
 /// Which GPU setup a [`GpuSetup`] is.
@@ -96,7 +108,70 @@ impl GpuSetup {
                 .collect(),
             resources: None,
             frame: npr_gpu::FrameId::default(),
+            posing: None,
+            pose_pending: false,
         })
+    }
+
+    /// Makes this whole-frame setup's poses on the GPU, as npr's `search = "gpu-frame"`
+    /// makes an animated model's: each [`GpuSetup::update_pose`] writes the pose into a
+    /// vertex buffer of `rest` (the mesh `set` was built on), measures its curvature there
+    /// (`npr_gpu::CurvaturePass` at [`npr_gpu::POSE_REACH`], `options`' radius) and makes
+    /// its tables there ([`FrameOnGpu::pose_on_gpu`]); `set` is not reposed.
+    ///
+    /// # Errors
+    /// [`SpecularError::Mismatch`] for a setup of [`GpuSetup::new`]; the passes' errors.
+    pub fn pose_on_gpu(
+        &mut self,
+        device: &wgpu::Device,
+        set: &HighlightSet,
+        (rest, options): (&npr_geometry::Mesh, &npr_geometry::CurvatureOptions),
+    ) -> Result<(), SpecularError> {
+        let Made::Frame(on_gpu, _) = &mut self.made else {
+            return Err(SpecularError::Mismatch(
+                "poses are made on the GPU for whole frames only (GpuSetup::whole_frame)".into(),
+            ));
+        };
+        let mesh = npr_gpu::GpuMesh::upload(device, rest)?;
+        let pass = npr_gpu::CurvaturePass::new(device);
+        let curvature = pass.create_object_with_reach(
+            device,
+            &mesh,
+            rest,
+            options.radius,
+            npr_gpu::POSE_REACH,
+        )?;
+        on_gpu.pose_on_gpu(device, set, (rest, &mesh), &curvature)?;
+        self.posing = Some(Box::new(Posing {
+            mesh,
+            pass,
+            curvature,
+        }));
+        Ok(())
+    }
+
+    /// [`GpuSetup::update`] for `pose` (of the rest mesh given to
+    /// [`GpuSetup::pose_on_gpu`], same triangles), its tables made on the GPU first.
+    ///
+    /// # Errors
+    /// [`SpecularError::Mismatch`] without [`GpuSetup::pose_on_gpu`]; a pose of other
+    /// vertices; as [`GpuSetup::update`].
+    pub fn update_pose(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &mut HighlightSet,
+        pose: &npr_geometry::Mesh,
+        frame: (LightEye, Mat4),
+    ) -> Result<(), SpecularError> {
+        let posing = self.posing.as_ref().ok_or_else(|| {
+            SpecularError::Mismatch("no poses on the GPU (GpuSetup::pose_on_gpu)".into())
+        })?;
+        posing.mesh.write_vertices(queue, pose)?;
+        self.pose_pending = true;
+        let updated = self.update(device, queue, set, frame);
+        self.pose_pending = false;
+        updated
     }
 
     /// Updates `set` for this light, eye and transform on the GPU: [`SetupOnGpu::update`],
@@ -128,9 +203,11 @@ impl GpuSetup {
                     on_gpu.start_from(queue, set, world_from_object);
                 }
                 *last = Some(frame);
+                let mut posing = self.posing.as_deref_mut().filter(|_| self.pose_pending);
                 for _ in 0..HELD_RETRIES {
                     self.frame = self.frame.next();
-                    make_frame(on_gpu, (device, queue), set, (frame, self.frame))?;
+                    let pose = posing.as_deref_mut();
+                    make_frame(on_gpu, (device, queue), set, (frame, self.frame), pose)?;
                     let status = on_gpu.latest().map(|f| f.status);
                     if status != Some(crate::GpuFrameStatus::Held) {
                         break;
@@ -169,7 +246,7 @@ impl GpuSetup {
         self.frame = self.frame.next();
         if let Made::Frame(on_gpu, Some(frame)) = &mut self.made {
             on_gpu.repeat_last_frame();
-            let walked = make_frame(on_gpu, (device, queue), set, (*frame, self.frame))?;
+            let walked = make_frame(on_gpu, (device, queue), set, (*frame, self.frame), None)?;
             let records = on_gpu
                 .latest()
                 .map(|f| f.projectors.clone())
@@ -258,15 +335,22 @@ fn faces_of(
 }
 
 /// Makes `frame` (light and eye, transform; frame count) on the GPU in a submission of its
-/// own and waits for it to be read back ([`FrameOnGpu::latest`]); returns its receivers'
-/// prepare.
+/// own, after `pose`'s curvature and tables where given, and waits for it to be read back
+/// ([`FrameOnGpu::latest`]); returns its receivers' prepare.
 fn make_frame(
     on_gpu: &mut FrameOnGpu,
     (device, queue): (&wgpu::Device, &wgpu::Queue),
     set: &HighlightSet,
     (frame, id): ((LightEye, Mat4), npr_gpu::FrameId),
+    pose: Option<&mut Posing>,
 ) -> Result<npr_gpu::Prepared, SpecularError> {
     let mut encoder = device.create_command_encoder(&Default::default());
+    if let Some(p) = pose {
+        let input = npr_gpu::CurvatureInput { frame: id };
+        let measured = p.pass.prepare(queue, &mut p.curvature, &input)?;
+        p.pass.record(&mut encoder, &p.curvature, &measured)?;
+        on_gpu.record_pose(queue, &mut encoder, id)?;
+    }
     let walked = on_gpu.record(queue, &mut encoder, set, frame, id)?;
     queue.submit([encoder.finish()]);
     on_gpu.read_after_submit(device, queue);
