@@ -10,8 +10,9 @@ use glam::Vec3;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::GpuMesh;
 use npr_specular::fidelity::{
-    FidelityRig, FidelityScore, GpuSetup, pose_coherence, pose_coherence_with, standard_views,
-    surface_at_scale, turntable_coherence, turntable_coherence_with, unit_sphere_transform,
+    Coherence, FidelityRig, FidelityScore, GpuSetup, pose_coherence, pose_coherence_with,
+    standard_views, surface_at_scale, turntable_coherence, turntable_coherence_with,
+    unit_sphere_transform,
 };
 use npr_specular::{HighlightSet, HighlightSizing};
 
@@ -119,6 +120,23 @@ fn whole_frames_on_the_gpu_score_as_the_cpus_update() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// A sequence made on the GPU pops and changes its footprints as the CPU's.
+fn assert_same_coherence(name: &str, (cpu, on_gpu): (&Coherence, &Coherence), frames: usize) {
+    eprintln!("{name}: CPU {cpu:?}\n GPU {on_gpu:?}");
+    assert_eq!(on_gpu.frames, frames);
+    assert_eq!(
+        (on_gpu.pops_in, on_gpu.pops_out),
+        (cpu.pops_in, cpu.pops_out),
+        "{name}"
+    );
+    assert!(
+        (on_gpu.area_change_max - cpu.area_change_max).abs() <= 1e-3,
+        "{name}: largest area change {} on the GPU, {} on the CPU",
+        on_gpu.area_change_max,
+        cpu.area_change_max
+    );
+}
+
 #[test]
 fn a_turn_made_on_the_gpu_fades_as_the_cpus() {
     let Some(ctx) = npr_gpu::testing::context_or_skip("a_turn_made_on_the_gpu_fades_as_the_cpus")
@@ -143,19 +161,7 @@ fn a_turn_made_on_the_gpu_fades_as_the_cpus() {
             gpu.update(&ctx.device, &ctx.queue, s, f)
         })
         .unwrap();
-        eprintln!("{name}: CPU {cpu:?}\n GPU {on_gpu:?}");
-        assert_eq!(on_gpu.frames, frames);
-        assert_eq!(
-            (on_gpu.pops_in, on_gpu.pops_out),
-            (cpu.pops_in, cpu.pops_out),
-            "{name}"
-        );
-        assert!(
-            (on_gpu.area_change_max - cpu.area_change_max).abs() <= 1e-3,
-            "{name}: largest area change {} on the GPU, {} on the CPU",
-            on_gpu.area_change_max,
-            cpu.area_change_max
-        );
+        assert_same_coherence(name, (&cpu, &on_gpu), frames);
     }
 }
 
@@ -195,18 +201,6 @@ fn a_clip_made_on_the_gpu_fades_as_the_cpus() {
         })
         .unwrap();
         let cpu = pose_coherence(&mut set, le, world, poses, &options).unwrap();
-        eprintln!("{name}: CPU {cpu:?}\n GPU {on_gpu:?}");
-        assert_eq!(on_gpu.frames, frames);
-        assert_eq!(
-            (on_gpu.pops_in, on_gpu.pops_out),
-            (cpu.pops_in, cpu.pops_out),
-            "{name}"
-        );
-        assert!(
-            (on_gpu.area_change_max - cpu.area_change_max).abs() <= 1e-3,
-            "{name}: largest area change {} on the GPU, {} on the CPU",
-            on_gpu.area_change_max,
-            cpu.area_change_max
-        );
+        assert_same_coherence(name, (&cpu, &on_gpu), frames);
     }
 }
