@@ -105,6 +105,31 @@ impl HighlightSet {
         (params, table)
     }
 
+    /// Whether the next update continues a sequence (false after [`HighlightSet::reset`]
+    /// and before the first update).
+    pub(crate) fn is_tracking(&self) -> bool {
+        self.tracking
+    }
+
+    /// The user's own controls of highlight `id`, if any were set.
+    #[cfg(any(test, feature = "test-support"))]
+    pub(crate) fn own_controls(&self, id: u64) -> Option<crate::HighlightControls> {
+        self.per_highlight.get(&id).copied()
+    }
+
+    /// Sets (or, with `None`, clears) the user's own controls of highlight `id`.
+    #[cfg(any(test, feature = "test-support"))]
+    pub(crate) fn set_own_controls(&mut self, id: u64, controls: Option<crate::HighlightControls>) {
+        match controls {
+            Some(c) => {
+                self.per_highlight.insert(id, c);
+            }
+            None => {
+                self.per_highlight.remove(&id);
+            }
+        }
+    }
+
     /// The σ the user set per highlight (`tracking.wgsl`'s `own_sigma`): their count, then
     /// (id, σ bits) sorted by id.
     pub(crate) fn own_sigmas(&self) -> Vec<[u32; 2]> {

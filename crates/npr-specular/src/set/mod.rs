@@ -444,31 +444,6 @@ impl HighlightSet {
         self.per_highlight.entry(id).or_default()
     }
 
-    /// Whether the next update continues a sequence (false after [`HighlightSet::reset`]
-    /// and before the first update).
-    pub(crate) fn is_tracking(&self) -> bool {
-        self.tracking
-    }
-
-    /// The user's own controls of highlight `id`, if any were set.
-    #[cfg(any(test, feature = "test-support"))]
-    pub(crate) fn own_controls(&self, id: u64) -> Option<HighlightControls> {
-        self.per_highlight.get(&id).copied()
-    }
-
-    /// Sets (or, with `None`, clears) the user's own controls of highlight `id`.
-    #[cfg(any(test, feature = "test-support"))]
-    pub(crate) fn set_own_controls(&mut self, id: u64, controls: Option<HighlightControls>) {
-        match controls {
-            Some(c) => {
-                self.per_highlight.insert(id, c);
-            }
-            None => {
-                self.per_highlight.remove(&id);
-            }
-        }
-    }
-
     /// The current highlights.
     pub fn highlights(&self) -> &[Highlight] {
         &self.highlights
