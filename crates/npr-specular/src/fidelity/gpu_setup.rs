@@ -27,10 +27,8 @@ pub struct GpuSetup {
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
     frame: npr_gpu::FrameId,
-    /// Poses made on the GPU ([`GpuSetup::pose_on_gpu`]), and whether the next update
-    /// records a new one.
+    /// Poses made on the GPU ([`GpuSetup::pose_on_gpu`]).
     posing: Option<Box<Posing>>,
-    pose_pending: bool,
 }
 
 /// The posed vertex buffer and its curvature, for whole frames of a moving mesh.
@@ -109,7 +107,6 @@ impl GpuSetup {
             resources: None,
             frame: npr_gpu::FrameId::default(),
             posing: None,
-            pose_pending: false,
         })
     }
 
@@ -168,10 +165,7 @@ impl GpuSetup {
             SpecularError::Mismatch("no poses on the GPU (GpuSetup::pose_on_gpu)".into())
         })?;
         posing.mesh.write_vertices(queue, pose)?;
-        self.pose_pending = true;
-        let updated = self.update(device, queue, set, frame);
-        self.pose_pending = false;
-        updated
+        self.update_with(device, queue, set, frame, true)
     }
 
     /// Updates `set` for this light, eye and transform on the GPU: [`SetupOnGpu::update`],
@@ -188,7 +182,19 @@ impl GpuSetup {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         set: &mut HighlightSet,
+        frame: (LightEye, Mat4),
+    ) -> Result<(), SpecularError> {
+        self.update_with(device, queue, set, frame, false)
+    }
+
+    /// [`GpuSetup::update`], a new pose's tables made first where `posed`.
+    fn update_with(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        set: &mut HighlightSet,
         (light_eye, world_from_object): (LightEye, Mat4),
+        posed: bool,
     ) -> Result<(), SpecularError> {
         set.receivers_on_gpu = true;
         let frame = (light_eye, world_from_object);
@@ -203,7 +209,7 @@ impl GpuSetup {
                     on_gpu.start_from(queue, set, world_from_object);
                 }
                 *last = Some(frame);
-                let mut posing = self.posing.as_deref_mut().filter(|_| self.pose_pending);
+                let mut posing = self.posing.as_deref_mut().filter(|_| posed);
                 for _ in 0..HELD_RETRIES {
                     self.frame = self.frame.next();
                     let pose = posing.as_deref_mut();
