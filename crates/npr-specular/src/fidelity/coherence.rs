@@ -97,7 +97,7 @@ pub fn turntable_coherence(
 }
 
 /// [`turntable_coherence`] with each frame's update done by `update` (for instance
-/// [`GpuSetup::update`]).
+/// [`super::GpuSetup::update`]).
 ///
 /// # Errors
 /// The first error of `update`.
@@ -139,7 +139,7 @@ pub fn pose_coherence(
 }
 
 /// [`pose_coherence`] with each pose's frame made by `update` (for instance
-/// [`GpuSetup::update_pose`], which leaves the set at its built pose).
+/// [`super::GpuSetup::update_pose`], which leaves the set at its built pose).
 ///
 /// # Errors
 /// The first error of `update`.
