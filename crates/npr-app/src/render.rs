@@ -174,7 +174,7 @@ pub fn render_svgs(
 ) -> Result<Vec<FrameStats>, AppError> {
     let size = (preset.output.width, preset.output.height);
     let framing = model.framing;
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let mut renderer = Renderer::new(ctx, model, size)?;
     let bar = progress::bar(u64::from(frames), "pen strokes");
     let mm_per_px = page.fit(size).0;
     let mut stats = Vec::new();
@@ -227,7 +227,7 @@ pub fn render_clip_frames(
     }
     let size = (preset.output.width, preset.output.height);
     let framing = animated.framing();
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
+    let mut renderer = Renderer::new(ctx, animated.frame(0), size)?;
     let bar = progress::bar(u64::from(frames), preset.effect.name());
     let mut stats = Vec::new();
     let which = preset.hatching.direction;
@@ -278,7 +278,7 @@ pub fn render_frames(
     if preset.effect == Effect::Warp {
         return crate::engine::render_warp_frames(ctx, model, preset, frames, sink);
     }
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let mut renderer = Renderer::new(ctx, model, size)?;
     let bar = progress::bar(u64::from(frames), preset.effect.name());
     let mut stats = Vec::new();
     for i in 0..frames {

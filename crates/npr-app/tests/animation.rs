@@ -266,12 +266,12 @@ fn a_pose_set_in_place_draws_what_a_fresh_renderer_draws() {
         preset.output.width = size.0;
         preset.output.height = size.1;
         let view = npr_app::view::View::new(&preset, &animated.framing(), size, 0.0);
-        let mut fresh = Renderer::new(&ctx.device, &ctx.queue, b.clone(), size).unwrap();
+        let mut fresh = Renderer::new(ctx, b.clone(), size).unwrap();
         fresh
             .render(&ctx.device, &ctx.queue, &preset, &view)
             .unwrap();
         let want = fresh.read(&ctx.device, &ctx.queue).unwrap();
-        let mut moved = Renderer::new(&ctx.device, &ctx.queue, a.clone(), size).unwrap();
+        let mut moved = Renderer::new(ctx, a.clone(), size).unwrap();
         moved
             .render(&ctx.device, &ctx.queue, &preset, &view)
             .unwrap();
@@ -341,7 +341,7 @@ fn a_pose_set_in_place_draws_what_a_fresh_renderer_draws() {
     }
     // Another mesh is refused, and the renderer keeps drawing.
     let bunny = npr_app::model::Model::bunny().unwrap();
-    let mut r = Renderer::new(&ctx.device, &ctx.queue, a, size).unwrap();
+    let mut r = Renderer::new(ctx, a, size).unwrap();
     assert!(r.set_pose(&ctx.queue, bunny).is_err());
 }
 
@@ -421,7 +421,7 @@ fn projector_frames_do_not_flip_on_the_moving_model() {
     preset.output.width = size.0;
     preset.output.height = size.1;
     let view = npr_app::view::View::new(&preset, &animated.framing(), size, 0.0);
-    let mut r = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size).unwrap();
+    let mut r = Renderer::new(ctx, animated.frame(0), size).unwrap();
     // Keyed by the highlight, its piece and how many pieces it has: a long bent highlight
     // is drawn as pieces (`Highlight::piece`), each with its own projector, and a piece
     // is the same part of the band only while the count stays.

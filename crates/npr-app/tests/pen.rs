@@ -152,7 +152,7 @@ fn no_stroke_crosses_a_visible_silhouette_of_a_real_model() {
         };
         (preset.output.width, preset.output.height) = size;
         let view = View::new(&preset, &model.framing, size, turn);
-        let mut r = Renderer::new(&ctx.device, &ctx.queue, model, size).unwrap();
+        let mut r = Renderer::new(ctx, model, size).unwrap();
         r.render(&ctx.device, &ctx.queue, &preset, &view).unwrap();
         let d = r
             .pen_drawing(&ctx.device, &ctx.queue, &preset, &view, (1.5, 0.4))

@@ -212,7 +212,7 @@ fn specular_equals_the_library_snapshot_helper() {
     )
     .unwrap();
 
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size).unwrap();
+    let mut renderer = Renderer::new(ctx, model, size).unwrap();
     let stats = renderer
         .render(&ctx.device, &ctx.queue, &preset, &view)
         .unwrap();
@@ -370,7 +370,7 @@ fn outlines_draw_ink_on_the_silhouette_over_any_effect() {
     };
     let model = Model::from_mesh("sphere", npr_geometry::generate::icosphere(4, 1.0));
     let size = (160, 120);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size).unwrap();
+    let mut renderer = Renderer::new(ctx, model.clone(), size).unwrap();
     for effect in [Effect::Phong, Effect::Cel, Effect::HatchingPen] {
         let mut preset = Preset {
             effect,

@@ -293,7 +293,7 @@ fn switches_and_reloads_stay_flat() {
     let round = models.len();
     let warm_cycles = 2 * round;
     let soak_cycles = SOAK.div_ceil(cycle).next_multiple_of(round);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, models[0].clone(), SIZE).unwrap();
+    let mut renderer = Renderer::new(ctx, models[0].clone(), SIZE).unwrap();
     let mut readings = Vec::new();
     let mut frame = 0usize;
     for c in 0..warm_cycles + soak_cycles {

@@ -13,47 +13,55 @@ use npr_gpu::{
     BaseInput, BaseObject, BaseShading, Camera, FrameId, FrameUniforms, GpuMesh, Light,
     ObjectUniforms, Prepared, ShadingModel, TargetFormats,
 };
-use npr_specular::{HighlightInput, HighlightObject, HighlightPass, HighlightSet, SpecularError};
+use npr_specular::{
+    BackendChoice, HighlightInput, HighlightObject, HighlightPass, HighlightSet, HighlightSetup,
+    SetupInput, SetupObject, SpecularError,
+};
 
 /// One mesh with stylized highlights over Phong (your own base shading works the same).
 pub struct Highlights {
     base: BaseShading,
     base_object: BaseObject,
+    setup: HighlightSetup,
+    /// The mesh's highlight set and the backend that runs it (§3, §4.2).
+    pub setup_object: SetupObject,
     pass: HighlightPass,
     object: HighlightObject,
-    /// The CPU side: N = H centres, projectors, receiver faces (§3, §4.2).
-    pub set: HighlightSet,
 }
 
 impl Highlights {
-    /// Once per mesh, in the formats of the targets you will draw into.
+    /// Once per mesh, in the formats of the targets you will draw into, on the backend
+    /// `choice` names (`Backend::choose(&adapter.get_info(), BackendSetting::Auto)`).
     pub fn new(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        mesh: &Mesh,
-        gpu_mesh: &GpuMesh,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        (mesh, gpu_mesh): (&Mesh, &GpuMesh),
         formats: TargetFormats,
+        choice: BackendChoice,
     ) -> Result<Self, SpecularError> {
         let base = BaseShading::new(device, queue, formats, &Default::default());
         let pass = HighlightPass::new(device, queue, formats, &Default::default())?;
+        let setup = HighlightSetup::new(device, queue, &Default::default());
+        let options = CurvatureOptions::default();
+        let set = HighlightSet::new(mesh, &options)?;
         Ok(Self {
             base_object: base.create_object(device, gpu_mesh),
             object: pass.create_object(device, gpu_mesh),
-            set: HighlightSet::new(mesh, &CurvatureOptions::default())?,
+            setup_object: setup.create_object(device, queue, mesh, set, &options, choice)?,
+            setup,
             base,
             pass,
         })
     }
 
-    /// Per frame, before recording: the CPU update and the uploads (the only queue
-    /// writes). Returns the tickets `draw` takes.
+    /// Per frame, before your render pass: the highlight setup (its compute stages, on
+    /// the GPU backend, recorded into your encoder) and the uploads. Returns the tickets
+    /// `draw` takes.
     pub fn prepare(
         &mut self,
-        queue: &wgpu::Queue,
-        frame: FrameId,
-        mesh: &Mesh,
-        camera: &Camera,
-        light: &Light,
+        (device, queue): (&wgpu::Device, &wgpu::Queue),
+        encoder: &mut wgpu::CommandEncoder,
+        (frame, mesh, gpu_mesh): (FrameId, &Mesh, &GpuMesh),
+        (camera, light): (&Camera, &Light),
     ) -> Result<[Prepared; 2], SpecularError> {
         let view = FrameUniforms::new(camera, light);
         let object = ObjectUniforms::default_material(Mat4::IDENTITY);
@@ -61,24 +69,31 @@ impl Highlights {
             light: light.position_or_direction,
             eye: camera.eye,
         };
-        self.set.update(light_eye, Mat4::IDENTITY);
-        let model = ShadingModel::Phong;
+        let input = SetupInput {
+            frame,
+            light_eye,
+            world_from_object: Mat4::IDENTITY,
+            mesh,
+            gpu: gpu_mesh,
+        };
+        let setup = self
+            .setup
+            .prepare(device, queue, &mut self.setup_object, &input)?;
+        let highlights = self.setup.record(encoder, &mut self.setup_object, &setup)?;
+        let input = HighlightInput {
+            frame,
+            highlights: &highlights,
+            view: &view,
+            object: &object,
+        };
+        let highlights = self.pass.prepare(queue, &mut self.object, &input)?;
         let base = BaseInput {
             frame,
             view: &view,
             object: &object,
-            model,
+            model: ShadingModel::Phong,
         };
         let base = self.base.prepare(queue, &mut self.base_object, &base)?;
-        let input = HighlightInput {
-            frame,
-            indices: &mesh.indices,
-            set: &self.set,
-            view: &view,
-            object: &object,
-            list: None,
-        };
-        let highlights = self.pass.prepare(queue, &mut self.object, &input)?;
         Ok([base, highlights])
     }
 
@@ -95,6 +110,12 @@ impl Highlights {
         }
         Ok(())
     }
+
+    /// After your submission (the GPU backend reads its highlights back for picking).
+    pub fn after_submit(&mut self, device: &wgpu::Device, queue: &wgpu::Queue) {
+        self.setup
+            .after_submit(device, queue, &mut self.setup_object);
+    }
 }
 
 /// The renderer's colour format in this example.
@@ -103,24 +124,22 @@ pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 
 /// A unit sphere seen from +z at distance 4 with the point light at the eye, `size²`
-/// pixels, with or without the highlight pass; the image and the highlight set.
+/// pixels, on `choice`'s backend: the frame with its highlights, the same frame's base
+/// shading alone, and the mesh's highlights.
 ///
 /// # Errors
 /// A GPU or highlight-set error.
 pub fn render_sphere(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
+    (device, queue): (&wgpu::Device, &wgpu::Queue),
+    choice: BackendChoice,
     size: u32,
-    highlights: bool,
-) -> Result<(image::RgbaImage, HighlightSet), Box<dyn std::error::Error>> {
+) -> Result<([image::RgbaImage; 2], Highlights), Box<dyn std::error::Error>> {
     let mesh = npr_geometry::generate::icosphere(5, 1.0);
     let gpu_mesh = GpuMesh::upload(device, &mesh)?;
     let formats = TargetFormats::new(COLOR, DEPTH);
-    let mut hl = Highlights::new(device, queue, &mesh, &gpu_mesh, formats)?;
+    let mut hl = Highlights::new((device, queue), (&mesh, &gpu_mesh), formats, choice)?;
     let eye = Vec3::new(0.0, 0.0, 4.0);
     let camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
-    let frame = FrameId::default();
-    let prepared = hl.prepare(queue, frame, &mesh, &camera, &Light::point(eye))?;
     let target = |format, usage| {
         npr_gpu::texture_2d(device, "my renderer target", size, size, format, usage)
     };
@@ -132,28 +151,43 @@ pub fn render_sphere(
         depth.create_view(&Default::default()),
     );
     let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut rpass = npr_gpu::begin_views_pass(
-            &mut encoder,
-            &color_view,
-            &depth_view,
-            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-            wgpu::LoadOp::Clear(1.0),
-        );
-        hl.draw(&mut rpass, &prepared, highlights)?;
+    let frame = (FrameId::default(), &mesh, &gpu_mesh);
+    let lit = (&camera, &Light::point(eye));
+    let prepared = hl.prepare((device, queue), &mut encoder, frame, lit)?;
+    let mut images = Vec::new();
+    // The frame, then its base shading alone (for comparison).
+    for with_highlights in [true, false] {
+        {
+            let mut rpass = npr_gpu::begin_views_pass(
+                &mut encoder,
+                &color_view,
+                &depth_view,
+                wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                wgpu::LoadOp::Clear(1.0),
+            );
+            hl.draw(&mut rpass, &prepared, with_highlights)?;
+        }
+        queue.submit(Some(encoder.finish()));
+        encoder = device.create_command_encoder(&Default::default());
+        if with_highlights {
+            hl.after_submit(device, queue);
+        }
+        images.push(npr_gpu::readback_rgba(device, queue, &color)?);
     }
-    queue.submit(Some(encoder.finish()));
-    Ok((npr_gpu::readback_rgba(device, queue, &color)?, hl.set))
+    let [with, without] = <[image::RgbaImage; 2]>::try_from(images).map_err(|_| "two images")?;
+    Ok(([with, without], hl))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = std::env::args()
         .nth(1)
         .unwrap_or_else(|| "embed-specular.png".into());
-    // Your renderer's device and queue; here a headless one.
+    // Your renderer's device and queue; here a headless one. The backend from its adapter.
     let ctx = npr_gpu::GpuContext::new()?;
-    let (image, set) = render_sphere(&ctx.device, &ctx.queue, 256, true)?;
+    let choice = npr_specular::Backend::choose(&ctx.adapter.get_info(), Default::default());
+    let ([image, _], hl) = render_sphere((&ctx.device, &ctx.queue), choice.clone(), 256)?;
     image.save(&out)?;
-    println!("{} highlight(s); wrote {out}", set.highlights().len());
+    let found = hl.setup_object.set().highlights().len();
+    println!("backend {choice}; {found} highlight(s) known to the CPU; wrote {out}");
     Ok(())
 }

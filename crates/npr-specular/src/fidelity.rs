@@ -347,10 +347,7 @@ impl FidelityRig {
             .count();
         // Overlaps: every highlight at opacity 1/4 (not for frames whose projectors the
         // GPU builds and draws: they carry the GPU's own fades).
-        let own_fades = gpu
-            .borrow()
-            .as_deref()
-            .is_some_and(GpuSetup::draws_gpu_projectors);
+        let own_fades = gpu.borrow().is_some();
         let overlap_px = if own_fades {
             None
         } else {
@@ -421,7 +418,7 @@ impl FidelityRig {
             visible_highlights: own.iter().filter(|n| **n > MIN_BLOB_PX).count(),
             blobs: blobs(&region, self.width as usize, MIN_BLOB_PX),
             stretch_max: match gpu.borrow_mut().as_deref_mut() {
-                Some(g) => g.stretch_max(device, queue, set, w)?,
+                Some(g) => g.stretch_max(device, queue, set)?,
                 None => stretch_max(set, w),
             },
             overlap_px,

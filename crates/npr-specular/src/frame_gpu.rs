@@ -4,7 +4,8 @@
 //! ([`RegionPass::prepare_tracked_on_table`]), the highlights made into projectors
 //! ([`ProjectorPass`]) and their §4.2 receivers ([`ReceiverPass::prepare_on_projectors`]),
 //! recorded into the caller's encoder before the highlight draw
-//! ([`crate::HighlightPass::prepare_with_gpu_projectors`]). The CPU sees each frame's
+//! ([`FrameOnGpu::highlight_frame`]). [`crate::HighlightSetup`] drives it for
+//! [`crate::Backend::Gpu`]. The CPU sees each frame's
 //! highlights one frame late ([`FrameOnGpu::latest`]), for picking or a panel; the
 //! user's edits ([`HighlightSet::controls_mut`]) and settings reach the GPU the frame they
 //! are made.
@@ -13,8 +14,8 @@
 //! let mut highlights = FrameOnGpu::new(device, &set, &mesh.indices)?;
 //! // per frame
 //! let walked = highlights.record(queue, &mut encoder, &set, (light_eye, world), frame)?;
-//! let drawn = pass.prepare_with_gpu_projectors(queue, &mut object, &input,
-//!     (highlights.receivers(), &walked), highlights.projectors())?;
+//! let frame_product = highlights.highlight_frame(&set, &walked)?;
+//! let drawn = pass.prepare(queue, &mut object, &HighlightInput { highlights: &frame_product, .. })?;
 //! // draw, submit, then:
 //! highlights.read_after_submit(device, queue);
 //! ```
@@ -32,6 +33,15 @@ use npr_gpu::pass::{FrameId, Prepared};
 use std::time::Instant;
 #[cfg(target_arch = "wasm32")]
 use web_time::Instant;
+
+/// The prepares of one frame's stages ([`FrameOnGpu::prepare`]), for their records.
+#[derive(Debug)]
+pub(crate) struct FramePrepared {
+    searched: Prepared,
+    grown: Prepared,
+    projected: Prepared,
+    pub(crate) walked: Prepared,
+}
 
 /// The passes and objects of one mesh's frames on the GPU, and the last frame read back.
 #[derive(Debug)]
@@ -143,9 +153,32 @@ impl FrameOnGpu {
         encoder: &mut wgpu::CommandEncoder,
         frame: FrameId,
     ) -> Result<(), SpecularError> {
-        if let Some((pass, object)) = self.pose.as_mut() {
-            let prepared = pass.prepare(queue, object, &ReposeInput { frame })?;
-            pass.record(encoder, object, &prepared)?;
+        let prepared = self.prepare_pose(queue, frame)?;
+        self.record_prepared_pose(encoder, prepared.as_ref())
+    }
+
+    /// The queue writes of [`FrameOnGpu::record_pose`]; `None` without a pose on the GPU.
+    pub(crate) fn prepare_pose(
+        &mut self,
+        queue: &wgpu::Queue,
+        frame: FrameId,
+    ) -> Result<Option<Prepared>, SpecularError> {
+        match self.pose.as_mut() {
+            Some((pass, object)) => {
+                Ok(Some(pass.prepare(queue, object, &ReposeInput { frame })?))
+            }
+            None => Ok(None),
+        }
+    }
+
+    /// The commands of [`FrameOnGpu::record_pose`].
+    pub(crate) fn record_prepared_pose(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        prepared: Option<&Prepared>,
+    ) -> Result<(), SpecularError> {
+        if let (Some((pass, object)), Some(prepared)) = (self.pose.as_ref(), prepared) {
+            pass.record(encoder, object, prepared)?;
         }
         Ok(())
     }
@@ -158,8 +191,8 @@ impl FrameOnGpu {
     /// Records `frame`'s highlight work into `encoder` for this light, eye and transform:
     /// the search, the regions, the projectors and their receivers, in that order. `set`
     /// gives the mesh, the settings and the user's controls; its own highlights are not
-    /// touched. Returns the receivers' prepare, for
-    /// [`crate::HighlightPass::prepare_with_gpu_projectors`] in the same submission.
+    /// touched. Returns the receivers' prepare, for [`FrameOnGpu::highlight_frame`] in the
+    /// same submission.
     ///
     /// # Errors
     /// A pass's (a set of another mesh, too many prepares in one frame).
@@ -168,9 +201,21 @@ impl FrameOnGpu {
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         set: &HighlightSet,
-        (light_eye, world_from_object): (LightEye, Mat4),
+        frame_of: (LightEye, Mat4),
         frame: FrameId,
     ) -> Result<Prepared, SpecularError> {
+        let prepared = self.prepare(queue, set, frame_of, frame)?;
+        self.record_prepared(encoder, &prepared)
+    }
+
+    /// The queue writes of [`FrameOnGpu::record`]: each stage's prepare, in order.
+    pub(crate) fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        set: &HighlightSet,
+        (light_eye, world_from_object): (LightEye, Mat4),
+        frame: FrameId,
+    ) -> Result<FramePrepared, SpecularError> {
         let start = Instant::now();
         let frame_of = (light_eye, world_from_object);
         let searched =
@@ -224,16 +269,52 @@ impl FrameOnGpu {
             &walk,
             (&self.projectors, room),
         )?;
-        self.search_pass
-            .record_on_gpu(encoder, &self.search, &searched)?;
-        self.region_pass.record(encoder, &self.regions, &grown)?;
-        self.projector_pass
-            .record(encoder, &self.projectors, &projected)?;
-        self.receiver_pass
-            .record(encoder, &self.receivers, &walked)?;
         self.walked = Some(walked);
         self.record_us = start.elapsed().as_secs_f64() * 1e6;
-        Ok(walked)
+        Ok(FramePrepared {
+            searched,
+            grown,
+            projected,
+            walked,
+        })
+    }
+
+    /// The commands of [`FrameOnGpu::record`]: search, regions, projectors, receivers.
+    pub(crate) fn record_prepared(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        prepared: &FramePrepared,
+    ) -> Result<Prepared, SpecularError> {
+        let start = Instant::now();
+        self.search_pass
+            .record_on_gpu(encoder, &self.search, &prepared.searched)?;
+        self.region_pass
+            .record(encoder, &self.regions, &prepared.grown)?;
+        self.projector_pass
+            .record(encoder, &self.projectors, &prepared.projected)?;
+        self.receiver_pass
+            .record(encoder, &self.receivers, &prepared.walked)?;
+        self.record_us += start.elapsed().as_secs_f64() * 1e6;
+        Ok(prepared.walked)
+    }
+
+    /// The frame `walked` (a [`FrameOnGpu::record`]'s return) made, for the highlight
+    /// draw; `set` is the one recorded with.
+    ///
+    /// # Errors
+    /// [`SpecularError::Pass`] for a `walked` of another object or pass.
+    pub fn highlight_frame<'a>(
+        &'a self,
+        set: &'a HighlightSet,
+        walked: &Prepared,
+    ) -> Result<crate::HighlightFrame<'a>, SpecularError> {
+        let stream = self.receivers.stream(walked)?;
+        Ok(crate::HighlightFrame::on_gpu(
+            walked.frame(),
+            set,
+            stream,
+            &self.projectors,
+        ))
     }
 
     /// Makes the next [`FrameOnGpu::record`] start from the table the last one started

@@ -12,10 +12,11 @@
 //! the measurement of how well the highlights cover that region (`fidelity`, behind the
 //! `test-support` feature).
 //!
-//! Per frame: [`HighlightSet::update`] (CPU: search, matching, projectors, receivers) →
-//! [`HighlightPass::prepare`] (uploads) → [`HighlightPass::draw`] (one draw call, recorded
-//! into the caller's render pass after the base shading). The `N = H` search can run on
-//! the GPU instead ([`CentreSearchPass`], then [`HighlightSet::update_from_solutions`]).
+//! Per frame: [`HighlightSetup::prepare`] and [`HighlightSetup::record`] (on the
+//! [`Backend`] chosen once per mesh: the CPU's [`HighlightSet::update`], or the whole
+//! frame as compute passes) give a [`HighlightFrame`] → [`HighlightPass::prepare`] →
+//! [`HighlightPass::draw`] (one draw call, recorded into the caller's render pass after
+//! the base shading).
 
 mod error;
 #[cfg(any(test, feature = "test-support"))]
@@ -31,7 +32,7 @@ pub mod repose_pass;
 mod search_clusters;
 pub mod search_pass;
 pub mod set;
-pub mod setup_gpu;
+pub mod setup;
 pub mod shaders;
 #[cfg(any(test, feature = "test-support"))]
 pub mod snapshot;
@@ -66,7 +67,10 @@ pub use search_pass::{
 };
 pub use set::{
     DEFAULT_ABSTRACTION, Highlight, HighlightBoundary, HighlightSet, HighlightSizing, NO_FALLOFF,
-    RegionsOnGpu, UpdateStats,
+    UpdateStats,
 };
-pub use setup_gpu::SetupOnGpu;
+pub use setup::{
+    Backend, BackendChoice, BackendSetting, ChoiceReason, HighlightFrame, HighlightSetup,
+    SetupInput, SetupObject, SetupPrepared, SetupSettings, SetupStats,
+};
 pub use textures::HighlightShape;

@@ -8,6 +8,7 @@
 //! shader's expression, marked `@invariant`, so receivers land on exactly the base
 //! surface's depth.
 
+use crate::setup::frame::Source;
 use crate::{HighlightSet, HighlightShape, SpecularError};
 use npr_gpu::pass::{FrameId, PassId, Prepared, Slots};
 use npr_gpu::render::{self, PipelineBuilder};
@@ -43,19 +44,13 @@ pub struct ProjectorGpu {
 pub struct HighlightInput<'a> {
     /// The caller's submission.
     pub frame: FrameId,
-    /// The render mesh's triangle indices (faces in the set's topology order).
-    pub indices: &'a [u32],
-    /// The highlight set, updated for this frame.
-    pub set: &'a HighlightSet,
+    /// The frame's highlights ([`crate::HighlightSetup::record`], or
+    /// [`crate::HighlightFrame::of_set`] for a set the caller updated); made for `frame`.
+    pub highlights: &'a crate::HighlightFrame<'a>,
     /// Camera and light.
     pub view: &'a FrameUniforms,
     /// Object transform (must equal the base pass's, for matching depth).
     pub object: &'a ObjectUniforms,
-    /// The vertex stream to draw: `None` for the set's §4.2 receivers
-    /// ([`HighlightPass::draw_list`]), or a caller's list such as
-    /// [`HighlightPass::draw_list_unrestricted`]. Entries are (render vertex, index into
-    /// `set.highlights()`), three per triangle.
-    pub list: Option<&'a [[u32; 2]]>,
 }
 
 /// The highlight pass's settings: plain data, keyed by value.
@@ -92,22 +87,6 @@ pub fn projector_gpu(h: &crate::Highlight, layer: u32, normal_map: bool) -> Proj
         ]),
         neighbours: h.shared_with,
     }
-}
-
-/// The stream and draw arguments `walked` (a receiver walk of `frame`) writes.
-fn walk_stream<'a>(
-    receivers: &'a crate::ReceiverObject,
-    walked: &Prepared,
-    frame: FrameId,
-) -> Result<(&'a wgpu::Buffer, &'a wgpu::Buffer), SpecularError> {
-    let stream = receivers.stream(walked)?;
-    if walked.frame() != frame {
-        return Err(SpecularError::Pass(npr_gpu::PassError::Stale {
-            prepared: walked.frame().0,
-            current: frame.0,
-        }));
-    }
-    Ok(stream)
 }
 
 /// One prepare's GPU state: uniforms, draw list, projectors and normals.
@@ -344,7 +323,7 @@ impl HighlightPass {
     /// The vertex stream without the §4.2 restriction: every face of the mesh is a
     /// receiver of every highlight, so a projector textures all the surface inside its
     /// frustum — the wrong projection of the specular paper's Fig. 5(a), for figures and
-    /// comparisons. Pass it as [`HighlightInput::list`].
+    /// comparisons. Draw it with [`crate::HighlightFrame::with_list`].
     pub fn draw_list_unrestricted(set: &HighlightSet, indices: &[u32]) -> Vec<[u32; 2]> {
         let faces = indices.len() / 3;
         let mut out = Vec::with_capacity(faces * 3 * set.highlights().len());
@@ -460,93 +439,45 @@ impl HighlightPass {
         })
     }
 
-    /// Writes one draw's camera/light, object transform, projectors and draw list into a
-    /// fresh slot of `object` (growing its buffers when needed).
+    /// Writes one draw's camera/light, object transform and highlights into a fresh slot
+    /// of `object` (growing its buffers when needed). A frame the CPU made uploads its
+    /// projectors and receiver list; one the GPU made is drawn where it lies (its stream
+    /// indirectly), nothing of it written here.
     ///
     /// Example: `examples/embed.rs` (the README's embedding example) uses it in a caller's
     /// own renderer.
     ///
     /// # Errors
-    /// [`SpecularError::Pass`] for an object of another pass or too many prepares in one
-    /// frame.
+    /// [`SpecularError::Pass`] for an object of another pass, too many prepares in one
+    /// frame, or highlights made for another frame.
     pub fn prepare(
         &self,
         queue: &wgpu::Queue,
         object: &mut HighlightObject,
         input: &HighlightInput<'_>,
     ) -> Result<Prepared, SpecularError> {
-        self.prepare_impl(queue, object, input, None, None)
-    }
-
-    /// [`HighlightPass::prepare`] drawing the receivers that [`crate::ReceiverPass`]
-    /// walked on the GPU for this frame (`walked`, recorded before this draw in the same
-    /// submission): the stream and its count stay where the compute pass wrote them, and
-    /// [`HighlightPass::draw`] draws them indirectly. `input.list` is ignored; set
-    /// [`HighlightSet::receivers_on_gpu`] so the update leaves the walk to the GPU.
-    ///
-    /// # Errors
-    /// As [`HighlightPass::prepare`], and [`SpecularError::Pass`] for a `walked` of
-    /// another object, pass or frame.
-    pub fn prepare_with_receivers(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut HighlightObject,
-        input: &HighlightInput<'_>,
-        receivers: &crate::ReceiverObject,
-        walked: &Prepared,
-    ) -> Result<Prepared, SpecularError> {
-        let stream = walk_stream(receivers, walked, input.frame)?;
-        self.prepare_impl(queue, object, input, Some(stream), None)
-    }
-
-    /// [`HighlightPass::prepare_with_receivers`] drawing the projectors the GPU built this
-    /// frame ([`crate::ProjectorPass`], recorded before the receivers in the same
-    /// submission) where they lie: nothing of the frame's highlights is written from the
-    /// CPU (`input.set` gives only the render normals).
-    ///
-    /// # Errors
-    /// As [`HighlightPass::prepare_with_receivers`].
-    pub fn prepare_with_gpu_projectors(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut HighlightObject,
-        input: &HighlightInput<'_>,
-        (receivers, walked): (&crate::ReceiverObject, &Prepared),
-        projectors: &crate::ProjectorObject,
-    ) -> Result<Prepared, SpecularError> {
-        let stream = walk_stream(receivers, walked, input.frame)?;
-        self.prepare_impl(queue, object, input, Some(stream), Some(projectors))
-    }
-
-    fn prepare_impl(
-        &self,
-        queue: &wgpu::Queue,
-        object: &mut HighlightObject,
-        input: &HighlightInput<'_>,
-        stream: Option<(&wgpu::Buffer, &wgpu::Buffer)>,
-        gpu: Option<&crate::ProjectorObject>,
-    ) -> Result<Prepared, SpecularError> {
+        let highlights = input.highlights;
+        highlights.check(input.frame)?;
+        let set = highlights.set();
         let own;
-        let list = match (input.list, stream) {
-            (_, Some(_)) => &[][..],
-            (Some(list), None) => list,
-            (None, None) => {
-                own = Self::draw_list(input.set, input.indices);
-                &own
+        let (list, stream, gpu) = match highlights.source {
+            Source::Set {
+                list: Some(list), ..
+            } => (list, None, None),
+            Source::Set { indices, .. } => {
+                own = Self::draw_list(set, indices);
+                (&own[..], None, None)
             }
+            Source::Gpu {
+                stream, projectors, ..
+            } => (&[][..], Some(stream), Some(projectors)),
         };
         let mesh = &object.mesh;
         let (prepared, slot) = object
             .slots
             .next(self.id, input.frame, || self.create_slot(mesh))?;
-        let HighlightInput {
-            set,
-            view,
-            object: object_uniforms,
-            ..
-        } = *input;
-        queue.write_buffer(&slot.frame, 0, bytemuck::bytes_of(view));
-        queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(object_uniforms));
+        queue.write_buffer(&slot.frame, 0, bytemuck::bytes_of(input.view));
+        queue.write_buffer(&slot.object, 0, bytemuck::bytes_of(input.object));
         let projectors = match gpu {
             Some(_) => Vec::new(),
             None => self.projectors(set),
@@ -575,16 +506,10 @@ impl HighlightPass {
             slot.normals_id = Some(set.normals_id());
         }
         slot.vertex_count = list.len() as u32;
-        slot.gpu_stream = stream.map(|(list, args)| {
-            let records = match gpu {
-                Some(g) => g.projector_binding(),
-                None => slot.projectors.as_entire_binding(),
-            };
+        slot.gpu_stream = stream.zip(gpu).map(|((list, args), g)| {
             // A pose made on the GPU brings its own normals.
-            let normals = gpu
-                .and_then(|g| g.posed_normals.as_ref())
-                .unwrap_or(&slot.normals);
-            let group = self.storage_group(mesh, normals, list, records);
+            let normals = g.posed_normals.as_ref().unwrap_or(&slot.normals);
+            let group = self.storage_group(mesh, normals, list, g.projector_binding());
             (group, args.clone())
         });
         Ok(prepared)

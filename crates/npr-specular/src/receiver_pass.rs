@@ -2,22 +2,21 @@
 //! breadth-first walk from the face holding its centre, one workgroup per highlight, and
 //! the received faces laid out as the highlight pass's vertex stream with the indirect
 //! draw's count. Nothing mesh-sized is read back: the CPU writes one small record per
-//! highlight (its projector's map, facing rule and start face), and
-//! [`HighlightPass::prepare_with_receivers`](crate::HighlightPass::prepare_with_receivers)
-//! draws the stream where it lies.
+//! highlight (its projector's map, facing rule and start face), and the highlight pass
+//! draws the stream where it lies (a [`crate::HighlightFrame`] of [`crate::Backend::Gpu`],
+//! whose frames walk the projectors [`crate::ProjectorPass`] built:
+//! [`ReceiverPass::prepare_on_projectors`]).
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
 //!
 //! ```ignore
-//! set.receivers_on_gpu = true;
 //! let receivers = ReceiverPass::new(device);
 //! let mut walk = receivers.create_object(device, &set, &mesh.indices)?;
 //! // per frame, after set.update(..)
 //! let input = ReceiverInput { frame, set: &set, world_from_object };
 //! let walked = receivers.prepare(queue, &mut walk, &input)?;
 //! receivers.record(&mut encoder, &walk, &walked)?;
-//! let drawn = highlights.prepare_with_receivers(queue, &mut object, &hl_input, &walk, &walked)?;
-//! // in the render pass: highlights.draw(&mut pass, &object, &drawn)?
+//! let read = walk.read(device, queue, &walked)?; // a test's or a panel's readback
 //! ```
 //!
 //! The CPU walk ([`crate::visibility::receivers_within`]) is the reference:

@@ -71,13 +71,13 @@ pub struct FrameResources {
     draw: crate::HighlightObject,
     /// The frame count of its last submission.
     pub(crate) frame: npr_gpu::FrameId,
-    /// The receiver walk of the last [`Renderer::submit_gpu_receivers`].
+    /// The receiver walk of the last [`Renderer::submit_frame_on_gpu`].
     walked: Option<npr_gpu::Prepared>,
 }
 
 impl FrameResources {
     /// The receiver walk of the last frame submitted with
-    /// [`Renderer::submit_gpu_receivers`] (for [`crate::ReceiverObject::read`] or
+    /// [`Renderer::submit_frame_on_gpu`] (for [`crate::ReceiverObject::read`] or
     /// [`crate::ReceiverObject::map_counts`] after it); `None` after a frame without one.
     pub fn walked(&self) -> Option<npr_gpu::Prepared> {
         self.walked
@@ -171,22 +171,6 @@ impl Renderer {
         self.submit_with(device, queue, scene, res, Walk::Cpu)
     }
 
-    /// [`Renderer::submit`] with the receivers walked on the GPU by `receivers` (its
-    /// pass and an object of `scene.set`'s mesh) and drawn from the stream it writes.
-    ///
-    /// # Errors
-    /// As [`Renderer::submit`], and the receiver pass's.
-    pub fn submit_gpu_receivers(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        scene: &HighlightScene<'_>,
-        res: &mut FrameResources,
-        receivers: (&crate::ReceiverPass, &mut crate::ReceiverObject),
-    ) -> Result<(), SpecularError> {
-        self.submit_with(device, queue, scene, res, Walk::Receivers(receivers))
-    }
-
     /// [`Renderer::submit`] with the frame's highlights made wholly on the GPU by
     /// `frame_gpu` for `light_eye` (search, regions, projectors, receivers, recorded in
     /// the frame's own submission), nothing read back; `scene.set` gives only the mesh,
@@ -228,49 +212,24 @@ impl Renderer {
             label: Some("npr specular frame"),
         });
         let highlights = if scene.highlights {
-            let input = crate::HighlightInput {
-                frame: res.frame,
-                indices: scene.indices,
-                set: scene.set,
-                view: &view,
-                object: &scene.object,
-                list: None,
-            };
             let world_from_object = glam::Mat4::from_cols_array_2d(&scene.object.world_from_object);
-            match walk {
+            let walked;
+            let made = match walk {
                 Walk::Frame(frame_gpu, light_eye) => {
                     let frame = (light_eye, world_from_object);
-                    let walked =
-                        frame_gpu.record(queue, &mut encoder, scene.set, frame, res.frame)?;
-                    let drawn = self.pass.prepare_with_gpu_projectors(
-                        queue,
-                        &mut res.draw,
-                        &input,
-                        (frame_gpu.receivers(), &walked),
-                        frame_gpu.projectors(),
-                    )?;
-                    Some(drawn)
-                }
-                Walk::Receivers((pass, walk)) => {
-                    let walk_input = crate::ReceiverInput {
-                        frame: res.frame,
-                        set: scene.set,
-                        world_from_object,
-                    };
-                    let walked = pass.prepare(queue, walk, &walk_input)?;
-                    pass.record(&mut encoder, walk, &walked)?;
+                    walked = frame_gpu.record(queue, &mut encoder, scene.set, frame, res.frame)?;
                     res.walked = Some(walked);
-                    let drawn = self.pass.prepare_with_receivers(
-                        queue,
-                        &mut res.draw,
-                        &input,
-                        walk,
-                        &walked,
-                    )?;
-                    Some(drawn)
+                    frame_gpu.highlight_frame(scene.set, &walked)?
                 }
-                Walk::Cpu => Some(self.pass.prepare(queue, &mut res.draw, &input)?),
-            }
+                Walk::Cpu => crate::HighlightFrame::of_set(res.frame, scene.set, scene.indices),
+            };
+            let input = crate::HighlightInput {
+                frame: res.frame,
+                highlights: &made,
+                view: &view,
+                object: &scene.object,
+            };
+            Some(self.pass.prepare(queue, &mut res.draw, &input)?)
         } else {
             None
         };
@@ -335,10 +294,9 @@ pub fn light_eye_along(
     )
 }
 
-/// Where a frame's highlights come from: the set's update (receivers walked on the CPU),
-/// the set's update with its receivers walked on the GPU, or made wholly on the GPU.
+/// Where a frame's highlights come from: the set's update on the CPU, or made wholly on
+/// the GPU.
 enum Walk<'a> {
     Cpu,
-    Receivers((&'a crate::ReceiverPass, &'a mut crate::ReceiverObject)),
     Frame(&'a mut crate::FrameOnGpu, npr_geometry::LightEye),
 }

@@ -16,7 +16,7 @@ use npr_specular::{
 };
 
 mod common;
-use common::{bounding_radius, fixture, record_gap};
+use common::{bounding_radius, fixture, record_gap, turn};
 
 /// The passes and objects of one mesh's frames on the GPU.
 struct Frames {
@@ -118,20 +118,6 @@ impl Frames {
             .wait(&ctx.device)
             .unwrap()
     }
-}
-
-/// A light turning over the object while it turns too, eye fixed.
-fn turn(radius: f32, step: usize) -> (LightEye, Mat4) {
-    let a = step as f32 * 0.12;
-    let light_eye = LightEye::Positions {
-        light: Vec3::new(
-            2.0 * radius * a.cos(),
-            1.5 * radius,
-            2.0 * radius * a.sin() + radius,
-        ),
-        eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
-    };
-    (light_eye, Mat4::from_rotation_y(0.1 * a))
 }
 
 #[derive(Default)]

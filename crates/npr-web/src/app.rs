@@ -95,7 +95,7 @@ impl Viewer {
         surface.configure(&ctx.device, &config);
         let model = Model::bunny().map_err(js_error)?;
         let timeline = npr_app::viewer::timeline::Timeline::new(&model);
-        let renderer = Renderer::new(&ctx.device, &ctx.queue, model, size).map_err(js_error)?;
+        let renderer = Renderer::new(&ctx, model, size).map_err(js_error)?;
         let mut preset = Preset::default();
         preset.output.width = size.0;
         preset.output.height = size.1;

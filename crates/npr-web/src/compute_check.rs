@@ -1,9 +1,7 @@
 //! The compute passes in the browser, against the CPU on the same frame: the curvature
 //! tensor (`npr_gpu::CurvaturePass`), the `N = H` search (`npr_specular::CentreSearchPass`),
 //! the regions `N·H ≥ σ` and their moment ellipses (`npr_specular::RegionPass`) and the §4.2
-//! receivers (`npr_specular::ReceiverPass`) on a torus, and the one-submission setup
-//! (the search with its peaks and the regions seeded on the GPU,
-//! [`crate::compute_tracking`]) and frames made wholly on the GPU
+//! receivers (`npr_specular::ReceiverPass`) on a torus, and frames made wholly on the GPU
 //! ([`crate::compute_frame`]) on a knot, on the page's own WebGPU device. Started by `Viewer::compute_check_start`,
 //! read back over the next animation frames (a map completes only once control returns
 //! to the page), and reported by `Viewer::compute_check_result` as JSON for the browser
@@ -46,8 +44,6 @@ pub struct ComputeCheck {
     solutions: Option<npr_specular::SearchSolutions>,
     walked: Option<ReceiverReadback>,
     grown: Option<Vec<GpuRegion>>,
-    tracking: crate::compute_tracking::TrackingCheck,
-    tracking_report: Option<serde_json::Value>,
     frames: crate::compute_frame::FrameCheck,
     frames_report: Option<serde_json::Value>,
 }
@@ -148,13 +144,9 @@ impl ComputeCheck {
         let regions = regions
             .map(device, queue, &grown)
             .map_err(|e| e.to_string())?;
-        let tracking =
-            crate::compute_tracking::TrackingCheck::start(device, queue, &generate::paper_knot())?;
         let frames =
             crate::compute_frame::FrameCheck::start(device, queue, &generate::paper_knot())?;
         Ok(Self {
-            tracking,
-            tracking_report: None,
             frames,
             frames_report: None,
             mesh,
@@ -212,15 +204,11 @@ impl ComputeCheck {
                 self.grown = Some(grown.map_err(|e| e.to_string())?);
             }
         }
-        if self.tracking_report.is_none() {
-            self.tracking_report = self.tracking.poll()?;
-        }
-        let (Some(bytes), Some(solutions), Some(walked), Some(grown), Some(tracking), Some(frames)) = (
+        let (Some(bytes), Some(solutions), Some(walked), Some(grown), Some(frames)) = (
             &self.field_bytes,
             &self.solutions,
             &self.walked,
             &self.grown,
-            &self.tracking_report,
             &self.frames_report,
         ) else {
             return Ok(None);
@@ -288,10 +276,8 @@ impl ComputeCheck {
             "regions_area_error": regions.3,
             "regions_overflowed": grown.iter().filter(|g| g.overflowed).count(),
         });
-        for more in [tracking, frames] {
-            if let (Some(all), Some(more)) = (report.as_object_mut(), more.as_object()) {
-                all.extend(more.clone());
-            }
+        if let (Some(all), Some(more)) = (report.as_object_mut(), frames.as_object()) {
+            all.extend(more.clone());
         }
         Ok(Some(report))
     }

@@ -74,7 +74,7 @@ impl FrameCheck {
             .pose_on_gpu(device, &gpu, (mesh, &gpu_mesh), &object)
             .map_err(|e| e.to_string())?;
         let mut check = Self {
-            radius: crate::compute_tracking::bounding_radius(mesh),
+            radius: bounding_radius(mesh),
             rig: rigged.rig,
             gpu_mesh,
             curvature: (pass, object),
@@ -227,4 +227,17 @@ impl FrameCheck {
             "frame_first_difference": self.first_difference,
         })))
     }
+}
+
+/// The largest distance of a vertex from the centre of the mesh's bounding box.
+fn bounding_radius(mesh: &Mesh) -> f32 {
+    let (lo, hi) = mesh.positions.iter().fold(
+        (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let c = 0.5 * (lo + hi);
+    mesh.positions
+        .iter()
+        .map(|p| p.distance(c))
+        .fold(0.0, f32::max)
 }

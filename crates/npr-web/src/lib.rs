@@ -15,7 +15,6 @@ mod app;
 #[cfg(target_arch = "wasm32")]
 mod compute_check;
 mod compute_frame;
-mod compute_tracking;
 
 #[cfg(target_arch = "wasm32")]
 pub use app::Viewer;

@@ -11,10 +11,9 @@
 //! without changing; both wait for the GPU) and their ratio. `setup_us` is the highlight
 //! setup the specular frame reports (mean, µs) and `cpu_ms_median` its median (ms): the
 //! CPU time of the highlight work from the frame's start to its submit, matching
-//! included. The highlights are measured three times, told apart by `setup`: the `N = H`
-//! search on the CPU (`"cpu"`), as a compute pass with the update on what it reads back
-//! (`"gpu"`, `[specular] search = "gpu"`), and the whole frame's highlights on the GPU,
-//! nothing read back (`"gpu-frame"`: `cpu_ms_median` is then what recording them takes).
+//! included. The highlights are measured on both backends, told apart by `setup`
+//! (`[specular] backend`): `"cpu"`, and `"gpu"`, the whole frame's highlights on the GPU,
+//! nothing read back (`cpu_ms_median` is then what recording them takes).
 //! Default models: the Fox and the procedural rigs
 //! (`npr_geometry::generate::bent_tube`, `stretched_sphere`, `twisted_bar`) and, as a
 //! scale row reported only, the bunny on `generate::swaying`'s two-joint rig; `--mesh`
@@ -38,7 +37,7 @@ use super::table::{Cell, Table, emit};
 use npr_app::animation::{Animated, Playback};
 use npr_app::engine::Renderer;
 use npr_app::model::Model;
-use npr_app::preset::{Effect, PoseGeometry, Preset, SearchPreset};
+use npr_app::preset::{BackendPreset, Effect, PoseGeometry, Preset};
 use npr_app::view::View;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -50,26 +49,29 @@ const SIZE: (u32, u32) = (640, 480);
 /// The effects measured, with the hatching's two ways of following the pose and the
 /// highlights' three places for their setup (the `setup` key: `"cpu"`, `"gpu"`,
 /// `"gpu-frame"`).
-const EFFECTS: [(Effect, PoseGeometry, SearchPreset); 7] = [
-    (Effect::Phong, PoseGeometry::Recompute, SearchPreset::Cpu),
-    (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Cpu),
-    (Effect::Specular, PoseGeometry::Recompute, SearchPreset::Gpu),
+const EFFECTS: [(Effect, PoseGeometry, BackendPreset); 6] = [
+    (Effect::Phong, PoseGeometry::Recompute, BackendPreset::Cpu),
     (
         Effect::Specular,
         PoseGeometry::Recompute,
-        SearchPreset::GpuFrame,
+        BackendPreset::Cpu,
+    ),
+    (
+        Effect::Specular,
+        PoseGeometry::Recompute,
+        BackendPreset::Gpu,
     ),
     (
         Effect::HatchingPen,
         PoseGeometry::Recompute,
-        SearchPreset::Cpu,
+        BackendPreset::Cpu,
     ),
     (
         Effect::HatchingPen,
         PoseGeometry::Carried,
-        SearchPreset::Cpu,
+        BackendPreset::Cpu,
     ),
-    (Effect::Warp, PoseGeometry::Recompute, SearchPreset::Cpu),
+    (Effect::Warp, PoseGeometry::Recompute, BackendPreset::Cpu),
 ];
 
 fn default_models() -> anyhow::Result<Vec<Model>> {
@@ -237,13 +239,13 @@ fn gpu_row(
     ctx: &npr_gpu::GpuContext,
     name: &str,
     animated: &Animated,
-    (effect, geometry, search): (Effect, PoseGeometry, SearchPreset),
+    (effect, geometry, search): (Effect, PoseGeometry, BackendPreset),
 ) -> anyhow::Result<Vec<Cell>> {
     let mut preset = Preset {
         effect,
         ..Preset::default()
     };
-    preset.specular.search = search;
+    preset.specular.backend = search;
     preset.animation.geometry = geometry;
     let which = preset.hatching.direction;
     let rest = (geometry == PoseGeometry::Carried).then(|| animated.rest_directions(which));
@@ -252,7 +254,7 @@ fn gpu_row(
     let framing = animated.framing();
     let view = View::new(&preset, &framing, SIZE, 0.0);
     let frames: Vec<Model> = (0..=FRAMES).map(|i| animated.frame(i)).collect();
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, frames[0].clone(), SIZE)?;
+    let mut renderer = Renderer::new(ctx, frames[0].clone(), SIZE)?;
     let wait = || {
         let _ = ctx.device.poll(wgpu::PollType::wait_indefinitely());
     };
@@ -306,8 +308,7 @@ fn gpu_row(
         Cell::Num(animated_ms / rigid_ms.max(1e-9), 2),
         if effect == Effect::Specular {
             match search {
-                SearchPreset::Gpu => "gpu".into(),
-                SearchPreset::GpuFrame => "gpu-frame".into(),
+                BackendPreset::Gpu => "gpu".into(),
                 _ => "cpu".into(),
             }
         } else {

@@ -105,7 +105,7 @@ pub fn pen_preset() -> Preset {
 pub fn trace(ctx: &npr_gpu::GpuContext, model: Model, preset: Preset) -> anyhow::Result<Traced> {
     let size = (preset.output.width, preset.output.height);
     let view = View::new(&preset, &model.framing, size, 0.0);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let mut renderer = Renderer::new(ctx, model, size)?;
     renderer.render(&ctx.device, &ctx.queue, &preset, &view)?;
     let raster = renderer.read(&ctx.device, &ctx.queue)?;
     let page = Page::default();

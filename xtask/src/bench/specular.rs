@@ -11,21 +11,16 @@
 //! run. Default meshes plus the 1.1M-triangle knot and any `--mesh PATH` (OBJ, PLY,
 //! glTF).
 //!
-//! Each mesh has two rows from the same run, told apart by `setup`: `"cpu"` (the `N = H`
-//! search on the CPU, `HighlightSet::update`) and `"gpu"` (`npr_specular::SetupOnGpu`: the
-//! search as a compute pass, its centres merged and computed there, and the regions
-//! grown and fitted by `npr_specular::RegionPass` from seeds the GPU matched, in the same
-//! submission; the rest of the update on what comes back, a frame whose seeds hold a
-//! peak grown again in a second submission; and the §4.2 receivers, which
-//! `npr_specular::ReceiverPass` walks in the frame's own submission and the highlight pass
-//! draws indirectly). `cpu_ms_median` is the CPU time of the highlight work from the
-//! frame's start to its submit, matching included (for the `gpu` row: the passes'
-//! prepare, record, submit and the wait for their results, which on a software adapter
-//! is CPU work too); the `gpu` row's GPU frame includes the walk, its `search_us_median`
-//! the submission and its wait (the setup less the update's own regions, peaks and
-//! visibility), and `gpu_waits_mean` the submissions a frame's setup waited on (1, or 2
-//! with a peak). Its receiver count is read back after the timed frame. The one-core
-//! columns are the CPU path's.
+//! Each mesh has two rows from the same run, told apart by `setup`, one per highlight
+//! backend (`npr_specular::Backend`): `"cpu"` (`HighlightSet::update`) and `"gpu"` (the
+//! whole frame as compute passes, `npr_specular::FrameOnGpu`: search, regions,
+//! projectors and §4.2 receivers recorded into the frame's own submission, nothing read
+//! back on its path). `cpu_ms_median` is the CPU time of the highlight work from the
+//! frame's start to its submit, matching included (for the `gpu` row: the recording of
+//! its passes). The `gpu` row's search, region and visibility cells are empty (none of it
+//! runs on the CPU), and its receiver count is read back after the timed frame. The
+//! one-core columns are the CPU backend's. A mesh whose GPU tables exceed the device's
+//! storage bindings loses its `gpu` row, with a line saying why.
 //!
 //! A second table, from the same run, times the regions `N·H ≥ σ` of each frame's centres
 //! grown on the CPU and as a compute pass (`npr_specular::RegionPass`): see `regions.rs`.
@@ -33,13 +28,12 @@
 mod regions;
 
 use super::table::{Cell, Table, emit};
-use anyhow::Context as _;
 use glam::{Mat4, Vec3};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use npr_specular::{HighlightSet, ReceiverPass, SetupOnGpu};
+use npr_specular::{Backend, HighlightSet};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -69,25 +63,27 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         region_table.push(regions::row(&ctx, mesh, &view, name, &adapter)?);
         let (setup_1core, setup_1core_file_order) =
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
-        // The GPU walks' capacity: twice the CPU row's longest walk (it runs first), so
-        // that no timed frame overflows.
-        let mut walk_capacity = npr_specular::DEFAULT_WALK_CAPACITY;
-        for setup in [Setup::Cpu, Setup::Gpu, Setup::GpuFrame] {
-            let gpu = measure_gpu(&ctx, &renderer, mesh, &view, name, (setup, walk_capacity))?;
-            walk_capacity = walk_capacity.max(2 * gpu.longest_walk);
+        for setup in Backend::ALL {
+            let gpu = match measure_gpu(&ctx, &renderer, mesh, &view, name, setup) {
+                Err(e) if too_large(&e) => {
+                    println!("{name}: no {setup} row: {e}");
+                    continue;
+                }
+                made => made?,
+            };
             let (b, w, f) = (median(gpu.base), median(gpu.with), median(gpu.whole));
             let one_core = |samples: &[f64]| match setup {
-                Setup::Cpu => Cell::Num(median(samples.to_vec()), 1),
-                Setup::Gpu | Setup::GpuFrame => Cell::Empty,
+                Backend::Cpu => Cell::Num(median(samples.to_vec()), 1),
+                Backend::Gpu => Cell::Empty,
             };
             // The frame made wholly on the GPU has no CPU search, regions or walk.
             let cpu_part = |samples: Vec<f64>| match setup {
-                Setup::GpuFrame => Cell::Empty,
-                _ => Cell::Num(median(samples), 1),
+                Backend::Gpu => Cell::Empty,
+                Backend::Cpu => Cell::Num(median(samples), 1),
             };
             table.push(vec![
                 name.as_str().into(),
-                setup.key().into(),
+                setup.name().into(),
                 (mesh.indices.len() / 3).into(),
                 gpu.hmin.into(),
                 gpu.hmax.into(),
@@ -104,13 +100,6 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
                 Cell::Num(f, 3),
                 Cell::Num(w / b, 3),
                 Cell::Num(f / b, 3),
-                match setup {
-                    Setup::Cpu => Cell::Empty,
-                    Setup::Gpu | Setup::GpuFrame => Cell::Num(
-                        gpu.waits.iter().sum::<usize>() as f64 / gpu.waits.len().max(1) as f64,
-                        2,
-                    ),
-                },
                 adapter.as_str().into(),
             ]);
         }
@@ -118,25 +107,15 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
     emit(&[table, region_table], json)
 }
 
-/// Where a row's `N = H` search runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Setup {
-    /// `HighlightSet::update`.
-    Cpu,
-    /// `SetupOnGpu`: the search and the regions in one submission.
-    Gpu,
-    /// `FrameOnGpu`: the whole frame's highlights on the GPU, nothing read back.
-    GpuFrame,
-}
-
-impl Setup {
-    fn key(self) -> &'static str {
-        match self {
-            Self::Cpu => "cpu",
-            Self::Gpu => "gpu",
-            Self::GpuFrame => "gpu-frame",
-        }
-    }
+/// Whether `e` is a mesh too large for the device's bindings (that backend's row is
+/// left out, not the run).
+fn too_large(e: &anyhow::Error) -> bool {
+    matches!(
+        e.downcast_ref::<npr_specular::SpecularError>(),
+        Some(npr_specular::SpecularError::Gpu(
+            npr_gpu::GpuError::MeshTooLarge { .. }
+        ))
+    )
 }
 
 /// The meshes measured, in table order: the defaults, the 1.1M-face knot, then `extra`.
@@ -192,7 +171,6 @@ fn new_table(adapter: &str) -> Table {
             "frame_with_setup_ms_median",
             "highlight_cost_ratio_gpu",
             "highlight_cost_ratio_frame",
-            "gpu_waits_mean",
             "adapter",
         ],
     )
@@ -239,14 +217,10 @@ struct GpuSamples {
     region: Vec<f64>,
     /// BFS visibility per frame, µs.
     visibility: Vec<f64>,
-    /// Most receiver faces of one highlight in a frame.
-    longest_walk: usize,
     /// Fewest highlights in a frame.
     hmin: usize,
     /// Most highlights in a frame.
     hmax: usize,
-    /// Submissions each frame's GPU setup waited on.
-    waits: Vec<usize>,
 }
 
 /// Times the setup and the GPU frame without and with the highlight pass, frame by frame.
@@ -256,31 +230,18 @@ fn measure_gpu(
     mesh: &Mesh,
     view: &View,
     name: &str,
-    (setup, walk_capacity): (Setup, usize),
+    setup: Backend,
 ) -> anyhow::Result<GpuSamples> {
-    let mut set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-    let receiver_pass = ReceiverPass::new(&ctx.device);
+    let set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let mut frame_gpu = match setup {
-        Setup::GpuFrame => Some(npr_specular::FrameOnGpu::new(
+        Backend::Gpu => Some(npr_specular::FrameOnGpu::new(
             &ctx.device,
             &set,
             &mesh.indices,
         )?),
-        _ => None,
+        Backend::Cpu => None,
     };
-    let (mut on_gpu, mut walk) = match setup {
-        Setup::Gpu => (
-            Some(SetupOnGpu::new(&ctx.device, &set)?),
-            Some(receiver_pass.create_object_with_capacity(
-                &ctx.device,
-                &set,
-                &mesh.indices,
-                walk_capacity,
-            )?),
-        ),
-        Setup::Cpu | Setup::GpuFrame => (None, None),
-    };
-    set.receivers_on_gpu = walk.is_some();
+    let mut set = set;
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
     let mut res = renderer.resources(&ctx.device, &gpu);
     let light = Light::directional(view.to_light);
@@ -293,29 +254,18 @@ fn measure_gpu(
         search: Vec::new(),
         region: Vec::new(),
         visibility: Vec::new(),
-        longest_walk: 0,
         hmin: usize::MAX,
         hmax: 0,
-        waits: Vec::new(),
     };
     let bar = super::progress(FRAMES as u64 + 3, name);
     for frame in 0..FRAMES + 3 {
         let (world_from_object, le) = view.frame(frame);
         let t = Instant::now();
-        let mut waits = 0;
-        let search_us = match on_gpu.as_mut() {
-            None if frame_gpu.is_some() => 0.0,
+        let search_us = match frame_gpu {
+            Some(_) => 0.0,
             None => {
                 set.update(le, world_from_object);
                 set.stats().search_us
-            }
-            Some(on_gpu) => {
-                let frame = (le, world_from_object);
-                waits = on_gpu
-                    .update((&ctx.device, &ctx.queue), &mut set, frame)?
-                    .with_context(|| format!("{name}: the GPU search's list overflowed"))?;
-                let st = set.stats();
-                t.elapsed().as_secs_f64() * 1e6 - st.region_us - st.peaks_us - st.visibility_us
             }
         };
         let setup_us = t.elapsed().as_secs_f64() * 1e6;
@@ -339,20 +289,13 @@ fn measure_gpu(
         let mut time = |highlights| -> anyhow::Result<f64> {
             let t = Instant::now();
             let scene = scene(highlights);
-            match (walk.as_mut(), frame_gpu.as_mut()) {
-                (_, Some(frame_gpu)) if highlights => renderer.submit_frame_on_gpu(
+            match frame_gpu.as_mut() {
+                Some(frame_gpu) if highlights => renderer.submit_frame_on_gpu(
                     &ctx.device,
                     &ctx.queue,
                     &scene,
                     &mut res,
                     (frame_gpu, le),
-                )?,
-                (Some(walk), _) => renderer.submit_gpu_receivers(
-                    &ctx.device,
-                    &ctx.queue,
-                    &scene,
-                    &mut res,
-                    (&receiver_pass, walk),
                 )?,
                 _ => renderer.submit(&ctx.device, &ctx.queue, &scene, &mut res)?,
             }
@@ -374,10 +317,9 @@ fn measure_gpu(
             None => (setup_us, w + setup_us / 1e3),
         };
         // The GPU walk's receiver count, read after the timed frame (the panel's way).
-        let walked = match frame_gpu.as_ref() {
-            Some(f) => f.walked().copied().map(|p| (f.receivers(), p)),
-            None => walk.as_ref().zip(res.walked()),
-        };
+        let walked = frame_gpu
+            .as_ref()
+            .and_then(|f| f.walked().copied().map(|p| (f.receivers(), p)));
         let receivers = match walked {
             Some((walk, walked)) => {
                 let read = walk
@@ -392,8 +334,6 @@ fn measure_gpu(
             }
             None => set.stats().receiver_faces,
         };
-        let longest = set.highlights().iter().map(|h| h.receivers.len());
-        out.longest_walk = out.longest_walk.max(longest.max().unwrap_or(0));
         if frame >= 3 {
             out.setup.push(setup_us);
             out.search.push(search_us);
@@ -405,9 +345,6 @@ fn measure_gpu(
             out.receivers.push(receivers as f64);
             out.hmin = out.hmin.min(shown);
             out.hmax = out.hmax.max(shown);
-            if setup != Setup::Cpu {
-                out.waits.push(waits);
-            }
         }
         bar.inc(1);
     }

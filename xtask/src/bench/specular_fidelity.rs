@@ -9,16 +9,14 @@
 //! `--animation CLIP`, each `--mesh` that has the clip also plays it (361 frames at
 //! 30 fps, camera still, the highlight set reposed every frame), beside its own turn.
 //!
-//! Every score row and every turn is measured three times, told apart by `setup`:
-//! `"cpu"` (`HighlightSet::update`), `"gpu"` (`npr_specular::fidelity::GpuSetup::new`:
-//! the `N = H` search and the regions on the GPU in one submission,
-//! `npr_specular::SetupOnGpu`, and the §4.2 receivers walked on the GPU and drawn from
-//! its stream) and `"gpu-frame"` (`GpuSetup::whole_frame`: the whole frame made on the
-//! GPU, projectors included, and drawn from the projectors the GPU built, as npr's
-//! `search = "gpu-frame"` draws it; the overlap is not measured there: the GPU's frames
-//! carry their own fades). A clip runs twice: `"cpu"` (each pose reposed on the CPU)
-//! and `"gpu-frame"` (each pose's curvature and tables made on the GPU,
-//! `GpuSetup::pose_on_gpu`).
+//! Every score row and every turn is measured on both highlight backends, told apart by
+//! `setup`: `"cpu"` (`HighlightSet::update`) and `"gpu"` (`GpuSetup::whole_frame`: the
+//! whole frame made on the GPU, projectors included, and drawn from the projectors the
+//! GPU built, as npr's GPU backend draws it; the overlap is not measured there: the
+//! GPU's frames carry their own fades). A clip runs on both: `"cpu"` (each pose reposed
+//! on the CPU) and `"gpu"` (each pose's curvature and tables made on the GPU,
+//! `GpuSetup::pose_on_gpu`). A mesh whose GPU tables the device cannot bind loses its
+//! `gpu` rows, with a line saying why.
 
 use super::table::{Cell, Table, emit};
 use glam::Vec3;
@@ -170,7 +168,6 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
                     bar.inc(1);
                 }
                 bar.finish_and_clear();
-                set.receivers_on_gpu = false;
                 let s = FidelityScore::pool(&scores);
                 table.push(vec![
                     name.as_str().into(),
@@ -198,7 +195,7 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
 }
 
 /// The setups each row is measured with (`setup`).
-const SETUPS: [&str; 3] = ["cpu", "gpu", "gpu-frame"];
+const SETUPS: [&str; 2] = ["cpu", "gpu"];
 
 /// The GPU setup of `key` (none for `"cpu"`); an error for a mesh whose tables this
 /// device cannot bind, whose rows are then left out with a line saying so.
@@ -209,8 +206,7 @@ fn gpu_setup(
     key: &str,
 ) -> Option<Result<GpuSetup, npr_specular::SpecularError>> {
     match key {
-        "gpu" => Some(GpuSetup::new(device, set, indices)),
-        "gpu-frame" => Some(GpuSetup::whole_frame(device, set, indices)),
+        "gpu" => Some(GpuSetup::whole_frame(device, set, indices)),
         _ => None,
     }
 }
@@ -323,7 +319,6 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
                     (TURN_FRAMES, 1.0),
                     |set, frame| gpu.update(&ctx.device, &ctx.queue, set, frame),
                 )?;
-                set.receivers_on_gpu = false;
                 runs.push(("turntable".to_string(), key, on_gpu));
             }
             if let Some((clip, frames)) = &t.clip {
@@ -354,10 +349,9 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
                                 gpu.update_pose(&ctx.device, &ctx.queue, set, pose, frame)
                             },
                         )?;
-                        set.receivers_on_gpu = false;
-                        runs.push((format!("clip {clip}"), "gpu-frame", c));
+                        runs.push((format!("clip {clip}"), "gpu", c));
                     }
-                    Err(e) => left_out(&t.name, "gpu-frame", &e),
+                    Err(e) => left_out(&t.name, "gpu", &e),
                 }
             }
             for (motion, setup, c) in runs {

@@ -118,7 +118,7 @@ fn check(driver: &Driver, session: &str, site: &Path, site_port: u16) -> anyhow:
         std::fs::write(site.join(&name), &text)?;
         let preset = Preset::from_toml(&text, Path::new(&name))?;
         let size = (preset.output.width, preset.output.height);
-        let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size)?;
+        let mut renderer = Renderer::new(&ctx, model.clone(), size)?;
         let view = View::new(&preset, &model.framing, size, 0.0);
         for scripted in [false, true] {
             if scripted && effect != "specular" {
@@ -324,7 +324,7 @@ fn check_bad_drop(
     let page = driver.canvas(session)?;
     let preset = Preset::from_toml("effect = \"phong\"\n", Path::new("check-phong.toml"))?;
     let size = (preset.output.width, preset.output.height);
-    let mut renderer = Renderer::new(&ctx.device, &ctx.queue, model.clone(), size)?;
+    let mut renderer = Renderer::new(ctx, model.clone(), size)?;
     let view = View::new(&preset, &model.framing, size, 0.0);
     let native = object_frame(ctx, &mut renderer, &preset, &view)?;
     let row = compare(

@@ -13,8 +13,6 @@ mod base;
 mod hatching;
 pub mod inputs;
 mod outline;
-mod receivers;
-mod search;
 mod specialized;
 mod specular;
 mod surface;
@@ -54,27 +52,13 @@ pub struct FrameStats {
     pub effect: String,
     /// CPU setup the frame waited on (N = H search, matching, BFS; warp: none), µs.
     pub setup_us: f64,
-    /// Whether the highlights' `N = H` search ran on the GPU (specular; `[specular]
-    /// search`).
-    pub search_on_gpu: bool,
-    /// Whether the §4.2 receivers were walked on the GPU (specular; where the search
-    /// runs there). Then `receiver_faces` is the previous GPU walk's, read back one frame
-    /// late (0 before the first arrives).
-    pub receivers_on_gpu: bool,
-    /// Whether the highlights' regions were grown and fitted on the GPU (specular; where
-    /// the search runs there, `npr_specular::RegionPass`).
-    pub regions_on_gpu: bool,
-    /// Whether the model's pose was taken on the GPU (specular, `search = "gpu-frame"`
-    /// on an animated model): its curvature and the highlights' tables made there from
-    /// the posed vertices (`npr_specular::FrameOnGpu::pose_on_gpu`), the CPU's set left
-    /// on an earlier pose.
+    /// The highlight backend that ran and why (specular; `[specular] backend`), as
+    /// `npr_specular::BackendChoice` writes it: `"cpu (software adapter llvmpipe ...)"`.
+    pub backend: Option<String>,
+    /// Whether the model's pose was taken on the GPU (specular, the GPU backend on an
+    /// animated model): its curvature and the highlights' tables made there from the
+    /// posed vertices, the CPU's set left on an earlier pose.
     pub pose_on_gpu: bool,
-    /// GPU submissions the highlights' setup waited on (specular): 0 on the CPU, 1 where
-    /// the regions were seeded on the GPU and grown in the search's submission, 2 where
-    /// the update's seeds differed from the GPU's (the search could not give its peaks,
-    /// or more seeds than the frame's room) and its regions were grown in a submission of
-    /// their own.
-    pub gpu_waits: usize,
     /// Highlights drawn (specular).
     pub highlights: usize,
     /// Receiver faces of all highlights (specular).
@@ -116,25 +100,28 @@ impl std::fmt::Debug for Renderer {
 }
 
 impl Renderer {
-    /// Uploads `model` and creates a `width × height` target.
+    /// Uploads `model` and creates a `width × height` target on `ctx` (whose adapter the
+    /// highlight backend's rule reads, `npr_specular::Backend::choose`).
     ///
     /// # Errors
     /// [`AppError::Gpu`] for a size or mesh past the device's limits.
     pub fn new(
-        device: &wgpu::Device,
-        _queue: &wgpu::Queue,
+        ctx: &npr_gpu::GpuContext,
         model: Model,
         size: (u32, u32),
     ) -> Result<Self, AppError> {
+        let device = &ctx.device;
         let gpu_mesh = GpuMesh::upload(device, &model.mesh)?;
         let target = OffscreenTarget::new(device, size.0, size.1)?;
+        let mut specular = SpecularEffect::default();
+        specular.set_adapter(ctx.adapter.get_info());
         Ok(Self {
             model,
             gpu_mesh,
             target,
             base: Specialized::default(),
             submission: FrameId::default(),
-            specular: SpecularEffect::default(),
+            specular,
             hatching: HatchingEffect::default(),
             outline: OutlineEffect::default(),
             warp: WarpEffect::default(),
@@ -522,7 +509,7 @@ impl Renderer {
         self.record_outline(device, queue, &mut encoder, preset, view, submission)?;
         queue.submit(Some(encoder.finish()));
         if preset.effect == Effect::Specular {
-            self.specular.after_submit(device, queue)?;
+            self.specular.after_submit(device, queue);
         }
         Ok(stats)
     }

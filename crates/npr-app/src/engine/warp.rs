@@ -327,7 +327,7 @@ pub fn render_warp_frames(
 ) -> Result<Vec<FrameStats>, AppError> {
     let size = (preset.output.width, preset.output.height);
     let framing = model.framing;
-    let renderer = Renderer::new(&ctx.device, &ctx.queue, model, size)?;
+    let renderer = Renderer::new(ctx, model, size)?;
     let frames_of = WarpFrames {
         framing,
         frames,
@@ -353,7 +353,7 @@ pub fn render_clip_warp_frames(
     sink: impl FnMut(usize, image::RgbaImage, &FrameStats) -> Result<(), AppError>,
 ) -> Result<Vec<FrameStats>, AppError> {
     let size = (preset.output.width, preset.output.height);
-    let renderer = Renderer::new(&ctx.device, &ctx.queue, animated.frame(0), size)?;
+    let renderer = Renderer::new(ctx, animated.frame(0), size)?;
     let frames_of = WarpFrames {
         framing: animated.framing(),
         frames,

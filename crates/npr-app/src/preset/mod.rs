@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 mod specular;
 pub use specular::{
-    BoundaryPreset, HighlightEdit, MAX_ABSTRACTION, SearchPreset, SpecularPreset, UpPreset,
+    BackendPreset, BoundaryPreset, HighlightEdit, MAX_ABSTRACTION, SpecularPreset, UpPreset,
 };
 
 /// What `npr render` draws.

@@ -1,4 +1,4 @@
-//! The `[specular]` section of a preset: the highlights' settings, their search path
+//! The `[specular]` section of a preset: the highlights' settings, their backend
 //! and the user's own edits.
 
 use serde::{Deserialize, Serialize};
@@ -81,8 +81,9 @@ pub struct SpecularPreset {
     /// k_s of the base shading under the highlights (0: the stylized highlight replaces
     /// the base's own).
     pub base_ks: f32,
-    /// Where the per-frame `N = H` search runs.
-    pub search: SearchPreset,
+    /// Which highlight backend runs (`search` in older presets).
+    #[serde(alias = "search")]
+    pub backend: BackendPreset,
     /// Per-highlight edits.
     pub edits: Vec<HighlightEdit>,
 }
@@ -97,43 +98,43 @@ impl Default for SpecularPreset {
             abstraction: npr_specular::DEFAULT_ABSTRACTION,
             boundary: BoundaryPreset::Smooth,
             base_ks: 0.0,
-            search: SearchPreset::default(),
+            backend: BackendPreset::default(),
             edits: Vec::new(),
         }
     }
 }
 
-/// Where the per-frame `N = H` search of the highlights runs ([`SpecularPreset::search`]),
-/// and with it the §4.2 receivers. Both give the same centres (the GPU solves in `f32`;
-/// `npr-specular`'s `tests/gpu_search.rs`) and the same receivers
-/// (`tests/gpu_receivers.rs`); on the GPU the regions are grown there too
-/// (`tests/gpu_regions.rs`), while matching and projectors stay on the CPU either way.
+/// Which highlight backend sets up a model's highlights ([`SpecularPreset::backend`]):
+/// `npr_specular::Backend::choose`'s rule, or one backend. Both give the same highlights
+/// (`npr-specular`'s twin tests). Presets written before this key had `search = "auto" |
+/// "cpu" | "gpu" | "gpu-frame"`; they still load, `"gpu"` and `"gpu-frame"` both meaning
+/// the GPU backend.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum SearchPreset {
-    /// The fastest of the three for the model, timed on its first frame (the whole
-    /// highlight update each way twice, the second timing kept; the whole frame on the
-    /// GPU with its submission and wait) and again when the model or its highlight set
-    /// changes.
+pub enum BackendPreset {
+    /// The rule: the CPU on a software adapter or one of unknown type (most browsers),
+    /// the GPU frame on a real GPU; the CPU wherever the mesh's GPU tables exceed the
+    /// device's limits.
     #[default]
     Auto,
-    /// On the CPU (`npr_geometry::HighlightSearch`, coherent from frame to frame).
+    /// The CPU (`npr_specular::HighlightSet::update`).
     Cpu,
-    /// As a compute pass (`npr_specular::CentreSearchPass`), its list merged into centres
-    /// there and read back,
-    /// the regions grown and fitted by another (`npr_specular::RegionPass`, one record a
-    /// highlight read back), and the receivers walked by a third
-    /// (`npr_specular::ReceiverPass`) in the frame's submission, drawn from the stream it
-    /// writes. In the browser, where a readback
-    /// completes only between frames, the search is the CPU's and the walk the GPU's.
+    /// The whole frame as compute passes, nothing read back on the frame's path: the
+    /// search, the regions, the projectors with the user's edits and their receivers,
+    /// and an animated model's pose. The panel and picking see each frame's highlights
+    /// one frame late.
+    #[serde(alias = "gpu-frame")]
     Gpu,
-    /// The whole frame's highlights on the GPU, nothing read back on the frame's path
-    /// (`npr_specular::FrameOnGpu`: the search, the regions seeded from its centres
-    /// matched with the GPU's own table of the last frame, the highlights made into
-    /// projectors by `npr_specular::ProjectorPass` with the user's edits, their receivers
-    /// walked and drawn where they lie). The panel and picking see each frame's
-    /// highlights one frame late. Also in the browser.
-    GpuFrame,
+}
+
+impl From<BackendPreset> for npr_specular::BackendSetting {
+    fn from(b: BackendPreset) -> Self {
+        match b {
+            BackendPreset::Auto => Self::Auto,
+            BackendPreset::Cpu => Self::Cpu,
+            BackendPreset::Gpu => Self::Gpu,
+        }
+    }
 }
 
 /// Where a highlight's edge meets the surface (`npr_specular::HighlightBoundary`).

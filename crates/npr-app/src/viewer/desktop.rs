@@ -235,7 +235,7 @@ impl App {
             None => Model::bunny()?,
         };
         self.timeline = super::timeline::Timeline::new(&model);
-        let renderer = Renderer::new(&ctx.device, &ctx.queue, model, (64, 64))?;
+        let renderer = Renderer::new(&ctx, model, (64, 64))?;
         let view_texture = egui_renderer.register_native_texture(
             &ctx.device,
             &renderer.target().color_view,

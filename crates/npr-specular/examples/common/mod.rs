@@ -12,7 +12,7 @@ use npr_gpu::{
 };
 use npr_specular::snapshot::{HighlightScene, Renderer};
 use npr_specular::{
-    HighlightInput, HighlightPass, HighlightSet, HighlightShape, ProjectorControls,
+    HighlightFrame, HighlightInput, HighlightPass, HighlightSet, HighlightShape, ProjectorControls,
 };
 
 /// An example's error.
@@ -138,13 +138,12 @@ impl Unrestricted {
         let base = self.base.prepare(q, &mut object, &base_input)?;
         let mut draw = self.pass.create_object(d, scene.mesh);
         let list = HighlightPass::draw_list_unrestricted(scene.set, scene.indices);
+        let highlights = HighlightFrame::with_list(frame, scene.set, &list);
         let input = HighlightInput {
             frame,
-            indices: scene.indices,
-            set: scene.set,
+            highlights: &highlights,
             view: &view,
             object: &scene.object,
-            list: Some(&list),
         };
         let highlights = self.pass.prepare(q, &mut draw, &input)?;
         let mut enc = d.create_command_encoder(&Default::default());

@@ -1,11 +1,9 @@
-//! The GPU setups of [`super::FidelityRig::score_with`] and
-//! [`super::turntable_coherence_with`]: the measured frames set up as `npr` sets them up
-//! with `[specular] search = "gpu"` ([`GpuSetup::new`]) or `"gpu-frame"`
-//! ([`GpuSetup::whole_frame`]).
+//! The GPU setup of [`super::FidelityRig::score_with`] and
+//! [`super::turntable_coherence_with`]: the measured frames made wholly on the GPU, as
+//! `npr` makes them on the GPU backend ([`GpuSetup::whole_frame`]).
 
-use super::stretch_over;
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
-use crate::{FrameOnGpu, HighlightSet, ReceiverObject, ReceiverPass, SetupOnGpu, SpecularError};
+use crate::{FrameOnGpu, HighlightSet, SpecularError};
 use glam::Mat4;
 use npr_geometry::LightEye;
 
@@ -13,16 +11,14 @@ use npr_geometry::LightEye;
 /// with twice the room) before the measure gives up on it.
 const HELD_RETRIES: usize = 4;
 
-/// The GPU setup of the measured frames: the `N = H` search and the regions on the GPU
-/// in one submission ([`SetupOnGpu`]), or the whole frame's highlights, projectors
-/// included, made and drawn on the GPU ([`FrameOnGpu`]); the §4.2 receivers walked by
-/// [`ReceiverPass`] in each highlight frame's submission and drawn from their stream.
-/// One per set and render mesh.
+/// The GPU setup of the measured frames: the whole frame's highlights, projectors
+/// included, made and drawn on the GPU ([`FrameOnGpu`]). One per set and render mesh.
 #[derive(Debug)]
 pub struct GpuSetup {
-    made: Made,
-    walk_pass: ReceiverPass,
-    walk: ReceiverObject,
+    on_gpu: Box<FrameOnGpu>,
+    /// The light, eye and transform of the last update (each highlight render makes that
+    /// frame again on the GPU and draws what it made).
+    last: Option<(LightEye, Mat4)>,
     /// The render triangles' face ids, to read the walk's stream back as faces.
     face_of: std::collections::HashMap<[u32; 3], u32>,
     resources: Option<FrameResources>,
@@ -39,34 +35,7 @@ struct Posing {
     curvature: npr_gpu::CurvatureObject,
 }
 
-/// Which GPU setup a [`GpuSetup`] is.
-#[derive(Debug)]
-enum Made {
-    /// Centres and regions on the GPU, the projectors fitted by the CPU's update.
-    Setup(Box<SetupOnGpu>),
-    /// The whole frame on the GPU, and the light, eye and transform of the last update
-    /// (each highlight render makes that frame again on the GPU and draws what it made).
-    Frame(Box<FrameOnGpu>, Option<(LightEye, Mat4)>),
-}
-
 impl GpuSetup {
-    /// Uploads `set`'s search and walk tables (`indices`: the render mesh's triangles).
-    ///
-    /// # Errors
-    /// [`npr_gpu::GpuError::MeshTooLarge`] where a table exceeds the device's bindings.
-    pub fn new(
-        device: &wgpu::Device,
-        set: &HighlightSet,
-        indices: &[u32],
-    ) -> Result<Self, SpecularError> {
-        Self::with(
-            device,
-            set,
-            indices,
-            Made::Setup(Box::new(SetupOnGpu::new(device, set)?)),
-        )
-    }
-
     /// Uploads `set`'s tables for whole frames on the GPU ([`FrameOnGpu`], drawing
     /// textures none of which is a normal map, as [`super::FidelityRig`]'s): each update
     /// makes the frame on the GPU, waits for it and adopts its highlights
@@ -75,7 +44,7 @@ impl GpuSetup {
     /// same table: its fades not advanced) and draws the projectors the GPU built.
     ///
     /// # Errors
-    /// As [`GpuSetup::new`].
+    /// [`npr_gpu::GpuError::MeshTooLarge`] where a table exceeds the device's bindings.
     pub fn whole_frame(
         device: &wgpu::Device,
         set: &HighlightSet,
@@ -83,22 +52,9 @@ impl GpuSetup {
     ) -> Result<Self, SpecularError> {
         let mut on_gpu = FrameOnGpu::new(device, set, indices)?;
         on_gpu.set_normal_maps(&[false]);
-        Self::with(device, set, indices, Made::Frame(Box::new(on_gpu), None))
-    }
-
-    fn with(
-        device: &wgpu::Device,
-        set: &HighlightSet,
-        indices: &[u32],
-        made: Made,
-    ) -> Result<Self, SpecularError> {
-        let walk_pass = ReceiverPass::new(device);
-        // Walks of up to four times the default capacity (the whole mesh where smaller).
-        let longest = (4 * crate::DEFAULT_WALK_CAPACITY).min(set.topology().face_count());
         Ok(Self {
-            made,
-            walk: walk_pass.create_object_with_capacity(device, set, indices, longest)?,
-            walk_pass,
+            on_gpu: Box::new(on_gpu),
+            last: None,
             face_of: indices
                 .chunks_exact(3)
                 .enumerate()
@@ -117,18 +73,14 @@ impl GpuSetup {
     /// its tables there ([`FrameOnGpu::pose_on_gpu`]); `set` is not reposed.
     ///
     /// # Errors
-    /// [`SpecularError::Mismatch`] for a setup of [`GpuSetup::new`]; the passes' errors.
+    /// The passes' errors.
     pub fn pose_on_gpu(
         &mut self,
         device: &wgpu::Device,
         set: &HighlightSet,
         (rest, options): (&npr_geometry::Mesh, &npr_geometry::CurvatureOptions),
     ) -> Result<(), SpecularError> {
-        let Made::Frame(on_gpu, _) = &mut self.made else {
-            return Err(SpecularError::Mismatch(
-                "poses are made on the GPU for whole frames only (GpuSetup::whole_frame)".into(),
-            ));
-        };
+        let on_gpu = &mut self.on_gpu;
         let mesh = npr_gpu::GpuMesh::upload(device, rest)?;
         let pass = npr_gpu::CurvaturePass::new(device);
         let curvature = pass.create_object_with_reach(
@@ -168,9 +120,7 @@ impl GpuSetup {
         self.update_with(device, queue, set, frame, true)
     }
 
-    /// Updates `set` for this light, eye and transform on the GPU: [`SetupOnGpu::update`],
-    /// the receivers left to the GPU walk (the CPU search's where the list overflowed or
-    /// the mesh does not fit); or, for [`GpuSetup::whole_frame`], the frame made on the
+    /// Updates `set` for this light, eye and transform on the GPU: the frame made on the
     /// GPU from the table of the last (from `set` where it starts a new sequence), waited
     /// for and adopted.
     ///
@@ -196,49 +146,34 @@ impl GpuSetup {
         (light_eye, world_from_object): (LightEye, Mat4),
         posed: bool,
     ) -> Result<(), SpecularError> {
-        set.receivers_on_gpu = true;
         let frame = (light_eye, world_from_object);
-        match &mut self.made {
-            Made::Setup(setup) => {
-                if setup.update((device, queue), set, frame)?.is_none() {
-                    set.update(light_eye, world_from_object);
-                }
+        let on_gpu = &mut self.on_gpu;
+        if !set.is_tracking() {
+            on_gpu.start_from(queue, set, world_from_object);
+        }
+        self.last = Some(frame);
+        let mut posing = self.posing.as_deref_mut().filter(|_| posed);
+        for _ in 0..HELD_RETRIES {
+            self.frame = self.frame.next();
+            let pose = posing.as_deref_mut();
+            make_frame(on_gpu, (device, queue), set, (frame, self.frame), pose)?;
+            let status = on_gpu.latest().map(|f| f.status);
+            if status != Some(crate::GpuFrameStatus::Held) {
+                break;
             }
-            Made::Frame(on_gpu, last) => {
-                if !set.is_tracking() {
-                    on_gpu.start_from(queue, set, world_from_object);
-                }
-                *last = Some(frame);
-                let mut posing = self.posing.as_deref_mut().filter(|_| posed);
-                for _ in 0..HELD_RETRIES {
-                    self.frame = self.frame.next();
-                    let pose = posing.as_deref_mut();
-                    make_frame(on_gpu, (device, queue), set, (frame, self.frame), pose)?;
-                    let status = on_gpu.latest().map(|f| f.status);
-                    if status != Some(crate::GpuFrameStatus::Held) {
-                        break;
-                    }
-                }
-                // What the GPU drew, as it drew it (a frame cut short too); a frame it
-                // held every time is no frame to measure.
-                match on_gpu.latest() {
-                    Some(f) if f.status != crate::GpuFrameStatus::Held => set.adopt_gpu_frame(f),
-                    _ => return Err(SpecularError::GpuFrame(crate::GpuFrameStatus::Held)),
-                }
-            }
+        }
+        // What the GPU drew, as it drew it (a frame cut short too); a frame it held every
+        // time is no frame to measure.
+        match on_gpu.latest() {
+            Some(f) if f.status != crate::GpuFrameStatus::Held => set.adopt_gpu_frame(f),
+            _ => return Err(SpecularError::GpuFrame(crate::GpuFrameStatus::Held)),
         }
         Ok(())
     }
 
-    /// Whether highlight renders draw the projectors the GPU built
-    /// ([`GpuSetup::whole_frame`]), rather than the set's.
-    pub fn draws_gpu_projectors(&self) -> bool {
-        matches!(self.made, Made::Frame(..))
-    }
-
-    /// [`super::stretch_max`] of `set`'s highlights over the faces the GPU walks for them (read
-    /// back: a measure, not a frame); for [`GpuSetup::whole_frame`], of the projectors the
-    /// GPU builds for the last update's frame, over the faces it walks for them.
+    /// [`super::stretch_max`] of the projectors the GPU builds for the last update's
+    /// frame, over the faces it walks for them (read back: a measure, not a frame); 0
+    /// before any update.
     ///
     /// # Errors
     /// The walk's, or its readback's.
@@ -247,41 +182,30 @@ impl GpuSetup {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         set: &HighlightSet,
-        world_from_object: Mat4,
     ) -> Result<f32, SpecularError> {
         self.frame = self.frame.next();
-        if let Made::Frame(on_gpu, Some(frame)) = &mut self.made {
-            on_gpu.repeat_last_frame();
-            let walked = make_frame(on_gpu, (device, queue), set, (*frame, self.frame), None)?;
-            let records = on_gpu
-                .latest()
-                .map(|f| f.projectors.clone())
-                .unwrap_or_default();
-            let read = on_gpu.receivers().read(device, queue, &walked)?;
-            let lists = faces_of(&self.face_of, &read.stream, records.len());
-            let drawn = records.iter().zip(lists).map(|(r, faces)| {
-                let n = r.normal;
-                (glam::Vec3::new(n[0], n[1], n[2]), r.axis_u[3], faces)
-            });
-            return Ok(super::stretch_of(set, frame.1, drawn));
-        }
-        let input = crate::ReceiverInput {
-            frame: self.frame,
-            set,
-            world_from_object,
+        let Some(frame) = self.last else {
+            return Ok(0.0);
         };
-        let prepared = self.walk_pass.prepare(queue, &mut self.walk, &input)?;
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.walk_pass.record(&mut encoder, &self.walk, &prepared)?;
-        queue.submit([encoder.finish()]);
-        let read = self.walk.read(device, queue, &prepared)?;
-        let lists = faces_of(&self.face_of, &read.stream, set.highlights().len());
-        Ok(stretch_over(set, world_from_object, |k| lists[k].clone()))
+        let on_gpu = &mut self.on_gpu;
+        on_gpu.repeat_last_frame();
+        let walked = make_frame(on_gpu, (device, queue), set, (frame, self.frame), None)?;
+        let records = on_gpu
+            .latest()
+            .map(|f| f.projectors.clone())
+            .unwrap_or_default();
+        let read = on_gpu.receivers().read(device, queue, &walked)?;
+        let lists = faces_of(&self.face_of, &read.stream, records.len());
+        let drawn = records.iter().zip(lists).map(|(r, faces)| {
+            let n = r.normal;
+            (glam::Vec3::new(n[0], n[1], n[2]), r.axis_u[3], faces)
+        });
+        Ok(super::stretch_of(set, frame.1, drawn))
     }
 
-    /// Renders `scene` with `renderer`, its receivers walked on the GPU, and reads it
-    /// back: for [`GpuSetup::whole_frame`], the frame of the last update made again on
-    /// the GPU (with `scene.set`'s settings and controls) and its projectors drawn.
+    /// Renders `scene` with `renderer` and reads it back: the frame of the last update
+    /// made again on the GPU (with `scene.set`'s settings and controls) and its
+    /// projectors drawn; `scene.set`'s own highlights before any update.
     ///
     /// # Errors
     /// The passes' errors, or readback failure.
@@ -297,19 +221,14 @@ impl GpuSetup {
             .get_or_insert_with(|| renderer.resources(device, scene.mesh));
         // One frame count for every pass of the setup, the draw's included.
         res.frame = self.frame;
-        match &mut self.made {
-            Made::Frame(on_gpu, Some((light_eye, _))) => {
+        match self.last {
+            Some((light_eye, _)) => {
                 // The update's frame again, not the next one: its fades as it left them.
-                on_gpu.repeat_last_frame();
-                renderer.submit_frame_on_gpu(device, queue, scene, res, (on_gpu, *light_eye))?;
+                self.on_gpu.repeat_last_frame();
+                let frame_gpu = (&mut *self.on_gpu, light_eye);
+                renderer.submit_frame_on_gpu(device, queue, scene, res, frame_gpu)?;
             }
-            _ => renderer.submit_gpu_receivers(
-                device,
-                queue,
-                scene,
-                res,
-                (&self.walk_pass, &mut self.walk),
-            )?,
+            None => renderer.submit(device, queue, scene, res)?,
         }
         self.frame = res.frame;
         Ok(npr_gpu::readback_rgba(

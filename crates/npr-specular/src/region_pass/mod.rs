@@ -337,8 +337,7 @@ impl RegionPass {
     /// submission, matched with `input.set`'s last update as its matching does: the
     /// growth is dispatched over them indirectly, with room for twice the last update's
     /// highlights and 8 more (at most [`TRACKED_SEEDS`]). Read it
-    /// with [`RegionObject::map_tracked`]; an update takes its regions through
-    /// [`TrackedRegions::for_seeds`].
+    /// with [`RegionObject::map_tracked`].
     ///
     /// # Errors
     /// As [`RegionPass::prepare`]; [`SpecularError::Pass`] for a search prepare of
@@ -543,31 +542,6 @@ impl RegionPass {
         self.record(&mut encoder, object, &prepared)?;
         queue.submit([encoder.finish()]);
         object.read(device, queue, &prepared)
-    }
-
-    /// A [`crate::RegionsOnGpu`] callback for
-    /// [`HighlightSet::update_from_solutions_and_regions`]: each update's regions grown
-    /// at once with this pass ([`RegionPass::grow_now`]) for `frame` and this light, eye
-    /// and transform; `None` (the CPU grows that frame's) where a step fails or a growth
-    /// overflowed.
-    pub fn grower<'a>(
-        &'a self,
-        (device, queue): (&'a wgpu::Device, &'a wgpu::Queue),
-        object: &'a mut RegionObject,
-        frame: FrameId,
-        (light_eye, world_from_object): (LightEye, Mat4),
-    ) -> impl FnMut(&HighlightSet, &[(HighlightCentre, f32)]) -> Option<Vec<GpuRegion>> + 'a {
-        move |set, seeds| {
-            let input = RegionInput {
-                frame,
-                set,
-                seeds,
-                light_eye,
-                world_from_object,
-            };
-            let grown = self.grow_now(device, queue, object, &input).ok()?;
-            grown.iter().all(|g| !g.overflowed).then_some(grown)
-        }
     }
 
     /// Records the growth: the faces' marks cleared, one workgroup per seed walking its

@@ -14,7 +14,7 @@ use super::records::{FIT_BYTES, PARAMS_BYTES, SeedRecord, decode};
 use super::{GpuRegion, RegionObject};
 use crate::{HighlightSet, SearchObject, SpecularError};
 use glam::{Mat4, Vec3};
-use npr_geometry::{HighlightCentre, LightEye};
+use npr_geometry::LightEye;
 use npr_gpu::compute::{buffer_init, group_entry};
 use npr_gpu::pass::{FrameId, Prepared};
 
@@ -106,11 +106,11 @@ pub enum TrackStatus {
 /// One seed the GPU wrote: its centre (world), σ, and whether it has a frame to grow.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrackedSeed {
-    /// The centre, world space (bit for bit the search's [`HighlightCentre::position_world`]).
+    /// The centre, world space (bit for bit the search's [`npr_geometry::HighlightCentre::position_world`]).
     pub position_world: Vec3,
     /// The σ it was grown at.
     pub sigma: f32,
-    /// Its face ([`HighlightCentre::face`]).
+    /// Its face ([`npr_geometry::HighlightCentre::face`]).
     pub face: u32,
 }
 
@@ -123,27 +123,6 @@ pub struct TrackedRegions {
     pub seeds: Vec<TrackedSeed>,
     /// One region per seed.
     pub regions: Vec<GpuRegion>,
-}
-
-impl TrackedRegions {
-    /// The regions for an update's `seeds` (its centres and σ in the order it grows
-    /// them: a [`crate::RegionsOnGpu`] callback's argument) where the GPU seeded exactly
-    /// these, in this order; else `None` (then grow them otherwise: the GPU found no peaks
-    /// and the update found its own, the seeds outnumbered the frame's room, or a float
-    /// tie fell otherwise). A region cut short by the object's capacity counts as not
-    /// grown.
-    pub fn for_seeds(&self, seeds: &[(HighlightCentre, f32)]) -> Option<Vec<GpuRegion>> {
-        let same = self.status == TrackStatus::Seeded
-            && seeds.len() == self.seeds.len()
-            && seeds.iter().zip(&self.seeds).all(|((c, sigma), g)| {
-                c.face == g.face
-                    && c.position_world.to_array().map(f32::to_bits)
-                        == g.position_world.to_array().map(f32::to_bits)
-                    && sigma.to_bits() == g.sigma.to_bits()
-            })
-            && self.regions.iter().all(|r| !r.overflowed);
-        same.then(|| self.regions.clone())
-    }
 }
 
 /// A frame's tracked regions on their way to the CPU ([`RegionObject::map_tracked`]).

@@ -10,9 +10,9 @@
 //! [`HighlightSearch::merge_distance`] kept), and `cs_centres` computes each kept centre
 //! as [`HighlightSearch::centre_at`] does. Only the lists are read back: at most
 //! [`SearchObject::capacity`] accepted faces of 16 bytes and [`MAX_MERGED`] centres of
-//! 112, never a mesh-sized buffer. [`crate::HighlightSet::update_from_centres`] runs the
-//! rest of the frame's highlight work on the centres
-//! ([`crate::HighlightSet::update_from_solutions`] merges the accepted faces on the CPU).
+//! 112, never a mesh-sized buffer (a test's or a panel's readback: the GPU backend's
+//! frames, [`crate::HighlightSetup`], read nothing back and go on to the regions on the
+//! GPU).
 //!
 //! It speaks the pass contract ([`npr_gpu::pass`]) with `record` in place of `draw`:
 //!
@@ -24,10 +24,7 @@
 //! let prepared = pass.prepare(queue, &mut object, &input)?;
 //! pass.record(&mut encoder, &object, &prepared)?;
 //! queue.submit([encoder.finish()]);
-//! let solutions = object.read(device, &prepared)?;
-//! if let Some(centres) = &solutions.centres {
-//!     set.update_from_centres(light_eye, world_from_object, centres);
-//! }
+//! let solutions = object.read(device, &prepared)?; // the centres, for a comparison
 //! ```
 //!
 //! The CPU search ([`HighlightSearch::find`]) is the reference: `tests/gpu_search.rs`
@@ -180,9 +177,8 @@ pub struct SearchSolutions {
     /// The centres, merged and computed on the GPU (`cs_merge`, `cs_centres`): those
     /// [`HighlightSearch::centres_from_solutions`] gives for `faces`, in its order (an
     /// accepted face whose centre has no normal, which the CPU leaves out before merging,
-    /// takes part in the GPU's merge; the tests never met one) (for
-    /// [`crate::HighlightSet::update_from_centres`]); `None` when the list overflowed or
-    /// held more than [`MAX_MERGED`] centres (then merge `faces` on the CPU).
+    /// takes part in the GPU's merge; the tests never met one); `None` when the list
+    /// overflowed or held more than [`MAX_MERGED`] centres.
     pub centres: Option<Vec<npr_geometry::HighlightCentre>>,
     /// The peaks, found on the GPU where asked for
     /// ([`CentreSearchPass::prepare_with_peaks`]): the bright regions `N·H ≥ σ` that hold

@@ -28,7 +28,6 @@ mod receivers;
 mod regions;
 pub(crate) use peaks::vertex_neighbours;
 pub(crate) use receivers::ReceiverRule;
-pub use regions::RegionsOnGpu;
 
 use crate::projector::eq8_footprint;
 use crate::region::{Footprint, Region, RegionCounts, RegionGrower, RegionPatches};
@@ -154,12 +153,8 @@ pub struct UpdateStats {
     /// Wall time of the region growth and fit ([`HighlightSizing::Region`]),
     /// microseconds (0 for the paper's sizing).
     pub region_us: f64,
-    /// How the region growth classified the faces it looked at (all zero when the GPU
-    /// grew the regions).
+    /// How the region growth classified the faces it looked at.
     pub region_faces: RegionCounts,
-    /// Whether the regions were grown on the GPU
-    /// ([`HighlightSet::update_from_solutions_and_regions`]).
-    pub regions_on_gpu: bool,
 }
 
 /// How projectors are sized.
@@ -219,10 +214,6 @@ pub struct HighlightSet {
     /// the next (default 0.25); the footprint catches up over a few updates instead of
     /// jumping when its region merges or splits. ≤ 0 disables the limit.
     pub max_area_change: f32,
-    /// Leave the §4.2 walk to [`crate::ReceiverPass`] (default false): updates then fill
-    /// no [`HighlightSet::receiver_faces`], and the highlight pass draws the stream the
-    /// compute pass writes ([`crate::HighlightPass::prepare_with_receivers`]).
-    pub receivers_on_gpu: bool,
     highlights: Vec<Highlight>,
     receiver_faces: Vec<u32>,
     /// Per face: largest angle between its normal and its corners' render normals.
@@ -243,11 +234,6 @@ pub struct HighlightSet {
     scratch: VisibilityScratch,
     /// Region growth; its face patches serve the §4.2 search too.
     grower: RegionGrower,
-    /// This update's regions when grown on the GPU (by the caller's
-    /// [`RegionsOnGpu`]), in the seeds' order; empty when `grower` grew them.
-    gpu_regions: Vec<crate::GpuRegion>,
-    /// Whether this update's regions were left to the GPU (also a frame without seeds).
-    regions_grown_on_gpu: bool,
     radius_bound: f32,
     next_id: u64,
     /// Whether an update has run since the set was made or reset: from then on a new
@@ -407,7 +393,6 @@ impl HighlightSet {
             receiver_min_cos: 0.3,
             receiver_cone_margin_rad: 10f32.to_radians(),
             max_area_change: 0.25,
-            receivers_on_gpu: false,
             highlights: Vec::new(),
             receiver_faces: Vec::new(),
             face_slack: Vec::new(),
@@ -417,8 +402,6 @@ impl HighlightSet {
             normals_id: NEXT_NORMALS_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             scratch: VisibilityScratch::default(),
             grower,
-            gpu_regions: Vec::new(),
-            regions_grown_on_gpu: false,
             radius_bound,
             next_id: 0,
             tracking: false,
@@ -504,13 +487,7 @@ impl HighlightSet {
     /// own renderer.
     pub fn update(&mut self, light_eye: LightEye, world_from_object: Mat4) -> &[Highlight] {
         let (centres, search_us) = self.search_centres(light_eye, world_from_object);
-        self.update_with(
-            light_eye,
-            world_from_object,
-            (centres, search_us),
-            None,
-            None,
-        )
+        self.update_with(light_eye, world_from_object, (centres, search_us))
     }
 
     fn update_with(
@@ -518,19 +495,12 @@ impl HighlightSet {
         light_eye: LightEye,
         world_from_object: Mat4,
         (mut centres, search_us): (Vec<HighlightCentre>, f64),
-        regions_on_gpu: Option<RegionsOnGpu<'_>>,
-        given_peaks: Option<&[HighlightCentre]>,
     ) -> &[Highlight] {
         let found = centres.len();
         let peaks_start = Instant::now();
         if self.sizing == HighlightSizing::Region && valid_input(light_eye, world_from_object) {
-            match given_peaks {
-                Some(peaks) => centres.extend_from_slice(peaks),
-                None => {
-                    let peaks = self.peak_centres(&centres, light_eye, world_from_object);
-                    centres.extend(peaks);
-                }
-            }
+            let peaks = self.peak_centres(&centres, light_eye, world_from_object);
+            centres.extend(peaks);
         }
         let peaks_us = peaks_start.elapsed().as_secs_f64() * 1e6;
         let scale = mean_scale(world_from_object);
@@ -546,7 +516,7 @@ impl HighlightSet {
             world_from_object,
         );
         let region_start = Instant::now();
-        let regions = self.grow_regions(&next, light_eye, world_from_object, regions_on_gpu);
+        let regions = self.grow_regions(&next, light_eye, world_from_object);
         let region_us = region_start.elapsed().as_secs_f64() * 1e6;
         let (mut kept, merged) = self.footprints(
             next,
@@ -571,12 +541,7 @@ impl HighlightSet {
             search: self.coherence.stats(),
             visibility_us: visibility_start.elapsed().as_secs_f64() * 1e6,
             region_us,
-            region_faces: if self.regions_grown_on_gpu {
-                RegionCounts::default()
-            } else {
-                self.grower.counts()
-            },
-            regions_on_gpu: self.regions_grown_on_gpu,
+            region_faces: self.grower.counts(),
         };
         self.highlights = kept;
         self.tracking = true;

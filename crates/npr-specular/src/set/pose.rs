@@ -52,7 +52,6 @@ impl HighlightSet {
         next.receiver_min_cos = self.receiver_min_cos;
         next.receiver_cone_margin_rad = self.receiver_cone_margin_rad;
         next.max_area_change = self.max_area_change;
-        next.receivers_on_gpu = self.receivers_on_gpu;
         next.highlights = std::mem::take(&mut self.highlights);
         next.next_id = self.next_id;
         next.tracking = self.tracking;

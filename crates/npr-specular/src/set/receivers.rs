@@ -27,7 +27,7 @@ impl HighlightSet {
             h.receivers = start..start;
             let (rule, falloff) = self.receiver_rule(h);
             h.falloff_cos = falloff;
-            let Some(rule) = rule.filter(|_| !self.receivers_on_gpu) else {
+            let Some(rule) = rule else {
                 continue;
             };
             let facing = match rule {

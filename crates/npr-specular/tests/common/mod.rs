@@ -114,38 +114,6 @@ pub fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
     mesh
 }
 
-/// Asserts that `got` are the highlights `want` (ids, found, pieces, peak flags, fades)
-/// with centres within 1e-4 of `radius`; the largest difference of their footprints'
-/// half extents, of `radius` (`at` names the frame in failures).
-pub fn same_highlights(
-    got: &[npr_specular::Highlight],
-    want: &[npr_specular::Highlight],
-    radius: f32,
-    at: &str,
-) -> f32 {
-    assert_eq!(got.len(), want.len(), "{at}: highlight counts");
-    let mut worst = 0.0f32;
-    for (g, w) in got.iter().zip(want) {
-        assert_eq!(
-            (g.id, g.found, g.piece, g.pieces, g.peak),
-            (w.id, w.found, w.piece, w.pieces, w.peak),
-            "{at}"
-        );
-        assert!((g.opacity - w.opacity).abs() <= 1e-6, "{at}: fades");
-        let d = g.centre.position_world.distance(w.centre.position_world) / radius;
-        assert!(
-            d <= 1e-4,
-            "{at}: highlight {} moved {d:.2e} of the radius",
-            g.id
-        );
-        let e = (g.projector.half_extent - w.projector.half_extent)
-            .abs()
-            .max_element();
-        worst = worst.max(e / radius);
-    }
-    worst
-}
-
 /// The largest difference of two records' matrices and vectors, each relative to the
 /// largest entry of the CPU's.
 pub fn record_gap(a: &npr_specular::ProjectorGpu, b: &npr_specular::ProjectorGpu) -> f32 {
@@ -166,4 +134,19 @@ pub fn record_gap(a: &npr_specular::ProjectorGpu, b: &npr_specular::ProjectorGpu
     .flat_map(|(x, y)| x.iter().zip(y).map(|(p, q)| (p - q).abs()))
     .fold(0f32, f32::max);
     matrix.max(vectors)
+}
+
+/// A light turning over the object while it turns too, eye fixed: frame `step` of the
+/// twin tests' turn (0.12 rad of light and 0.012 of object a frame).
+pub fn turn(radius: f32, step: usize) -> (LightEye, Mat4) {
+    let a = step as f32 * 0.12;
+    let light_eye = LightEye::Positions {
+        light: Vec3::new(
+            2.0 * radius * a.cos(),
+            1.5 * radius,
+            2.0 * radius * a.sin() + radius,
+        ),
+        eye: Vec3::new(0.0, 0.2 * radius, 3.0 * radius),
+    };
+    (light_eye, Mat4::from_rotation_y(0.1 * a))
 }

@@ -490,12 +490,14 @@ fn frame_lines(
     warp: &super::live::WarpLive,
     frame_ms: f64,
 ) {
-    let walk = if stats.receivers_on_gpu { " (GPU)" } else { "" };
     ui.small(format!(
-        "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers{walk} · {} \
+        "{frame_ms:.1} ms/frame · setup {:.0} µs · {} highlights · {} receivers · {} \
          triangles",
         stats.setup_us, stats.highlights, stats.receiver_faces, stats.triangles
     ));
+    if let Some(backend) = &stats.backend {
+        ui.small(format!("highlights: {backend}"));
+    }
     if state.preset.effect == Effect::Warp {
         let fps = |ms: f64| if ms > 0.0 { 1e3 / ms } else { 0.0 };
         ui.small(format!(
