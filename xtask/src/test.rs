@@ -21,6 +21,7 @@ pub fn run() -> anyhow::Result<()> {
     cargo(
         &[
             "fmt",
+            "--all",
             "--manifest-path",
             "crates/npr-web/Cargo.toml",
             "--",

@@ -35,6 +35,9 @@ pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
     // folder, so the library crates' wasm artifacts are shared with any other wasm build.
     let target = crate::cargo::target_dir();
     let target_arg = target.to_string_lossy();
+    // The check serves the check's build of the page (npr-web plus the compute passes'
+    // comparisons, `crates/npr-web/check`); the published site is npr-web alone.
+    let package = if check { "npr-web-check" } else { "npr-web" };
     cargo(
         &[
             "build",
@@ -42,6 +45,8 @@ pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
             "--locked",
             "--manifest-path",
             "crates/npr-web/Cargo.toml",
+            "-p",
+            package,
             "--target-dir",
             &target_arg,
             "--target",
@@ -49,7 +54,10 @@ pub fn run(build_only: bool, check: bool, port: u16) -> anyhow::Result<()> {
         ],
         &[],
     )?;
-    let wasm = target.join(format!("{WASM_TARGET}/release/npr_web.wasm"));
+    let wasm = target.join(format!(
+        "{WASM_TARGET}/release/{}.wasm",
+        package.replace('-', "_")
+    ));
     std::fs::create_dir_all(&out)?;
     let status = Command::new(&bindgen)
         .args([

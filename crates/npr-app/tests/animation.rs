@@ -515,7 +515,7 @@ fn highlights_pop_no_more_on_the_clip_than_on_the_turntable() {
         // A walk at 30 fps moves far more per frame than a 1° turn, so its footprints
         // reach the set's per-frame area limit where the turn may stay below it; the
         // limit must hold on the moving body as on the turn.
-        let cap = set.max_area_change;
+        let cap = set.tuning.max_area_change;
         assert!(
             clip.area_change_max <= turn.area_change_max.max(cap) + 1e-3,
             "{name}: a footprint's area jumps {:.3} on the clip, {:.3} on the turn, limit {cap}",

@@ -8,14 +8,14 @@
 //! where `N = H`.
 
 use glam::{Mat4, Vec3};
-use npr_geometry::{CurvatureOptions, LightEye, Mesh};
+use npr_geometry::{LightEye, Mesh};
 use npr_gpu::{
     BaseInput, BaseObject, BaseShading, Camera, FrameId, FrameUniforms, GpuMesh, Light,
     ObjectUniforms, Prepared, ShadingModel, TargetFormats,
 };
 use npr_specular::{
-    BackendChoice, HighlightInput, HighlightObject, HighlightPass, HighlightSet, HighlightSetup,
-    SetupInput, SetupObject, SpecularError,
+    BackendSetting, HighlightInput, HighlightObject, HighlightPass, HighlightSetup, SetupInput,
+    SetupObject, SpecularError, SpecularSettings,
 };
 
 /// One mesh with stylized highlights over Phong (your own base shading works the same).
@@ -30,23 +30,21 @@ pub struct Highlights {
 }
 
 impl Highlights {
-    /// Once per mesh, in the formats of the targets you will draw into, on the backend
-    /// `choice` names (`Backend::choose(&adapter.get_info(), BackendSetting::Auto)`).
+    /// Once per mesh, in the formats of the targets you will draw into, with `settings`
+    /// (a preset's, or the defaults) on the backend they and your `adapter` give.
     pub fn new(
         (device, queue): (&wgpu::Device, &wgpu::Queue),
         (mesh, gpu_mesh): (&Mesh, &GpuMesh),
         formats: TargetFormats,
-        choice: BackendChoice,
+        (settings, adapter): (&SpecularSettings, &wgpu::AdapterInfo),
     ) -> Result<Self, SpecularError> {
         let base = BaseShading::new(device, queue, formats, &Default::default());
         let pass = HighlightPass::new(device, queue, formats, &Default::default())?;
         let setup = HighlightSetup::new(device, queue, &Default::default());
-        let options = CurvatureOptions::default();
-        let set = HighlightSet::new(mesh, &options)?;
         Ok(Self {
             base_object: base.create_object(device, gpu_mesh),
             object: pass.create_object(device, gpu_mesh),
-            setup_object: setup.create_object(device, queue, mesh, set, &options, choice)?,
+            setup_object: setup.create_object(device, queue, mesh, settings, adapter)?,
             setup,
             base,
             pass,
@@ -124,20 +122,29 @@ pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth24Plus;
 
 /// A unit sphere seen from +z at distance 4 with the point light at the eye, `size²`
-/// pixels, on `choice`'s backend: the frame with its highlights, the same frame's base
-/// shading alone, and the mesh's highlights.
+/// pixels, on the backend `backend` and `adapter` give: the frame with its highlights,
+/// the same frame's base shading alone, and the mesh's highlights.
 ///
 /// # Errors
 /// A GPU or highlight-set error.
 pub fn render_sphere(
     (device, queue): (&wgpu::Device, &wgpu::Queue),
-    choice: BackendChoice,
+    (adapter, backend): (&wgpu::AdapterInfo, BackendSetting),
     size: u32,
 ) -> Result<([image::RgbaImage; 2], Highlights), Box<dyn std::error::Error>> {
     let mesh = npr_geometry::generate::icosphere(5, 1.0);
     let gpu_mesh = GpuMesh::upload(device, &mesh)?;
     let formats = TargetFormats::new(COLOR, DEPTH);
-    let mut hl = Highlights::new((device, queue), (&mesh, &gpu_mesh), formats, choice)?;
+    let settings = SpecularSettings {
+        backend,
+        ..SpecularSettings::default()
+    };
+    let mut hl = Highlights::new(
+        (device, queue),
+        (&mesh, &gpu_mesh),
+        formats,
+        (&settings, adapter),
+    )?;
     let eye = Vec3::new(0.0, 0.0, 4.0);
     let camera = Camera::look_at(eye, Vec3::ZERO, 1.0);
     let target = |format, usage| {
@@ -184,10 +191,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or_else(|| "embed-specular.png".into());
     // Your renderer's device and queue; here a headless one. The backend from its adapter.
     let ctx = npr_gpu::GpuContext::new()?;
-    let choice = npr_specular::Backend::choose(&ctx.adapter.get_info(), Default::default());
-    let ([image, _], hl) = render_sphere((&ctx.device, &ctx.queue), choice.clone(), 256)?;
+    let adapter = ctx.adapter.get_info();
+    let gpu = (&ctx.device, &ctx.queue);
+    let ([image, _], hl) = render_sphere(gpu, (&adapter, BackendSetting::Auto), 256)?;
     image.save(&out)?;
     let found = hl.setup_object.set().highlights().len();
+    let choice = hl.setup_object.choice();
     println!("backend {choice}; {found} highlight(s) known to the CPU; wrote {out}");
     Ok(())
 }

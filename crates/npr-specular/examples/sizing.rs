@@ -22,7 +22,7 @@ fn main() -> Result<(), Error> {
             ("paper", HighlightSizing::Paper),
             ("ours", HighlightSizing::Region),
         ] {
-            s.set.sizing = how;
+            s.set.tuning.sizing = how;
             s.set.reset();
             let img = phong(&ctx, &renderer, &mut s, disc())?;
             save(

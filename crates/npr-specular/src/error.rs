@@ -29,10 +29,10 @@ pub enum SpecularError {
     #[error(transparent)]
     Pass(#[from] npr_gpu::PassError),
     /// A frame made wholly on the GPU, which a measure waited for, was not made
-    /// ([`crate::GpuFrameStatus::Held`]: its regions found no room however often it was
+    /// ([`crate::gpu::GpuFrameStatus::Held`]: its regions found no room however often it was
     /// made again). Fix: measure the frame with the CPU's update.
     #[error("the GPU did not make the frame ({0:?})")]
-    GpuFrame(crate::GpuFrameStatus),
+    GpuFrame(crate::gpu::GpuFrameStatus),
     /// A GPU-layer error.
     #[error(transparent)]
     Gpu(#[from] npr_gpu::GpuError),

@@ -299,7 +299,7 @@ impl FidelityRig {
                 eprintln!(
                     "UPD {} b {:?}: {:?}",
                     gpu.borrow().is_some(),
-                    set.boundary,
+                    set.tuning.boundary,
                     set.highlights()
                         .iter()
                         .filter(|h| h.peak)
@@ -315,7 +315,7 @@ impl FidelityRig {
             r
         };
         update(set)?;
-        let sigma = set.global.sigma;
+        let sigma = set.tuning.controls.sigma;
         // Phong with k_s, specular colour and exponent 1 and no diffuse: N·H where N·L > 0;
         // all zero: a black base for the highlight pass.
         let render = |set: &HighlightSet, k_s: f32, highlights: bool| {
@@ -356,11 +356,11 @@ impl FidelityRig {
         };
         // Cuts: the same highlights with §4.2 alone.
         let (boundary_px, cut_px) = {
-            let boundary = set.boundary;
-            set.boundary = HighlightBoundary::Unrestricted;
+            let boundary = set.tuning.boundary;
+            set.tuning.boundary = HighlightBoundary::Unrestricted;
             update(set)?;
             let unrestricted = coded(set, &ids, |set| render(set, 0.0, true))?;
-            set.boundary = boundary;
+            set.tuning.boundary = boundary;
             update(set)?;
             cuts(&drawn, &unrestricted, self.width as usize)
         };
@@ -385,7 +385,7 @@ impl FidelityRig {
                         ..Default::default()
                     },
                 ];
-                let boundary = set.boundary;
+                let boundary = set.tuning.boundary;
                 let area = |set: &mut HighlightSet| -> Result<usize, SpecularError> {
                     update(set)?;
                     let px = coded(set, &ids, |set| render(set, 0.0, true))?;
@@ -393,9 +393,9 @@ impl FidelityRig {
                 };
                 for (ratio, edit) in ratios.iter_mut().zip(edits) {
                     *set.controls_mut(id) = edit;
-                    set.boundary = boundary;
+                    set.tuning.boundary = boundary;
                     let got = area(set)?;
-                    set.boundary = HighlightBoundary::Unrestricted;
+                    set.tuning.boundary = HighlightBoundary::Unrestricted;
                     let want = area(set)?;
                     *ratio = if want > 0 {
                         got as f32 / want as f32
@@ -404,7 +404,7 @@ impl FidelityRig {
                     };
                 }
                 *set.controls_mut(id) = HighlightControls::default();
-                set.boundary = boundary;
+                set.tuning.boundary = boundary;
                 update(set)?;
                 Some(ratios)
             }
@@ -442,7 +442,7 @@ fn coded(
     let tint = |k: usize| Vec3::new(1.0, code(k), code(k / 16));
     let code_of = |id: u64| ids.iter().position(|i| *i == id).unwrap_or(255);
     let own: Vec<Option<HighlightControls>> = ids.iter().map(|&id| set.own_controls(id)).collect();
-    let global = set.global.tint.max(Vec3::splat(1e-6));
+    let global = set.tuning.controls.tint.max(Vec3::splat(1e-6));
     for (k, (&id, c)) in ids.iter().zip(&own).enumerate() {
         let mut c = c.unwrap_or_default();
         c.tint = tint(k) / global;

@@ -12,7 +12,7 @@
 //! after an arc of about `sqrt(1 − σ²)/|κ|`, so `s` is the region's full width: the
 //! frustum spans `[−s/2, s/2]` along each axis (half-extent `s/2`).
 
-use crate::region::Footprint;
+use crate::cpu::region::Footprint;
 use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::HighlightCentre;
 
@@ -189,7 +189,7 @@ impl Projector {
     }
 
     /// Builds the projector of `centre` over a given footprint (Eq. (8)'s from
-    /// [`eq8_footprint`], or a measured region's from [`crate::region`]), with the §3.4
+    /// [`eq8_footprint`], or a measured region's from [`crate::cpu::region`]), with the §3.4
     /// `controls` on top: the footprint's offset and rotation add to the controls'
     /// translation and rotation, its half extents are scaled by `controls.scale`. `None`
     /// as for [`Projector::new`].

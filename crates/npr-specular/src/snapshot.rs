@@ -77,8 +77,8 @@ pub struct FrameResources {
 
 impl FrameResources {
     /// The receiver walk of the last frame submitted with
-    /// [`Renderer::submit_frame_on_gpu`] (for [`crate::ReceiverObject::read`] or
-    /// [`crate::ReceiverObject::map_counts`] after it); `None` after a frame without one.
+    /// [`Renderer::submit_frame_on_gpu`] (for [`crate::gpu::ReceiverObject::read`] or
+    /// [`crate::gpu::ReceiverObject::map_counts`] after it); `None` after a frame without one.
     pub fn walked(&self) -> Option<npr_gpu::Prepared> {
         self.walked
     }
@@ -184,7 +184,7 @@ impl Renderer {
         queue: &wgpu::Queue,
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
-        (frame_gpu, light_eye): (&mut crate::FrameOnGpu, npr_geometry::LightEye),
+        (frame_gpu, light_eye): (&mut crate::gpu::FrameOnGpu, npr_geometry::LightEye),
     ) -> Result<(), SpecularError> {
         self.submit_with(device, queue, scene, res, Walk::Frame(frame_gpu, light_eye))?;
         Ok(())
@@ -298,5 +298,5 @@ pub fn light_eye_along(
 /// the GPU.
 enum Walk<'a> {
     Cpu,
-    Frame(&'a mut crate::FrameOnGpu, npr_geometry::LightEye),
+    Frame(&'a mut crate::gpu::FrameOnGpu, npr_geometry::LightEye),
 }

@@ -15,6 +15,7 @@ use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{FrameId, GpuContext, GpuMesh};
 use npr_specular::{
     Backend, BackendSetting, ChoiceReason, Highlight, HighlightSet, HighlightSetup, SetupInput,
+    SpecularSettings,
 };
 
 mod common;
@@ -34,17 +35,17 @@ fn play(
     frames: &[(LightEye, Mat4)],
 ) -> Vec<Vec<Highlight>> {
     let (device, queue) = (&ctx.device, &ctx.queue);
-    let options = CurvatureOptions::default();
-    let set = HighlightSet::new(mesh, &options).unwrap();
     let gpu_mesh = GpuMesh::upload(device, mesh).unwrap();
-    let setting = match backend {
-        Backend::Cpu => BackendSetting::Cpu,
-        Backend::Gpu => BackendSetting::Gpu,
+    let settings = SpecularSettings {
+        backend: match backend {
+            Backend::Cpu => BackendSetting::Cpu,
+            Backend::Gpu => BackendSetting::Gpu,
+        },
+        ..SpecularSettings::default()
     };
-    let choice = Backend::choose(&ctx.adapter.get_info(), setting);
     let setup = HighlightSetup::new(device, queue, &Default::default());
     let mut object = setup
-        .create_object(device, queue, mesh, set, &options, choice)
+        .create_object(device, queue, mesh, &settings, &ctx.adapter.get_info())
         .unwrap();
     assert_eq!(object.backend(), backend, "{}", object.choice());
     let mut seen = Vec::new();
@@ -180,7 +181,7 @@ fn both_backends_find_the_peaks_of_large_bright_parts() {
             (light_eye, world)
         })
         .collect();
-    let wide = |set: &mut HighlightSet, _: usize| set.global.sigma = 0.8;
+    let wide = |set: &mut HighlightSet, _: usize| set.tuning.controls.sigma = 0.8;
     // The bright vertices at σ = 0.8 in the first frame, as the peaks count them.
     let set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
     let LightEye::Positions { light, eye } = light_eye else {
@@ -240,7 +241,7 @@ fn both_backends_size_by_the_papers_eq8_alike() {
     };
     let mesh = fixture("spot.obj");
     let paper = |set: &mut HighlightSet, _: usize| {
-        set.sizing = npr_specular::HighlightSizing::Paper;
+        set.tuning.sizing = npr_specular::HighlightSizing::Paper;
     };
     let frames = turn(bounding_radius(&mesh), 6);
     let cpu = both(ctx, ("spot", &mesh), &paper, &frames);
@@ -274,16 +275,17 @@ fn a_mesh_past_the_binding_limit_runs_the_cpu_backend_and_says_why() {
     }))
     .unwrap();
     let setup = HighlightSetup::new(&device, &queue, &Default::default());
-    let options = CurvatureOptions::default();
+    let settings = SpecularSettings {
+        backend: BackendSetting::Gpu,
+        ..SpecularSettings::default()
+    };
     let info = ctx.adapter.get_info();
     // 80 faces fit; 20,480 faces (a level-5 sphere) do not, though its vertex buffer does.
     for (level, fits) in [(1, true), (5, false)] {
         let mesh = generate::icosphere(level, 1.0);
         let gpu_mesh = GpuMesh::upload(&device, &mesh).unwrap();
-        let set = HighlightSet::new(&mesh, &options).unwrap();
-        let choice = Backend::choose(&info, BackendSetting::Gpu);
         let mut object = setup
-            .create_object(&device, &queue, &mesh, set, &options, choice)
+            .create_object(&device, &queue, &mesh, &settings, &info)
             .unwrap();
         let said = object.choice().to_string();
         eprintln!("level {level}: {said}");

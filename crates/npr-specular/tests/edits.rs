@@ -93,7 +93,7 @@ fn dragged_turned_and_grown_highlights_match_the_analytic_footprint() {
 
     {
         let mut set = HighlightSet::new(&mesh, &CurvatureOptions::default()).unwrap();
-        assert_eq!(set.boundary, HighlightBoundary::Smooth);
+        assert_eq!(set.tuning.boundary, HighlightBoundary::Smooth);
         set.update(le, Mat4::IDENTITY);
         assert_eq!(set.highlights().len(), 1, "one highlight on a sphere");
         let id = set.highlights()[0].id;

@@ -18,11 +18,13 @@ fn embed_example_draws_the_highlight_at_n_equals_h() {
     else {
         return;
     };
-    for setting in [BackendSetting::Cpu, BackendSetting::Gpu] {
-        let choice = Backend::choose(&ctx.adapter.get_info(), setting);
-        let backend = choice.backend;
+    let adapter = ctx.adapter.get_info();
+    for (setting, backend) in [
+        (BackendSetting::Cpu, Backend::Cpu),
+        (BackendSetting::Gpu, Backend::Gpu),
+    ] {
         let gpu = (&ctx.device, &ctx.queue);
-        let ([with, without], hl) = embed::render_sphere(gpu, choice, SIZE).unwrap();
+        let ([with, without], hl) = embed::render_sphere(gpu, (&adapter, setting), SIZE).unwrap();
         assert_eq!(hl.setup_object.backend(), backend);
         if backend == Backend::Cpu {
             // The CPU side: one highlight, centred on the analytic N = H point (the GPU

@@ -34,7 +34,7 @@ fn score_views(
 ) -> FidelityScore {
     let rig = FidelityRig::new(&ctx.device, &ctx.queue, w, h).unwrap();
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
-    set.sizing = sizing;
+    set.tuning.sizing = sizing;
     let gpu = GpuMesh::upload(&ctx.device, &surface_at_scale(mesh, &set)).unwrap();
     let views = standard_views(unit_sphere_transform(mesh), eyes, w as f32 / h as f32);
     let scores: Vec<_> = views
@@ -133,7 +133,7 @@ fn the_turning_bunny_fades_and_keeps_its_footprints() {
         light: Vec3::new(0.4, 0.7, 1.0).normalize() * 1e4,
         eye: Vec3::new(0.9, 0.6, 2.4).normalize() * 2.3,
     };
-    let mut c = Coherence::new(set.fade_frames);
+    let mut c = Coherence::new(set.tuning.fade_frames);
     let mut seen = 0;
     for deg in 0..120 {
         set.update(le, Mat4::from_rotation_y((deg as f32).to_radians()) * base);
@@ -145,7 +145,7 @@ fn the_turning_bunny_fades_and_keeps_its_footprints() {
     assert_eq!((c.pops_in, c.pops_out), (0, 0), "{c:?}");
     assert!(c.area_change_max <= 0.3, "{c:?}");
     // The check can fail: without fades every change pops.
-    set.fade_frames = 0;
+    set.tuning.fade_frames = 0;
     set.reset();
     let mut popping = Coherence::new(6);
     for deg in 0..120 {
@@ -165,9 +165,9 @@ fn controls_act_on_the_measured_footprint() {
         to_eye: Vec3::Z,
     };
     let plain = set.update(le, Mat4::IDENTITY)[0].clone();
-    assert_eq!(set.sizing, HighlightSizing::Region);
+    assert_eq!(set.tuning.sizing, HighlightSizing::Region);
     assert!(plain.footprint.region_area > 0.0);
-    set.global = ProjectorControls {
+    set.tuning.controls = ProjectorControls {
         translate: Vec2::new(0.1, -0.05),
         rotate_rad: 0.4,
         scale: Vec2::new(2.0, 0.5),

@@ -11,7 +11,7 @@ use glam::{Mat4, Vec3};
 use npr_geometry::CurvatureOptions;
 use npr_gpu::{GpuMesh, ObjectUniforms};
 use npr_specular::snapshot::{HighlightScene, Renderer, light_eye_along};
-use npr_specular::{FrameOnGpu, GpuFrameStatus, HighlightSet};
+use npr_specular::{HighlightSet, gpu::FrameOnGpu, gpu::GpuFrameStatus};
 
 mod common;
 use common::{bounding_radius, meshes};

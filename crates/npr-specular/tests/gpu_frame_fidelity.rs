@@ -69,7 +69,7 @@ fn whole_frames_on_the_gpu_score_as_the_cpus_update() {
     for (name, mesh) in &meshes {
         for sizing in [HighlightSizing::Region, HighlightSizing::Paper] {
             let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
-            set.sizing = sizing;
+            set.tuning.sizing = sizing;
             let cpu = score(ctx, (mesh, &mut set), &rig, false);
             let gpu = score(ctx, (mesh, &mut set), &rig, true);
             assert!(

@@ -8,7 +8,7 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye};
 use npr_gpu::{FrameId, GpuMesh};
-use npr_specular::{FrameOnGpu, HighlightSet, projector_gpu};
+use npr_specular::{HighlightSet, gpu::FrameOnGpu, gpu::projector_gpu};
 
 mod common;
 use common::{bounding_radius, record_gap};

@@ -11,8 +11,9 @@ use glam::{Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye};
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{
-    CentreSearchPass, GpuFrame, GpuFrameStatus, HighlightSet, HighlightSizing, ProjectorInput,
-    ProjectorPass, RegionPass, TrackedInput, projector_gpu,
+    HighlightSet, HighlightSizing, gpu::CentreSearchPass, gpu::GpuFrame, gpu::GpuFrameStatus,
+    gpu::ProjectorInput, gpu::ProjectorPass, gpu::RegionPass, gpu::TrackedInput,
+    gpu::projector_gpu,
 };
 
 mod common;
@@ -23,9 +24,9 @@ struct Frames {
     search_pass: CentreSearchPass,
     region_pass: RegionPass,
     projector_pass: ProjectorPass,
-    search: npr_specular::SearchObject,
-    regions: npr_specular::RegionObject,
-    projectors: npr_specular::ProjectorObject,
+    search: npr_specular::gpu::SearchObject,
+    regions: npr_specular::gpu::RegionObject,
+    projectors: npr_specular::gpu::ProjectorObject,
     frame: FrameId,
 }
 
@@ -80,7 +81,7 @@ impl Frames {
                 &ctx.queue,
                 &mut self.regions,
                 &tracked,
-                (&table, npr_specular::TRACKED_SEEDS),
+                (&table, npr_specular::gpu::TRACKED_SEEDS),
             )
         } else {
             self.region_pass
@@ -252,8 +253,8 @@ fn edits_and_the_papers_sizing_are_the_cpus_on_the_gpu() {
     let radius = bounding_radius(&mesh);
     for sizing in [HighlightSizing::Region, HighlightSizing::Paper] {
         let mut cpu = HighlightSet::new(&mesh, &options).unwrap();
-        cpu.sizing = sizing;
-        cpu.global.rotate_rad = 0.2;
+        cpu.tuning.sizing = sizing;
+        cpu.tuning.controls.rotate_rad = 0.2;
         let mut frames = Frames::new(ctx, &cpu);
         let mut tally = Tally::default();
         let mut edited = 0;

@@ -11,7 +11,8 @@ use glam::Mat4;
 use npr_geometry::CurvatureOptions;
 use npr_gpu::{FrameId, GpuContext};
 use npr_specular::{
-    HighlightBoundary, HighlightPass, HighlightSet, ReceiverInput, ReceiverPass, ReceiverReadback,
+    HighlightBoundary, HighlightPass, HighlightSet, gpu::ReceiverInput, gpu::ReceiverPass,
+    gpu::ReceiverReadback,
 };
 use std::collections::HashSet;
 
@@ -68,7 +69,7 @@ fn the_gpu_walk_receives_the_cpu_faces() {
         let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
         let (mut both, mut either) = (0usize, 0usize);
         for (k, (light_eye, world)) in frames(radius).into_iter().enumerate() {
-            set.boundary = boundaries[k % boundaries.len()];
+            set.tuning.boundary = boundaries[k % boundaries.len()];
             set.reset();
             set.update(light_eye, world);
             let cpu = triangles(&HighlightPass::draw_list(&set, &mesh.indices));

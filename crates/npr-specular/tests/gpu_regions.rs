@@ -11,8 +11,8 @@
 use glam::{Mat2, Vec2};
 use npr_geometry::{CurvatureOptions, HighlightCentre, Topology};
 use npr_gpu::FrameId;
-use npr_specular::region::{Footprint, Region, RegionFrame, RegionGrower, RegionPatches};
-use npr_specular::{HighlightSet, ProjectorControls, RegionInput, RegionPass};
+use npr_specular::cpu::region::{Footprint, Region, RegionFrame, RegionGrower, RegionPatches};
+use npr_specular::{HighlightSet, ProjectorControls, gpu::RegionInput, gpu::RegionPass};
 
 mod common;
 use common::{bounding_radius, frames, meshes};
@@ -63,7 +63,7 @@ fn compare_pieces(
     radius: f32,
     grower: &RegionGrower,
     s: usize,
-    g: &npr_specular::GpuRegion,
+    g: &npr_specular::gpu::GpuRegion,
 ) -> Option<f32> {
     let cpu = grower.pieces(s);
     assert_eq!(cpu.len(), g.pieces().len(), "{at}: pieces");

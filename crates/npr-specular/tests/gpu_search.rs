@@ -9,7 +9,7 @@
 use glam::{Mat4, Vec3};
 use npr_geometry::{CurvatureOptions, HighlightCentre, LightEye, generate};
 use npr_gpu::{FrameId, GpuContext};
-use npr_specular::{CentreSearchPass, HighlightSet, SearchInput, SearchSolutions};
+use npr_specular::{HighlightSet, gpu::CentreSearchPass, gpu::SearchInput, gpu::SearchSolutions};
 
 mod common;
 use common::{bounding_radius, fixture, frames, meshes};
@@ -244,7 +244,7 @@ fn skipped_clusters_never_hold_a_centre() {
 
 /// The GPU's merge where it has most to do: half vectors along vertex normals of a sphere
 /// (every face around the vertex accepts the one centre), and egg-crate fields of bumps
-/// with fewer and more centres than the merge keeps ([`npr_specular::MAX_MERGED`]), where
+/// with fewer and more centres than the merge keeps ([`npr_specular::gpu::MAX_MERGED`]), where
 /// the list comes back unmerged for the CPU.
 #[test]
 fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
@@ -326,8 +326,8 @@ fn the_gpu_merges_what_the_cpu_merges_and_says_when_it_cannot() {
             cpu.len()
         );
         assert!(cpu.len() >= 6 * periods * periods, "{} centres", cpu.len());
-        branches[usize::from(cpu.len() > npr_specular::MAX_MERGED)] = true;
-        if cpu.len() <= npr_specular::MAX_MERGED {
+        branches[usize::from(cpu.len() > npr_specular::gpu::MAX_MERGED)] = true;
+        if cpu.len() <= npr_specular::gpu::MAX_MERGED {
             let merged = solved.centres.expect("merged on the GPU");
             let merged: Vec<_> = merged.iter().map(key).collect();
             assert_eq!(merged, cpu.iter().map(key).collect::<Vec<_>>());

@@ -4,7 +4,7 @@
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, NormalInterpolation, generate};
-use npr_specular::{HighlightSet, ProjectorControls, frustum_size};
+use npr_specular::{HighlightSet, ProjectorControls, projector::frustum_size};
 
 fn set_for(mesh: &Mesh) -> HighlightSet {
     HighlightSet::new(mesh, &CurvatureOptions::default()).expect("set")
@@ -24,7 +24,7 @@ fn concat(a: &Mesh, b: &Mesh) -> Mesh {
 fn sphere_has_one_highlight_at_the_analytic_point_with_eq8_sizes() {
     let r = 2.0;
     let mut set = set_for(&generate::icosphere(4, r));
-    set.size_cap_radius = Some(100.0);
+    set.tuning.size_cap_radius = Some(100.0);
     let dir = Vec3::new(0.3, 0.5, 0.8).normalize();
     let l = Vec3::new(0.8, 0.4, 0.2).normalize();
     let h = (dir + l).normalize();
@@ -121,7 +121,7 @@ fn visibility_keeps_only_the_connected_front_part() {
             .filter(|&f| (f < outer_faces) != on_outer)
             .any(|f| {
                 let t = topo.triangles[f].map(|v| topo.positions[v as usize]);
-                npr_specular::visibility::triangle_touches_frustum(&h.projector, t)
+                npr_specular::cpu::visibility::triangle_touches_frustum(&h.projector, t)
             });
         assert!(
             other_in_frustum,
@@ -150,7 +150,7 @@ fn visibility_keeps_only_the_connected_front_part() {
         let back_in_frustum = (0..topo.face_count()).any(|f| {
             let t = topo.triangles[f].map(|v| topo.positions[v as usize]);
             topo.face_normals[f].dot(h.projector.normal) < -0.5
-                && npr_specular::visibility::triangle_touches_frustum(&h.projector, t)
+                && npr_specular::cpu::visibility::triangle_touches_frustum(&h.projector, t)
         });
         assert!(
             back_in_frustum,
@@ -318,7 +318,7 @@ fn check_finite(set: &HighlightSet) -> usize {
     for h in set.highlights() {
         let p = &h.projector;
         assert!(p.tex_from_world.is_finite() && p.normal.is_finite() && h.opacity.is_finite());
-        let gpu = npr_specular::projector_gpu(h, h.controls.texture_layer, false);
+        let gpu = npr_specular::gpu::projector_gpu(h, h.controls.texture_layer, false);
         let floats = [gpu.axis_u, gpu.axis_v, gpu.normal, gpu.tint, gpu.params];
         assert!(
             gpu.tex_from_world
@@ -414,7 +414,7 @@ fn bad_input_gives_no_panic_and_no_nan() {
 #[test]
 fn a_fading_highlight_follows_object_motion() {
     let mut set = set_for(&generate::torus(1.0, 0.4, 64, 32));
-    set.fade_frames = 4;
+    set.tuning.fade_frames = 4;
     let (to_light, to_eye) = (Vec3::new(0.3, 0.9, 0.4).normalize(), Vec3::Z);
     let first = set
         .update(LightEye::Directions { to_light, to_eye }, Mat4::IDENTITY)
@@ -498,7 +498,7 @@ fn whole_runs_receive_exactly_the_faces_of_the_face_by_face_search() {
     // face-by-face §4.2 search, for every highlight of a turning dense sphere and the
     // bunny (locality-ordered as `npr` loads them, and in file order), for the paper's
     // N·N_max > 0 and for our normal limits.
-    use npr_specular::visibility::{
+    use npr_specular::cpu::visibility::{
         FaceClusters, VisibilityScratch, receivers_within, receivers_within_clustered,
     };
     let path = format!(
@@ -534,9 +534,10 @@ fn whole_runs_receive_exactly_the_faces_of_the_face_by_face_search() {
         for frame in 0..8 {
             // Frusta of several sizes and offsets (§3.4 controls), so that their sides cut
             // through patches.
-            set.global.scale = Vec2::splat(0.6 + 0.4 * frame as f32);
-            set.global.translate = Vec2::new(0.3 * (frame as f32).sin(), 0.2 * frame as f32 - 0.7);
-            set.global.rotate_rad = 0.4 * frame as f32;
+            set.tuning.controls.scale = Vec2::splat(0.6 + 0.4 * frame as f32);
+            set.tuning.controls.translate =
+                Vec2::new(0.3 * (frame as f32).sin(), 0.2 * frame as f32 - 0.7);
+            set.tuning.controls.rotate_rad = 0.4 * frame as f32;
             let world = Mat4::from_rotation_y((frame as f32 * 20.0).to_radians()) * normalize;
             let le = LightEye::Positions {
                 light: Vec3::new(20.0, 30.0, 50.0),
@@ -616,7 +617,7 @@ fn a_bright_region_without_an_n_equals_h_point_gets_a_highlight() {
     let half = hs[0].footprint.half_extent;
     assert!(half.min_element() > 0.3 * cap_radius, "{half:?}");
     // Without the peak centres (the paper's sizing searches N = H only) nothing shows.
-    set.sizing = npr_specular::HighlightSizing::Paper;
+    set.tuning.sizing = npr_specular::HighlightSizing::Paper;
     set.reset();
     assert!(set.update(le, Mat4::IDENTITY).is_empty());
 }

@@ -28,8 +28,8 @@ fn shoot(
     controls: ProjectorControls,
 ) -> Shot {
     let mut set = HighlightSet::new(mesh, &CurvatureOptions::default()).unwrap();
-    set.global = controls;
-    set.size_cap_radius = Some(10.0);
+    set.tuning.controls = controls;
+    set.tuning.size_cap_radius = Some(10.0);
     let (le, camera, light) = light_eye_along(Vec3::Z, 4.0, 1.0);
     set.update(le, Mat4::IDENTITY);
     assert_eq!(set.highlights().len(), 1);

@@ -42,8 +42,6 @@ pub struct Viewer {
     svg: Option<SvgRequest>,
     /// A glTF model's clip, posed each frame (space plays or pauses it).
     timeline: npr_app::viewer::timeline::Timeline,
-    /// The compute passes' check against the CPU, while it reads back.
-    compute: Option<crate::compute_check::ComputeCheck>,
 }
 
 /// A "save SVG" ([`Viewer::save_svg`]): the file name and page asked for, and once the
@@ -116,35 +114,7 @@ impl Viewer {
             actions: Vec::new(),
             svg: None,
             timeline,
-            compute: None,
         })
-    }
-
-    /// Starts the compute check: the curvature and `N = H` compute passes on a torus, on
-    /// this page's device, to be compared with the CPU ([`Viewer::compute_check_result`]).
-    pub fn compute_check_start(&mut self) -> Result<(), JsValue> {
-        let check = crate::compute_check::ComputeCheck::start(&self.ctx.device, &self.ctx.queue)
-            .map_err(js_error)?;
-        self.compute = Some(check);
-        Ok(())
-    }
-
-    /// The compute check's report as JSON once its readbacks have completed (call it from
-    /// later animation frames); an empty string before, or when no check was started.
-    pub fn compute_check_result(&mut self) -> Result<String, JsValue> {
-        let Some(check) = self.compute.as_mut() else {
-            return Ok(String::new());
-        };
-        match check
-            .poll(&self.ctx.device, &self.ctx.queue)
-            .map_err(js_error)?
-        {
-            Some(report) => {
-                self.compute = None;
-                Ok(report.to_string())
-            }
-            None => Ok(String::new()),
-        }
     }
 
     /// The adapter, one line (name, type, backend).
@@ -594,5 +564,14 @@ impl Viewer {
         let view = self.state.view(&self.renderer.model().framing, size);
         let highlights = self.highlights();
         self.state.input(input, &view, size, &highlights);
+    }
+}
+
+/// For the browser check's own build (`crates/npr-web/check`), which runs the compute
+/// passes on this page's device: not exported to the page.
+impl Viewer {
+    /// The page's device and queue.
+    pub fn gpu(&self) -> (&wgpu::Device, &wgpu::Queue) {
+        (&self.ctx.device, &self.ctx.queue)
     }
 }

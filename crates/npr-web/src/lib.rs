@@ -8,13 +8,12 @@
 //! copied onto the canvas, whose texture is `rgba8unorm` (the same bytes as the sRGB target).
 //!
 //! The page (`web/index.html`) and the build (`cargo xtask web`) are outside this crate's
-//! code. On native targets the crate is empty.
+//! code, and so are the browser check's comparisons of the compute passes with the CPU
+//! (`check/`, a crate that only `cargo xtask web --check` builds). On native targets the
+//! crate is empty.
 
 #[cfg(target_arch = "wasm32")]
 mod app;
-#[cfg(target_arch = "wasm32")]
-mod compute_check;
-mod compute_frame;
 
 #[cfg(target_arch = "wasm32")]
 pub use app::Viewer;

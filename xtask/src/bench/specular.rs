@@ -13,7 +13,7 @@
 //!
 //! Each mesh has two rows from the same run, told apart by `setup`, one per highlight
 //! backend (`npr_specular::Backend`): `"cpu"` (`HighlightSet::update`) and `"gpu"` (the
-//! whole frame as compute passes, `npr_specular::FrameOnGpu`: search, regions,
+//! whole frame as compute passes, `npr_specular::gpu::FrameOnGpu`: search, regions,
 //! projectors and §4.2 receivers recorded into the frame's own submission, nothing read
 //! back on its path). `cpu_ms_median` is the CPU time of the highlight work from the
 //! frame's start to its submit, matching included (for the `gpu` row: the recording of
@@ -23,7 +23,7 @@
 //! storage bindings loses its `gpu` row, with a line saying why.
 //!
 //! A second table, from the same run, times the regions `N·H ≥ σ` of each frame's centres
-//! grown on the CPU and as a compute pass (`npr_specular::RegionPass`): see `regions.rs`.
+//! grown on the CPU and as a compute pass (`npr_specular::gpu::RegionPass`): see `regions.rs`.
 
 mod regions;
 
@@ -234,7 +234,7 @@ fn measure_gpu(
 ) -> anyhow::Result<GpuSamples> {
     let set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
     let mut frame_gpu = match setup {
-        Backend::Gpu => Some(npr_specular::FrameOnGpu::new(
+        Backend::Gpu => Some(npr_specular::gpu::FrameOnGpu::new(
             &ctx.device,
             &set,
             &mesh.indices,

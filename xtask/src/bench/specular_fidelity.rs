@@ -142,8 +142,8 @@ pub fn run(json: Option<&Path>, extra: &[PathBuf], animation: Option<&str>) -> a
             ),
         ] {
             let (set, gpu) = &mut sets[scale];
-            set.sizing = sizing;
-            set.boundary = boundary;
+            set.tuning.sizing = sizing;
+            set.tuning.boundary = boundary;
             let abstraction = set.abstraction();
             for key in SETUPS {
                 let mut setup = match gpu_setup(&ctx.device, set, &mesh.indices, key) {
@@ -296,8 +296,8 @@ fn turning(ctx: &GpuContext, extra: &[PathBuf], animation: Option<&str>) -> anyh
             (HighlightSizing::Region, 0.25),
             (HighlightSizing::Region, 0.0),
         ] {
-            set.sizing = sizing;
-            set.max_area_change = limit;
+            set.tuning.sizing = sizing;
+            set.tuning.max_area_change = limit;
             let mut runs = vec![(
                 "turntable".to_string(),
                 "cpu",

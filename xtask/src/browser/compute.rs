@@ -4,7 +4,8 @@
 use super::Driver;
 use anyhow::{Context as _, bail};
 
-/// The compute passes on the page's own device (`Viewer::compute_check_start`): the
+/// The compute passes on the page's own device (`ComputeCheck::start` of the check's
+/// build, `crates/npr-web/check`): the
 /// curvature tensor and the `N = H` search on a torus, read back over the next animation
 /// frames and compared with the CPU in the page. The search must give the CPU's centres
 /// within 1e-4 of the bounding radius, merged on the GPU into the very entries the CPU's
@@ -21,10 +22,10 @@ pub(super) fn check(driver: &Driver, session: &str) -> anyhow::Result<()> {
         session,
         "const done = arguments[arguments.length - 1];
          try {
-           window.nprViewer.compute_check_start();
+           const check = window.nprModule.ComputeCheck.start(window.nprViewer);
            const poll = () => {
              try {
-               const r = window.nprViewer.compute_check_result();
+               const r = check.result(window.nprViewer);
                if (r) { done(JSON.parse(r)); } else { requestAnimationFrame(poll); }
              } catch (e) { done({ error: String(e) }); }
            };

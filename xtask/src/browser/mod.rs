@@ -37,19 +37,13 @@ const CHROMIUM_FLAGS: [&str; 7] = [
 ];
 
 /// The effects compared with the native render.
-const EFFECTS: [&str; 5] = [
-    "phong",
-    "specular",
-    "specular-gpu-frame",
-    "hatching-pen",
-    "warp",
-];
+const EFFECTS: [&str; 5] = ["phong", "specular", "specular-gpu", "hatching-pen", "warp"];
 
-/// The preset a case of [`EFFECTS`] renders: its effect, and for `specular-gpu-frame` the
-/// highlights made wholly on the GPU in the page (`[specular] search = "gpu-frame"`).
+/// The preset a case of [`EFFECTS`] renders: its effect, and for `specular-gpu` the
+/// highlights made wholly on the GPU in the page (`[specular] backend = "gpu"`).
 fn case_preset(case: &str) -> String {
-    match case.strip_suffix("-gpu-frame") {
-        Some(effect) => format!("effect = \"{effect}\"\n[specular]\nsearch = \"gpu-frame\"\n"),
+    match case.strip_suffix("-gpu") {
+        Some(effect) => format!("effect = \"{effect}\"\n[specular]\nbackend = \"gpu\"\n"),
         None => format!("effect = \"{case}\"\n"),
     }
 }

@@ -5,7 +5,7 @@
 use crate::preset::{Effect, Preset};
 use glam::{Mat4, Vec2, Vec3};
 use npr_gpu::{ObjectUniforms, ShadingModel};
-use npr_specular::{HighlightControls, HighlightSet, HighlightShape, ProjectorControls};
+use npr_specular::{HighlightControls, HighlightSet, HighlightShape};
 
 /// The antialiasing of a preset's frames rendered in full: the warp's when the effect is
 /// warping (so full frames, references and warped frames share it, and a warped frame is
@@ -55,14 +55,12 @@ pub fn builtin_shape(name: &str) -> Option<HighlightShape> {
     HighlightShape::ALL.into_iter().find(|s| s.name() == name)
 }
 
-/// The global projector controls of a preset (Lee & Choi §3.4).
-pub fn global_controls(preset: &Preset, layer: u32) -> ProjectorControls {
-    ProjectorControls {
-        sigma: preset.specular.sigma,
-        texture_layer: layer,
-        up: preset.specular.up.into(),
-        ..ProjectorControls::default()
-    }
+/// The settings each frame reads of a preset (Lee & Choi §3.4's global controls, the
+/// boundary), with the highlight pass's texture layer of its shape.
+pub fn frame_tuning(preset: &Preset, layer: u32) -> npr_specular::HighlightTuning {
+    let mut tuning = npr_specular::SpecularSettings::from(&preset.specular).tuning;
+    tuning.controls.texture_layer = layer;
+    tuning
 }
 
 /// How far (object units) an edit's anchor may be from a highlight's found centre to
@@ -97,8 +95,7 @@ pub fn resolve_edit_ids(set: &HighlightSet, preset: &Preset, reach: f32) -> Vec<
 /// anchor go to the highlight nearest it among the set's current highlights, within
 /// `reach`, see [`resolve_edit_ids`]).
 pub fn apply_controls(set: &mut HighlightSet, preset: &Preset, layer: u32, reach: f32) {
-    set.global = global_controls(preset, layer);
-    set.boundary = preset.specular.boundary.into();
+    set.tuning = frame_tuning(preset, layer);
     let ids = resolve_edit_ids(set, preset, reach);
     for (e, id) in preset.specular.edits.iter().zip(ids) {
         *set.controls_mut(id) = HighlightControls {

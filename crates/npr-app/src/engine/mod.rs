@@ -19,8 +19,8 @@ mod surface;
 mod warp;
 
 pub use inputs::{
-    anchor_reach, apply_controls, builtin_shape, clear_color, full_render_antialiasing,
-    global_controls, object_uniforms, resolve_edit_ids, shading_model,
+    anchor_reach, apply_controls, builtin_shape, clear_color, frame_tuning,
+    full_render_antialiasing, object_uniforms, resolve_edit_ids, shading_model,
 };
 pub(crate) use surface::stroke_directions;
 pub use warp::{MIN_PROXY_TRIANGLES, warp_view};

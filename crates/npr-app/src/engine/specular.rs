@@ -11,11 +11,10 @@ use crate::AppError;
 use crate::model::Model;
 use crate::preset::{BackendPreset, Preset};
 use crate::view::View;
-use npr_geometry::{CurvatureOptions, CurvatureRadius};
 use npr_gpu::{FrameId, FrameUniforms, GpuMesh, ObjectUniforms, Prepared, TargetFormats};
 use npr_specular::{
-    Backend, HighlightObject, HighlightPass, HighlightSet, HighlightSetup, HighlightShape,
-    SetupInput, SetupObject, SetupSettings,
+    HighlightObject, HighlightPass, HighlightSet, HighlightSetup, HighlightShape, SetupInput,
+    SetupObject, SetupSettings, SpecularSettings,
 };
 
 /// What the highlight set is built for: the curvature smoothing (edge lengths) and the
@@ -113,17 +112,12 @@ impl SpecularEffect {
         let unknown = npr_specular::setup::backend::unknown_adapter();
         let adapter = self.adapter.as_ref().unwrap_or(&unknown);
         let (setup, setup_object) = self.setup.get_or_build(&SetKey::of(preset), |_| {
-            let options = CurvatureOptions {
-                radius: CurvatureRadius::EdgeLengths(sp.smoothing_edges),
-                ..CurvatureOptions::default()
-            };
-            let set = HighlightSet::with_abstraction(&model.mesh, &options, sp.abstraction)?;
-            let settings = SetupSettings {
+            let pass_settings = SetupSettings {
                 normal_maps: shape.pass.normal_map_layers().to_vec(),
             };
-            let setup = HighlightSetup::new(device, queue, &settings);
-            let choice = Backend::choose(adapter, sp.backend.into());
-            let object = setup.create_object(device, queue, &model.mesh, set, &options, choice)?;
+            let setup = HighlightSetup::new(device, queue, &pass_settings);
+            let settings = SpecularSettings::from(sp);
+            let object = setup.create_object(device, queue, &model.mesh, &settings, adapter)?;
             Ok::<_, AppError>((setup, object))
         })?;
         let frame_of = (view.light_eye(), view.world_from_object);

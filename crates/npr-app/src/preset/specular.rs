@@ -104,6 +104,31 @@ impl Default for SpecularPreset {
     }
 }
 
+impl From<&SpecularPreset> for npr_specular::SpecularSettings {
+    /// The preset's highlight settings (the texture layer of a shape the highlight pass
+    /// holds is the pass's to set: `controls.texture_layer`).
+    fn from(p: &SpecularPreset) -> Self {
+        use npr_geometry::{CurvatureOptions, CurvatureRadius};
+        Self {
+            curvature: CurvatureOptions {
+                radius: CurvatureRadius::EdgeLengths(p.smoothing_edges),
+                ..CurvatureOptions::default()
+            },
+            abstraction: p.abstraction,
+            backend: p.backend.into(),
+            tuning: npr_specular::HighlightTuning {
+                controls: npr_specular::ProjectorControls {
+                    sigma: p.sigma,
+                    up: p.up.into(),
+                    ..Default::default()
+                },
+                boundary: p.boundary.into(),
+                ..Default::default()
+            },
+        }
+    }
+}
+
 /// Which highlight backend sets up a model's highlights ([`SpecularPreset::backend`]):
 /// `npr_specular::Backend::choose`'s rule, or one backend. Both give the same highlights
 /// (`npr-specular`'s twin tests). Presets written before this key had `search = "auto" |

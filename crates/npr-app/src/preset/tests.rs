@@ -121,3 +121,28 @@ fn effect_names_round_trip() {
         assert_eq!(Effect::from_name(e.name()), Some(e));
     }
 }
+
+#[test]
+fn the_specular_section_maps_onto_the_one_settings_type() {
+    let preset = Preset::from_toml(
+        "[specular]\nsigma = 0.8\nup = \"e-max\"\nsmoothing_edges = 5.0\nabstraction = 0.0\n\
+         boundary = \"per-face\"\nsearch = \"gpu-frame\"\n",
+        Path::new("test.toml"),
+    )
+    .expect("a preset");
+    let s = npr_specular::SpecularSettings::from(&preset.specular);
+    assert_eq!(s.tuning.controls.sigma, 0.8);
+    assert_eq!(s.tuning.controls.up, npr_specular::UpAxis::KappaMax);
+    assert_eq!(
+        s.curvature.radius,
+        npr_geometry::CurvatureRadius::EdgeLengths(5.0)
+    );
+    assert_eq!(s.abstraction, 0.0);
+    assert_eq!(s.tuning.boundary, npr_specular::HighlightBoundary::PerFace);
+    // An older preset's `search = "gpu-frame"` is the GPU backend.
+    assert_eq!(s.backend, npr_specular::BackendSetting::Gpu);
+    // What the preset does not set keeps the library's defaults.
+    let defaults = npr_specular::HighlightTuning::default();
+    assert_eq!(s.tuning.fade_frames, defaults.fade_frames);
+    assert_eq!(s.tuning.max_area_change, defaults.max_area_change);
+}

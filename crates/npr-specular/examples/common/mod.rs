@@ -181,7 +181,7 @@ pub fn tile(
     let light = Light::directional(to_light);
     let world_from_object = spin * s.world_from_normalized;
     if let Some(c) = controls {
-        s.set.global = c;
+        s.set.tuning.controls = c;
     }
     let le = LightEye::Positions {
         light: to_light * 50.0,

@@ -108,7 +108,7 @@ pub fn turntable_coherence_with<E>(
     mut update: impl FnMut(&mut HighlightSet, (LightEye, Mat4)) -> Result<(), E>,
 ) -> Result<Coherence, E> {
     set.reset();
-    let mut c = Coherence::new(set.fade_frames);
+    let mut c = Coherence::new(set.tuning.fade_frames);
     for k in 0..frames {
         let turn = Mat4::from_rotation_y((k as f32 * step_deg).to_radians());
         update(set, (light_eye, turn * world_from_normalized))?;
@@ -150,7 +150,7 @@ pub fn pose_coherence_with<E>(
     mut update: impl FnMut(&mut HighlightSet, &Mesh, (LightEye, Mat4)) -> Result<(), E>,
 ) -> Result<Coherence, E> {
     set.reset();
-    let mut c = Coherence::new(set.fade_frames);
+    let mut c = Coherence::new(set.tuning.fade_frames);
     for pose in poses {
         update(set, &pose, frame)?;
         c.step(set);

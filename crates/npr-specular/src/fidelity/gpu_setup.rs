@@ -3,7 +3,7 @@
 //! `npr` makes them on the GPU backend ([`GpuSetup::whole_frame`]).
 
 use crate::snapshot::{FrameResources, HighlightScene, Renderer};
-use crate::{FrameOnGpu, HighlightSet, SpecularError};
+use crate::{HighlightSet, SpecularError, gpu::FrameOnGpu};
 use glam::Mat4;
 use npr_geometry::LightEye;
 
@@ -158,15 +158,15 @@ impl GpuSetup {
             let pose = posing.as_deref_mut();
             make_frame(on_gpu, (device, queue), set, (frame, self.frame), pose)?;
             let status = on_gpu.latest().map(|f| f.status);
-            if status != Some(crate::GpuFrameStatus::Held) {
+            if status != Some(crate::gpu::GpuFrameStatus::Held) {
                 break;
             }
         }
         // What the GPU drew, as it drew it (a frame cut short too); a frame it held every
         // time is no frame to measure.
         match on_gpu.latest() {
-            Some(f) if f.status != crate::GpuFrameStatus::Held => set.adopt_gpu_frame(f),
-            _ => return Err(SpecularError::GpuFrame(crate::GpuFrameStatus::Held)),
+            Some(f) if f.status != crate::gpu::GpuFrameStatus::Held => set.adopt_gpu_frame(f),
+            _ => return Err(SpecularError::GpuFrame(crate::gpu::GpuFrameStatus::Held)),
         }
         Ok(())
     }

@@ -1,7 +1,7 @@
 //! [`HighlightFrame`]: one frame's highlights as the highlight draw reads them, whatever
 //! backend made them, ticketed by the frame they were made for.
 
-use crate::{HighlightSet, ProjectorObject, SpecularError};
+use crate::{HighlightSet, SpecularError, gpu::ProjectorObject};
 use npr_gpu::pass::{FrameId, PassError};
 
 /// One frame's highlights for [`crate::HighlightPass::prepare`]: the projectors, the

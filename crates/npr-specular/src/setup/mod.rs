@@ -1,14 +1,14 @@
 //! The highlight setup: one [`HighlightSetup`] on the pass contract, whichever
 //! [`Backend`] runs it, whose product is one [`HighlightFrame`] a frame for
 //! [`crate::HighlightPass`] to draw. The backend is chosen once per mesh
-//! ([`Backend::choose`], then [`HighlightSetup::create_object`]); the per-frame
+//! ([`HighlightSetup::create_object`], by [`Backend::choose`]'s rule); the per-frame
 //! orchestration (a moving model's pose, the GPU frame's restarts and the CPU's view of
 //! its highlights) lives here, so an embedder writes none of it.
 //!
 //! ```ignore
-//! let choice = Backend::choose(&adapter.get_info(), BackendSetting::Auto);
 //! let setup = HighlightSetup::new(device, queue, &SetupSettings::default());
-//! let mut object = setup.create_object(device, queue, (&mesh, &gpu_mesh), set, &options, choice)?;
+//! let settings = SpecularSettings::default(); // or a preset's
+//! let mut object = setup.create_object(device, queue, &mesh, &settings, &adapter.get_info())?;
 //! // per frame
 //! let prepared = setup.prepare(device, queue, &mut object, &SetupInput { frame, light_eye, world_from_object, mesh: &mesh, gpu: &gpu_mesh })?;
 //! let highlights = setup.record(&mut encoder, &mut object, &prepared)?;
@@ -19,13 +19,13 @@
 //!
 //! The GPU stages of one [`Backend::Gpu`] frame, in the order they are recorded:
 //! 1. a new pose's curvature ([`npr_gpu::CurvaturePass`]) and tables
-//!    ([`crate::ReposePass`]), only on the frame after [`SetupObject::repose`];
-//! 2. the `N = H` search with its peaks ([`crate::CentreSearchPass`]);
+//!    ([`crate::gpu::ReposePass`]), only on the frame after [`SetupObject::repose`];
+//! 2. the `N = H` search with its peaks ([`crate::gpu::CentreSearchPass`]);
 //! 3. the regions `N·H ≥ σ` seeded from its centres and matched with the last frame's
-//!    highlights ([`crate::RegionPass`]);
+//!    highlights ([`crate::gpu::RegionPass`]);
 //! 4. the projectors, with fades, edits and the area-change limit
-//!    ([`crate::ProjectorPass`]);
-//! 5. the §4.2 receivers and the draw's indirect arguments ([`crate::ReceiverPass`]).
+//!    ([`crate::gpu::ProjectorPass`]);
+//! 5. the §4.2 receivers and the draw's indirect arguments ([`crate::gpu::ReceiverPass`]).
 
 pub mod backend;
 pub mod frame;
@@ -33,7 +33,7 @@ pub mod frame;
 pub use backend::{Backend, BackendChoice, BackendSetting, ChoiceReason};
 pub use frame::HighlightFrame;
 
-use crate::{FrameOnGpu, HighlightSet, SpecularError};
+use crate::{HighlightSet, SpecularError, gpu::FrameOnGpu};
 use glam::Mat4;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh};
 use npr_gpu::pass::{FrameId, PassError, PassId};
@@ -143,7 +143,7 @@ pub struct SetupPrepared {
 #[derive(Debug)]
 struct GpuPrepared {
     pose: Option<(npr_gpu::Prepared, Option<npr_gpu::Prepared>)>,
-    frame: crate::frame_gpu::FramePrepared,
+    frame: crate::gpu::frame::FramePrepared,
 }
 
 impl HighlightSetup {
@@ -155,22 +155,26 @@ impl HighlightSetup {
         }
     }
 
-    /// The setup of one mesh: `set`, built from `mesh` with `options` (its curvature
-    /// radius is kept for the poses), on `choice`'s backend. A [`Backend::Gpu`] choice
-    /// whose tables exceed the device's storage bindings runs [`Backend::Cpu`]
-    /// ([`ChoiceReason::MeshTooLarge`]): the one place that decides it.
+    /// The setup of one mesh: its set, built from `mesh` with `settings`' curvature and
+    /// abstraction and tuned by them, on the backend [`Backend::choose`] gives for
+    /// `adapter` and `settings.backend`. A [`Backend::Gpu`] choice whose tables exceed
+    /// the device's storage bindings runs [`Backend::Cpu`] ([`ChoiceReason::MeshTooLarge`]):
+    /// the one place that decides it.
     ///
     /// # Errors
-    /// A GPU failure other than a mesh too large for the device.
+    /// A mesh the set cannot use ([`SpecularError::EmptyMesh`]); a GPU failure other than
+    /// a mesh too large for the device.
     pub fn create_object(
         &self,
         device: &wgpu::Device,
         _queue: &wgpu::Queue,
         mesh: &Mesh,
-        set: HighlightSet,
-        options: &CurvatureOptions,
-        choice: BackendChoice,
+        settings: &crate::SpecularSettings,
+        adapter: &wgpu::AdapterInfo,
     ) -> Result<SetupObject, SpecularError> {
+        let set = settings.build(mesh)?;
+        let options = &settings.curvature;
+        let choice = Backend::choose(adapter, settings.backend);
         let mut choice = choice;
         let gpu = match choice.backend {
             Backend::Cpu => None,

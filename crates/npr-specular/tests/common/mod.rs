@@ -116,8 +116,8 @@ pub fn egg_crate(periods: usize, per: usize) -> npr_geometry::Mesh {
 
 /// The largest difference of two records' matrices and vectors, each relative to the
 /// largest entry of the CPU's.
-pub fn record_gap(a: &npr_specular::ProjectorGpu, b: &npr_specular::ProjectorGpu) -> f32 {
-    let m = |p: &npr_specular::ProjectorGpu| p.tex_from_world.concat();
+pub fn record_gap(a: &npr_specular::gpu::ProjectorGpu, b: &npr_specular::gpu::ProjectorGpu) -> f32 {
+    let m = |p: &npr_specular::gpu::ProjectorGpu| p.tex_from_world.concat();
     let scale = m(b).iter().fold(0f32, |s, x| s.max(x.abs())).max(1e-12);
     let matrix = m(a)
         .iter()

@@ -1,5 +1,5 @@
 //! The second table of `bench specular`: the regions `N·H ≥ σ` of each frame's centres
-//! grown and fitted on the GPU (`npr_specular::RegionPass`) against the CPU growth
+//! grown and fitted on the GPU (`npr_specular::gpu::RegionPass`) against the CPU growth
 //! (`RegionGrower::grow_all`) of the same seeds, in the same run: the CPU growth's time,
 //! the GPU's (prepare, record, submit and the wait for its 80-byte records), their ratio,
 //! the share of region faces the two give to different seeds, and the growths the GPU cut
@@ -10,8 +10,8 @@ use crate::bench::table::{Cell, Table};
 use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, Mesh};
 use npr_gpu::{FrameId, GpuContext};
-use npr_specular::region::{Region, RegionFrame, RegionGrower, RegionPatches};
-use npr_specular::{HighlightSet, ProjectorControls, RegionInput, RegionPass};
+use npr_specular::cpu::region::{Region, RegionFrame, RegionGrower, RegionPatches};
+use npr_specular::{HighlightSet, ProjectorControls, gpu::RegionInput, gpu::RegionPass};
 use std::time::Instant;
 
 pub(super) fn new_table(adapter: &str) -> Table {
