@@ -133,9 +133,17 @@ fn growth(a: u64, b: u64) -> Option<f64> {
 mod tests {
     use super::*;
 
+    /// Held by each test that allocates 64 MiB: the heap and the resident set are the
+    /// process's, so one test's block must not land between another's two readings
+    /// (`heap_in_use_…` once read 64 MiB still in use after its free, the other test's).
+    static LARGE_BLOCKS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     #[test]
     fn heap_in_use_follows_an_allocation_and_its_release() {
+        let _alone = LARGE_BLOCKS
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         let before = heap_in_use_bytes().expect("mallinfo2 on glibc");
         // Not touched: the heap counts what was handed out, resident or not.
         // (black_box: the optimiser may otherwise elide an allocation nothing writes to.)
@@ -156,6 +164,9 @@ mod tests {
 
     #[test]
     fn resident_memory_is_read_and_follows_a_large_allocation() {
+        let _alone = LARGE_BLOCKS
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         let before = resident_bytes().expect("/proc/self/statm on Linux");
         // Touch 64 MiB so that it becomes resident.
         let block = vec![1u8; 64 << 20];

@@ -190,13 +190,38 @@ impl Renderer {
         Ok(())
     }
 
+    /// [`Renderer::submit`] with the frame's highlights set up by `setup` on its object's
+    /// backend for `light_eye` and the scene's transform (`mesh`: the render mesh in its
+    /// pose; `scene.set` is not read, the object holds its own), its stages recorded in
+    /// the frame's own submission and [`crate::HighlightSetup::after_submit`] called after
+    /// it: a frame as an embedder makes it.
+    ///
+    /// # Errors
+    /// As [`Renderer::submit`], and the setup's.
+    pub fn submit_setup(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HighlightScene<'_>,
+        res: &mut FrameResources,
+        (setup, object, mesh, light_eye): (
+            &crate::HighlightSetup,
+            &mut crate::SetupObject,
+            &npr_geometry::Mesh,
+            npr_geometry::LightEye,
+        ),
+    ) -> Result<(), SpecularError> {
+        let walk = Walk::Setup(setup, object, mesh, light_eye);
+        self.submit_with(device, queue, scene, res, walk)
+    }
+
     fn submit_with(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         scene: &HighlightScene<'_>,
         res: &mut FrameResources,
-        walk: Walk<'_>,
+        mut walk: Walk<'_>,
     ) -> Result<(), SpecularError> {
         res.frame = res.frame.next();
         res.walked = None;
@@ -214,12 +239,23 @@ impl Renderer {
         let highlights = if scene.highlights {
             let world_from_object = glam::Mat4::from_cols_array_2d(&scene.object.world_from_object);
             let walked;
-            let made = match walk {
+            let made = match &mut walk {
                 Walk::Frame(frame_gpu, light_eye) => {
-                    let frame = (light_eye, world_from_object);
+                    let frame = (*light_eye, world_from_object);
                     walked = frame_gpu.record(queue, &mut encoder, scene.set, frame, res.frame)?;
                     res.walked = Some(walked);
                     frame_gpu.highlight_frame(scene.set, &walked)?
+                }
+                Walk::Setup(setup, object, mesh, light_eye) => {
+                    let input = crate::SetupInput {
+                        frame: res.frame,
+                        light_eye: *light_eye,
+                        world_from_object,
+                        mesh,
+                        gpu: scene.mesh,
+                    };
+                    let prepared = setup.prepare(device, queue, object, &input)?;
+                    setup.record(&mut encoder, object, &prepared)?
                 }
                 Walk::Cpu => crate::HighlightFrame::of_set(res.frame, scene.set, scene.indices),
             };
@@ -241,6 +277,9 @@ impl Renderer {
             }
         }
         queue.submit(Some(encoder.finish()));
+        if let Walk::Setup(setup, object, ..) = &mut walk {
+            setup.after_submit(device, queue, object);
+        }
         Ok(())
     }
 
@@ -294,9 +333,15 @@ pub fn light_eye_along(
     )
 }
 
-/// Where a frame's highlights come from: the set's update on the CPU, or made wholly on
-/// the GPU.
+/// Where a frame's highlights come from: the set's update on the CPU, made wholly on the
+/// GPU, or a setup on its backend.
 enum Walk<'a> {
     Cpu,
     Frame(&'a mut crate::gpu::FrameOnGpu, npr_geometry::LightEye),
+    Setup(
+        &'a crate::HighlightSetup,
+        &'a mut crate::SetupObject,
+        &'a npr_geometry::Mesh,
+        npr_geometry::LightEye,
+    ),
 }

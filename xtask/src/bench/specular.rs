@@ -12,15 +12,19 @@
 //! glTF).
 //!
 //! Each mesh has two rows from the same run, told apart by `setup`, one per highlight
-//! backend (`npr_specular::Backend`): `"cpu"` (`HighlightSet::update`) and `"gpu"` (the
-//! whole frame as compute passes, `npr_specular::gpu::FrameOnGpu`: search, regions,
-//! projectors and §4.2 receivers recorded into the frame's own submission, nothing read
-//! back on its path). `cpu_ms_median` is the CPU time of the highlight work from the
-//! frame's start to its submit, matching included (for the `gpu` row: the recording of
-//! its passes). The `gpu` row's search, region and visibility cells are empty (none of it
-//! runs on the CPU), and its receiver count is read back after the timed frame. The
-//! one-core columns are the CPU backend's. A mesh whose GPU tables exceed the device's
-//! storage bindings loses its `gpu` row, with a line saying why.
+//! backend (`npr_specular::Backend`), each frame's highlights set up by
+//! `npr_specular::HighlightSetup` as an embedder sets them up: `"cpu"` (the set's update
+//! before the frame's commands) and `"gpu"` (the whole frame as compute passes, search,
+//! regions, projectors and §4.2 receivers recorded into the frame's own submission,
+//! nothing read back on its path). `cpu_ms_median` is the setup's CPU time in the frame
+//! (`SetupStats::cpu_us`: the CPU backend's update, matching included; the GPU backend's
+//! recording); the GPU frame with highlights is the whole frame less that for the CPU
+//! backend, the whole frame for the GPU backend. The `gpu` row's search, region and
+//! visibility cells are empty (none of it runs on the CPU), and its receiver count is read
+//! back after the timed frame. `highlights_min`/`max` count the highlights the CPU knows
+//! after each frame (a split one once; the GPU backend's read back). The one-core columns
+//! are the CPU backend's. A mesh whose GPU tables exceed the device's storage bindings
+//! loses its `gpu` row, with a line saying why (the setup ran the CPU for it).
 //!
 //! A second table, from the same run, times the regions `N·H ≥ σ` of each frame's centres
 //! grown on the CPU and as a compute pass (`npr_specular::gpu::RegionPass`): see `regions.rs`.
@@ -33,7 +37,7 @@ use npr_geometry::stats::median;
 use npr_geometry::{CurvatureOptions, LightEye, Mesh, generate};
 use npr_gpu::{Camera, GpuContext, GpuMesh, Light, ObjectUniforms, ShadingModel};
 use npr_specular::snapshot::{HighlightScene, Renderer};
-use npr_specular::{Backend, HighlightSet};
+use npr_specular::{Backend, BackendSetting, HighlightSet, HighlightSetup, SpecularSettings};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -65,8 +69,8 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
             measure_one_core(&one_core, mesh, file_mesh, &view)?;
         for setup in Backend::ALL {
             let gpu = match measure_gpu(&ctx, &renderer, mesh, &view, name, setup) {
-                Err(e) if too_large(&e) => {
-                    println!("{name}: no {setup} row: {e}");
+                Err(e) if e.is::<NotRun>() => {
+                    println!("{name}: no {setup} row: the setup runs {e}");
                     continue;
                 }
                 made => made?,
@@ -105,17 +109,6 @@ pub fn run(extra: &[PathBuf], json: Option<&Path>) -> anyhow::Result<()> {
         }
     }
     emit(&[table, region_table], json)
-}
-
-/// Whether `e` is a mesh too large for the device's bindings (that backend's row is
-/// left out, not the run).
-fn too_large(e: &anyhow::Error) -> bool {
-    matches!(
-        e.downcast_ref::<npr_specular::SpecularError>(),
-        Some(npr_specular::SpecularError::Gpu(
-            npr_gpu::GpuError::MeshTooLarge { .. }
-        ))
-    )
 }
 
 /// The meshes measured, in table order: the defaults, the 1.1M-face knot, then `extra`.
@@ -223,25 +216,47 @@ struct GpuSamples {
     hmax: usize,
 }
 
-/// Times the setup and the GPU frame without and with the highlight pass, frame by frame.
+/// Why a backend's row of a mesh is left out: the setup chose another backend for it (a
+/// mesh whose GPU tables the device cannot bind runs the CPU), with its line.
+#[derive(Debug)]
+struct NotRun(String);
+
+impl std::fmt::Display for NotRun {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for NotRun {}
+
+/// Times the setup and the GPU frame without and with the highlight pass, frame by frame,
+/// the highlights set up by `npr_specular::HighlightSetup` on `backend` (as an embedder
+/// sets them up: the CPU backend's update inside the frame, the GPU backend's stages
+/// recorded into it). [`NotRun`] where the setup runs another backend for this mesh.
 fn measure_gpu(
     ctx: &GpuContext,
     renderer: &Renderer,
     mesh: &Mesh,
     view: &View,
     name: &str,
-    setup: Backend,
+    backend: Backend,
 ) -> anyhow::Result<GpuSamples> {
-    let set = HighlightSet::new(mesh, &CurvatureOptions::default())?;
-    let mut frame_gpu = match setup {
-        Backend::Gpu => Some(npr_specular::gpu::FrameOnGpu::new(
-            &ctx.device,
-            &set,
-            &mesh.indices,
-        )?),
-        Backend::Cpu => None,
+    let settings = SpecularSettings {
+        backend: match backend {
+            Backend::Cpu => BackendSetting::Cpu,
+            Backend::Gpu => BackendSetting::Gpu,
+        },
+        ..SpecularSettings::default()
     };
-    let mut set = set;
+    let setup = HighlightSetup::new(&ctx.device, &ctx.queue, &Default::default());
+    let adapter = ctx.adapter.get_info();
+    let mut object = setup.create_object(&ctx.device, &ctx.queue, mesh, &settings, &adapter)?;
+    if object.backend() != backend {
+        return Err(NotRun(object.choice().to_string()).into());
+    }
+    // The scene's set is not read by a setup's frames (the object holds its own); the
+    // base frames draw no highlights.
+    let unread = HighlightSet::new(&generate::icosphere(0, 1.0), &CurvatureOptions::default())?;
     let gpu = GpuMesh::upload(&ctx.device, mesh)?;
     let mut res = renderer.resources(&ctx.device, &gpu);
     let light = Light::directional(view.to_light);
@@ -260,19 +275,10 @@ fn measure_gpu(
     let bar = super::progress(FRAMES as u64 + 3, name);
     for frame in 0..FRAMES + 3 {
         let (world_from_object, le) = view.frame(frame);
-        let t = Instant::now();
-        let search_us = match frame_gpu {
-            Some(_) => 0.0,
-            None => {
-                set.update(le, world_from_object);
-                set.stats().search_us
-            }
-        };
-        let setup_us = t.elapsed().as_secs_f64() * 1e6;
         let scene = |highlights| HighlightScene {
             mesh: &gpu,
             indices: &mesh.indices,
-            set: &set,
+            set: &unread,
             object: ObjectUniforms::new(
                 world_from_object,
                 Vec3::new(0.8, 0.35, 0.25),
@@ -286,61 +292,42 @@ fn measure_gpu(
             highlights,
             clear: [1.0; 4],
         };
-        let mut time = |highlights| -> anyhow::Result<f64> {
-            let t = Instant::now();
-            let scene = scene(highlights);
-            match frame_gpu.as_mut() {
-                Some(frame_gpu) if highlights => renderer.submit_frame_on_gpu(
-                    &ctx.device,
-                    &ctx.queue,
-                    &scene,
-                    &mut res,
-                    (frame_gpu, le),
-                )?,
-                _ => renderer.submit(&ctx.device, &ctx.queue, &scene, &mut res)?,
-            }
-            ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
-            Ok(t.elapsed().as_secs_f64() * 1e3)
+        let t = Instant::now();
+        renderer.submit(&ctx.device, &ctx.queue, &scene(false), &mut res)?;
+        ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+        let b = t.elapsed().as_secs_f64() * 1e3;
+        let t = Instant::now();
+        let frame_setup = (&setup, &mut object, mesh, le);
+        renderer.submit_setup(&ctx.device, &ctx.queue, &scene(true), &mut res, frame_setup)?;
+        ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
+        let whole = t.elapsed().as_secs_f64() * 1e3;
+        let st = object.stats();
+        // The CPU backend's update runs before the frame's commands, the GPU backend's
+        // recording with them: the GPU frame is the whole less the CPU's update.
+        let with = match backend {
+            Backend::Cpu => whole - st.cpu_us / 1e3,
+            Backend::Gpu => whole,
         };
-        let b = time(false)?;
-        let w = time(true)?;
-        // The frame made on the GPU: its CPU work is its recording (inside the frame
-        // timed), its highlights and receivers read after the timed frame.
-        let mut shown = set.highlights().len();
-        let (setup_us, whole) = match frame_gpu.as_mut() {
-            Some(f) => {
-                f.read_after_submit(&ctx.device, &ctx.queue);
-                ctx.device.poll(wgpu::PollType::wait_indefinitely())?;
-                shown = f.latest().map_or(0, |l| l.projectors.len());
-                (f.record_us(), w)
-            }
-            None => (setup_us, w + setup_us / 1e3),
-        };
-        // The GPU walk's receiver count, read after the timed frame (the panel's way).
-        let walked = frame_gpu
-            .as_ref()
-            .and_then(|f| f.walked().copied().map(|p| (f.receivers(), p)));
-        let receivers = match walked {
-            Some((walk, walked)) => {
-                let read = walk
-                    .map_counts(&ctx.device, &ctx.queue, &walked)?
-                    .wait(&ctx.device)?;
-                anyhow::ensure!(
-                    read.counts.iter().all(|c| !c.overflowed),
-                    "{name}: a GPU receiver walk overflowed its {} faces",
-                    walk.capacity()
-                );
-                read.counts.iter().map(|c| c.received as usize).sum()
-            }
-            None => set.stats().receiver_faces,
+        // What the CPU knows after the frame: the GPU backend's read back (waited for).
+        object.adopt_read_back();
+        let shown = object
+            .set()
+            .highlights()
+            .iter()
+            .filter(|h| h.piece == 0)
+            .count();
+        let receivers = match object.gpu_frame() {
+            Some(f) => walked_faces(ctx, f, name)?,
+            None => st.receiver_faces,
         };
         if frame >= 3 {
-            out.setup.push(setup_us);
-            out.search.push(search_us);
-            out.region.push(set.stats().region_us);
-            out.visibility.push(set.stats().visibility_us);
+            let set = object.set().stats();
+            out.setup.push(st.cpu_us);
+            out.search.push(set.search_us);
+            out.region.push(set.region_us);
+            out.visibility.push(set.visibility_us);
             out.base.push(b);
-            out.with.push(w);
+            out.with.push(with);
             out.whole.push(whole);
             out.receivers.push(receivers as f64);
             out.hmin = out.hmin.min(shown);
@@ -350,6 +337,28 @@ fn measure_gpu(
     }
     bar.finish_and_clear();
     Ok(out)
+}
+
+/// The faces the GPU frame's last walk received (read after the timed frame, the panel's
+/// way); an error where a walk overflowed.
+fn walked_faces(
+    ctx: &GpuContext,
+    frame: &npr_specular::gpu::FrameOnGpu,
+    name: &str,
+) -> anyhow::Result<usize> {
+    let Some(walked) = frame.walked() else {
+        return Ok(0);
+    };
+    let walk = frame.receivers();
+    let read = walk
+        .map_counts(&ctx.device, &ctx.queue, walked)?
+        .wait(&ctx.device)?;
+    anyhow::ensure!(
+        read.counts.iter().all(|c| !c.overflowed),
+        "{name}: a GPU receiver walk overflowed its {} faces",
+        walk.capacity()
+    );
+    Ok(read.counts.iter().map(|c| c.received as usize).sum())
 }
 
 /// Times the setup alone on one core, as loaded and in the file's order; µs each.

@@ -332,6 +332,12 @@ impl SetupObject {
         &mut self.set
     }
 
+    /// The GPU backend's frame (its last walk's counts for a panel, its records for a
+    /// test); `None` on the CPU backend.
+    pub fn gpu_frame(&self) -> Option<&FrameOnGpu> {
+        self.gpu.as_ref().map(|g| &g.frame)
+    }
+
     /// The last frame's figures.
     pub fn stats(&self) -> SetupStats {
         self.stats
