@@ -269,6 +269,9 @@ fn make_frame(
     (frame, id): ((LightEye, Mat4), npr_gpu::FrameId),
     pose: Option<&mut Posing>,
 ) -> Result<npr_gpu::Prepared, SpecularError> {
+    // A frame still on its way back (another thread's poll may finish it) is read
+    // first, so that the read this frame asks for is its own.
+    on_gpu.wait_for_read(device)?;
     let mut encoder = device.create_command_encoder(&Default::default());
     if let Some(p) = pose {
         let input = npr_gpu::CurvatureInput { frame: id };
@@ -279,8 +282,6 @@ fn make_frame(
     let walked = on_gpu.record(queue, &mut encoder, set, frame, id)?;
     queue.submit([encoder.finish()]);
     on_gpu.read_after_submit(device, queue);
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+    on_gpu.wait_for_read(device)?;
     Ok(walked)
 }

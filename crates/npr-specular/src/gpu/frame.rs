@@ -327,6 +327,29 @@ impl FrameOnGpu {
         self.projectors.rewind();
     }
 
+    /// Waits until no frame is on its way back (the last one asked for has arrived, or
+    /// none was asked for): for a measure that reads each frame it made. Polling the
+    /// device alone is not enough where other threads poll it too (tests run in
+    /// parallel on one device): another thread's poll may run the map's callback after
+    /// this one's returns.
+    ///
+    /// # Errors
+    /// [`npr_gpu::GpuError::Readback`] for a failed poll, or a read that never arrives.
+    #[cfg(any(test, feature = "test-support"))]
+    pub(crate) fn wait_for_read(&mut self, device: &wgpu::Device) -> Result<(), SpecularError> {
+        for _ in 0..10_000 {
+            self.poll();
+            if self.pending.is_none() {
+                return Ok(());
+            }
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| npr_gpu::GpuError::Readback(e.to_string()))?;
+            std::thread::yield_now();
+        }
+        Err(npr_gpu::GpuError::Readback("the frame's read never arrived".into()).into())
+    }
+
     /// The CPU time the last [`FrameOnGpu::record`] took, µs: all the CPU does for a
     /// frame's highlights.
     pub fn record_us(&self) -> f64 {
